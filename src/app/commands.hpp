@@ -1,0 +1,15 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app and returns what main should run.
+#include <functional>
+
+namespace CLI { class App; }
+
+namespace millwear::app {
+
+using Action = std::function<int()>;  // returns the exit code
+
+// Every register_* adds a subcommand; when it is chosen, *action is set.
+void register_profile(CLI::App& app, Action* action);
+void register_charge(CLI::App& app, Action* action);
+
+}  // namespace millwear::app

@@ -1,0 +1,107 @@
+#pragma once
+// Shared accounting of what the contacts do, fed by any backend through ContactRecord:
+// per-edge shear work and impact energy on the liner, the torque and power the mill
+// draws, energy dissipated in collisions and its spectrum, and the charge's shape.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "engine/charge.hpp"
+#include "geometry/vec2.hpp"
+
+namespace millwear {
+
+// One contact over one step, in SI units, from either backend.
+// The impulse acts on disk a (and its opposite on b, or on the liner edge).
+struct ContactRecord {
+  int a = -1;               // disk id
+  int b = -1;               // other disk id, or -1 for a liner contact
+  int edge = -1;            // mill boundary edge id for liner contacts
+  Vec2 point_m;             // world contact point
+  Vec2 normal;              // unit, from b (or the liner) toward a
+  double normal_impulse = 0.0;   // N s, >= 0, on a along normal
+  double tangent_impulse = 0.0;  // N s, on a along tangent = left_perp(normal)
+  double vn_before = 0.0, vn_after = 0.0;  // relative velocity of a w.r.t. b (or liner)
+  double vt_before = 0.0, vt_after = 0.0;  // at the point, m/s, before/after the solve
+  std::uint64_t key = 0;    // stable id of the contact pair across steps (spectrum events)
+};
+
+struct AccountingOptions {
+  bool per_edge = true;             // shear work, impact energy, counts per liner edge
+  bool shell_work = true;           // false: shell edges are skipped in per-edge sums
+  bool collision_spectrum = false;  // log-binned energy per collision event
+  bool charge_shape = true;         // centre of mass, toe and shoulder
+};
+
+constexpr int kSpectrumBins = 40;          // log10 bins from 1e-8 J to 1e4 J (3 per decade)
+constexpr double kSpectrumMinJ = 1e-8;
+constexpr double kSpectrumBinsPerDecade = 3.33333333333333;
+constexpr int kShapeAngleBins = 72;        // 5 deg bins around the mill for toe/shoulder
+
+struct Accounting {
+  AccountingOptions options;
+  double time_s = 0.0;       // simulated time accumulated
+  std::int64_t steps = 0;
+  // Liner, per mill boundary edge.
+  std::vector<double> shear_work_J;      // sum |Pt * vt_mean|: the Archard dw
+  std::vector<double> impact_energy_J;   // normal energy dissipated at the edge
+  std::vector<std::uint32_t> contacts;   // contact-steps
+  // Mill drive.
+  double drive_work_J = 0.0;     // work the mill does on the charge (power * dt)
+  double torque_impulse_Nms = 0.0;  // integral of torque on the mill about its axis
+  // Dissipation (J), split by where it happens.
+  double pp_normal_J = 0.0, pp_tangent_J = 0.0;  // particle-particle
+  double pl_normal_J = 0.0, pl_tangent_J = 0.0;  // particle-liner
+  double solver_position_J = 0.0;  // potential energy the position correction removed (+)
+  double kinetic_J_start = 0.0, kinetic_J_end = 0.0;     // charge KE at window ends
+  double potential_J_start = 0.0, potential_J_end = 0.0; // charge PE at window ends
+  // Collision events (particle-particle): counts per log bin and energy per bin.
+  std::array<double, kSpectrumBins> spectrum_count{};
+  std::array<double, kSpectrumBins> spectrum_energy_J{};
+  // Charge shape, sampled every step.
+  double mass_time_kg_s = 0.0;         // integral of active mass dt
+  Vec2 moment_time_kg_m_s;             // integral of sum m x dt (world frame)
+  std::array<double, kShapeAngleBins> shell_band_occupancy{};  // area-time near the shell
+  double shape_samples = 0.0;
+  // Batch means for rule 2: shear work per edge group sampled in batches.
+  std::int64_t escaped = 0;            // disks lost through the liner (reported, never silent)
+  std::int64_t non_finite = 0;         // disks whose state went NaN/inf
+};
+
+// Reset sums, size per-edge arrays, keep options.
+void reset_accounting(Accounting& acc, std::size_t edge_count);
+
+// Add one contact's step. is_shell tells whether the edge belongs to the shell.
+// Hot path: no allocation, no virtual call.
+void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_rad_s,
+                     bool edge_is_shell);
+// A particle-particle collision event ended with energy_J dissipated in total.
+void account_collision_event(Accounting& acc, double energy_J);
+// Once per step after the contacts: charge shape sample and time.
+void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
+                  double band_m, double gravity_m_s2);
+
+int spectrum_bin(double energy_J);
+double spectrum_bin_lower_J(int bin);
+
+// Derived figures of a window (SI).
+struct ChargeSummary {
+  double time_s = 0.0;
+  double power_W = 0.0;                 // drive work / time (per slice)
+  double torque_Nm = 0.0;               // mean torque the drive supplies (per slice)
+  double torque_arm_Nm = 0.0;           // M g x_cm from the centre of mass (per slice)
+  double collision_power_W = 0.0;       // particle-particle dissipation rate
+  double liner_dissipation_W = 0.0;     // particle-liner dissipation rate
+  double solver_dissipation_W = 0.0;    // position-correction share
+  double kinetic_change_W = 0.0;        // (KE+PE change) / time
+  double mass_kg = 0.0;                 // mean active charge mass
+  Vec2 centre_of_mass_m;
+  double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side
+  double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
+  double shear_work_rate_W = 0.0;       // total on the liner
+  std::int64_t escaped = 0;
+  std::int64_t non_finite = 0;
+};
+ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2);
+
+}  // namespace millwear

@@ -1,0 +1,66 @@
+#pragma once
+// The charge on a contact solver. One interface, two backends (engine/box2d/ wraps the Box2D
+// library; engine/soft/ is our own disk solver). Both feed ContactRecords to the shared
+// accounting, so their outputs compare line by line. Virtual calls happen per step, never
+// per contact.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/accounting.hpp"
+#include "engine/charge.hpp"
+#include "mill/mill.hpp"
+#include "scene/scene.hpp"
+
+namespace millwear {
+
+// Something the engine noticed and the caller must hear about (escaped disk, NaN).
+struct EngineEvent {
+  double time_s = 0.0;
+  std::string what;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  // Replace the liner (after a wear update). Disks keep their state.
+  virtual void set_liner(const MillGeometry& mill) = 0;
+  // Signed mill speed, rad/s (+ counter-clockwise = forward).
+  virtual void set_mill_speed(double omega_rad_s) = 0;
+  // Advance n steps of the scene's time step, accounting every contact.
+  virtual void step(int n) = 0;
+  virtual const ChargeState& state() const = 0;
+  virtual double time_step_s() const = 0;
+  virtual const char* backend_name() const = 0;
+
+  Accounting& accounting() { return accounting_; }
+  const Accounting& accounting() const { return accounting_; }
+  const std::vector<EngineEvent>& events() const { return events_; }
+  // Wall-clock seconds spent in each part of step(), for benchmarks.
+  struct Timing { double collide_s = 0, solve_s = 0, account_s = 0; std::int64_t disk_steps = 0; };
+  const Timing& timing() const { return timing_; }
+
+ protected:
+  Accounting accounting_;
+  std::vector<EngineEvent> events_;
+  Timing timing_;
+};
+
+// Place non-overlapping disks to the scene's filling and size distribution, with its seed,
+// in the lower part of the mill (mill at rest). Deterministic.
+ChargeState fill_charge(const Scene& scene, const MillGeometry& mill);
+
+std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill,
+                                    const ChargeState& initial, const AccountingOptions& opts);
+
+// Accounting options a scene asks for (a scene pays only for what it uses).
+AccountingOptions accounting_options_for(const Scene& scene);
+
+// Settle the charge at rest for settle_time, then turn the mill at the scene's speed and
+// direction for spinup_revolutions. Accounting is reset afterwards.
+void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign);
+
+// Number of steps for a given simulated time.
+int steps_for(double seconds, double dt_s);
+
+}  // namespace millwear

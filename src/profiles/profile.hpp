@@ -1,0 +1,58 @@
+#pragma once
+// Lifter profiles: one lifter's cross-section in lifter-local coordinates (metres inside,
+// millimetres in files). x runs along the shell (arc length) in the direction of rotation,
+// so the leading face is at +x and the trailing face at -x; y runs radially inward from the
+// shell surface. The polyline goes from the shell at the trailing foot to the shell at the
+// leading foot, both feet at y = 0.
+#include <string>
+#include <vector>
+
+#include "geometry/polyline.hpp"
+
+namespace millwear {
+
+enum class ProfileForm { Trapezoid, Polyline };
+
+// Parameters of a parametric trapezoid (SI: metres, radians).
+struct TrapezoidDef {
+  double height_m = 0.0;
+  double top_width_m = 0.0;
+  double leading_face_angle_rad = 0.0;   // from the radial direction
+  double trailing_face_angle_rad = 0.0;  // from the radial direction
+};
+
+struct LifterProfile {
+  std::string name;
+  std::string source_file;  // where it was read from (empty if built in code)
+  ProfileForm form = ProfileForm::Trapezoid;
+  TrapezoidDef trapezoid;   // meaningful when form == Trapezoid
+  Polyline points;          // lifter-local, m, trailing foot -> leading foot
+};
+
+// Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
+struct ProfileMetrics {
+  double area_m2 = 0.0;            // cross-section area above y = 0
+  double height_m = 0.0;           // largest y
+  double base_width_m = 0.0;       // distance between the feet
+  double top_width_m = 0.0;        // extent of the profile within 2% of height of the top
+  double leading_face_angle_rad = 0.0;   // chord from leading foot to the face at mid-height
+  double trailing_face_angle_rad = 0.0;  // chord from trailing foot to the face at mid-height
+};
+
+// Polyline of a trapezoid; the base is centred on x = 0.
+Polyline trapezoid_points(const TrapezoidDef& t);
+// Top width that gives the trapezoid the requested area (height and angles fixed).
+// Throws InputError (file, key "match_area_of") if no positive top width does it.
+double top_width_for_area(const TrapezoidDef& t, double area_m2, const std::string& file);
+
+ProfileMetrics measure_profile(const Polyline& lifter_local);
+
+// Read a profile file (TOML). Throws InputError naming the file, key and expectation.
+// match_area_of is resolved relative to the file's folder.
+LifterProfile load_profile(const std::string& path);
+
+// Check a lifter polyline: at least 3 points, feet on y = 0, trailing foot left of the
+// leading foot, every other point above the shell, simple. Throws InputError.
+void validate_lifter_polyline(const Polyline& pts, const std::string& file, const std::string& key);
+
+}  // namespace millwear

@@ -1,0 +1,129 @@
+#pragma once
+// A validated scene: the mill, its lifters, the charge, the solver and the wear settings,
+// all in SI units. Read once from a TOML file by load_scene(); the engine and the wear
+// loop take it by const reference and never see a bad value (model vs data split).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mill/mill.hpp"
+#include "profiles/profile.hpp"
+
+namespace millwear {
+
+// Rotation of the mill seen from the feed end. Forward = counter-clockwise = toward the
+// lifter's leading face (+x in lifter-local coordinates).
+enum class Direction { Forward, Reverse, Bidirectional };
+
+struct SpeciesDef {
+  std::string name = "rock";
+  bool is_ball = false;               // ball filling applies to balls, the rest to rocks
+  double density_kg_m3 = 2700.0;
+  // Size distribution (diameters): discrete sizes with mass fractions, or a uniform range.
+  std::vector<double> diameters_m;    // discrete sizes (empty when uniform)
+  std::vector<double> mass_fractions; // same length, sums to 1
+  double d_min_m = 0.0, d_max_m = 0.0;  // uniform range (used when diameters_m is empty)
+  double friction = 0.5;              // against other particles (pair: geometric mean)
+  double restitution = 0.3;           // against other particles (pair: larger of the two)
+  double friction_liner = 0.5;        // against the liner
+  double restitution_liner = 0.3;     // against the liner
+  double rolling_resistance = 0.0;    // dimensionless, times radius gives the lever arm
+  double smallest_diameter_m() const;
+  double largest_diameter_m() const;
+};
+
+struct MillDef {
+  double diameter_m = 10.0;         // inside the shell, before lifters
+  double length_m = 5.0;            // belly length, for per-mill figures
+  double slice_thickness_m = 0.0;   // 0: the largest particle diameter
+  double speed_fraction_critical = 0.75;  // set from speed_rpm when given
+  Direction direction = Direction::Forward;
+  double reverse_every_hours = 750.0;     // bidirectional only
+  int rows = 48;                          // lifter rows
+  LifterProfile lifter;
+  MillMeshDef mesh;
+};
+
+struct ChargeDef {
+  double filling = 0.28;        // fraction of the mill area (bulk, voids included)
+  double ball_filling = 0.12;   // part of filling made of balls
+  double bulk_packing = 0.80;   // solid area fraction of a settled 2D disk bed
+  std::vector<SpeciesDef> species;
+};
+
+enum class Backend { Box2D, Soft };
+
+struct SolverDef {
+  Backend backend = Backend::Box2D;
+  double time_step_s = 1.0 / 600.0;
+  int velocity_iterations = 8;
+  int position_iterations = 3;
+  int substeps = 4;                  // soft backend only
+  double settle_time_s = 2.0;        // charge settles at rest before the mill turns
+  double spinup_revolutions = 1.0;   // turning before anything is measured
+  std::uint64_t seed = 1;
+  double size_cutoff_m = 0.0;        // drop rock sizes below this (0: keep all)
+};
+
+enum class WearMode { Staged, Continuous };
+enum class WearRateSource { Given, AreaLossRate, HeightLossRate };
+
+struct WearDef {
+  WearMode mode = WearMode::Staged;
+  WearRateSource rate_source = WearRateSource::Given;
+  double wear_rate_m3_per_J = 1e-12;      // C = K/H (real)
+  double calibration_value = 0.0;         // mm^2/1000 h or mm/h, per rate_source
+  double factor = 1e6;                    // C_model = factor * C
+  double stage_hours = 750.0;
+  int stages = 4;
+  double window_revolutions = 2.0;        // staged: frozen-geometry window
+  double max_depth_step_m = 0.004;        // staged: largest depth per geometry update
+  double update_interval_s = 0.25;        // continuous: simulated seconds between updates
+  double smoothing_radius_m = 0.0;        // 0: smallest particle radius
+  bool average_rows = true;
+  bool shell_wear = true;
+  double replacement_height_m = 0.05;     // lifter life ends below this height
+  double target_rel_uncertainty = 0.0;    // rule 2: extend window until under (0: off)
+};
+
+// Which outputs the scene asks for; the engine switches off accounting nobody reads.
+struct OutputsDef {
+  bool collision_spectrum = true;
+  bool shell_work = true;
+  bool snapshot = true;
+  bool contact_log = false;
+};
+
+struct RunDef {
+  double revolutions = 3.0;          // `millwear charge`: measured revolutions
+};
+
+struct Scene {
+  std::string name;
+  std::string source_file;
+  MillDef mill;
+  ChargeDef charge;
+  SolverDef solver;
+  WearDef wear;
+  OutputsDef outputs;
+  RunDef run;
+  std::string fidelity = "standard";
+
+  double radius_m() const { return 0.5 * mill.diameter_m; }
+  double critical_speed_rad_s() const;     // sqrt(g / R)
+  double angular_speed_rad_s() const;      // magnitude
+  double revolution_time_s() const;
+  double slice_thickness() const;          // resolved (never 0)
+  double smallest_particle_radius_m() const;
+  double largest_particle_radius_m() const;
+};
+
+constexpr double kGravity = 9.81;  // m/s^2
+
+// Read and validate a scene file. Every problem throws InputError naming the file, the key
+// and what was expected; profile paths are relative to the scene file.
+Scene load_scene(const std::string& path);
+// A scene's built mill geometry (new lifters).
+MillGeometry build_scene_mill(const Scene& scene);
+
+}  // namespace millwear
