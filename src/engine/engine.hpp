@@ -33,6 +33,9 @@ class Engine {
   virtual double time_step_s() const = 0;
   virtual const char* backend_name() const = 0;
 
+  // Start a new measuring window: zero the sums, remember the charge's energy now.
+  void reset_window();
+
   Accounting& accounting() { return accounting_; }
   const Accounting& accounting() const { return accounting_; }
   const std::vector<EngineEvent>& events() const { return events_; }
@@ -44,7 +47,12 @@ class Engine {
   Accounting accounting_;
   std::vector<EngineEvent> events_;
   Timing timing_;
+  std::size_t edge_count_ = 0;
 };
+
+// Kinetic (translation + rotation) and potential energy of the active charge, J.
+double charge_kinetic_J(const ChargeState& s);
+double charge_potential_J(const ChargeState& s, double gravity_m_s2);
 
 // Place non-overlapping disks to the scene's filling and size distribution, with its seed,
 // in the lower part of the mill (mill at rest). Deterministic.

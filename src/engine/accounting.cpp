@@ -1,0 +1,150 @@
+// Shared contact accounting. Energies come from impulse * mean velocity over the solve:
+// for the velocity solve of one step, sum over contacts of P . (v_before + v_after)/2 is
+// exactly the kinetic-energy change the impulses cause, so -P . v_rel_mean is the energy a
+// contact dissipates, and P . v_liner is the work the drive does through it.
+#include "engine/accounting.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millwear {
+
+void reset_accounting(Accounting& acc, std::size_t edge_count) {
+  AccountingOptions opts = acc.options;
+  acc = Accounting{};
+  acc.options = opts;
+  if (opts.per_edge) {
+    acc.shear_work_J.assign(edge_count, 0.0);
+    acc.impact_energy_J.assign(edge_count, 0.0);
+    acc.contacts.assign(edge_count, 0u);
+  }
+}
+
+void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_rad_s,
+                     bool edge_is_shell) {
+  const double vn_mean = 0.5 * (c.vn_before + c.vn_after);
+  const double vt_mean = 0.5 * (c.vt_before + c.vt_after);
+  const double normal_loss = -c.normal_impulse * vn_mean;
+  const double tangent_loss = -c.tangent_impulse * vt_mean;
+  if (c.b >= 0) {
+    acc.pp_normal_J += normal_loss;
+    acc.pp_tangent_J += tangent_loss;
+    return;
+  }
+  acc.pl_normal_J += normal_loss;
+  acc.pl_tangent_J += tangent_loss;
+  // Impulse on the disk; the drive supplies the opposite torque to hold the mill's speed.
+  const Vec2 tangent = left_perp(c.normal);
+  const Vec2 impulse = c.normal_impulse * c.normal + c.tangent_impulse * tangent;
+  const double torque_impulse = cross(c.point_m, impulse);
+  acc.torque_impulse_Nms += torque_impulse;
+  acc.drive_work_J += mill_speed_rad_s * torque_impulse;
+  if (acc.options.per_edge && c.edge >= 0 && (acc.options.shell_work || !edge_is_shell)) {
+    const auto e = static_cast<std::size_t>(c.edge);
+    // Archard's dw: friction force times slip distance.
+    acc.shear_work_J[e] += std::fabs(c.tangent_impulse * vt_mean);
+    acc.impact_energy_J[e] += normal_loss;
+    acc.contacts[e] += 1u;
+  }
+}
+
+int spectrum_bin(double energy_J) {
+  if (!(energy_J > kSpectrumMinJ)) return 0;
+  int bin = static_cast<int>(std::floor(std::log10(energy_J / kSpectrumMinJ) * kSpectrumBinsPerDecade));
+  return std::clamp(bin, 0, kSpectrumBins - 1);
+}
+
+double spectrum_bin_lower_J(int bin) {
+  return kSpectrumMinJ * std::pow(10.0, bin / kSpectrumBinsPerDecade);
+}
+
+void account_collision_event(Accounting& acc, double energy_J) {
+  if (!(energy_J > 0.0)) return;
+  const int bin = spectrum_bin(energy_J);
+  acc.spectrum_count[bin] += 1.0;
+  acc.spectrum_energy_J[bin] += energy_J;
+}
+
+void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
+                  double band_m, double gravity_m_s2) {
+  acc.time_s += dt_s;
+  acc.steps += 1;
+  if (!acc.options.charge_shape) return;
+  double mass = 0.0;
+  Vec2 moment;
+  const double band_inner = radius_m - band_m;
+  const double band_inner_sq = band_inner * band_inner;
+  constexpr double kPi = 3.14159265358979323846;
+  const double bins_per_rad = kShapeAngleBins / (2.0 * kPi);
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!s.active[i]) continue;
+    const double m = s.mass_kg[i];
+    const Vec2 p = s.position_m[i];
+    mass += m;
+    moment += m * p;
+    if (length_sq(p) > band_inner_sq) {
+      // Angle from 6 o'clock, + counter-clockwise (toward +x at the bottom).
+      double phi = std::atan2(p.x, -p.y);
+      if (phi < 0) phi += 2.0 * kPi;
+      int bin = static_cast<int>(phi * bins_per_rad);
+      if (bin >= kShapeAngleBins) bin = kShapeAngleBins - 1;
+      acc.shell_band_occupancy[bin] += s.radius_m[i] * s.radius_m[i] * dt_s;
+    }
+  }
+  (void)gravity_m_s2;
+  acc.mass_time_kg_s += mass * dt_s;
+  acc.moment_time_kg_m_s += dt_s * moment;
+  acc.shape_samples += dt_s;
+}
+
+namespace {
+
+// Walk from the bottom bin in direction dir (+1 rising side) until occupancy drops under
+// half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge.
+double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) {
+  const double peak = *std::max_element(occ.begin(), occ.end());
+  if (!(peak > 0.0)) return 0.0;
+  const double threshold = 0.5 * peak;
+  const double bin_deg = 360.0 / kShapeAngleBins;
+  for (int k = 0; k < kShapeAngleBins; ++k) {
+    const int bin = ((dir > 0 ? k : -k - 1) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
+    if (occ[bin] < threshold) {
+      // Resolution is one bin (5 deg): the edge is the first bin under half the peak.
+      return dir > 0 ? k * bin_deg : -(k * bin_deg);
+    }
+  }
+  return dir * 180.0;
+}
+
+}  // namespace
+
+ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2) {
+  ChargeSummary s;
+  s.time_s = acc.time_s;
+  s.escaped = acc.escaped;
+  s.non_finite = acc.non_finite;
+  if (!(acc.time_s > 0.0)) return s;
+  const double t = acc.time_s;
+  s.power_W = acc.drive_work_J / t;
+  s.torque_Nm = acc.torque_impulse_Nms / t;
+  s.collision_power_W = (acc.pp_normal_J + acc.pp_tangent_J) / t;
+  s.liner_dissipation_W = (acc.pl_normal_J + acc.pl_tangent_J) / t;
+  s.solver_dissipation_W = acc.solver_position_J / t;
+  s.kinetic_change_W = ((acc.kinetic_J_end - acc.kinetic_J_start) +
+                        (acc.potential_J_end - acc.potential_J_start)) / t;
+  for (double w : acc.shear_work_J) s.shear_work_rate_W += w;
+  s.shear_work_rate_W /= t;
+  if (acc.mass_time_kg_s > 0.0) {
+    s.mass_kg = acc.mass_time_kg_s / acc.shape_samples;
+    s.centre_of_mass_m = acc.moment_time_kg_m_s / acc.mass_time_kg_s;
+    // Steady state: the drive holds the charge's weight off-centre, torque = M g x_cm.
+    s.torque_arm_Nm = s.mass_kg * gravity_m_s2 * s.centre_of_mass_m.x;
+  }
+  // Toe and shoulder in the frame where the charge rises on the + side.
+  const int dir = mill_speed_rad_s < 0 ? -1 : 1;
+  s.shoulder_deg = dir * charge_edge_deg(acc.shell_band_occupancy, dir);
+  s.toe_deg = dir * charge_edge_deg(acc.shell_band_occupancy, -dir);
+  return s;
+}
+
+}  // namespace millwear

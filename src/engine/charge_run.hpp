@@ -1,0 +1,40 @@
+#pragma once
+// Running the charge alone (no wear): fill, settle, spin up, measure some revolutions.
+#include <vector>
+
+#include "engine/engine.hpp"
+
+namespace millwear {
+
+// Figures of a measured window, per metre of mill length and SI inside.
+struct ChargeFigures {
+  ChargeSummary summary;          // per slice
+  double power_kW_per_m = 0.0;    // drive power / slice thickness
+  double torque_arm_kW_per_m = 0.0;  // omega * M g x_cm / thickness
+  double collision_kW_per_m = 0.0;
+  double liner_kW_per_m = 0.0;
+  double solver_kW_per_m = 0.0;
+};
+
+ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s);
+
+struct ChargeRunResult {
+  ChargeFigures figures;
+  Accounting accounting;        // the measured window
+  ChargeState final_state;
+  MillGeometry mill;
+  std::vector<EngineEvent> events;
+  std::size_t disks = 0;
+  std::int64_t disk_steps = 0;  // measured window only
+  double window_wall_s = 0.0;   // wall time of the measured window (speed figure)
+  Engine::Timing timing;
+};
+
+// Fill, settle and spin up, then run scene.run.revolutions at the scene's speed
+// (forward for bidirectional mills).
+ChargeRunResult run_charge_only(const Scene& scene);
+
+// +1 forward (counter-clockwise), -1 reverse; bidirectional starts forward.
+double initial_direction_sign(const Scene& scene);
+
+}  // namespace millwear

@@ -1,0 +1,71 @@
+// Backend dispatch and the settle / spin-up sequence shared by every backend.
+#include "engine/engine.hpp"
+
+#include <cmath>
+
+#include "common/errors.hpp"
+#include "engine/box2d/box2d_engine.hpp"
+
+namespace millwear {
+
+int steps_for(double seconds, double dt_s) {
+  return seconds <= 0.0 ? 0 : static_cast<int>(std::ceil(seconds / dt_s - 1e-9));
+}
+
+AccountingOptions accounting_options_for(const Scene& scene) {
+  AccountingOptions o;
+  o.per_edge = true;
+  o.shell_work = scene.outputs.shell_work || scene.wear.shell_wear;
+  o.collision_spectrum = scene.outputs.collision_spectrum;
+  o.charge_shape = true;
+  return o;
+}
+
+std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill,
+                                    const ChargeState& initial, const AccountingOptions& opts) {
+  switch (scene.solver.backend) {
+    case Backend::Box2D:
+      return make_box2d_engine(scene, mill, initial, opts);
+    case Backend::Soft:
+      break;
+  }
+  throw InputError(scene.source_file, "solver.backend",
+                   "\"box2d\" (the soft backend is not built yet)");
+}
+
+void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign) {
+  const double dt = engine.time_step_s();
+  engine.set_mill_speed(0.0);
+  engine.step(steps_for(scene.solver.settle_time_s, dt));
+  engine.set_mill_speed(direction_sign * scene.angular_speed_rad_s());
+  engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
+  engine.reset_window();
+}
+
+void Engine::reset_window() {
+  reset_accounting(accounting_, edge_count_);
+  const ChargeState& s = state();
+  accounting_.kinetic_J_start = accounting_.kinetic_J_end = charge_kinetic_J(s);
+  accounting_.potential_J_start = accounting_.potential_J_end = charge_potential_J(s, kGravity);
+  timing_ = Timing{};
+}
+
+double charge_kinetic_J(const ChargeState& s) {
+  double e = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!s.active[i]) continue;
+    // A disk's moment of inertia is m r^2 / 2.
+    e += 0.5 * s.mass_kg[i] * (length_sq(s.velocity_m_s[i]) +
+                               0.5 * s.radius_m[i] * s.radius_m[i] * s.spin_rad_s[i] * s.spin_rad_s[i]);
+  }
+  return e;
+}
+
+double charge_potential_J(const ChargeState& s, double gravity_m_s2) {
+  double e = 0.0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (s.active[i]) e += s.mass_kg[i] * gravity_m_s2 * s.position_m[i].y;
+  return e;
+}
+
+}  // namespace millwear

@@ -1,0 +1,163 @@
+// Filling the mill: draw disk sizes to the scene's size distribution and filling, then
+// place them without overlap by random sequential addition in the lower part of the mill,
+// largest first. The bed then settles under gravity in the engine.
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "common/errors.hpp"
+#include "engine/engine.hpp"
+
+namespace millwear {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct DiskDraw {
+  double diameter_m;
+  std::uint8_t species;
+};
+
+// Deterministic uniform in [0, 1): 53 random bits (independent of the library's
+// distribution implementation).
+double uniform01(std::mt19937_64& rng) { return (rng() >> 11) * (1.0 / 9007199254740992.0); }
+
+std::vector<DiskDraw> draw_sizes(const Scene& scene, double mill_area_m2, std::mt19937_64& rng) {
+  const ChargeDef& c = scene.charge;
+  double balls_area = c.ball_filling * mill_area_m2 * c.bulk_packing;
+  double rocks_area = (c.filling - c.ball_filling) * mill_area_m2 * c.bulk_packing;
+  int ball_species = 0, rock_species = 0;
+  for (const auto& sp : c.species) (sp.is_ball ? ball_species : rock_species)++;
+  std::vector<DiskDraw> disks;
+  for (std::size_t k = 0; k < c.species.size(); ++k) {
+    const SpeciesDef& sp = c.species[k];
+    double budget = sp.is_ball ? balls_area / std::max(ball_species, 1)
+                               : rocks_area / std::max(rock_species, 1);
+    if (!sp.is_ball && rock_species == 0) budget = 0;
+    const double cutoff = sp.is_ball ? 0.0 : scene.solver.size_cutoff_m;
+    const auto sp_id = static_cast<std::uint8_t>(k);
+    if (!sp.diameters_m.empty()) {
+      // Mass fractions are area fractions in a slice of one density; renormalise over the
+      // sizes kept by the cut-off.
+      double kept = 0.0;
+      for (std::size_t j = 0; j < sp.diameters_m.size(); ++j)
+        if (sp.diameters_m[j] >= cutoff) kept += sp.mass_fractions[j];
+      if (kept <= 0.0) continue;
+      for (std::size_t j = 0; j < sp.diameters_m.size(); ++j) {
+        const double d = sp.diameters_m[j];
+        if (d < cutoff) continue;
+        const double area = budget * sp.mass_fractions[j] / kept;
+        const long n = std::lround(area / (0.25 * kPi * d * d));
+        for (long i = 0; i < n; ++i) disks.push_back({d, sp_id});
+      }
+    } else {
+      const double lo = std::max(sp.d_min_m, std::min(cutoff, sp.d_max_m));
+      const double hi = sp.d_max_m;
+      double area = 0.0;
+      while (area < budget) {
+        const double d = lo + (hi - lo) * uniform01(rng);
+        const double a = 0.25 * kPi * d * d;
+        if (area + 0.5 * a > budget) break;
+        disks.push_back({d, sp_id});
+        area += a;
+      }
+    }
+  }
+  // Largest first: random sequential addition packs far better that way. Stable sort on
+  // (diameter, species) keeps the order deterministic.
+  std::stable_sort(disks.begin(), disks.end(), [](const DiskDraw& a, const DiskDraw& b) {
+    return a.diameter_m > b.diameter_m;
+  });
+  return disks;
+}
+
+// Area of the part of a circle of radius r below the horizontal line y = h.
+double segment_area_below(double r, double h) {
+  h = std::clamp(h, -r, r);
+  return r * r * std::acos(-h / r) + h * std::sqrt(r * r - h * h);
+}
+
+}  // namespace
+
+ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
+  std::mt19937_64 rng(scene.solver.seed);
+  const double R = mill.radius_m;
+  const double mill_area = kPi * R * R;
+  std::vector<DiskDraw> draws = draw_sizes(scene, mill_area, rng);
+  ChargeState s;
+  s.mill_speed_rad_s = 0.0;
+  if (draws.empty()) return s;
+
+  // Disks go inside the circle through the lifter tips, with a small clearance.
+  double tip_radius = R;
+  for (const Vec2& p : mill.boundary) tip_radius = std::min(tip_radius, length(p));
+  const double d_max = draws.front().diameter_m;
+  const double r_place = tip_radius - 0.05 * d_max;
+  double solid = 0.0;
+  for (const auto& d : draws) solid += 0.25 * kPi * d.diameter_m * d.diameter_m;
+  if (solid > 0.6 * kPi * r_place * r_place)
+    throw InputError(scene.source_file, "charge.filling",
+                     "a charge that fits inside the lifter tips (asked for more than 60% of it)");
+
+  // Region below y_top holding about 2.5x the solid area: loose enough for quick RSA.
+  double lo = -r_place, hi = r_place;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (segment_area_below(r_place, mid) < 2.5 * solid ? lo : hi) = mid;
+  }
+  double y_top = hi;
+
+  // Uniform grid for overlap checks: cell = largest diameter, so 3x3 cells suffice.
+  const double cell = d_max;
+  const int n_cells = static_cast<int>(std::ceil(2.0 * r_place / cell)) + 1;
+  std::vector<std::vector<int>> grid(static_cast<std::size_t>(n_cells) * n_cells);
+  auto cell_of = [&](double v) {
+    return std::clamp(static_cast<int>((v + r_place) / cell), 0, n_cells - 1);
+  };
+
+  const std::size_t n = draws.size();
+  s.position_m.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = 0.5 * draws[i].diameter_m;
+    bool placed = false;
+    for (int attempt = 0; !placed; ++attempt) {
+      if (attempt > 0 && attempt % 4000 == 0) y_top = std::min(r_place, y_top + 0.05 * R);
+      if (attempt > 200000)
+        throw RunError("could not place the charge without overlap; lower the filling");
+      const double y = -r_place + (y_top + r_place) * uniform01(rng);
+      const double x = r_place * (2.0 * uniform01(rng) - 1.0);
+      const Vec2 p{x, y};
+      if (length(p) + r > r_place) continue;
+      const int cx = cell_of(x), cy = cell_of(y);
+      bool overlap = false;
+      for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, n_cells - 1) && !overlap; ++gy)
+        for (int gx = std::max(cx - 1, 0); gx <= std::min(cx + 1, n_cells - 1) && !overlap; ++gx)
+          for (int j : grid[static_cast<std::size_t>(gy) * n_cells + gx]) {
+            const double rr = r + s.radius_m[static_cast<std::size_t>(j)];
+            if (length_sq(p - s.position_m[static_cast<std::size_t>(j)]) < rr * rr) { overlap = true; break; }
+          }
+      if (overlap) continue;
+      grid[static_cast<std::size_t>(cy) * n_cells + cx].push_back(static_cast<int>(i));
+      s.position_m.push_back(p);
+      s.radius_m.push_back(r);
+      placed = true;
+    }
+  }
+  const double thickness = scene.slice_thickness();
+  s.velocity_m_s.assign(n, Vec2{});
+  s.angle_rad.assign(n, 0.0);
+  s.spin_rad_s.assign(n, 0.0);
+  s.active.assign(n, 1);
+  s.species.resize(n);
+  s.mass_kg.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.species[i] = draws[i].species;
+    const double rho = scene.charge.species[draws[i].species].density_kg_m3;
+    // A disk stands for a cylinder of the slice's thickness.
+    s.mass_kg[i] = rho * kPi * s.radius_m[i] * s.radius_m[i] * thickness;
+  }
+  return s;
+}
+
+}  // namespace millwear
