@@ -41,8 +41,10 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
   acc.drive_work_J += mill_speed_rad_s * torque_impulse;
   if (acc.options.per_edge && c.edge >= 0 && (acc.options.shell_work || !edge_is_shell)) {
     const auto e = static_cast<std::size_t>(c.edge);
-    // Archard's dw: friction force times slip distance.
-    acc.shear_work_J[e] += std::fabs(c.tangent_impulse * vt_mean);
+    // Archard's dw: friction force times slip distance. Positions advance with the
+    // post-solve velocity, so the distance slid in the step is vt_after * dt; a sticking
+    // contact (vt_after = 0) does no shear work even though gravity moved it in between.
+    acc.shear_work_J[e] += std::fabs(c.tangent_impulse * c.vt_after);
     acc.impact_energy_J[e] += normal_loss;
     acc.contacts[e] += 1u;
   }

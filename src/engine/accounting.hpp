@@ -43,7 +43,7 @@ struct Accounting {
   double time_s = 0.0;       // simulated time accumulated
   std::int64_t steps = 0;
   // Liner, per mill boundary edge.
-  std::vector<double> shear_work_J;      // sum |Pt * vt_mean|: the Archard dw
+  std::vector<double> shear_work_J;      // sum |Pt * vt_after| (friction times slip): the Archard dw
   std::vector<double> impact_energy_J;   // normal energy dissipated at the edge
   std::vector<std::uint32_t> contacts;   // contact-steps
   // Mill drive.

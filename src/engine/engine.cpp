@@ -37,8 +37,10 @@ void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sig
   const double dt = engine.time_step_s();
   engine.set_mill_speed(0.0);
   engine.step(steps_for(scene.solver.settle_time_s, dt));
-  engine.set_mill_speed(direction_sign * scene.angular_speed_rad_s());
-  engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
+  const double omega = scene.angular_speed_rad_s();
+  engine.set_mill_speed(direction_sign * omega);
+  if (omega > 0.0)
+    engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
   engine.reset_window();
 }
 

@@ -3,6 +3,7 @@
 // all in SI units. Read once from a TOML file by load_scene(); the engine and the wear
 // loop take it by const reference and never see a bad value (model vs data split).
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct SpeciesDef {
   double rolling_resistance = 0.0;    // dimensionless, times radius gives the lever arm
   double smallest_diameter_m() const;
   double largest_diameter_m() const;
+  // The same species with every size below cutoff_m left out: discrete sizes are dropped
+  // and the remaining mass fractions renormalised; a uniform range starts at the cut-off.
+  // The species' share of the filling is unchanged (its mass goes to the sizes kept).
+  // Precondition: largest_diameter_m() >= cutoff_m (load_scene checks it).
+  SpeciesDef without_sizes_below(double cutoff_m) const;
 };
 
 struct MillDef {
@@ -71,7 +77,8 @@ enum class WearRateSource { Given, AreaLossRate, HeightLossRate };
 struct WearDef {
   WearMode mode = WearMode::Staged;
   WearRateSource rate_source = WearRateSource::Given;
-  double wear_rate_m3_per_J = 1e-12;      // C = K/H (real)
+  double wear_rate_m3_per_J = 1e-12;      // C = K/H (real); 0 until calibrated when
+                                          // rate_source is not Given
   double calibration_value = 0.0;         // mm^2/1000 h or mm/h, per rate_source
   double factor = 1e6;                    // C_model = factor * C
   double stage_hours = 750.0;
@@ -108,6 +115,10 @@ struct Scene {
   OutputsDef outputs;
   RunDef run;
   std::string fidelity = "standard";
+  // Dotted keys the scene file set ("solver.time_step", "lifters.shell_edge", ...). A key
+  // set in the file beats the fidelity preset (apply_fidelity leaves it alone).
+  std::set<std::string> explicit_keys;
+  bool file_sets(const std::string& key) const { return explicit_keys.count(key) > 0; }
 
   double radius_m() const { return 0.5 * mill.diameter_m; }
   double critical_speed_rad_s() const;     // sqrt(g / R)
@@ -116,6 +127,12 @@ struct Scene {
   double slice_thickness() const;          // resolved (never 0)
   double smallest_particle_radius_m() const;
   double largest_particle_radius_m() const;
+  // The species as the charge is filled: same order and count as charge.species, rock
+  // species cut at solver.size_cutoff_m (balls are never cut). Smallest and largest particle
+  // radius above are taken over these, counting only species with a share of the filling
+  // (balls when ball_filling > 0, rocks when filling > ball_filling).
+  std::vector<SpeciesDef> species_as_placed() const;
+  bool species_in_use(const SpeciesDef& s) const;
 };
 
 constexpr double kGravity = 9.81;  // m/s^2

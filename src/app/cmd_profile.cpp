@@ -1,0 +1,99 @@
+// `millwear profile FILE... [--csv DIR]`: read lifter profile files, print their metrics as a
+// table (mm, mm^2, degrees), and optionally write each polyline as DIR/<name>.csv.
+// Every file is read and validated before anything is printed or written.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "common/errors.hpp"
+#include "profiles/profile.hpp"
+
+namespace millwear::app {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRadToDeg = 180.0 / kPi;
+
+struct ProfileArgs {
+  std::vector<std::string> files;
+  std::string csv_dir;
+};
+
+// Write the polyline in mm to dir/<name>.csv via a temporary file and a rename, so a reader
+// never sees half a file.
+void write_csv(const LifterProfile& p, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  const fs::path final_path = dir / (p.name + ".csv");
+  const fs::path tmp_path = dir / (p.name + ".csv.tmp");
+  {
+    std::ofstream out(tmp_path);
+    if (!out) throw RunError("cannot write " + tmp_path.string());
+    out << "x_mm,y_mm\n";
+    char line[64];
+    for (const Vec2& v : p.points) {
+      std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
+      out << line;
+    }
+    out.flush();
+    if (!out) throw RunError("cannot write " + tmp_path.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp_path, final_path, ec);
+  if (ec) throw RunError("cannot rename " + tmp_path.string() + " to " + final_path.string() +
+                         ": " + ec.message());
+}
+
+int run_profile(const ProfileArgs& args) {
+  std::vector<LifterProfile> profiles;
+  for (const std::string& f : args.files) profiles.push_back(load_profile(f));
+
+  char row[256];
+  std::snprintf(row, sizeof row, "%-16s %12s %10s %10s %10s %10s %10s\n", "name", "area_mm2",
+                "height_mm", "base_mm", "top_mm", "lead_deg", "trail_deg");
+  std::cout << row;
+  for (const LifterProfile& p : profiles) {
+    const ProfileMetrics m = measure_profile(p.points);
+    std::snprintf(row, sizeof row, "%-16s %12.1f %10.1f %10.1f %10.1f %10.1f %10.1f\n",
+                  p.name.c_str(), m.area_m2 * 1e6, m.height_m * 1e3, m.base_width_m * 1e3,
+                  m.top_width_m * 1e3, m.leading_face_angle_rad * kRadToDeg,
+                  m.trailing_face_angle_rad * kRadToDeg);
+    std::cout << row;
+  }
+
+  if (!args.csv_dir.empty()) {
+    namespace fs = std::filesystem;
+    for (std::size_t i = 0; i < profiles.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (profiles[i].name == profiles[j].name)
+          throw InputError(profiles[i].source_file, "name",
+                           "expected a name different from " + profiles[j].source_file +
+                               " (both would be written to " + profiles[i].name + ".csv)");
+    std::error_code ec;
+    fs::create_directories(args.csv_dir, ec);
+    if (ec || !fs::is_directory(args.csv_dir))
+      throw InputError("", "--csv", "expected a writable directory: " + args.csv_dir);
+    for (const LifterProfile& p : profiles) write_csv(p, args.csv_dir);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void register_profile(CLI::App& app, Action* action) {
+  auto args = std::make_shared<ProfileArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "profile", "Print lifter profile metrics (area, height, widths, face angles)");
+  sub->add_option("files", args->files, "Profile files (TOML)")->required();
+  sub->add_option("--csv", args->csv_dir, "Write each profile's polyline to DIR/<name>.csv (mm)");
+  sub->callback([args, action] { *action = [args] { return run_profile(*args); }; });
+}
+
+}  // namespace millwear::app

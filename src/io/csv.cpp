@@ -1,0 +1,208 @@
+#include "io/csv.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+
+namespace millwear::io {
+
+std::string format_number(double v, int digits) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (digits < 1) digits = 1;
+  if (digits > 17) digits = 17;
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+std::string format_exact(double v) { return format_number(v, 17); }
+
+std::string quote_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  q += '"';
+  return q;
+}
+
+CsvTable::CsvTable(std::vector<std::string> header, CsvOptions options)
+    : header_(std::move(header)), options_(options) {}
+
+CsvTable& CsvTable::add_row(std::vector<CsvCell> row) {
+  if (row.size() != header_.size())
+    throw std::invalid_argument("CSV row has " + std::to_string(row.size()) +
+                                " fields, header has " + std::to_string(header_.size()));
+  std::vector<std::string> out;
+  out.reserve(row.size());
+  for (const auto& cell : row) {
+    if (const auto* s = std::get_if<std::string>(&cell.value)) {
+      out.push_back(quote_field(*s));
+    } else if (const auto* d = std::get_if<double>(&cell.value)) {
+      out.push_back(options_.exact ? format_exact(*d)
+                                   : format_number(*d, options_.significant_digits));
+    } else {
+      out.push_back(std::to_string(std::get<long long>(cell.value)));
+    }
+  }
+  rows_.push_back(std::move(out));
+  return *this;
+}
+
+std::string CsvTable::str() const {
+  std::string s;
+  for (std::size_t i = 0; i < header_.size(); ++i) {
+    if (i) s += ',';
+    s += quote_field(header_[i]);
+  }
+  s += '\n';
+  for (const auto& row : rows_) {
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (i) s += ',';
+      s += row[i];
+    }
+    s += '\n';
+  }
+  return s;
+}
+
+void CsvTable::write(const std::string& path) const { write_file_atomic(path, str()); }
+
+// ---- reading ----
+
+bool CsvData::has_column(const std::string& name) const {
+  for (const auto& h : header)
+    if (h == name) return true;
+  return false;
+}
+
+std::size_t CsvData::column(const std::string& name) const {
+  for (std::size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name) return i;
+  throw InputError(path, "line 1", "a column named " + name);
+}
+
+const std::string& CsvData::text(std::size_t row, std::size_t col) const {
+  return rows.at(row).at(col);
+}
+
+double CsvData::number(std::size_t row, std::size_t col) const {
+  const std::string& s = text(row, col);
+  const char* begin = s.c_str();
+  char* end = nullptr;
+  errno = 0;
+  double v = std::strtod(begin, &end);
+  bool ok = end != begin;
+  if (ok) {
+    while (*end == ' ' || *end == '\t') ++end;
+    ok = *end == '\0';
+  }
+  // ERANGE on underflow gives a denormal or zero, which is fine; on overflow, it is not.
+  if (ok && errno == ERANGE && std::isinf(v)) ok = false;
+  if (!ok)
+    throw InputError(path, "line " + std::to_string(row_line.at(row)),
+                     "a number in column " + header.at(col) + ", found '" + s + "'");
+  return v;
+}
+
+std::vector<double> CsvData::numbers(const std::string& col) const {
+  std::size_t c = column(col);
+  std::vector<double> v;
+  v.reserve(rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) v.push_back(number(r, c));
+  return v;
+}
+
+std::vector<std::string> CsvData::texts(const std::string& col) const {
+  std::size_t c = column(col);
+  std::vector<std::string> v;
+  v.reserve(rows.size());
+  for (const auto& row : rows) v.push_back(row.at(c));
+  return v;
+}
+
+namespace {
+
+// Splits the text into records of fields, tracking the line each record starts on.
+struct Record {
+  std::vector<std::string> fields;
+  std::size_t line = 0;
+};
+
+std::vector<Record> split_records(const std::string& text, const std::string& name) {
+  std::vector<Record> records;
+  std::size_t i = 0, n = text.size(), line = 1;
+  while (i < n) {
+    // Skip blank lines (including a lone '\r').
+    if (text[i] == '\n') { ++line; ++i; continue; }
+    if (text[i] == '\r' && (i + 1 == n || text[i + 1] == '\n')) { ++i; continue; }
+    Record rec;
+    rec.line = line;
+    std::string field;
+    bool at_line_end = false;
+    while (!at_line_end) {
+      field.clear();
+      if (i < n && text[i] == '"') {
+        std::size_t start_line = line;
+        ++i;
+        for (;;) {
+          if (i >= n)
+            throw InputError(name, "line " + std::to_string(start_line),
+                             "a closing '\"' for the quoted field");
+          char c = text[i++];
+          if (c == '"') {
+            if (i < n && text[i] == '"') { field += '"'; ++i; continue; }
+            break;
+          }
+          if (c == '\n') ++line;
+          field += c;
+        }
+        // Anything between the closing quote and the separator is an error.
+        if (i < n && text[i] != ',' && text[i] != '\n' && text[i] != '\r')
+          throw InputError(name, "line " + std::to_string(line),
+                           "a comma or line end after a quoted field");
+      } else {
+        while (i < n && text[i] != ',' && text[i] != '\n' && text[i] != '\r') field += text[i++];
+      }
+      rec.fields.push_back(field);
+      if (i < n && text[i] == ',') { ++i; continue; }
+      // Line end or end of text.
+      if (i < n && text[i] == '\r') ++i;
+      if (i < n && text[i] == '\n') { ++i; ++line; }
+      at_line_end = true;
+    }
+    records.push_back(std::move(rec));
+  }
+  return records;
+}
+
+}  // namespace
+
+CsvData parse_csv(const std::string& text, const std::string& name) {
+  CsvData data;
+  data.path = name;
+  std::vector<Record> records = split_records(text, name);
+  if (records.empty()) throw InputError(name, "line 1", "a header row");
+  data.header = std::move(records[0].fields);
+  for (std::size_t r = 1; r < records.size(); ++r) {
+    if (records[r].fields.size() != data.header.size())
+      throw InputError(name, "line " + std::to_string(records[r].line),
+                       std::to_string(data.header.size()) + " fields as in the header, found " +
+                           std::to_string(records[r].fields.size()));
+    data.rows.push_back(std::move(records[r].fields));
+    data.row_line.push_back(records[r].line);
+  }
+  return data;
+}
+
+CsvData read_csv(const std::string& path) { return parse_csv(read_file(path), path); }
+
+}  // namespace millwear::io

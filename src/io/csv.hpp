@@ -1,0 +1,98 @@
+#pragma once
+// A tiny CSV table builder and reader for the run folder (summary.csv, profiles, spectra).
+// Dialect: comma separated, first line is the header, '\n' line ends ('\r\n' accepted on
+// read), fields quoted with '"' only when they contain a comma, a quote or a line end
+// (RFC 4180; a quote inside a quoted field is doubled). Numbers are written with
+// std::snprintf in the C locale, so '.' is always the decimal point.
+#include <cstddef>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace millwear::io {
+
+struct CsvOptions {
+  // Significant digits for doubles (%.<n>g). 10 digits keeps files readable and is far
+  // finer than any quantity we write (areas in mm^2, powers in kW).
+  int significant_digits = 10;
+  // Exact round trip: write doubles with %.17g so strtod gives back the same bits.
+  // Use for files that a resumed run reads back as state.
+  bool exact = false;
+};
+
+// One cell: text, a floating-point number or an integer (integers are never rounded).
+struct CsvCell {
+  std::variant<std::string, double, long long> value;
+  CsvCell(std::string s) : value(std::move(s)) {}
+  CsvCell(const char* s) : value(std::string(s)) {}
+  CsvCell(double d) : value(d) {}
+  CsvCell(float d) : value(static_cast<double>(d)) {}
+  CsvCell(int i) : value(static_cast<long long>(i)) {}
+  CsvCell(long i) : value(static_cast<long long>(i)) {}
+  CsvCell(long long i) : value(i) {}
+  CsvCell(unsigned i) : value(static_cast<long long>(i)) {}
+  CsvCell(unsigned long i) : value(static_cast<long long>(i)) {}
+  CsvCell(unsigned long long i) : value(static_cast<long long>(i)) {}
+  CsvCell(bool b) : value(static_cast<long long>(b ? 1 : 0)) {}
+};
+
+// Formats a double with `digits` significant digits (%.<digits>g). Non-finite values are
+// written as nan, inf, -inf (strtod and gnuplot read them back).
+std::string format_number(double v, int digits = 10);
+// Formats a double so that strtod returns the same value (%.17g).
+std::string format_exact(double v);
+// Quotes a text field if it needs it (comma, quote, CR or LF inside).
+std::string quote_field(const std::string& s);
+
+class CsvTable {
+ public:
+  explicit CsvTable(std::vector<std::string> header, CsvOptions options = {});
+
+  // Appends a row. Throws std::invalid_argument if its length differs from the header's
+  // (a programming error, not a user's).
+  CsvTable& add_row(std::vector<CsvCell> row);
+
+  const std::vector<std::string>& header() const { return header_; }
+  std::size_t row_count() const { return rows_.size(); }
+
+  // The whole table as CSV text, header first, each line ending in '\n'.
+  std::string str() const;
+  // Writes str() to `path` atomically (see write_file_atomic). Throws RunError.
+  void write(const std::string& path) const;
+
+ private:
+  std::vector<std::string> header_;
+  std::vector<std::vector<std::string>> rows_;  // already formatted
+  CsvOptions options_;
+};
+
+// A CSV file as read: header, rows of text fields, and where each row was in the file,
+// so that errors found later (a bad number in row 7) can name the line.
+struct CsvData {
+  std::string path;                     // as given to read_csv, used in error messages
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::size_t> row_line;    // 1-based line number of each row in the file
+
+  std::size_t row_count() const { return rows.size(); }
+  bool has_column(const std::string& name) const;
+  // Index of a header column. Throws InputError(path, "line 1", "a column named NAME").
+  std::size_t column(const std::string& name) const;
+  const std::string& text(std::size_t row, std::size_t col) const;
+  // The field as a double (strtod, whole field, surrounding spaces allowed; nan/inf
+  // accepted). Throws InputError(path, "line N", "a number in column NAME, found 'X'").
+  double number(std::size_t row, std::size_t col) const;
+  double number(std::size_t row, const std::string& col) const { return number(row, column(col)); }
+  // A whole column as numbers (same errors as number()).
+  std::vector<double> numbers(const std::string& col) const;
+  std::vector<std::string> texts(const std::string& col) const;
+};
+
+// Parses CSV text; `name` is used as the file in error messages.
+// Throws InputError(name, "line N", ...) on: no header, a row with a different number of
+// fields than the header, an unterminated quoted field. Blank lines are skipped.
+CsvData parse_csv(const std::string& text, const std::string& name);
+// Reads and parses a CSV file. Throws InputError(path, "", "a readable file") if missing.
+CsvData read_csv(const std::string& path);
+
+}  // namespace millwear::io

@@ -1,0 +1,326 @@
+#include "io/run_folder.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+
+namespace millwear::io {
+
+namespace fs = std::filesystem;
+
+// ---- paths ----
+
+std::string join_path(const std::string& a, const std::string& b) {
+  if (a.empty()) return b;
+  if (a.back() == '/') return a + b;
+  return a + "/" + b;
+}
+
+std::string manifest_path(const std::string& out) { return join_path(out, "manifest.json"); }
+std::string summary_path(const std::string& out) { return join_path(out, "summary.csv"); }
+std::string spectrum_path(const std::string& out) { return join_path(out, "spectrum.csv"); }
+std::string profiles_dir(const std::string& out) { return join_path(out, "profiles"); }
+std::string profile_path(const std::string& out, const std::string& design, int stage) {
+  return join_path(profiles_dir(out), design + "_stage" + std::to_string(stage) + ".csv");
+}
+std::string snapshot_path(const std::string& out, const std::string& design) {
+  return join_path(out, "snapshot_" + design + ".csv");
+}
+std::string liner_path(const std::string& out, const std::string& design) {
+  return join_path(out, "liner_" + design + ".csv");
+}
+std::string stages_dir(const std::string& out) { return join_path(out, "stages"); }
+std::string stage_done_marker(const std::string& out, const std::string& design, int stage) {
+  return join_path(stages_dir(out), design + "_stage" + std::to_string(stage) + ".done");
+}
+std::string plots_out_dir(const std::string& out) { return join_path(out, "plots"); }
+std::string plots_data_dir(const std::string& out) { return join_path(plots_out_dir(out), "data"); }
+
+bool is_valid_design_name(const std::string& design) {
+  if (design.empty() || design.size() > 64 || design[0] == '.') return false;
+  for (char c : design) {
+    unsigned char u = static_cast<unsigned char>(c);
+    if (!(std::isalnum(u) || c == '.' || c == '-' || c == '_')) return false;
+  }
+  return true;
+}
+
+void create_run_folder(const std::string& out) {
+  ensure_dir(out);
+  ensure_dir(profiles_dir(out));
+  ensure_dir(stages_dir(out));
+  ensure_dir(plots_out_dir(out));
+  ensure_dir(plots_data_dir(out));
+}
+
+// ---- key=value ----
+
+namespace {
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+bool parse_int(const std::string& s, int* out) {
+  if (s.empty() || s.size() > 9) return false;
+  for (char c : s)
+    if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+  *out = std::atoi(s.c_str());
+  return true;
+}
+
+}  // namespace
+
+std::string format_key_values(const KeyValues& kv, const std::string& comment) {
+  std::string s;
+  if (!comment.empty()) s += "# " + comment + "\n";
+  for (const auto& [k, v] : kv) {
+    if (k.empty() || k.find_first_of("=\r\n#") != std::string::npos || trim(k) != k)
+      throw std::invalid_argument("bad key for a key=value file: '" + k + "'");
+    if (v.find_first_of("\r\n") != std::string::npos)
+      throw std::invalid_argument("value of '" + k + "' contains a line end");
+    s += k + "=" + v + "\n";
+  }
+  return s;
+}
+
+KeyValues parse_key_values(const std::string& text, const std::string& name) {
+  KeyValues kv;
+  std::size_t line_no = 0, i = 0;
+  while (i <= text.size()) {
+    std::size_t e = text.find('\n', i);
+    if (e == std::string::npos) e = text.size();
+    std::string line = text.substr(i, e - i);
+    ++line_no;
+    i = e + 1;
+    std::string t = trim(line);
+    if (t.empty() || t[0] == '#') {
+      if (e == text.size()) break;
+      continue;
+    }
+    std::size_t eq = t.find('=');
+    if (eq == std::string::npos || trim(t.substr(0, eq)).empty())
+      throw InputError(name, "line " + std::to_string(line_no), "key=value");
+    kv.emplace_back(trim(t.substr(0, eq)), trim(t.substr(eq + 1)));
+    if (e == text.size()) break;
+  }
+  return kv;
+}
+
+KeyValues read_key_values(const std::string& path) {
+  return parse_key_values(read_file(path), path);
+}
+
+std::string find_value(const KeyValues& kv, const std::string& key, const std::string& fallback) {
+  for (const auto& [k, v] : kv)
+    if (k == key) return v;
+  return fallback;
+}
+
+// ---- stage markers ----
+
+void write_stage_done(const std::string& out, const std::string& design, int stage,
+                      const KeyValues& extra) {
+  KeyValues kv;
+  kv.emplace_back("design", design);
+  kv.emplace_back("stage", std::to_string(stage));
+  for (const auto& p : extra)
+    if (p.first != "design" && p.first != "stage") kv.push_back(p);
+  ensure_dir(stages_dir(out));
+  write_file_atomic(stage_done_marker(out, design, stage),
+                    format_key_values(kv, "millwear stage marker"));
+}
+
+std::vector<int> list_finished_stages(const std::string& out, const std::string& design) {
+  std::vector<int> stages;
+  std::error_code ec;
+  const std::string dir = stages_dir(out);
+  if (!fs::is_directory(dir, ec)) return stages;
+  const std::string prefix = design + "_stage";
+  const std::string suffix = ".done";
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    if (!entry.is_regular_file(ec)) continue;
+    std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size()) continue;
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    if (name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    int k = -1;
+    if (!parse_int(name.substr(prefix.size(), name.size() - prefix.size() - suffix.size()), &k))
+      continue;
+    try {
+      KeyValues kv = read_key_values(entry.path().string());
+      if (find_value(kv, "design") != design) continue;
+      if (find_value(kv, "stage") != std::to_string(k)) continue;
+    } catch (const InputError&) {
+      continue;  // unreadable or garbled marker: the stage is not counted as done
+    }
+    stages.push_back(k);
+  }
+  std::sort(stages.begin(), stages.end());
+  return stages;
+}
+
+int last_finished_stage(const std::string& out, const std::string& design) {
+  std::vector<int> done = list_finished_stages(out, design);
+  int last = -1;
+  for (int k : done) {
+    if (k != last + 1) break;
+    last = k;
+  }
+  return last;
+}
+
+// ---- JSON ----
+
+std::string json_quote(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    unsigned char u = static_cast<unsigned char>(c);
+    switch (c) {
+      case '"': q += "\\\""; break;
+      case '\\': q += "\\\\"; break;
+      case '\n': q += "\\n"; break;
+      case '\r': q += "\\r"; break;
+      case '\t': q += "\\t"; break;
+      case '\b': q += "\\b"; break;
+      case '\f': q += "\\f"; break;
+      default:
+        if (u < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", u);
+          q += buf;
+        } else {
+          q += c;  // UTF-8 passes through unchanged
+        }
+    }
+  }
+  q += '"';
+  return q;
+}
+
+namespace {
+
+// Shortest %.Ng (N = 1..17) that reads back to the same double.
+std::string shortest_double(double d) {
+  char buf[64];
+  int digits = 1;
+  for (; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, d);
+    if (std::strtod(buf, nullptr) == d) break;
+  }
+  // %g switches to an exponent when the exponent reaches the precision (750 -> 7.5e+02);
+  // print whole numbers below 1e17 in full instead.
+  const double a = std::fabs(d);
+  if (std::strchr(buf, 'e') && a >= 1.0 && a < 1e17) {
+    const int int_digits = static_cast<int>(std::floor(std::log10(a))) + 1;
+    if (int_digits > digits) std::snprintf(buf, sizeof buf, "%.*g", int_digits, d);
+  }
+  return buf;
+}
+
+void newline(std::string& out, int indent, int depth) {
+  if (indent <= 0) return;
+  out += '\n';
+  out.append(static_cast<std::size_t>(indent * depth), ' ');
+}
+
+}  // namespace
+
+JsonValue& JsonValue::set(const std::string& key, JsonValue v) {
+  if (kind_ == Kind::Null) kind_ = Kind::Object;
+  if (kind_ != Kind::Object) throw std::logic_error("JSON set(\"" + key + "\") on a non-object");
+  for (auto& m : members_) {
+    if (m.first == key) {
+      m.second = std::move(v);
+      return *this;
+    }
+  }
+  members_.emplace_back(key, std::move(v));
+  return *this;
+}
+
+JsonValue& JsonValue::object(const std::string& key) {
+  if (kind_ == Kind::Null) kind_ = Kind::Object;
+  if (kind_ != Kind::Object)
+    throw std::logic_error("JSON object(\"" + key + "\") on a non-object");
+  for (auto& m : members_) {
+    if (m.first == key) {
+      if (m.second.kind_ == Kind::Null) m.second = JsonValue();
+      return m.second;
+    }
+  }
+  members_.emplace_back(key, JsonValue());
+  return members_.back().second;
+}
+
+bool JsonValue::has(const std::string& key) const {
+  for (const auto& m : members_)
+    if (m.first == key) return true;
+  return false;
+}
+
+JsonValue& JsonValue::push(JsonValue v) {
+  if (kind_ == Kind::Null || (kind_ == Kind::Object && members_.empty())) kind_ = Kind::Array;
+  if (kind_ != Kind::Array) throw std::logic_error("JSON push on a non-array");
+  items_.push_back(std::move(v));
+  return *this;
+}
+
+std::size_t JsonValue::size() const {
+  if (kind_ == Kind::Array) return items_.size();
+  if (kind_ == Kind::Object) return members_.size();
+  return 0;
+}
+
+std::string JsonValue::dump(int indent) const {
+  std::string out;
+  dump_to(out, indent, 0);
+  return out;
+}
+
+void JsonValue::dump_to(std::string& out, int indent, int depth) const {
+  switch (kind_) {
+    case Kind::Null: out += "null"; break;
+    case Kind::Bool: out += b_ ? "true" : "false"; break;
+    case Kind::Integer: out += std::to_string(i_); break;
+    case Kind::Number: out += std::isfinite(d_) ? shortest_double(d_) : "null"; break;
+    case Kind::String: out += json_quote(s_); break;
+    case Kind::Array:
+      if (items_.empty()) { out += "[]"; break; }
+      out += '[';
+      for (std::size_t i = 0; i < items_.size(); ++i) {
+        if (i) out += indent > 0 ? "," : ", ";
+        newline(out, indent, depth + 1);
+        items_[i].dump_to(out, indent, depth + 1);
+      }
+      newline(out, indent, depth);
+      out += ']';
+      break;
+    case Kind::Object:
+      if (members_.empty()) { out += "{}"; break; }
+      out += '{';
+      for (std::size_t i = 0; i < members_.size(); ++i) {
+        if (i) out += indent > 0 ? "," : ", ";
+        newline(out, indent, depth + 1);
+        out += json_quote(members_[i].first);
+        out += ": ";
+        members_[i].second.dump_to(out, indent, depth + 1);
+      }
+      newline(out, indent, depth);
+      out += '}';
+      break;
+  }
+}
+
+}  // namespace millwear::io

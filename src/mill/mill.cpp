@@ -1,0 +1,280 @@
+// The mill's inner boundary from liner units, and lifter metrics against the shell circle.
+#include "mill/mill.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "common/errors.hpp"
+#include "profiles/profile.hpp"
+
+namespace millwear {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Edge-ownership slack: a vertical lifter face has its edge midpoints exactly at the foot
+// x; 1 nm is far below any mesh edge and far above rounding of metre-scale coordinates.
+constexpr double kOwnerTolM = 1e-9;
+
+// Numbers in messages: as short as the user would write them (200, 0.5, 1e-05).
+std::string fmt_num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+double row_angle(int row, int rows) { return 2.0 * kPi * row / rows; }
+
+// Points of a straight run from a to b (both included) in n equal edges, n >= 1.
+void append_straight(Polyline& out, Vec2 a, Vec2 b, double target, bool include_first) {
+  const int n = std::max(1, static_cast<int>(std::lround(length(b - a) / target)));
+  if (include_first) out.push_back(a);
+  for (int j = 1; j < n; ++j) out.push_back(a + (static_cast<double>(j) / n) * (b - a));
+  out.push_back(b);
+}
+
+// Sutherland-Hodgman clip of a ring against the half-plane keep(p) >= 0, with keep linear.
+// The clip windows here are convex, so the signed area and moments of the output are
+// exactly those of the clipped region (any zero-width bridges contribute nothing).
+template <class F>
+Polygon clip_half_plane(const Polygon& ring, F keep) {
+  Polygon out;
+  const std::size_t n = ring.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % n];
+    const double fa = keep(a), fb = keep(b);
+    if (fa >= 0.0) out.push_back(a);
+    if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+  }
+  return out;
+}
+
+// The part of an open polyline inside x in [x0, x1], assuming x is monotone enough that the
+// strip cuts it once at each side (true for a liner unit: shell, lifter, shell).
+Polyline clip_polyline_x(const Polyline& line, double x0, double x1) {
+  Polyline out;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    Vec2 a = line[i], b = line[i + 1];
+    const double lo = std::min(a.x, b.x), hi = std::max(a.x, b.x);
+    if (hi < x0 || lo > x1) continue;
+    auto at_x = [&](double x) {
+      const double t = (b.x == a.x) ? 0.0 : (x - a.x) / (b.x - a.x);
+      return Vec2{x, a.y + t * (b.y - a.y)};
+    };
+    if (a.x < x0) a = at_x(x0);
+    if (a.x > x1) a = at_x(x1);
+    Vec2 bb = b;
+    if (b.x < x0) bb = at_x(x0);
+    if (b.x > x1) bb = at_x(x1);
+    if (out.empty() || !(out.back() == a)) out.push_back(a);
+    if (!(out.back() == bb)) out.push_back(bb);
+  }
+  return out;
+}
+
+// Trim the lifter's part of a (possibly worn) surface to its feet: walking in from each end,
+// the foot is where the surface last leaves y <= 0 before the face reaches half the height
+// (or the strip edge if it never touches the shell). measure_profile then measures the faces
+// exactly as for a new profile.
+Polyline trim_to_feet(const Polyline& c, double height) {
+  const double y_half = 0.5 * height;
+  std::size_t first_up = 0, last_up = c.size() - 1;
+  while (first_up < c.size() && c[first_up].y < y_half) ++first_up;
+  while (last_up > 0 && c[last_up].y < y_half) --last_up;
+  if (first_up >= c.size() || last_up < first_up) return c;
+
+  auto crossing = [](Vec2 a, Vec2 b) {  // point at y = 0 on [a, b], a.y <= 0 < b.y
+    const double t = (0.0 - a.y) / (b.y - a.y);
+    return Vec2{a.x + t * (b.x - a.x), 0.0};
+  };
+  Polyline out;
+  std::size_t i0 = 0;
+  for (std::size_t j = first_up; j-- > 0;) {
+    if (c[j].y <= 0.0) {
+      out.push_back(crossing(c[j], c[j + 1]));
+      i0 = j + 1;
+      break;
+    }
+  }
+  if (out.empty()) out.push_back(c[0]), i0 = 1;
+  std::size_t i1 = c.size() - 1;
+  Vec2 right_foot = c.back();
+  for (std::size_t j = last_up + 1; j < c.size(); ++j) {
+    if (c[j].y <= 0.0) {
+      right_foot = crossing(c[j], c[j - 1]);
+      i1 = j;  // exclusive
+      break;
+    }
+  }
+  for (std::size_t j = i0; j < i1; ++j) out.push_back(c[j]);
+  out.push_back(right_foot);
+  return out;
+}
+
+}  // namespace
+
+Vec2 local_to_mill(Vec2 local, int row, int rows, double radius_m) {
+  const double theta = row_angle(row, rows) + local.x / radius_m;
+  const double r = radius_m - local.y;
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+Vec2 mill_to_local(Vec2 mill, int row, int rows, double radius_m) {
+  double dtheta = std::atan2(mill.y, mill.x) - row_angle(row, rows);
+  dtheta = std::remainder(dtheta, 2.0 * kPi);  // into [-pi, pi]
+  return {radius_m * dtheta, radius_m - length(mill)};
+}
+
+LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
+                          const MillMeshDef& mesh) {
+  if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");
+  if (!(radius_m > 0.0)) throw InputError("", "mill.radius", "expected a radius > 0");
+  if (!(mesh.lifter_edge_m > 0.0) || !(mesh.shell_edge_m > 0.0))
+    throw InputError("", "mesh", "expected positive target edge lengths");
+  validate_lifter_polyline(lifter_local, "", "lifters.profile");
+
+  // Centre the base on x = 0 so the lifter sits in the middle of its row and ownership by
+  // |x| works for profiles drawn off-centre.
+  Polyline lifter = lifter_local;
+  const double shift = -0.5 * (lifter.front().x + lifter.back().x);
+  double half_extent = 0.0, height = 0.0;
+  for (Vec2& p : lifter) {
+    p.x += shift;
+    half_extent = std::max(half_extent, std::abs(p.x));
+    height = std::max(height, p.y);
+  }
+
+  const double pitch = 2.0 * kPi * radius_m / rows;
+  if (!(2.0 * half_extent < pitch))
+    throw InputError("", "lifters.rows",
+                     "expected lifters that fit the pitch: " + std::to_string(rows) +
+                         " rows give a pitch of " + fmt_num(pitch * 1e3) +
+                         " mm along the shell, the lifter is " +
+                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
+  if (!(height < 0.5 * radius_m))
+    throw InputError("", "lifters.profile",
+                     "expected a lifter lower than half the mill radius (" +
+                         fmt_num(0.5 * radius_m * 1e3) + " mm), got " +
+                         fmt_num(height * 1e3) + " mm");
+
+  LinerUnit unit;
+  unit.lifter_half_base_m = half_extent;
+  const Polyline faces = resample(lifter, mesh.lifter_edge_m);
+  append_straight(unit.surface, {-0.5 * pitch, 0.0}, faces.front(), mesh.shell_edge_m, true);
+  unit.surface.insert(unit.surface.end(), faces.begin() + 1, faces.end());
+  append_straight(unit.surface, faces.back(), {0.5 * pitch, 0.0}, mesh.shell_edge_m, false);
+  return unit;
+}
+
+MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units) {
+  if (rows < 1 || !(units.size() == 1 || units.size() == static_cast<std::size_t>(rows)))
+    throw InputError("", "lifters.rows", "expected one liner unit, or one per row");
+  MillGeometry g;
+  g.radius_m = radius_m;
+  g.rows = rows;
+  g.units = std::move(units);
+
+  // Ring: every unit's surface mapped into the mill frame, minus its last point (which is
+  // the next unit's first point: both sit at the half-way angle between two lifters).
+  for (int k = 0; k < rows; ++k) {
+    const LinerUnit& u = g.units[g.units.size() == 1 ? 0 : k];
+    const double hb = u.lifter_half_base_m + kOwnerTolM;
+    for (std::size_t j = 0; j + 1 < u.surface.size(); ++j) {
+      g.boundary.push_back(local_to_mill(u.surface[j], k, rows, radius_m));
+      LinerEdgeInfo e;
+      e.row = k;
+      e.unit_edge = static_cast<int>(j);
+      const double xm = 0.5 * (u.surface[j].x + u.surface[j + 1].x);
+      if (std::abs(xm) <= hb) {
+        e.owner = EdgeOwner::Lifter;
+        e.owner_index = k;
+      } else {
+        // Shell segment k runs from lifter k to lifter k+1: the right half-gap of row k and
+        // the left half-gap of row k+1.
+        e.owner = EdgeOwner::Shell;
+        e.owner_index = xm > 0.0 ? k : (k + rows - 1) % rows;
+      }
+      g.edges.push_back(e);
+    }
+  }
+
+  const std::size_t n = g.boundary.size();
+  g.normal_out.resize(n);
+  g.edge_length_m.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 d = g.boundary[(i + 1) % n] - g.boundary[i];
+    g.edge_length_m[i] = length(d);
+    // Ring is CCW with the charge on the left, so the right side is the liner metal.
+    g.normal_out[i] = normalized(right_perp(d));
+  }
+
+  // Local arc length: walk the ring from the start of some owner run (an edge whose owner
+  // differs from its predecessor's) so that every run is seen from its first edge.
+  auto same_owner = [&](std::size_t a, std::size_t b) {
+    return g.edges[a].owner == g.edges[b].owner &&
+           g.edges[a].owner_index == g.edges[b].owner_index;
+  };
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!same_owner(i, (i + n - 1) % n)) {
+      start = i;
+      break;
+    }
+  }
+  double s = 0.0;
+  for (std::size_t m = 0; m < n; ++m) {
+    const std::size_t i = (start + m) % n;
+    if (m > 0 && !same_owner(i, (i + n - 1) % n)) s = 0.0;
+    g.edges[i].s_local_m = s + 0.5 * g.edge_length_m[i];
+    s += g.edge_length_m[i];
+  }
+  return g;
+}
+
+LifterMetrics measure_lifter(const LinerUnit& unit, double radius_m) {
+  LifterMetrics m;
+  const Polyline& surf = unit.surface;
+  if (surf.size() < 2) return m;
+  const double hb = unit.lifter_half_base_m;
+
+  // Region below the surface, closed far beneath the shell, then clipped to the original
+  // base span and to y >= 0: the metal above the original shell circle.
+  double ymin = 0.0;
+  for (const Vec2& p : surf) ymin = std::min(ymin, p.y);
+  Polygon region = surf;
+  region.push_back({surf.back().x, ymin - 1.0});
+  region.push_back({surf.front().x, ymin - 1.0});
+  region = clip_half_plane(region, [](Vec2 p) { return p.y; });
+  region = clip_half_plane(region, [hb](Vec2 p) { return p.x + hb; });
+  region = clip_half_plane(region, [hb](Vec2 p) { return hb - p.x; });
+  if (region.size() < 3) return m;
+
+  // Polar map: dA_mill = (R - y) dx dy / R, so A = A_flat - (1/R) * integral of y dA, both
+  // exact for a polygon from its shoelace moments.
+  double a2 = 0.0, my6 = 0.0;
+  const std::size_t n = region.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 p = region[i], q = region[(i + 1) % n];
+    const double c = cross(p, q);
+    a2 += c;
+    my6 += c * (p.y + q.y);
+  }
+  const double a_flat = 0.5 * a2, m_y = my6 / 6.0;
+  m.area_m2 = std::abs(a_flat - m_y / radius_m);
+
+  const Polyline lifter = clip_polyline_x(surf, -hb, hb);
+  for (const Vec2& p : lifter) m.height_m = std::max(m.height_m, p.y);
+  if (!(m.height_m > 0.0) || lifter.size() < 2) {
+    m.height_m = std::max(m.height_m, 0.0);
+    return m;  // worn flat: no faces to measure
+  }
+  const ProfileMetrics pm = measure_profile(trim_to_feet(lifter, m.height_m));
+  m.leading_face_angle_rad = pm.leading_face_angle_rad;
+  m.trailing_face_angle_rad = pm.trailing_face_angle_rad;
+  return m;
+}
+
+}  // namespace millwear

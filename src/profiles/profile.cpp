@@ -1,0 +1,310 @@
+// Lifter profile files (TOML, mm and degrees) -> lifter polylines (m, rad), and the profile
+// metrics printed by `millwear profile`. toml++ stays inside this file.
+#include "profiles/profile.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string_view>
+
+#include "common/errors.hpp"
+
+namespace millwear {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMmToM = 1e-3;
+constexpr double kDegToRad = kPi / 180.0;
+// Feet must lie on the shell line; file values are in mm, so 1 nm is "exactly zero" for
+// anything a person types, and still catches a foot written at 0.001 mm.
+constexpr double kFootTolM = 1e-9;
+
+namespace fs = std::filesystem;
+
+// Numbers in messages: as short as the user would write them (200, 0.5, 1e-05).
+std::string fmt_num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string line_of(const toml::node& n) {
+  return "line " + std::to_string(n.source().begin.line);
+}
+
+// A number (integer or float) or an InputError naming the key.
+double number_at(const toml::table& t, std::string_view key, const std::string& file,
+                 const std::string& expected) {
+  const toml::node* n = t.get(key);
+  if (!n) throw InputError(file, std::string(key), "missing; expected " + expected);
+  const auto v = n->value<double>();
+  if (!n->is_number() || !v || !std::isfinite(*v))
+    throw InputError(file, std::string(key), "expected " + expected + " (" + line_of(*n) + ")");
+  return *v;
+}
+
+std::string string_at(const toml::table& t, std::string_view key, const std::string& file,
+                      const std::string& expected) {
+  const toml::node* n = t.get(key);
+  if (!n) throw InputError(file, std::string(key), "missing; expected " + expected);
+  if (!n->is_string())
+    throw InputError(file, std::string(key), "expected " + expected + " (" + line_of(*n) + ")");
+  return *n->value<std::string>();
+}
+
+double face_angle_at(const toml::table& t, std::string_view key, const std::string& file) {
+  const double deg = number_at(t, key, file, "a face angle in degrees, 0 <= angle < 90");
+  if (!(deg >= 0.0 && deg < 90.0))
+    throw InputError(file, std::string(key),
+                     "expected a face angle in degrees, 0 <= angle < 90 (got " +
+                         fmt_num(deg) + ")");
+  return deg * kDegToRad;
+}
+
+// Walk a face from its foot (pts[0]) until the polyline first reaches half the height and
+// return the angle of the chord foot -> that point from the radial (+y) direction, positive
+// when the face leans towards +x (into the lifter, for a face walked from the trailing foot).
+double face_angle_from_foot(const Polyline& pts, double height) {
+  if (pts.size() < 2 || !(height > 0.0)) return 0.0;
+  const Vec2 foot = pts.front();
+  const double y_half = 0.5 * height;
+  for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+    const Vec2 a = pts[i], b = pts[i + 1];
+    if (b.y >= y_half) {
+      const double t = (b.y == a.y) ? 1.0 : std::clamp((y_half - a.y) / (b.y - a.y), 0.0, 1.0);
+      const Vec2 p = a + t * (b - a);
+      return std::atan2(p.x - foot.x, p.y - foot.y);
+    }
+  }
+  return 0.0;
+}
+
+const std::set<std::string_view>& keys_for(ProfileForm form) {
+  static const std::set<std::string_view> trapezoid{
+      "name", "description", "form", "height", "top_width", "leading_face_angle",
+      "trailing_face_angle", "match_area_of"};
+  static const std::set<std::string_view> polyline{"name", "description", "form", "points"};
+  return form == ProfileForm::Trapezoid ? trapezoid : polyline;
+}
+
+std::string key_list(const std::set<std::string_view>& keys) {
+  std::string s;
+  for (std::string_view k : keys) s += (s.empty() ? "" : ", ") + std::string(k);
+  return s;
+}
+
+Polyline read_points(const toml::table& t, const std::string& file) {
+  const toml::node* n = t.get("points");
+  const std::string expected = "an array of [x, y] pairs in mm, trailing foot to leading foot";
+  if (!n) throw InputError(file, "points", "missing; expected " + expected);
+  const toml::array* arr = n->as_array();
+  if (!arr) throw InputError(file, "points", "expected " + expected + " (" + line_of(*n) + ")");
+  Polyline pts;
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const toml::node& e = *arr->get(i);
+    const std::string key = "points[" + std::to_string(i) + "]";
+    const toml::array* pair = e.as_array();
+    if (!pair || pair->size() != 2 || !pair->get(0)->is_number() || !pair->get(1)->is_number())
+      throw InputError(file, key, "expected a pair [x, y] of numbers in mm (" + line_of(e) + ")");
+    const double x = *pair->get(0)->value<double>(), y = *pair->get(1)->value<double>();
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw InputError(file, key, "expected finite numbers in mm (" + line_of(e) + ")");
+    pts.push_back({x * kMmToM, y * kMmToM});
+  }
+  return pts;
+}
+
+// A name is also a CSV file name (`profile --csv`), so keep it a plain file name.
+void check_name(const std::string& name, const std::string& file) {
+  const bool bad = name.empty() || name == "." || name == ".." ||
+                   name.find_first_of("/\\") != std::string::npos ||
+                   std::any_of(name.begin(), name.end(),
+                               [](char c) { return static_cast<unsigned char>(c) < 0x20; });
+  if (bad)
+    throw InputError(file, "name", "expected a non-empty name usable as a file name (no '/')");
+}
+
+LifterProfile load_profile_impl(const std::string& path, std::vector<std::string>& chain) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, "", "expected an existing, readable profile file");
+  const std::string canonical = fs::weakly_canonical(path, ec).string();
+  if (std::find(chain.begin(), chain.end(), canonical) != chain.end())
+    throw InputError(path, "match_area_of",
+                     "expected a chain of profiles that ends; this file refers back to itself");
+  chain.push_back(canonical);
+
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path, "line " + std::to_string(e.source().begin.line),
+                     "expected a TOML profile file: " + std::string(e.description()));
+  }
+
+  const std::string form_name = string_at(root, "form", path, "\"trapezoid\" or \"polyline\"");
+  ProfileForm form;
+  if (form_name == "trapezoid") {
+    form = ProfileForm::Trapezoid;
+  } else if (form_name == "polyline") {
+    form = ProfileForm::Polyline;
+  } else {
+    throw InputError(path, "form", "expected \"trapezoid\" or \"polyline\" (got \"" + form_name +
+                                       "\", " + line_of(*root.get("form")) + ")");
+  }
+
+  const auto& allowed = keys_for(form);
+  for (auto&& [key, node] : root) {
+    if (!allowed.count(key.str()))
+      throw InputError(path, std::string(key.str()),
+                       "unknown key for form = \"" + form_name + "\" (" + line_of(node) +
+                           "); expected one of: " + key_list(allowed));
+  }
+
+  LifterProfile prof;
+  prof.source_file = path;
+  prof.form = form;
+  prof.name = root.contains("name") ? string_at(root, "name", path, "a string")
+                                    : fs::path(path).stem().string();
+  check_name(prof.name, path);
+  if (root.contains("description")) string_at(root, "description", path, "a string");
+
+  if (form == ProfileForm::Trapezoid) {
+    TrapezoidDef t;
+    const double h_mm = number_at(root, "height", path, "a height in mm > 0");
+    if (!(h_mm > 0.0))
+      throw InputError(path, "height",
+                       "expected a height in mm > 0 (got " + fmt_num(h_mm) + ")");
+    t.height_m = h_mm * kMmToM;
+    t.leading_face_angle_rad = face_angle_at(root, "leading_face_angle", path);
+    t.trailing_face_angle_rad = face_angle_at(root, "trailing_face_angle", path);
+
+    const bool has_top = root.contains("top_width");
+    const bool has_match = root.contains("match_area_of");
+    if (has_top && has_match)
+      throw InputError(path, "match_area_of",
+                       "expected either top_width or match_area_of, not both");
+    if (has_match) {
+      const std::string other = string_at(root, "match_area_of", path, "a profile file path");
+      const fs::path other_path = fs::path(path).parent_path() / other;
+      if (!fs::is_regular_file(other_path, ec))
+        throw InputError(path, "match_area_of",
+                         "expected an existing profile file; not found: " + other_path.string());
+      const LifterProfile ref = load_profile_impl(other_path.string(), chain);
+      const double target = measure_profile(ref.points).area_m2;
+      t.top_width_m = top_width_for_area(t, target, path);
+    } else if (has_top) {
+      const double w_mm = number_at(root, "top_width", path, "a top width in mm > 0");
+      if (!(w_mm > 0.0))
+        throw InputError(path, "top_width",
+                         "expected a top width in mm > 0 (got " + fmt_num(w_mm) + ")");
+      t.top_width_m = w_mm * kMmToM;
+    } else {
+      throw InputError(path, "top_width", "missing; expected a top width in mm > 0 "
+                                          "(or match_area_of = \"<other profile>\")");
+    }
+    prof.trapezoid = t;
+    prof.points = trapezoid_points(t);
+    validate_lifter_polyline(prof.points, path, "top_width");
+  } else {
+    prof.points = read_points(root, path);
+    validate_lifter_polyline(prof.points, path, "points");
+  }
+  chain.pop_back();
+  return prof;
+}
+
+}  // namespace
+
+Polyline trapezoid_points(const TrapezoidDef& t) {
+  const double h = t.height_m;
+  const double run_lead = h * std::tan(t.leading_face_angle_rad);
+  const double run_trail = h * std::tan(t.trailing_face_angle_rad);
+  const double half_base = 0.5 * (t.top_width_m + run_lead + run_trail);
+  return {{-half_base, 0.0},
+          {-half_base + run_trail, h},
+          {half_base - run_lead, h},
+          {half_base, 0.0}};
+}
+
+double top_width_for_area(const TrapezoidDef& t, double area_m2, const std::string& file) {
+  // A = h * (top + base) / 2 with base = top + h (tan lead + tan trail).
+  const double h = t.height_m;
+  const double runs = std::tan(t.leading_face_angle_rad) + std::tan(t.trailing_face_angle_rad);
+  const double top = (area_m2 - 0.5 * h * h * runs) / h;
+  if (!(h > 0.0) || !(top > 0.0) || !std::isfinite(top)) {
+    std::ostringstream msg;
+    msg << "expected a profile whose area (" << area_m2 * 1e6
+        << " mm^2) a trapezoid of this height and these face angles can match with a "
+           "positive top width (the faces alone give "
+        << 0.5 * h * h * runs * 1e6 << " mm^2)";
+    throw InputError(file, "match_area_of", msg.str());
+  }
+  return top;
+}
+
+ProfileMetrics measure_profile(const Polyline& pts) {
+  ProfileMetrics m;
+  if (pts.size() < 2) return m;
+  // The polyline runs trailing foot -> over the top -> leading foot; closed by the base it is
+  // a clockwise ring, so the area is the magnitude of the shoelace sum.
+  m.area_m2 = area(pts);
+  for (const Vec2& p : pts) m.height_m = std::max(m.height_m, p.y);
+  m.base_width_m = pts.back().x - pts.front().x;
+
+  // Top width: x-extent of the vertices within 2% of the height of the top (a flat top of a
+  // trapezoid measures exactly its top width; a rounded worn top measures its plateau).
+  const double y_band = 0.98 * m.height_m;
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
+  for (const Vec2& p : pts) {
+    if (p.y >= y_band) {
+      xmin = std::min(xmin, p.x);
+      xmax = std::max(xmax, p.x);
+    }
+  }
+  m.top_width_m = xmax >= xmin ? xmax - xmin : 0.0;
+
+  m.trailing_face_angle_rad = face_angle_from_foot(pts, m.height_m);
+  Polyline from_lead(pts.rbegin(), pts.rend());
+  for (Vec2& p : from_lead) p.x = -p.x;  // mirror so the same walk measures the leading face
+  m.leading_face_angle_rad = face_angle_from_foot(from_lead, m.height_m);
+  return m;
+}
+
+void validate_lifter_polyline(const Polyline& pts, const std::string& file,
+                              const std::string& key) {
+  if (pts.size() < 3)
+    throw InputError(file, key, "expected at least 3 points (trailing foot, top, leading foot)");
+  for (const Vec2& p : pts)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      throw InputError(file, key, "expected finite coordinates");
+  if (std::abs(pts.front().y) > kFootTolM || std::abs(pts.back().y) > kFootTolM)
+    throw InputError(file, key, "expected both feet (first and last point) on the shell, y = 0");
+  if (!(pts.front().x < pts.back().x))
+    throw InputError(file, key,
+                     "expected the trailing foot (first point) at smaller x than the leading "
+                     "foot (last point)");
+  for (std::size_t i = 1; i + 1 < pts.size(); ++i)
+    if (!(pts[i].y > kFootTolM))
+      throw InputError(file, key,
+                       "expected every point between the feet above the shell, y > 0 (point " +
+                           std::to_string(i) + ")");
+  // The lifter closed by its base must be a simple polygon: this catches a face crossing
+  // itself or the other face, and repeated points.
+  if (!is_simple(pts))
+    throw InputError(file, key, "expected a polyline that does not cross or touch itself");
+}
+
+LifterProfile load_profile(const std::string& path) {
+  std::vector<std::string> chain;
+  return load_profile_impl(path, chain);
+}
+
+}  // namespace millwear

@@ -1,0 +1,46 @@
+// Fidelity presets (the table and its reasons are in fidelity.hpp).
+#include "scene/fidelity.hpp"
+
+#include "common/errors.hpp"
+
+namespace millwear {
+
+const std::vector<FidelityDef>& fidelity_presets() {
+  static const std::vector<FidelityDef> presets = [] {
+    std::vector<FidelityDef> p(3);
+    // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter edge
+    p[0] = {"draft", 1.0 / 300.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030};
+    p[1] = {"standard", 1.0 / 500.0, 8, 3, 2.0, 0.004, 1e6, 0.0, 0.040, 0.020};
+    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 6.0, 0.001, 5e5, 0.0, 0.020, 0.010};
+    return p;
+  }();
+  return presets;
+}
+
+const FidelityDef& fidelity_preset(const std::string& name) {
+  for (const auto& p : fidelity_presets())
+    if (p.name == name) return p;
+  throw InputError("", "fidelity",
+                   "one of draft, standard, reference; got \"" + name + "\"");
+}
+
+void apply_fidelity(Scene& scene, const std::string& name) {
+  const FidelityDef& p = fidelity_preset(name);
+  // The file may give the time step either way; both mean it chose one.
+  if (!scene.file_sets("solver.time_step") && !scene.file_sets("solver.steps_per_second"))
+    scene.solver.time_step_s = p.time_step_s;
+  if (!scene.file_sets("solver.velocity_iterations"))
+    scene.solver.velocity_iterations = p.velocity_iterations;
+  if (!scene.file_sets("solver.position_iterations"))
+    scene.solver.position_iterations = p.position_iterations;
+  if (!scene.file_sets("solver.size_cutoff")) scene.solver.size_cutoff_m = p.size_cutoff_m;
+  if (!scene.file_sets("wear.window_revolutions"))
+    scene.wear.window_revolutions = p.window_revolutions;
+  if (!scene.file_sets("wear.max_depth_step")) scene.wear.max_depth_step_m = p.max_depth_step_m;
+  if (!scene.file_sets("wear.factor")) scene.wear.factor = p.factor;
+  if (!scene.file_sets("lifters.shell_edge")) scene.mill.mesh.shell_edge_m = p.shell_edge_m;
+  if (!scene.file_sets("lifters.lifter_edge")) scene.mill.mesh.lifter_edge_m = p.lifter_edge_m;
+  scene.fidelity = p.name;
+}
+
+}  // namespace millwear

@@ -1,0 +1,692 @@
+// Scene files (TOML) -> a validated Scene in SI units.
+//
+// Every key is read through a TableReader that knows the table's allowed keys, so an unknown
+// key, a wrong type and an out-of-range value all fail here with the file, the dotted key
+// ("charge.species[1].density"), the expectation in the file's units and the line. Units are
+// converted in exactly one place each: mm -> m, hours stay hours (named *_hours), rpm ->
+// fraction of critical speed. Nothing outside this file sees a toml++ type.
+#include "scene/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "common/errors.hpp"
+#include "scene/fidelity.hpp"
+
+namespace millwear {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------------------------------
+// Derived quantities
+// ---------------------------------------------------------------------------------------
+
+double SpeciesDef::smallest_diameter_m() const {
+  if (diameters_m.empty()) return d_min_m;
+  return *std::min_element(diameters_m.begin(), diameters_m.end());
+}
+
+double SpeciesDef::largest_diameter_m() const {
+  if (diameters_m.empty()) return d_max_m;
+  return *std::max_element(diameters_m.begin(), diameters_m.end());
+}
+
+SpeciesDef SpeciesDef::without_sizes_below(double cutoff_m) const {
+  SpeciesDef out = *this;
+  if (cutoff_m <= 0.0) return out;
+  if (diameters_m.empty()) {
+    out.d_min_m = std::max(d_min_m, std::min(cutoff_m, d_max_m));
+    return out;
+  }
+  out.diameters_m.clear();
+  out.mass_fractions.clear();
+  double kept = 0.0;
+  for (std::size_t i = 0; i < diameters_m.size(); ++i) {
+    if (diameters_m[i] < cutoff_m) continue;
+    out.diameters_m.push_back(diameters_m[i]);
+    out.mass_fractions.push_back(mass_fractions[i]);
+    kept += mass_fractions[i];
+  }
+  if (kept > 0.0)
+    for (double& f : out.mass_fractions) f /= kept;
+  return out;
+}
+
+double Scene::critical_speed_rad_s() const { return std::sqrt(kGravity / radius_m()); }
+
+double Scene::angular_speed_rad_s() const {
+  return mill.speed_fraction_critical * critical_speed_rad_s();
+}
+
+double Scene::revolution_time_s() const { return 2.0 * kPi / angular_speed_rad_s(); }
+
+double Scene::slice_thickness() const {
+  return mill.slice_thickness_m > 0.0 ? mill.slice_thickness_m
+                                      : 2.0 * largest_particle_radius_m();
+}
+
+bool Scene::species_in_use(const SpeciesDef& s) const {
+  return s.is_ball ? charge.ball_filling > 0.0 : charge.filling > charge.ball_filling;
+}
+
+std::vector<SpeciesDef> Scene::species_as_placed() const {
+  std::vector<SpeciesDef> out;
+  out.reserve(charge.species.size());
+  for (const auto& s : charge.species)
+    out.push_back(s.is_ball ? s : s.without_sizes_below(solver.size_cutoff_m));
+  return out;
+}
+
+double Scene::smallest_particle_radius_m() const {
+  double d = std::numeric_limits<double>::infinity();
+  for (const auto& s : species_as_placed())
+    if (species_in_use(s)) d = std::min(d, s.smallest_diameter_m());
+  return std::isfinite(d) ? 0.5 * d : 0.0;
+}
+
+double Scene::largest_particle_radius_m() const {
+  double d = 0.0;
+  for (const auto& s : species_as_placed())
+    if (species_in_use(s)) d = std::max(d, s.largest_diameter_m());
+  return 0.5 * d;
+}
+
+MillGeometry build_scene_mill(const Scene& scene) {
+  try {
+    LinerUnit unit =
+        make_liner_unit(scene.mill.lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
+    return build_mill(scene.radius_m(), scene.mill.rows, {std::move(unit)});
+  } catch (const InputError& e) {
+    // The mill module does not know which file asked for this lifter; say it.
+    if (!e.file.empty()) throw;
+    throw InputError(scene.source_file, e.where.empty() ? "lifters" : e.where, e.expected);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// An interval for a number, with its description for messages ("in (0, 2]", "> 0").
+struct Bounds {
+  double lo = -kInf, hi = kInf;
+  bool lo_open = false, hi_open = false;
+
+  bool contains(double v) const {
+    if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+    if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+    return true;
+  }
+  std::string describe() const;
+};
+
+std::string num_text(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+std::string Bounds::describe() const {
+  const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
+  if (has_lo && has_hi)
+    return std::string("in ") + (lo_open ? "(" : "[") + num_text(lo) + ", " + num_text(hi) +
+           (hi_open ? ")" : "]");
+  if (has_lo) return (lo_open ? "> " : ">= ") + num_text(lo);
+  if (has_hi) return (hi_open ? "< " : "<= ") + num_text(hi);
+  return "";
+}
+
+Bounds positive() { return {0.0, kInf, true, false}; }
+Bounds non_negative() { return {0.0, kInf, false, false}; }
+Bounds closed(double lo, double hi) { return {lo, hi, false, false}; }
+Bounds open_closed(double lo, double hi) { return {lo, hi, true, false}; }
+Bounds open(double lo, double hi) { return {lo, hi, true, true}; }
+
+std::string type_name(toml::node_type t) {
+  switch (t) {
+    case toml::node_type::table: return "a table";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a float";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::date: return "a date";
+    case toml::node_type::time: return "a time";
+    case toml::node_type::date_time: return "a date-time";
+    default: return "nothing";
+  }
+}
+
+// "got a string 'ten'" / "got -3" / "got an array [0.5, 0.4]"; long values are shortened.
+std::string value_text(const toml::node& n) {
+  if (n.is_integer()) return std::to_string(n.as_integer()->get());
+  if (n.is_floating_point()) return num_text(n.as_floating_point()->get());
+  if (n.is_boolean()) return n.as_boolean()->get() ? "true" : "false";
+  if (n.is_string()) return "'" + n.as_string()->get() + "'";
+  if (n.is_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < n.as_array()->size(); ++i)
+      out += (i ? ", " : "") + value_text((*n.as_array())[i]);
+    return out + "]";
+  }
+  return "";
+}
+
+std::string got_text(const toml::node& n) {
+  std::string v = value_text(n);
+  if (v.size() > 40) v = v.substr(0, 37) + "...";
+  if (n.is_number()) return "got " + v;
+  return "got " + type_name(n.type()) + (v.empty() ? "" : " " + v);
+}
+
+std::string line_text(const toml::node& n) {
+  const auto line = n.source().begin.line;
+  return line > 0 ? " (line " + std::to_string(line) + ")" : "";
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// One TOML table with a dotted prefix and its list of allowed keys. Every accessor checks
+// the type and range and records the key in the scene's explicit keys.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string prefix, const std::string& file,
+              std::set<std::string>* explicit_keys, std::vector<std::string> allowed)
+      : table_(table), prefix_(std::move(prefix)), file_(file), explicit_(explicit_keys),
+        allowed_(std::move(allowed)) {
+    for (const auto& [k, v] : table_) {
+      const std::string key(k.str());
+      if (std::find(allowed_.begin(), allowed_.end(), key) != allowed_.end()) continue;
+      std::string expected = "unknown key";
+      std::string best;
+      std::size_t best_d = 3;  // suggest only near misses (typos)
+      for (const auto& a : allowed_) {
+        const std::size_t d = edit_distance(key, a);
+        if (d < best_d) best_d = d, best = a;
+      }
+      if (!best.empty()) expected += " (did you mean '" + best + "'?)";
+      expected += "; allowed here: ";
+      for (std::size_t i = 0; i < allowed_.size(); ++i)
+        expected += (i ? ", " : "") + allowed_[i];
+      throw InputError(file_, full(key), expected + line_text(v));
+    }
+  }
+
+  std::string full(const std::string& key) const {
+    return prefix_.empty() ? key : prefix_ + "." + key;
+  }
+  bool has(const char* key) const { return table_.contains(key); }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& expected) const {
+    const toml::node* n = table_.get(key);
+    if (n) throw InputError(file_, full(key), "expected " + expected + ", " + got_text(*n) + line_text(*n));
+    throw InputError(file_, full(key), expected + line_text(table_));
+  }
+  [[noreturn]] void missing(const std::string& key, const std::string& expected) const {
+    throw InputError(file_, full(key), "required key missing: " + expected + line_text(table_));
+  }
+
+  // A number (integer or float) within bounds; unit is the file's unit, for messages.
+  std::optional<double> number(const char* key, Bounds b, const std::string& unit) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    const std::string what = "a number" + suffix(b.describe(), unit);
+    if (!n->is_number()) fail(key, what);
+    const double v = n->is_integer() ? static_cast<double>(n->as_integer()->get())
+                                     : n->as_floating_point()->get();
+    if (!std::isfinite(v) || !b.contains(v)) fail(key, what);
+    return v;
+  }
+  double need_number(const char* key, Bounds b, const std::string& unit) const {
+    if (!has(key)) missing(key, "a number" + suffix(b.describe(), unit));
+    return *number(key, b, unit);
+  }
+
+  std::optional<long long> integer(const char* key, long long lo, long long hi,
+                                   const std::string& unit = "") const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    const std::string what =
+        "an integer" + suffix(hi == std::numeric_limits<long long>::max()
+                                  ? ">= " + std::to_string(lo)
+                                  : "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+                              unit);
+    if (!n->is_integer()) fail(key, what);
+    const long long v = n->as_integer()->get();
+    if (v < lo || v > hi) fail(key, what);
+    return v;
+  }
+
+  std::optional<bool> boolean(const char* key) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_boolean()) fail(key, "true or false");
+    return n->as_boolean()->get();
+  }
+
+  std::optional<std::string> string(const char* key) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_string()) fail(key, "a string");
+    return n->as_string()->get();
+  }
+
+  // One of a fixed set of words; returns its index.
+  std::optional<int> choice(const char* key, const std::vector<std::string>& words) const {
+    std::string list;
+    for (std::size_t i = 0; i < words.size(); ++i)
+      list += (i ? (i + 1 == words.size() ? " or " : ", ") : "") + ("\"" + words[i] + "\"");
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    if (!n->is_string()) fail(key, list);
+    const std::string v = n->as_string()->get();
+    for (std::size_t i = 0; i < words.size(); ++i)
+      if (v == words[i]) return static_cast<int>(i);
+    fail(key, list);
+  }
+
+  // An array of numbers, each within bounds (and at least min_len of them).
+  std::optional<std::vector<double>> numbers(const char* key, Bounds b, const std::string& unit,
+                                             std::size_t min_len) const {
+    const toml::node* n = get(key);
+    if (!n) return std::nullopt;
+    const std::string what = "an array of at least " + std::to_string(min_len) + " number" +
+                             (min_len == 1 ? "" : "s") + suffix(b.describe(), unit);
+    if (!n->is_array()) fail(key, what);
+    const toml::array& arr = *n->as_array();
+    if (arr.size() < min_len) fail(key, what);
+    std::vector<double> out;
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const toml::node& e = arr[i];
+      const std::string ekey = full(key) + "[" + std::to_string(i) + "]";
+      const std::string ewhat = "a number" + suffix(b.describe(), unit);
+      if (!e.is_number()) throw InputError(file_, ekey, "expected " + ewhat + ", " + got_text(e) + line_text(e));
+      const double v = e.is_integer() ? static_cast<double>(e.as_integer()->get())
+                                      : e.as_floating_point()->get();
+      if (!std::isfinite(v) || !b.contains(v))
+        throw InputError(file_, ekey, "expected " + ewhat + ", " + got_text(e) + line_text(e));
+      out.push_back(v);
+    }
+    return out;
+  }
+
+  const toml::table* table(const char* key) const {
+    const toml::node* n = get(key);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(key, "a table [" + full(key) + "]");
+    return n->as_table();
+  }
+
+  const toml::array* array(const char* key) const {
+    const toml::node* n = get(key);
+    if (!n) return nullptr;
+    if (!n->is_array()) fail(key, "an array of tables [[" + full(key) + "]]");
+    return n->as_array();
+  }
+
+  const toml::table& raw() const { return table_; }
+
+ private:
+  const toml::node* get(const char* key) const {
+    const toml::node* n = table_.get(key);
+    if (n && explicit_) explicit_->insert(full(key));
+    return n;
+  }
+  static std::string suffix(const std::string& range, const std::string& unit) {
+    std::string s;
+    if (!range.empty()) s += " " + range;
+    if (!unit.empty()) s += " (" + unit + ")";
+    return s;
+  }
+
+  const toml::table& table_;
+  std::string prefix_;
+  const std::string& file_;
+  std::set<std::string>* explicit_;
+  std::vector<std::string> allowed_;
+};
+
+constexpr double kMm = 1e-3;  // mm -> m, the one conversion of lengths in scene files
+
+const toml::table kEmpty;
+
+// Exactly one of two keys (both or neither is an error).
+void exactly_one(const TableReader& r, const char* a, const char* b, const std::string& what) {
+  if (r.has(a) && r.has(b))
+    r.fail(b, "only one of '" + r.full(a) + "' and '" + r.full(b) + "' (" + what + ")");
+  if (!r.has(a) && !r.has(b))
+    r.missing(a, "one of '" + r.full(a) + "' or '" + r.full(b) + "' (" + what + ")");
+}
+
+void read_mill(const TableReader& r, Scene& s) {
+  MillDef& m = s.mill;
+  m.diameter_m = r.need_number("diameter", open_closed(0.0, 50.0), "m, inside the shell");
+  m.length_m = r.need_number("length", open_closed(0.0, 50.0), "m, belly length");
+  if (auto v = r.number("slice_thickness", non_negative(), "m; 0 = largest particle diameter"))
+    m.slice_thickness_m = *v;
+  exactly_one(r, "speed", "speed_rpm", "mill speed");
+  if (auto v = r.number("speed", open_closed(0.0, 2.0), "fraction of critical speed"))
+    m.speed_fraction_critical = *v;
+  if (r.has("speed_rpm")) {
+    const double crit_rpm = std::sqrt(kGravity / (0.5 * m.diameter_m)) * 60.0 / (2.0 * kPi);
+    const double rpm = *r.number("speed_rpm", open_closed(0.0, 2.0 * crit_rpm),
+                                 "rpm; critical speed of this mill is " + num_text(crit_rpm) + " rpm");
+    m.speed_fraction_critical = rpm / crit_rpm;
+  }
+  if (auto v = r.choice("direction", {"forward", "reverse", "bidirectional"}))
+    m.direction = static_cast<Direction>(*v);
+  if (r.has("reverse_every") && m.direction != Direction::Bidirectional)
+    r.fail("reverse_every", "no reverse_every unless mill.direction = \"bidirectional\"");
+  if (auto v = r.number("reverse_every", positive(), "hours of operation"))
+    m.reverse_every_hours = *v;
+}
+
+void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
+  if (!r.has("rows")) r.missing("rows", "an integer in [1, 1000] (lifter rows)");
+  s.mill.rows = static_cast<int>(*r.integer("rows", 1, 1000, "lifter rows"));
+  if (auto v = r.number("shell_edge", positive(), "mm, target edge length on the shell"))
+    s.mill.mesh.shell_edge_m = *v * kMm;
+  if (auto v = r.number("lifter_edge", positive(), "mm, target edge length on the lifters"))
+    s.mill.mesh.lifter_edge_m = *v * kMm;
+
+  const auto rel = r.string("profile");
+  if (!rel) r.missing("profile", "a profile file, relative to the scene file");
+  if (rel->empty()) r.fail("profile", "a profile file name");
+  const fs::path resolved =
+      (fs::path(file).parent_path() / fs::path(*rel)).lexically_normal();
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    throw InputError(file, "lifters.profile",
+                     "expected an existing profile file; tried '" + resolved.string() + "'" + line_text(*r.raw().get("profile")));
+  s.mill.lifter = load_profile(resolved.string());  // its errors name the profile file
+}
+
+SpeciesDef read_species(const TableReader& r) {
+  SpeciesDef sp;
+  if (auto v = r.string("name")) sp.name = *v;
+  else r.missing("name", "a species name (e.g. \"rock\", \"ball\")");
+  if (sp.name.empty()) r.fail("name", "a non-empty name");
+  if (auto v = r.boolean("ball")) sp.is_ball = *v;
+  sp.density_kg_m3 = r.need_number("density", open_closed(0.0, 25000.0), "kg/m^3");
+
+  if (r.has("sizes") && r.has("size_range"))
+    r.fail("size_range", "only one of 'sizes' (with mass_fractions) and 'size_range'");
+  if (!r.has("sizes") && !r.has("size_range"))
+    r.missing("sizes", "'sizes' (mm, with 'mass_fractions') or 'size_range' = [min, max] (mm)");
+  if (auto sizes = r.numbers("sizes", positive(), "mm, diameters", 1)) {
+    for (double d : *sizes) sp.diameters_m.push_back(d * kMm);
+    if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
+      if (f->size() != sizes->size())
+        r.fail("mass_fractions", "one fraction per size (" + std::to_string(sizes->size()) + ")");
+      double sum = 0.0;
+      for (double x : *f) sum += x;
+      // 1e-6: fractions typed with six decimals must pass; anything looser is a typo.
+      if (std::abs(sum - 1.0) > 1e-6)
+        r.fail("mass_fractions", "fractions summing to 1 within 1e-6 (sum is " + num_text(sum) + ")");
+      sp.mass_fractions = *f;
+    } else if (sizes->size() == 1) {
+      sp.mass_fractions = {1.0};
+    } else {
+      r.missing("mass_fractions", "one mass fraction per size, summing to 1");
+    }
+  } else {
+    if (r.has("mass_fractions"))
+      r.fail("mass_fractions", "no mass_fractions with size_range (they go with 'sizes')");
+    const auto range = *r.numbers("size_range", positive(), "mm, diameters", 2);
+    if (range.size() != 2 || !(range[0] < range[1]))
+      r.fail("size_range", "[min, max] with 0 < min < max (mm)");
+    sp.d_min_m = range[0] * kMm;
+    sp.d_max_m = range[1] * kMm;
+  }
+  if (auto v = r.number("friction", closed(0.0, 2.0), "")) sp.friction = *v;
+  if (auto v = r.number("restitution", closed(0.0, 1.0), "")) sp.restitution = *v;
+  if (auto v = r.number("friction_liner", closed(0.0, 2.0), "")) sp.friction_liner = *v;
+  if (auto v = r.number("restitution_liner", closed(0.0, 1.0), "")) sp.restitution_liner = *v;
+  if (auto v = r.number("rolling_resistance", closed(0.0, 1.0), "times radius = lever arm"))
+    sp.rolling_resistance = *v;
+  return sp;
+}
+
+void read_charge(const TableReader& r, Scene& s, const std::string& file) {
+  ChargeDef& c = s.charge;
+  c.filling = r.need_number("filling", open(0.0, 0.6), "fraction of the mill area");
+  c.ball_filling = r.need_number("ball_filling", closed(0.0, c.filling),
+                                 "fraction of the mill area, at most charge.filling");
+  // A settled bed of disks of mixed sizes packs near 0.8; hexagonal packing (0.9069) is
+  // the most any 2D disk bed can reach.
+  if (auto v = r.number("bulk_packing", open_closed(0.0, 0.9069), "solid area fraction"))
+    c.bulk_packing = *v;
+
+  const toml::array* arr = r.array("species");
+  if (!arr || arr->empty())
+    r.missing("species", "at least one [[charge.species]] table");
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string prefix = "charge.species[" + std::to_string(i) + "]";
+    const toml::node& n = (*arr)[i];
+    if (!n.is_table())
+      throw InputError(file, prefix, "expected a table [[charge.species]], " + got_text(n) + line_text(n));
+    TableReader sr(*n.as_table(), prefix, file, &s.explicit_keys,
+                   {"name", "ball", "density", "sizes", "mass_fractions", "size_range", "friction",
+                    "restitution", "friction_liner", "restitution_liner", "rolling_resistance"});
+    c.species.push_back(read_species(sr));
+    for (std::size_t j = 0; j + 1 < c.species.size(); ++j)
+      if (c.species[j].name == c.species.back().name)
+        sr.fail("name", "a name not used by charge.species[" + std::to_string(j) + "]");
+  }
+  const bool any_ball = std::any_of(c.species.begin(), c.species.end(),
+                                    [](const SpeciesDef& sp) { return sp.is_ball; });
+  const bool any_rock = std::any_of(c.species.begin(), c.species.end(),
+                                    [](const SpeciesDef& sp) { return !sp.is_ball; });
+  if (c.ball_filling > 0.0 && !any_ball)
+    throw InputError(file, "charge.species",
+                     "expected a species with ball = true, since charge.ball_filling = " +
+                         num_text(c.ball_filling) + " > 0" + line_text(*arr));
+  if (c.filling > c.ball_filling && !any_rock)
+    throw InputError(file, "charge.species",
+                     "expected a species with ball = false (rock), since charge.filling > charge.ball_filling" +
+                         line_text(*arr));
+}
+
+void read_solver(const TableReader& r, Scene& s) {
+  SolverDef& v = s.solver;
+  if (auto b = r.choice("backend", {"box2d", "soft"})) v.backend = static_cast<Backend>(*b);
+  if (r.has("time_step") && r.has("steps_per_second"))
+    r.fail("steps_per_second", "only one of 'solver.time_step' and 'solver.steps_per_second'");
+  // 0.05 s: beyond it a disk falls more than its own size per step under gravity alone.
+  if (auto x = r.number("time_step", open_closed(0.0, 0.05), "s")) v.time_step_s = *x;
+  if (auto x = r.number("steps_per_second", {20.0, kInf, false, false}, "steps per simulated s"))
+    v.time_step_s = 1.0 / *x;
+  if (auto x = r.integer("velocity_iterations", 1, 1000)) v.velocity_iterations = static_cast<int>(*x);
+  if (auto x = r.integer("position_iterations", 1, 1000)) v.position_iterations = static_cast<int>(*x);
+  if (auto x = r.integer("substeps", 1, 1000)) v.substeps = static_cast<int>(*x);
+  if (auto x = r.number("settle_time", non_negative(), "s")) v.settle_time_s = *x;
+  if (auto x = r.number("spinup_revolutions", non_negative(), "revolutions")) v.spinup_revolutions = *x;
+  if (auto x = r.integer("seed", 0, std::numeric_limits<long long>::max()))
+    v.seed = static_cast<std::uint64_t>(*x);
+  if (auto x = r.number("size_cutoff", non_negative(), "mm; rock sizes below are left out"))
+    v.size_cutoff_m = *x * kMm;
+}
+
+void read_run(const TableReader& r, Scene& s) {
+  if (auto x = r.number("revolutions", positive(), "measured revolutions")) s.run.revolutions = *x;
+}
+
+void read_wear(const TableReader& r, Scene& s) {
+  WearDef& w = s.wear;
+  if (auto m = r.choice("mode", {"staged", "continuous"})) w.mode = static_cast<WearMode>(*m);
+  const int given = int(r.has("wear_rate")) + int(r.has("area_loss_rate")) + int(r.has("height_loss_rate"));
+  if (given != 1) {
+    const std::string what =
+        "exactly one of 'wear.wear_rate' (m^3/J), 'wear.area_loss_rate' (mm^2 per 1000 h) or "
+        "'wear.height_loss_rate' (mm/h)";
+    if (given == 0) r.missing("wear_rate", what);
+    r.fail(r.has("height_loss_rate") ? "height_loss_rate" : "area_loss_rate", what);
+  }
+  if (auto x = r.number("wear_rate", positive(), "m^3/J, Archard C = K/H")) {
+    w.rate_source = WearRateSource::Given;
+    w.wear_rate_m3_per_J = *x;
+  }
+  if (auto x = r.number("area_loss_rate", positive(), "mm^2 of lifter area per 1000 h, new lifter")) {
+    w.rate_source = WearRateSource::AreaLossRate;
+    w.calibration_value = *x;
+    w.wear_rate_m3_per_J = 0.0;  // the wear module calibrates C from it
+  }
+  if (auto x = r.number("height_loss_rate", positive(), "mm of lifter height per h, new lifter")) {
+    w.rate_source = WearRateSource::HeightLossRate;
+    w.calibration_value = *x;
+    w.wear_rate_m3_per_J = 0.0;
+  }
+  if (auto x = r.number("factor", positive(), "C_model = factor * C")) w.factor = *x;
+  if (auto x = r.number("stage_hours", positive(), "hours of operation")) w.stage_hours = *x;
+  if (auto x = r.integer("stages", 1, 10000)) w.stages = static_cast<int>(*x);
+  if (auto x = r.number("window_revolutions", positive(), "revolutions")) w.window_revolutions = *x;
+  if (auto x = r.number("max_depth_step", positive(), "mm")) w.max_depth_step_m = *x * kMm;
+  if (auto x = r.number("update_interval", positive(), "s of simulated time")) w.update_interval_s = *x;
+  if (auto x = r.number("smoothing_radius", non_negative(), "mm; 0 = smallest particle radius"))
+    w.smoothing_radius_m = *x * kMm;
+  if (auto x = r.boolean("average_rows")) w.average_rows = *x;
+  if (auto x = r.boolean("shell_wear")) w.shell_wear = *x;
+  if (auto x = r.number("replacement_height", non_negative(), "mm")) w.replacement_height_m = *x * kMm;
+  if (auto x = r.number("target_uncertainty", {0.0, 1.0, false, true}, "relative; 0 = off"))
+    w.target_rel_uncertainty = *x;
+}
+
+void read_outputs(const TableReader& r, Scene& s) {
+  if (auto x = r.boolean("collision_spectrum")) s.outputs.collision_spectrum = *x;
+  if (auto x = r.boolean("shell_work")) s.outputs.shell_work = *x;
+  if (auto x = r.boolean("snapshot")) s.outputs.snapshot = *x;
+  if (auto x = r.boolean("contact_log")) s.outputs.contact_log = *x;
+}
+
+// Checks across sections, once everything is read (profile loaded, preset applied).
+void check_scene(const Scene& s, const std::string& file) {
+  const double R = s.radius_m();
+  const auto& pts = s.mill.lifter.points;
+  if (!pts.empty()) {
+    double xmin = kInf, xmax = -kInf, ymax = 0.0;
+    for (const Vec2& p : pts) {
+      xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
+      ymax = std::max(ymax, p.y);
+    }
+    // The lifter bases must not touch: base width < pitch (arc between rows at the shell).
+    const double pitch = 2.0 * kPi * R / s.mill.rows;
+    if (xmax - xmin >= pitch)
+      throw InputError(file, "lifters.rows",
+                       "expected at most " + std::to_string(int(std::floor(2.0 * kPi * R / (xmax - xmin) - 1e-9))) +
+                           " rows: the lifter base (" + num_text((xmax - xmin) / kMm) +
+                           " mm) must be narrower than the pitch (" + num_text(pitch / kMm) + " mm)");
+    // Lifters reaching past half the radius leave no room for a charge at any filling.
+    if (ymax >= 0.5 * R)
+      throw InputError(file, "lifters.profile",
+                       "expected a lifter lower than half the mill radius (" + num_text(0.5 * R / kMm) +
+                           " mm); the profile is " + num_text(ymax / kMm) + " mm high");
+    if (s.wear.replacement_height_m >= ymax)
+      throw InputError(file, "wear.replacement_height",
+                       "expected a height below the new lifter's (" + num_text(ymax / kMm) + " mm), got " +
+                           num_text(s.wear.replacement_height_m / kMm) + " mm");
+  }
+  const auto placed = s.species_as_placed();
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    const SpeciesDef& sp = s.charge.species[i];
+    const std::string key = "charge.species[" + std::to_string(i) + "]";
+    // A particle a quarter of the mill across cannot tumble; it is a typo (m for mm).
+    if (sp.largest_diameter_m() >= 0.25 * s.mill.diameter_m)
+      throw InputError(file, key + (sp.diameters_m.empty() ? ".size_range" : ".sizes"),
+                       "expected particles smaller than a quarter of the mill diameter (" +
+                           num_text(0.25 * s.mill.diameter_m / kMm) + " mm)");
+    if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && sp.largest_diameter_m() < s.solver.size_cutoff_m)
+      throw InputError(file, "solver.size_cutoff",
+                       "expected a cut-off that keeps some of " + key + " ('" + sp.name +
+                           "', largest " + num_text(sp.largest_diameter_m() / kMm) + " mm), got " +
+                           num_text(s.solver.size_cutoff_m / kMm) + " mm");
+  }
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, "", "scene file not found or not a regular file");
+
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(path, "line " + std::to_string(b.line),
+                     "not valid TOML: " + std::string(e.description()) + " (column " +
+                         std::to_string(b.column) + ")");
+  }
+
+  Scene s;
+  s.source_file = path;
+  s.name = fs::path(path).stem().string();
+  TableReader top(root, "", path, &s.explicit_keys,
+                  {"name", "fidelity", "mill", "lifters", "charge", "solver", "run", "wear", "outputs"});
+  if (auto v = top.string("name")) {
+    if (v->empty()) top.fail("name", "a non-empty scene name");
+    s.name = *v;
+  }
+  std::string fidelity = "standard";
+  if (auto v = top.choice("fidelity", {"draft", "standard", "reference"}))
+    fidelity = fidelity_presets()[static_cast<std::size_t>(*v)].name;
+
+  auto section = [&](const char* key, bool required, std::vector<std::string> allowed) {
+    const toml::table* t = top.table(key);
+    if (!t && required) top.missing(key, std::string("a [") + key + "] table");
+    return TableReader(t ? *t : kEmpty, key, path, &s.explicit_keys, std::move(allowed));
+  };
+  read_mill(section("mill", true,
+                    {"diameter", "length", "slice_thickness", "speed", "speed_rpm", "direction",
+                     "reverse_every"}),
+            s);
+  read_charge(section("charge", true, {"filling", "ball_filling", "bulk_packing", "species"}), s, path);
+  read_solver(section("solver", false,
+                      {"backend", "time_step", "steps_per_second", "velocity_iterations",
+                       "position_iterations", "substeps", "settle_time", "spinup_revolutions", "seed",
+                       "size_cutoff"}),
+              s);
+  read_run(section("run", false, {"revolutions"}), s);
+  if (top.has("wear"))
+    read_wear(section("wear", false,
+                      {"mode", "wear_rate", "area_loss_rate", "height_loss_rate", "factor",
+                       "stage_hours", "stages", "window_revolutions", "max_depth_step",
+                       "update_interval", "smoothing_radius", "average_rows", "shell_wear",
+                       "replacement_height", "target_uncertainty"}),
+              s);
+  read_outputs(section("outputs", false, {"collision_spectrum", "shell_work", "snapshot", "contact_log"}), s);
+  // The profile last: every key of the scene is checked before another file is opened.
+  read_lifters(section("lifters", true, {"rows", "profile", "shell_edge", "lifter_edge"}), s, path);
+
+  apply_fidelity(s, fidelity);
+  check_scene(s, path);
+  return s;
+}
+
+}  // namespace millwear

@@ -1,0 +1,138 @@
+// `millwear profile`: the table, --csv, and exit code 2 with a clear message for bad files.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t got;
+  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string shipped(const std::string& name) {
+  return "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/" + name + "\"";
+}
+
+class CliProfile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("millwear-test-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  // A bad file must give exit 2 and a message naming the file and the key (or line).
+  void expect_rejected(const std::string& text, const std::string& where) {
+    const std::string f = write("bad.toml", text);
+    const Result r = run("profile \"" + f + "\"");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(f), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(where), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("expected"), std::string::npos) << r.output;
+  }
+  fs::path dir_;
+};
+
+const std::string kAngles = "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n";
+
+}  // namespace
+
+TEST(Cli, ProfileTableShowsEqualAreasFor2x30And1x30) {
+  const Result r = run("profile " + shipped("2x30.toml") + " " + shipped("1x30.toml"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::smatch m2, m1;
+  const std::regex r2(R"(\n2x30\s+([0-9.]+)\s+([0-9.]+))"), r1(R"(\n1x30\s+([0-9.]+))");
+  ASSERT_TRUE(std::regex_search(r.output, m2, r2)) << r.output;
+  ASSERT_TRUE(std::regex_search(r.output, m1, r1)) << r.output;
+  EXPECT_EQ(m2[1].str(), m1[1].str());  // printed to 0.1 mm^2
+  EXPECT_EQ(m2[2].str(), "200.0");      // height in mm
+}
+
+TEST_F(CliProfile, CsvWritesOnePolylinePerProfileInMillimetres) {
+  const Result r = run("profile " + shipped("2x30.toml") + " " + shipped("hi-lo-example.toml") +
+                       " --csv \"" + (dir_ / "out").string() + "\"");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir_ / "out" / "2x30.csv");
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  EXPECT_EQ(header, "x_mm,y_mm");
+  EXPECT_EQ(first.substr(0, 9), "-165.4700");  // -(100 + 2 * 200 tan 30) / 2 mm
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "hi-lo-example.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "2x30.csv.tmp"));
+}
+
+TEST_F(CliProfile, MissingKeyExitsTwo) {
+  expect_rejected("form = \"trapezoid\"\ntop_width = 100.0\n" + kAngles, "height");
+}
+
+TEST_F(CliProfile, NegativeHeightExitsTwo) {
+  expect_rejected("form = \"trapezoid\"\nheight = -1.0\ntop_width = 100.0\n" + kAngles, "height");
+}
+
+TEST_F(CliProfile, FaceAngleOf90DegreesExitsTwo) {
+  expect_rejected("form = \"trapezoid\"\nheight = 200.0\ntop_width = 100.0\n"
+                  "leading_face_angle = 90.0\ntrailing_face_angle = 30.0\n",
+                  "leading_face_angle");
+}
+
+TEST_F(CliProfile, SelfIntersectingPolylineExitsTwo) {
+  expect_rejected("form = \"polyline\"\npoints = [[-100, 0], [50, 200], [-50, 200], [100, 0]]\n",
+                  "points");
+}
+
+TEST_F(CliProfile, UnknownKeyExitsTwo) {
+  expect_rejected("form = \"trapezoid\"\nheight = 200.0\ntop_width = 100.0\n" + kAngles +
+                      "colour = \"red\"\n",
+                  "colour");
+}
+
+TEST_F(CliProfile, NotTomlExitsTwoWithLine) {
+  expect_rejected("this is not TOML at all\n", "line 1");
+}
+
+TEST_F(CliProfile, MissingFileExitsTwo) {
+  const Result r = run("profile \"" + (dir_ / "absent.toml").string() + "\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("absent.toml"), std::string::npos) << r.output;
+}
+
+TEST_F(CliProfile, NothingIsWrittenWhenAnyFileIsBad) {
+  const std::string bad = write("bad.toml", "form = \"trapezoid\"\n");
+  const fs::path out = dir_ / "out";
+  const Result r =
+      run("profile " + shipped("2x30.toml") + " \"" + bad + "\" --csv \"" + out.string() + "\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(out / "2x30.csv"));
+  EXPECT_EQ(r.output.find("2x30 "), std::string::npos) << "table printed before validation";
+}

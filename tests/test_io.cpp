@@ -1,0 +1,251 @@
+// Tests for src/io: atomic writes, CSV tables, run-folder markers, the manifest JSON writer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+
+namespace fs = std::filesystem;
+using namespace millwear;
+
+namespace {
+
+// A fresh folder under the system temp dir, removed with everything in it at scope end.
+struct TempDir {
+  std::string path;
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "millwear-io-XXXXXX").string();
+    char* p = ::mkdtemp(tmpl.data());
+    if (!p) throw std::runtime_error("mkdtemp failed");
+    path = p;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::string operator/(const std::string& name) const { return path + "/" + name; }
+};
+
+int count_entries(const std::string& dir) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    (void)e;
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+// ---- atomic writes ----
+
+TEST(IoAtomicWrite, ReplacesContentAndLeavesNoTempFile) {
+  TempDir dir;
+  const std::string f = dir / "summary.csv";
+  io::write_file_atomic(f, "first\n");
+  EXPECT_EQ(io::read_file(f), "first\n");
+  io::write_file_atomic(f, "second, longer content\n");
+  EXPECT_EQ(io::read_file(f), "second, longer content\n");
+  EXPECT_EQ(count_entries(dir.path), 1);  // only the target, no .tmp.<pid> left behind
+}
+
+TEST(IoAtomicWrite, FailureIsRunErrorNamingThePath) {
+  TempDir dir;
+  const std::string f = dir / "no/such/folder/x.csv";
+  try {
+    io::write_file_atomic(f, "x");
+    FAIL() << "expected RunError";
+  } catch (const RunError& e) {
+    EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+  }
+}
+
+TEST(IoAtomicWrite, EnsureDirCreatesNestedFoldersAndIsIdempotent) {
+  TempDir dir;
+  const std::string d = dir / "a/b/c";
+  io::ensure_dir(d);
+  io::ensure_dir(d);
+  EXPECT_TRUE(fs::is_directory(d));
+  io::write_file_atomic(dir / "file", "x");
+  EXPECT_THROW(io::ensure_dir(dir / "file"), RunError);
+}
+
+TEST(IoAtomicWrite, RemoveStaleTempsDeletesOnlyTemporaries) {
+  TempDir dir;
+  io::write_file_atomic(dir / "keep.csv", "x");
+  io::write_file_atomic(dir / "keep.tmp.csv", "x");  // ".tmp." not followed by a pid
+  io::write_file_atomic(dir / "leftover.csv.tmp.1234.0", "x");
+  EXPECT_EQ(io::remove_stale_temps(dir.path), 1);
+  EXPECT_TRUE(io::file_exists(dir / "keep.csv"));
+  EXPECT_TRUE(io::file_exists(dir / "keep.tmp.csv"));
+  EXPECT_FALSE(io::file_exists(dir / "leftover.csv.tmp.1234.0"));
+}
+
+// ---- CSV ----
+
+TEST(IoCsv, ExactOptionRoundTripsEveryBit) {
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  io::CsvOptions exact;
+  exact.exact = true;
+  io::CsvTable t({"design", "stage", "value"}, exact);
+  std::vector<double> values;
+  for (int i = 0; i < 200; ++i) {
+    double v = u(rng) * std::pow(10.0, (i % 40) - 20);
+    values.push_back(v);
+    t.add_row({"2x30", i, v});
+  }
+  values.push_back(std::numeric_limits<double>::denorm_min());
+  t.add_row({"2x30", 200, values.back()});
+  io::CsvData d = io::parse_csv(t.str(), "mem.csv");
+  ASSERT_EQ(d.row_count(), values.size());
+  std::vector<double> back = d.numbers("value");
+  for (std::size_t i = 0; i < values.size(); ++i)
+    EXPECT_EQ(std::memcmp(&back[i], &values[i], sizeof(double)), 0) << i;
+  EXPECT_EQ(d.text(3, d.column("stage")), "3");  // integers are written as integers
+}
+
+TEST(IoCsv, DefaultWritesTenSignificantDigits) {
+  io::CsvTable t({"x"});
+  t.add_row({1.0 / 3.0});
+  t.add_row({12345.678901234});
+  t.add_row({std::nan("")});
+  EXPECT_EQ(t.str(), "x\n0.3333333333\n12345.6789\nnan\n");
+}
+
+TEST(IoCsv, FileRoundTripKeepsQuotedText) {
+  TempDir dir;
+  io::CsvTable t({"name", "note"});
+  t.add_row({"a,b", "say \"hi\""});
+  t.add_row({"plain", ""});
+  t.write(dir / "t.csv");
+  io::CsvData d = io::read_csv(dir / "t.csv");
+  ASSERT_EQ(d.row_count(), 2u);
+  EXPECT_EQ(d.text(0, 0), "a,b");
+  EXPECT_EQ(d.text(0, 1), "say \"hi\"");
+  EXPECT_EQ(d.text(1, 1), "");
+  EXPECT_EQ(d.row_line[1], 3u);
+}
+
+TEST(IoCsv, RaggedRowErrorNamesFileAndLine) {
+  TempDir dir;
+  const std::string f = dir / "profile.csv";
+  io::write_file_atomic(f, "x_mm,y_mm\n1,2\n\n3\n");
+  try {
+    io::read_csv(f);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, f);
+    EXPECT_EQ(e.where, "line 4");  // the blank line 3 is skipped but still counted
+    EXPECT_NE(e.expected.find("2 fields"), std::string::npos) << e.expected;
+  }
+}
+
+TEST(IoCsv, NonNumericFieldErrorNamesLineAndColumn) {
+  io::CsvData d = io::parse_csv("x_mm,y_mm\r\n1,2\r\n3,abc\r\n", "p.csv");
+  EXPECT_DOUBLE_EQ(d.number(0, "y_mm"), 2.0);
+  try {
+    d.numbers("y_mm");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "p.csv");
+    EXPECT_EQ(e.where, "line 3");
+    EXPECT_NE(e.expected.find("y_mm"), std::string::npos);
+    EXPECT_NE(e.expected.find("abc"), std::string::npos);
+  }
+}
+
+TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
+  io::CsvData d = io::parse_csv("a,b\n1,2\n", "t.csv");
+  EXPECT_THROW(d.column("c"), InputError);
+  EXPECT_THROW(io::read_csv("/nonexistent/millwear/x.csv"), InputError);
+  EXPECT_THROW(io::parse_csv("", "empty.csv"), InputError);
+}
+
+// ---- run folder ----
+
+TEST(IoRunFolder, PathConventions) {
+  EXPECT_EQ(io::stage_done_marker("OUT", "2x30", 3), "OUT/stages/2x30_stage3.done");
+  EXPECT_EQ(io::profile_path("OUT/", "1x30", 0), "OUT/profiles/1x30_stage0.csv");
+  EXPECT_EQ(io::plots_data_dir("OUT"), "OUT/plots/data");
+  EXPECT_TRUE(io::is_valid_design_name("2x30"));
+  EXPECT_FALSE(io::is_valid_design_name("../x"));
+  EXPECT_FALSE(io::is_valid_design_name("a b"));
+}
+
+TEST(IoRunFolder, FinishedStagesAreListedAndTheLastContiguousFound) {
+  TempDir dir;
+  io::create_run_folder(dir.path);
+  io::write_stage_done(dir.path, "2x30", 0, {{"hours", "0"}});
+  io::write_stage_done(dir.path, "2x30", 1, {{"hours", "750"}});
+  io::write_stage_done(dir.path, "2x30", 3, {{"hours", "2250"}});
+  io::write_stage_done(dir.path, "2x30_b", 2);  // another design sharing the prefix
+  // A marker whose content disagrees with its name is not trusted.
+  io::write_file_atomic(io::stage_done_marker(dir.path, "2x30", 2), "design=1x30\nstage=2\n");
+  EXPECT_EQ(io::list_finished_stages(dir.path, "2x30"), (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(io::last_finished_stage(dir.path, "2x30"), 1);
+  EXPECT_EQ(io::last_finished_stage(dir.path, "1x30"), -1);
+  auto kv = io::read_key_values(io::stage_done_marker(dir.path, "2x30", 1));
+  EXPECT_EQ(io::find_value(kv, "design"), "2x30");
+  EXPECT_EQ(io::find_value(kv, "hours"), "750");
+}
+
+TEST(IoRunFolder, KeyValueSyntaxErrorNamesLine) {
+  auto kv = io::parse_key_values("# c\n a = b = c \n\nempty=\n", "m.done");
+  ASSERT_EQ(kv.size(), 2u);
+  EXPECT_EQ(kv[0].first, "a");
+  EXPECT_EQ(kv[0].second, "b = c");
+  EXPECT_EQ(kv[1].second, "");
+  try {
+    io::parse_key_values("a=1\nnot a pair\n", "m.done");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "m.done");
+    EXPECT_EQ(e.where, "line 2");
+  }
+}
+
+// ---- JSON ----
+
+TEST(IoJson, NestedObjectPrintsInInsertionOrder) {
+  io::JsonObject m;
+  m.set("program", "millwear").set("seed", 42).set("fidelity", "draft");
+  m.object("settings").set("stage_hours", 750.0).set("bidirectional", true);
+  io::JsonValue walls = io::JsonValue::array();
+  walls.push(1.5).push(2.25);
+  m.set("wall_s", walls);
+  m.set("seed", 7);  // replaces in place
+  m.set("note", "a \"quoted\"\nline");
+  EXPECT_EQ(m.dump(2),
+            "{\n"
+            "  \"program\": \"millwear\",\n"
+            "  \"seed\": 7,\n"
+            "  \"fidelity\": \"draft\",\n"
+            "  \"settings\": {\n"
+            "    \"stage_hours\": 750,\n"
+            "    \"bidirectional\": true\n"
+            "  },\n"
+            "  \"wall_s\": [\n"
+            "    1.5,\n"
+            "    2.25\n"
+            "  ],\n"
+            "  \"note\": \"a \\\"quoted\\\"\\nline\"\n"
+            "}");
+  EXPECT_EQ(io::JsonObject().dump(), "{}");
+}
+
+TEST(IoJson, NumbersRoundTripAndNonFiniteIsNull) {
+  io::JsonValue a = io::JsonValue::array();
+  a.push(0.1).push(1.0 / 3.0).push(750.0).push(1e20).push(-2.5e-7).push(std::nan(""));
+  a.push(nullptr);
+  EXPECT_EQ(a.dump(0), "[0.1, 0.3333333333333333, 750, 1e+20, -2.5e-07, null, null]");
+}

@@ -1,0 +1,435 @@
+// Scene files: the shipped scenes load with the values they state; every class of bad input
+// is an InputError naming the file and the dotted key; fidelity presets fill what a scene
+// leaves out and never override what it sets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include "common/errors.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace millwear;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string shipped(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
+
+// A small valid scene; each bad-input test changes one thing in it.
+const char* kBaseScene = R"(name = "tiny"
+[mill]
+diameter = 0.6
+length = 0.3
+speed = 0.75
+direction = "forward"
+[lifters]
+rows = 12
+profile = "lifter.toml"
+[charge]
+filling = 0.3
+ball_filling = 0.1
+[[charge.species]]
+name = "ball"
+ball = true
+density = 7800.0
+sizes = [20.0]
+mass_fractions = [1.0]
+[[charge.species]]
+name = "rock"
+density = 2700.0
+sizes = [10.0, 20.0]
+mass_fractions = [0.4, 0.6]
+[solver]
+seed = 3
+[wear]
+wear_rate = 1e-11
+replacement_height = 5.0
+)";
+
+const char* kLifter = R"(name = "small"
+form = "trapezoid"
+height = 20.0
+top_width = 10.0
+leading_face_angle = 30.0
+trailing_face_angle = 30.0
+)";
+
+// One temporary folder per test (ctest runs tests in parallel processes).
+class SceneTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("millwear-scene-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
+            std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    write("lifter.toml", kLifter);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+  // The base scene with `from` replaced by `to` (from must occur, so a test cannot pass by
+  // editing nothing).
+  std::string scene_with(const std::string& from, const std::string& to) {
+    std::string text = kBaseScene;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << "test bug: '" << from << "' not in the base scene";
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return write("scene.toml", text);
+  }
+  // Load a scene that must fail; returns the error.
+  static InputError load_error(const std::string& path) {
+    try {
+      load_scene(path);
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no InputError for " << path;
+    return InputError("", "", "");
+  }
+  static void expect_names(const InputError& e, const std::string& file, const std::string& key) {
+    EXPECT_EQ(e.file, file);
+    EXPECT_EQ(e.where, key);
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(file), std::string::npos) << msg;
+    EXPECT_NE(msg.find(key), std::string::npos) << msg;
+  }
+
+  fs::path dir_;
+};
+
+using SceneErrors = SceneTest;
+using SceneUnits = SceneTest;
+using SceneFidelity = SceneTest;
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// The shipped scenes
+// ---------------------------------------------------------------------------------------
+
+TEST(SceneFiles, Sag2x30HasTheStatedMillAndCharge) {
+  const Scene s = load_scene(shipped("scenarios/sag-2x30.toml"));
+  EXPECT_EQ(s.name, "sag-2x30");
+  EXPECT_DOUBLE_EQ(s.mill.diameter_m, 10.0);
+  EXPECT_DOUBLE_EQ(s.mill.length_m, 5.0);
+  EXPECT_DOUBLE_EQ(s.mill.speed_fraction_critical, 0.75);
+  EXPECT_EQ(s.mill.direction, Direction::Bidirectional);
+  EXPECT_DOUBLE_EQ(s.mill.reverse_every_hours, 750.0);
+  EXPECT_EQ(s.mill.rows, 48);
+  EXPECT_DOUBLE_EQ(s.charge.filling, 0.28);
+  EXPECT_DOUBLE_EQ(s.charge.ball_filling, 0.12);
+  ASSERT_EQ(s.charge.species.size(), 2u);
+  EXPECT_TRUE(s.charge.species[0].is_ball);
+  EXPECT_DOUBLE_EQ(s.charge.species[0].largest_diameter_m(), 0.125);
+  EXPECT_DOUBLE_EQ(s.charge.species[1].d_min_m, 0.100);
+  EXPECT_DOUBLE_EQ(s.charge.species[1].d_max_m, 0.250);
+  EXPECT_EQ(s.wear.stages * s.wear.stage_hours, 3000.0);
+  EXPECT_EQ(s.fidelity, "standard");
+}
+
+TEST(SceneFiles, Sag1x30DiffersFromSag2x30OnlyInLiftersAndDirection) {
+  const Scene a = load_scene(shipped("scenarios/sag-2x30.toml"));
+  const Scene b = load_scene(shipped("scenarios/sag-1x30.toml"));
+  EXPECT_EQ(b.name, "sag-1x30");
+  EXPECT_EQ(b.mill.direction, Direction::Forward);
+  EXPECT_NE(a.mill.lifter.source_file, b.mill.lifter.source_file);
+  EXPECT_DOUBLE_EQ(a.mill.diameter_m, b.mill.diameter_m);
+  EXPECT_DOUBLE_EQ(a.mill.speed_fraction_critical, b.mill.speed_fraction_critical);
+  EXPECT_EQ(a.mill.rows, b.mill.rows);
+  EXPECT_DOUBLE_EQ(a.charge.filling, b.charge.filling);
+  EXPECT_DOUBLE_EQ(a.charge.ball_filling, b.charge.ball_filling);
+  EXPECT_DOUBLE_EQ(a.wear.wear_rate_m3_per_J, b.wear.wear_rate_m3_per_J);
+  EXPECT_DOUBLE_EQ(a.solver.time_step_s, b.solver.time_step_s);
+}
+
+TEST(SceneFiles, LabMillHasTheStatedMillAndCharge) {
+  const Scene s = load_scene(shipped("scenarios/lab-mill.toml"));
+  EXPECT_EQ(s.name, "lab-mill");
+  EXPECT_DOUBLE_EQ(s.mill.diameter_m, 0.6);
+  EXPECT_DOUBLE_EQ(s.mill.length_m, 0.3);
+  EXPECT_EQ(s.mill.rows, 12);
+  EXPECT_DOUBLE_EQ(s.charge.filling, 0.3);
+  EXPECT_DOUBLE_EQ(s.charge.ball_filling, 0.3);
+  ASSERT_EQ(s.charge.species.size(), 1u);
+  EXPECT_TRUE(s.charge.species[0].is_ball);
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, 0.001);
+  EXPECT_DOUBLE_EQ(s.solver.settle_time_s, 0.5);
+  EXPECT_EQ(s.wear.stages, 2);
+  EXPECT_DOUBLE_EQ(s.wear.stage_hours, 100.0);
+  // The lab lifter is the 2x30 scaled to 20 mm high.
+  double height = 0.0;
+  for (const Vec2& p : s.mill.lifter.points) height = std::max(height, p.y);
+  EXPECT_NEAR(height, 0.020, 1e-12);
+}
+
+TEST(SceneFiles, LabMillChargeIsAFewHundredDisks) {
+  // Disk count from areas: filling * mill area * packing / mean disk area; for diameters
+  // uniform in [a, b], E[d^2] = (a^2 + ab + b^2) / 3. The brief asks for 200-400 disks.
+  const Scene s = load_scene(shipped("scenarios/lab-mill.toml"));
+  const SpeciesDef& b = s.charge.species[0];
+  const double mean_d2 = (b.d_min_m * b.d_min_m + b.d_min_m * b.d_max_m + b.d_max_m * b.d_max_m) / 3.0;
+  const double solid = s.charge.filling * kPi * s.radius_m() * s.radius_m() * s.charge.bulk_packing;
+  const double disks = solid / (0.25 * kPi * mean_d2);
+  EXPECT_GT(disks, 200.0);
+  EXPECT_LT(disks, 400.0);
+}
+
+TEST(SceneFiles, LabMillBuildsItsMill) {
+  const Scene s = load_scene(shipped("scenarios/lab-mill.toml"));
+  const MillGeometry m = build_scene_mill(s);
+  EXPECT_EQ(m.rows, 12);
+  EXPECT_DOUBLE_EQ(m.radius_m, 0.3);
+  EXPECT_EQ(m.edges.size(), m.boundary.size());
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: each names the file and the dotted key
+// ---------------------------------------------------------------------------------------
+
+TEST_F(SceneErrors, BaseSceneOfTheseTestsLoads) {
+  const Scene s = load_scene(write("scene.toml", kBaseScene));
+  EXPECT_EQ(s.name, "tiny");
+  EXPECT_EQ(s.charge.species.size(), 2u);
+}
+
+TEST_F(SceneErrors, UnknownKeyInASpeciesNamesItsDottedKey) {
+  const std::string f = scene_with("name = \"rock\"\n", "name = \"rock\"\ndensty = 2.0\n");
+  const InputError e = load_error(f);
+  expect_names(e, f, "charge.species[1].densty");
+  EXPECT_NE(e.expected.find("density"), std::string::npos) << e.expected;  // the near miss
+}
+
+TEST_F(SceneErrors, UnknownSectionIsRejected) {
+  const std::string f = scene_with("[solver]", "[solvers]\nseed = 1\n[solver]");
+  expect_names(load_error(f), f, "solvers");
+}
+
+TEST_F(SceneErrors, WrongTypeNamesKey) {
+  const std::string f = scene_with("diameter = 0.6", "diameter = \"0.6\"");
+  const InputError e = load_error(f);
+  expect_names(e, f, "mill.diameter");
+  EXPECT_NE(e.expected.find("a number"), std::string::npos) << e.expected;
+}
+
+TEST_F(SceneErrors, FloatForAnIntegerKeyIsRejected) {
+  const std::string f = scene_with("rows = 12", "rows = 12.5");
+  expect_names(load_error(f), f, "lifters.rows");
+}
+
+TEST_F(SceneErrors, OutOfRangeSpeedNamesKeyAndRange) {
+  const std::string f = scene_with("speed = 0.75", "speed = 2.5");
+  const InputError e = load_error(f);
+  expect_names(e, f, "mill.speed");
+  EXPECT_NE(e.expected.find("(0, 2]"), std::string::npos) << e.expected;
+}
+
+TEST_F(SceneErrors, NegativeDensityIsOutOfRange) {
+  const std::string f = scene_with("density = 2700.0", "density = -2700.0");
+  expect_names(load_error(f), f, "charge.species[1].density");
+}
+
+TEST_F(SceneErrors, BallFillingAboveFillingIsOutOfRange) {
+  const std::string f = scene_with("ball_filling = 0.1", "ball_filling = 0.35");
+  expect_names(load_error(f), f, "charge.ball_filling");
+}
+
+TEST_F(SceneErrors, MissingProfileFileNamesSceneKeyAndPathTried) {
+  const std::string f = scene_with("profile = \"lifter.toml\"", "profile = \"nowhere/lifter.toml\"");
+  const InputError e = load_error(f);
+  expect_names(e, f, "lifters.profile");
+  EXPECT_NE(e.expected.find((dir_ / "nowhere/lifter.toml").string()), std::string::npos) << e.expected;
+}
+
+TEST_F(SceneErrors, BadProfileErrorNamesTheProfileFile) {
+  const std::string profile = write("lifter.toml", std::string(kLifter) + "colour = \"red\"\n");
+  const InputError e = load_error(write("scene.toml", kBaseScene));
+  EXPECT_EQ(e.file, profile);
+}
+
+TEST_F(SceneErrors, SpeedAndSpeedRpmTogetherAreRejected) {
+  const std::string f = scene_with("speed = 0.75", "speed = 0.75\nspeed_rpm = 40.0");
+  const InputError e = load_error(f);
+  EXPECT_EQ(e.file, f);
+  EXPECT_NE(std::string(e.what()).find("mill.speed_rpm"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("mill.speed"), std::string::npos) << e.what();
+}
+
+TEST_F(SceneErrors, NeitherSpeedNorSpeedRpmIsRejected) {
+  const std::string f = scene_with("speed = 0.75", "");
+  expect_names(load_error(f), f, "mill.speed");
+}
+
+TEST_F(SceneErrors, MassFractionsNotSummingToOneAreRejected) {
+  const std::string f = scene_with("[0.4, 0.6]", "[0.4, 0.5]");
+  const InputError e = load_error(f);
+  expect_names(e, f, "charge.species[1].mass_fractions");
+  EXPECT_NE(e.expected.find("sum"), std::string::npos) << e.expected;
+}
+
+TEST_F(SceneErrors, SizeRangeWithMinAboveMaxIsRejected) {
+  const std::string f =
+      scene_with("sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]", "size_range = [20.0, 10.0]");
+  expect_names(load_error(f), f, "charge.species[1].size_range");
+}
+
+TEST_F(SceneErrors, BallFillingWithoutABallSpeciesIsRejected) {
+  const std::string f = scene_with("ball = true", "ball = false");
+  expect_names(load_error(f), f, "charge.species");
+}
+
+TEST_F(SceneErrors, TwoWearRatesAreRejected) {
+  const std::string f = scene_with("wear_rate = 1e-11", "wear_rate = 1e-11\narea_loss_rate = 2500.0");
+  expect_names(load_error(f), f, "wear.area_loss_rate");
+}
+
+TEST_F(SceneErrors, ReverseEveryNeedsABidirectionalMill) {
+  const std::string f = scene_with("direction = \"forward\"", "direction = \"forward\"\nreverse_every = 750.0");
+  expect_names(load_error(f), f, "mill.reverse_every");
+}
+
+TEST_F(SceneErrors, NotTomlAtAllNamesTheLine) {
+  const std::string f = write("scene.toml", "this is not a scene\n");
+  const InputError e = load_error(f);
+  EXPECT_EQ(e.file, f);
+  EXPECT_EQ(e.where, "line 1");
+  EXPECT_NE(std::string(e.what()).find("line"), std::string::npos) << e.what();
+}
+
+TEST_F(SceneErrors, MissingSceneFileNamesIt) {
+  const std::string f = (dir_ / "absent.toml").string();
+  EXPECT_EQ(load_error(f).file, f);
+}
+
+// ---------------------------------------------------------------------------------------
+// Units at the edge
+// ---------------------------------------------------------------------------------------
+
+TEST_F(SceneUnits, SpeedRpmBecomesFractionOfCritical) {
+  // Critical speed of a 0.6 m mill: sqrt(g / 0.3) rad/s = 54.61 rpm; 27.3 rpm is half of it.
+  const double crit_rpm = std::sqrt(kGravity / 0.3) * 60.0 / (2.0 * kPi);
+  const Scene s = load_scene(scene_with("speed = 0.75", "speed_rpm = " + std::to_string(0.5 * crit_rpm)));
+  EXPECT_NEAR(s.mill.speed_fraction_critical, 0.5, 1e-6);  // 1e-6: std::to_string keeps 6 decimals
+}
+
+TEST_F(SceneUnits, MillimetreKeysBecomeMetres) {
+  const Scene s = load_scene(scene_with("rows = 12", "rows = 12\nshell_edge = 15.0\nlifter_edge = 3.0"));
+  EXPECT_DOUBLE_EQ(s.mill.mesh.shell_edge_m, 0.015);
+  EXPECT_DOUBLE_EQ(s.mill.mesh.lifter_edge_m, 0.003);
+  EXPECT_DOUBLE_EQ(s.charge.species[0].diameters_m[0], 0.020);
+  EXPECT_DOUBLE_EQ(s.wear.replacement_height_m, 0.005);
+}
+
+TEST_F(SceneUnits, StepsPerSecondGivesTheTimeStep) {
+  const Scene s = load_scene(scene_with("seed = 3", "seed = 3\nsteps_per_second = 800"));
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, 1.0 / 800.0);
+}
+
+TEST_F(SceneUnits, AreaLossRateSetsTheCalibrationSource) {
+  const Scene s = load_scene(scene_with("wear_rate = 1e-11", "area_loss_rate = 2500.0"));
+  EXPECT_EQ(s.wear.rate_source, WearRateSource::AreaLossRate);
+  EXPECT_DOUBLE_EQ(s.wear.calibration_value, 2500.0);
+}
+
+TEST_F(SceneUnits, SliceThicknessDefaultsToLargestUsedDiameter) {
+  const Scene s = load_scene(write("scene.toml", kBaseScene));
+  EXPECT_DOUBLE_EQ(s.slice_thickness(), 0.020);
+  EXPECT_DOUBLE_EQ(s.smallest_particle_radius_m(), 0.005);
+}
+
+TEST_F(SceneUnits, SizeCutoffDropsSmallRockSizesOnly) {
+  const Scene s = load_scene(scene_with("seed = 3", "seed = 3\nsize_cutoff = 15.0"));
+  const auto placed = s.species_as_placed();
+  ASSERT_EQ(placed[1].diameters_m.size(), 1u);
+  EXPECT_DOUBLE_EQ(placed[1].diameters_m[0], 0.020);
+  EXPECT_DOUBLE_EQ(placed[1].mass_fractions[0], 1.0);  // renormalised
+  EXPECT_DOUBLE_EQ(s.smallest_particle_radius_m(), 0.010);
+}
+
+// ---------------------------------------------------------------------------------------
+// Fidelity presets
+// ---------------------------------------------------------------------------------------
+
+TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
+  const FidelityDef& d = fidelity_preset("draft");
+  const FidelityDef& s = fidelity_preset("standard");
+  const FidelityDef& r = fidelity_preset("reference");
+  EXPECT_DOUBLE_EQ(d.time_step_s, 1.0 / 300.0);
+  EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 500.0);
+  EXPECT_DOUBLE_EQ(r.time_step_s, 1.0 / 1000.0);
+  EXPECT_EQ(d.velocity_iterations, 6);
+  EXPECT_EQ(r.position_iterations, 4);
+  EXPECT_DOUBLE_EQ(d.window_revolutions, 1.0);
+  EXPECT_DOUBLE_EQ(r.window_revolutions, 6.0);
+  EXPECT_DOUBLE_EQ(s.max_depth_step_m, 0.004);
+  EXPECT_DOUBLE_EQ(d.shell_edge_m, 0.060);
+  EXPECT_DOUBLE_EQ(r.lifter_edge_m, 0.010);
+}
+
+TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
+  const auto& p = fidelity_presets();
+  ASSERT_EQ(p.size(), 3u);
+  for (std::size_t i = 1; i < p.size(); ++i) {
+    EXPECT_LT(p[i].time_step_s, p[i - 1].time_step_s) << p[i].name;
+    EXPECT_GT(p[i].velocity_iterations, p[i - 1].velocity_iterations) << p[i].name;
+    EXPECT_GT(p[i].position_iterations, p[i - 1].position_iterations) << p[i].name;
+    EXPECT_GT(p[i].window_revolutions, p[i - 1].window_revolutions) << p[i].name;
+    EXPECT_LT(p[i].max_depth_step_m, p[i - 1].max_depth_step_m) << p[i].name;
+    EXPECT_LT(p[i].factor, p[i - 1].factor) << p[i].name;
+    EXPECT_LT(p[i].shell_edge_m, p[i - 1].shell_edge_m) << p[i].name;
+    EXPECT_LT(p[i].lifter_edge_m, p[i - 1].lifter_edge_m) << p[i].name;
+  }
+}
+
+TEST(SceneFidelityTable, UnknownPresetIsAnInputError) {
+  Scene s;
+  EXPECT_THROW(apply_fidelity(s, "sloppy"), InputError);
+}
+
+TEST_F(SceneFidelity, FilePresetFillsWhatTheSceneLeavesOut) {
+  const Scene s = load_scene(scene_with("name = \"tiny\"", "name = \"tiny\"\nfidelity = \"reference\""));
+  const FidelityDef& r = fidelity_preset("reference");
+  EXPECT_EQ(s.fidelity, "reference");
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, r.time_step_s);
+  EXPECT_EQ(s.solver.velocity_iterations, r.velocity_iterations);
+  EXPECT_DOUBLE_EQ(s.wear.window_revolutions, r.window_revolutions);
+  EXPECT_DOUBLE_EQ(s.wear.max_depth_step_m, r.max_depth_step_m);
+  EXPECT_DOUBLE_EQ(s.wear.factor, r.factor);
+  EXPECT_DOUBLE_EQ(s.mill.mesh.shell_edge_m, r.shell_edge_m);
+}
+
+TEST_F(SceneFidelity, SceneKeysOverrideThePreset) {
+  const std::string f = scene_with("seed = 3", "seed = 3\ntime_step = 0.0025\nvelocity_iterations = 7");
+  Scene s = load_scene(f);
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, 0.0025);
+  EXPECT_EQ(s.solver.velocity_iterations, 7);
+  // Switching preset later (e.g. --fidelity on the command line) keeps the file's choices
+  // and changes the rest.
+  apply_fidelity(s, "draft");
+  EXPECT_EQ(s.fidelity, "draft");
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, 0.0025);
+  EXPECT_EQ(s.solver.velocity_iterations, 7);
+  EXPECT_EQ(s.solver.position_iterations, fidelity_preset("draft").position_iterations);
+}
+
+TEST_F(SceneFidelity, PresetsChangeTheSameSceneDifferently) {
+  Scene s = load_scene(write("scene.toml", kBaseScene));
+  apply_fidelity(s, "draft");
+  const Scene draft = s;
+  apply_fidelity(s, "reference");
+  EXPECT_GT(draft.solver.time_step_s, s.solver.time_step_s);
+  EXPECT_LT(draft.wear.window_revolutions, s.wear.window_revolutions);
+  EXPECT_GT(draft.mill.mesh.lifter_edge_m, s.mill.mesh.lifter_edge_m);
+}
