@@ -7,6 +7,7 @@
 #include "engine/engine.hpp"
 #include "engine_fixtures.hpp"
 #include "metrics/power_models.hpp"
+#include "scene/fidelity.hpp"
 
 namespace millwear {
 namespace {
@@ -219,8 +220,9 @@ TEST(Engine, ReversingASymmetricMillMirrorsTheShearWork) {
 
 TEST(Engine, SagPowerIsWithinThirtyPercentOfMorrell) {
   Scene scene = load_scene(testing::source_path("scenarios/sag-2x30.toml"));
+  apply_fidelity(scene, "draft");
   scene.mill.direction = Direction::Forward;
-  scene.run.revolutions = 1.0;
+  scene.run.revolutions = 3.0;  // the power settles to ~1% over 3 revolutions
   const ChargeRunResult r = run_charge_only(scene);
   ASSERT_EQ(r.figures.summary.escaped, 0);
   // Morrell's C-model with the 2D bed's own bulk density (mass per metre over J * area).

@@ -1,0 +1,539 @@
+// Archard's law per liner edge and the wear loops.
+//
+// Staged (quasi-static) mode: with the geometry frozen, a window of revolutions gives the
+// shear power on every edge; the real operating time then advances by the step that keeps
+// the largest depth increment under the scene's bound, the liner is worn and re-smoothed,
+// and the next window measures the new geometry. Statistics (rule 2) and geometry change
+// (rule 1) are separate knobs.
+// Continuous mode (the paper's): the mill keeps turning and every update_interval of
+// simulated time the accumulated work wears the liner with C_model = factor * C, so one
+// simulated second stands for `factor` seconds of operation.
+//
+// Every stage starts from a fresh, settled charge on that stage's starting geometry, so a
+// stage depends only on the geometry it starts from: resuming from a saved stage gives the
+// same results as an uninterrupted run.
+#include "wear/wear.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "common/errors.hpp"
+#include "geometry/polyline.hpp"
+
+namespace millwear {
+
+namespace {
+
+constexpr double kSecondsPerHour = 3600.0;
+using Clock = std::chrono::steady_clock;
+
+int unit_index(const MillGeometry& mill, int row) { return mill.units.size() == 1 ? 0 : row; }
+
+double unit_edge_mid_x(const LinerUnit& u, int j) { return 0.5 * (u.surface[j].x + u.surface[j + 1].x); }
+
+bool is_lifter_edge(const LinerUnit& u, int j) {
+  return std::fabs(unit_edge_mid_x(u, j)) <= u.lifter_half_base_m + 1e-9;
+}
+
+// Direction of rotation at an operating time: +1 forward (counter-clockwise), -1 reverse.
+double direction_at(const Scene& scene, double hours) {
+  switch (scene.mill.direction) {
+    case Direction::Forward: return 1.0;
+    case Direction::Reverse: return -1.0;
+    case Direction::Bidirectional: {
+      const long period = static_cast<long>(std::floor(hours / scene.mill.reverse_every_hours + 1e-9));
+      return period % 2 == 0 ? 1.0 : -1.0;
+    }
+  }
+  return 1.0;
+}
+
+// Operating hours of the next reversal after `hours` (infinity for one-way mills).
+double next_reversal(const Scene& scene, double hours) {
+  if (scene.mill.direction != Direction::Bidirectional) return INFINITY;
+  const double p = scene.mill.reverse_every_hours;
+  return (std::floor(hours / p + 1e-9) + 1.0) * p;
+}
+
+// Shear power per unit edge (W, averaged over rows or per row) over a window, with the
+// lifter area-loss-rate batch statistics for rule 2.
+struct WindowResult {
+  std::vector<double> edge_power_W;                 // per mill edge
+  std::vector<std::vector<double>> unit_power_W;    // per unit (1 or rows), per unit edge
+  Accounting accounting;                            // whole window
+  double lifter_power_mean_W = 0.0;                 // per row, summed over lifter edges
+  double lifter_power_rel_sem = 0.0;
+  double simulated_s = 0.0;
+};
+
+double lifter_power(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
+  double sum = 0.0;
+  for (std::size_t u = 0; u < unit_power.size(); ++u)
+    for (std::size_t j = 0; j < unit_power[u].size(); ++j)
+      if (is_lifter_edge(mill.units[u], static_cast<int>(j))) sum += unit_power[u][j];
+  return sum / static_cast<double>(unit_power.size());
+}
+
+void add_into(Accounting& total, const Accounting& part) {
+  if (total.shear_work_J.empty()) { total = part; return; }
+  for (std::size_t e = 0; e < total.shear_work_J.size(); ++e) {
+    total.shear_work_J[e] += part.shear_work_J[e];
+    total.impact_energy_J[e] += part.impact_energy_J[e];
+    total.contacts[e] += part.contacts[e];
+  }
+  total.time_s += part.time_s;
+  total.steps += part.steps;
+  total.drive_work_J += part.drive_work_J;
+  total.torque_impulse_Nms += part.torque_impulse_Nms;
+  total.pp_normal_J += part.pp_normal_J;
+  total.pp_tangent_J += part.pp_tangent_J;
+  total.pl_normal_J += part.pl_normal_J;
+  total.pl_tangent_J += part.pl_tangent_J;
+  total.solver_position_J += part.solver_position_J;
+  total.kinetic_J_end = part.kinetic_J_end;
+  total.potential_J_end = part.potential_J_end;
+  for (int k = 0; k < kSpectrumBins; ++k) {
+    total.spectrum_count[k] += part.spectrum_count[k];
+    total.spectrum_energy_J[k] += part.spectrum_energy_J[k];
+  }
+  total.mass_time_kg_s += part.mass_time_kg_s;
+  total.moment_time_kg_m_s += part.moment_time_kg_m_s;
+  for (int k = 0; k < kShapeAngleBins; ++k) total.shell_band_occupancy[k] += part.shell_band_occupancy[k];
+  total.shape_samples += part.shape_samples;
+  total.escaped += part.escaped;
+  total.non_finite += part.non_finite;
+}
+
+// simulate_window -> accumulate_work: run the window in batches (batch means for rule 2),
+// extending it while the lifter's shear power is less certain than the scene's target.
+WindowResult simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill) {
+  constexpr int kBatches = 4;
+  constexpr int kMaxBatches = 16;
+  const double batch_s = scene.wear.window_revolutions * scene.revolution_time_s() / kBatches;
+  const int batch_steps = std::max(1, steps_for(batch_s, engine.time_step_s()));
+  WindowResult w;
+  std::vector<double> batch_power;
+  for (int b = 0; b < kMaxBatches; ++b) {
+    engine.reset_window();
+    engine.step(batch_steps);
+    const Accounting& acc = engine.accounting();
+    std::vector<double> p(acc.shear_work_J.size());
+    for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;
+    batch_power.push_back(lifter_power(mill, unit_edge_work(mill, p, scene.wear.average_rows)));
+    add_into(w.accounting, acc);
+    const int n = static_cast<int>(batch_power.size());
+    if (n < kBatches) continue;
+    const double mean = std::accumulate(batch_power.begin(), batch_power.end(), 0.0) / n;
+    double var = 0.0;
+    for (double x : batch_power) var += (x - mean) * (x - mean);
+    var /= (n - 1);
+    w.lifter_power_rel_sem = mean > 0.0 ? std::sqrt(var / n) / mean : 0.0;
+    if (scene.wear.target_rel_uncertainty <= 0.0 || w.lifter_power_rel_sem <= scene.wear.target_rel_uncertainty)
+      break;
+  }
+  w.simulated_s = w.accounting.time_s;
+  w.edge_power_W.resize(w.accounting.shear_work_J.size());
+  for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)
+    w.edge_power_W[e] = w.accounting.shear_work_J[e] / w.accounting.time_s;
+  w.unit_power_W = unit_edge_work(mill, w.edge_power_W, scene.wear.average_rows);
+  w.lifter_power_mean_W = lifter_power(mill, w.unit_power_W);
+  return w;
+}
+
+// Unit edge lengths in the mill frame (true lengths; rows are identical copies).
+std::vector<double> unit_edge_lengths(const LinerUnit& u, double radius_m) {
+  std::vector<double> len(u.surface.size() - 1);
+  for (std::size_t j = 0; j + 1 < u.surface.size(); ++j)
+    len[j] = length(local_to_mill(u.surface[j + 1], 0, 1, radius_m) - local_to_mill(u.surface[j], 0, 1, radius_m));
+  return len;
+}
+
+// archard_depths: depth rate (m per operating second) per unit edge for real C.
+std::vector<std::vector<double>> depth_rates(const Scene& scene, const MillGeometry& mill,
+                                             const WindowResult& w, double c_real) {
+  std::vector<std::vector<double>> rates(w.unit_power_W.size());
+  const double t = scene.slice_thickness();
+  for (std::size_t u = 0; u < rates.size(); ++u) {
+    const auto len = unit_edge_lengths(mill.units[u], mill.radius_m);
+    rates[u].resize(len.size());
+    for (std::size_t j = 0; j < len.size(); ++j) {
+      const bool shell = !is_lifter_edge(mill.units[u], static_cast<int>(j));
+      rates[u][j] = (shell && !scene.wear.shell_wear) ? 0.0
+                    : archard_depth_m(w.unit_power_W[u][j], len[j], t, c_real);
+    }
+  }
+  return rates;
+}
+
+double max_of(const std::vector<std::vector<double>>& v) {
+  double m = 0.0;
+  for (const auto& a : v) for (double x : a) m = std::max(m, x);
+  return m;
+}
+
+double smoothing_radius(const Scene& scene) {
+  return scene.wear.smoothing_radius_m > 0.0 ? scene.wear.smoothing_radius_m
+                                             : scene.smallest_particle_radius_m();
+}
+
+bool lifter_worn_out(const LifterMetrics& m, const LifterMetrics& new_m) {
+  // Worn to the shell: under 1% of its new height or area left.
+  return m.height_m < 0.01 * new_m.height_m || m.area_m2 < 0.01 * new_m.area_m2;
+}
+
+}  // namespace
+
+std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
+                                                const std::vector<double>& edge_work,
+                                                bool average_rows) {
+  const bool shared = average_rows || mill.units.size() == 1;
+  const std::size_t n_units = shared ? 1 : static_cast<std::size_t>(mill.rows);
+  std::vector<std::vector<double>> out(n_units);
+  for (std::size_t u = 0; u < n_units; ++u)
+    out[u].assign(static_cast<std::size_t>(mill.unit_edge_count(static_cast<int>(u))), 0.0);
+  const double scale = shared ? 1.0 / mill.rows : 1.0;
+  for (std::size_t e = 0; e < edge_work.size(); ++e) {
+    const LinerEdgeInfo& info = mill.edges[e];
+    const std::size_t u = shared ? 0 : static_cast<std::size_t>(info.row);
+    out[u][static_cast<std::size_t>(info.unit_edge)] += scale * edge_work[e];
+  }
+  return out;
+}
+
+double real_wear_rate(const Scene& scene, const MillGeometry& mill,
+                      const std::vector<double>& shear_power_W) {
+  const WearDef& w = scene.wear;
+  if (w.rate_source == WearRateSource::Given) return w.wear_rate_m3_per_J;
+  const auto unit_power = unit_edge_work(mill, shear_power_W, true);
+  const LinerUnit& unit = mill.units[0];
+  const double t = scene.slice_thickness();
+  if (w.rate_source == WearRateSource::AreaLossRate) {
+    // Area loss rate of the lifter = C * sum(P_e) / t over lifter edges.
+    double p = 0.0;
+    for (std::size_t j = 0; j < unit_power[0].size(); ++j)
+      if (is_lifter_edge(unit, static_cast<int>(j))) p += unit_power[0][j];
+    const double target_m2_per_s = w.calibration_value * 1e-6 / (1000.0 * kSecondsPerHour);
+    if (!(p > 0.0)) throw RunError("cannot calibrate the wear rate: no shear work on the lifter");
+    return target_m2_per_s * t / p;
+  }
+  // Height loss rate: depth rate at the lifter's top edges (within 10% of its height).
+  const LifterMetrics m = measure_lifter(unit, mill.radius_m);
+  const auto len = unit_edge_lengths(unit, mill.radius_m);
+  double sum = 0.0, count = 0.0;
+  for (std::size_t j = 0; j < len.size(); ++j) {
+    const double y = 0.5 * (unit.surface[j].y + unit.surface[j + 1].y);
+    if (!is_lifter_edge(unit, static_cast<int>(j)) || y < 0.9 * m.height_m) continue;
+    sum += unit_power[0][j] / (len[j] * t);
+    count += 1.0;
+  }
+  if (!(sum > 0.0)) throw RunError("cannot calibrate the wear rate: no shear work on the lifter top");
+  const double target_m_per_s = w.calibration_value * 1e-3 / kSecondsPerHour;
+  return target_m_per_s / (sum / count);
+}
+
+LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_depth_m,
+                     double radius_m, double smoothing_m, const MillMeshDef& mesh) {
+  const Polyline& s = unit.surface;
+  const std::size_t n = s.size();
+  if (edge_depth_m.size() + 1 != n) throw RunError("apply_wear: one depth per unit edge expected");
+  // Edge depths -> vertex displacements into the metal along the vertex normals.
+  Polyline moved = s;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d_prev = i > 0 ? edge_depth_m[i - 1] : edge_depth_m[0];
+    const double d_next = i + 1 < n ? edge_depth_m[i] : edge_depth_m[n - 2];
+    Vec2 normal;  // into the metal: right of the surface's direction (+x)
+    if (i > 0) normal += normalized(right_perp(s[i] - s[i - 1]));
+    if (i + 1 < n) normal += normalized(right_perp(s[i + 1] - s[i]));
+    normal = normalized(normal);
+    moved[i] = s[i] + 0.5 * (d_prev + d_next) * normal;
+  }
+  // The unit's ends stay at +-pitch/2 and at one height, so rows join without a step.
+  const double half_pitch = 0.5 * (s.back().x - s.front().x);
+  const double y_end = 0.5 * (moved.front().y + moved.back().y);
+  moved.front() = {-half_pitch, y_end};
+  moved.back() = {half_pitch, y_end};
+
+  // resmooth: close the surface into the metal region below it and open/close it.
+  double y_min = y_end;
+  for (const Vec2& p : moved) y_min = std::min(y_min, p.y);
+  const double y_floor = y_min - 4.0 * smoothing_m - 0.05 * half_pitch;
+  Polygon metal(moved.rbegin(), moved.rend());  // right to left along the top...
+  metal.push_back({-half_pitch, y_floor});      // ...then down and along the floor
+  metal.push_back({half_pitch, y_floor});
+  if (signed_area(metal) < 0.0) std::reverse(metal.begin(), metal.end());
+  Polygon smooth = smoothing_m > 0.0 ? smooth_by_offsets(metal, smoothing_m) : metal;
+  if (smooth.size() < 4) throw RunError("the worn liner unit vanished when re-smoothed");
+
+  // Take the top chain back out: from the top of the left side to the top of the right.
+  const double tol = 1e-9 + 1e-6 * half_pitch;
+  int left = -1, right = -1;
+  for (int i = 0; i < static_cast<int>(smooth.size()); ++i) {
+    const Vec2 p = smooth[static_cast<std::size_t>(i)];
+    if (std::fabs(p.x + half_pitch) < tol && (left < 0 || p.y > smooth[static_cast<std::size_t>(left)].y)) left = i;
+    if (std::fabs(p.x - half_pitch) < tol && (right < 0 || p.y > smooth[static_cast<std::size_t>(right)].y)) right = i;
+  }
+  if (left < 0 || right < 0) throw RunError("the worn liner unit lost its ends when re-smoothed");
+  // Counter-clockwise, the top runs from right to left.
+  Polyline top;
+  const int m = static_cast<int>(smooth.size());
+  for (int i = right;; i = (i + 1) % m) {
+    top.push_back(smooth[static_cast<std::size_t>(i)]);
+    if (i == left) break;
+    if (static_cast<int>(top.size()) > m) throw RunError("worn liner unit: top chain not found");
+  }
+  std::reverse(top.begin(), top.end());
+
+  // Resample: lifter-size edges over the lifter, shell-size edges elsewhere.
+  LinerUnit out;
+  out.lifter_half_base_m = unit.lifter_half_base_m;
+  const Polyline fine = resample(top, mesh.lifter_edge_m);
+  out.surface.reserve(fine.size());
+  const double keep_zone = unit.lifter_half_base_m + mesh.shell_edge_m;
+  double last_x = -INFINITY;
+  for (std::size_t i = 0; i < fine.size(); ++i) {
+    const Vec2 p = fine[i];
+    const bool end = i == 0 || i + 1 == fine.size();
+    if (end || std::fabs(p.x) <= keep_zone || p.x - last_x >= mesh.shell_edge_m * 0.999) {
+      out.surface.push_back(p);
+      last_x = p.x;
+    }
+  }
+  if (out.surface.size() >= 2 && out.surface[out.surface.size() - 2].x > half_pitch - 1e-3 * mesh.shell_edge_m)
+    out.surface.erase(out.surface.end() - 2);
+  if (!is_simple_open(out.surface)) throw RunError("the worn liner surface crosses itself");
+  (void)radius_m;
+  return out;
+}
+
+LinerUnit wear_under_load_field(const LinerUnit& unit, double radius_m,
+                                const std::function<double(Vec2)>& shear_power_W_per_m2,
+                                double c_model_m3_per_J, double sim_time_s, int updates,
+                                double smoothing_m, const MillMeshDef& mesh) {
+  LinerUnit u = unit;
+  const double dt = sim_time_s / updates;
+  for (int k = 0; k < updates; ++k) {
+    std::vector<double> depth(u.surface.size() - 1);
+    for (std::size_t j = 0; j + 1 < u.surface.size(); ++j) {
+      const Vec2 mid = 0.5 * (u.surface[j] + u.surface[j + 1]);
+      // Work per area = power per area * dt; the depth is C_model times that (A dh = C dw).
+      depth[j] = c_model_m3_per_J * shear_power_W_per_m2(mid) * dt;
+    }
+    u = apply_wear(u, depth, radius_m, smoothing_m, mesh);
+  }
+  return u;
+}
+
+void compute_life(WearHistory& h, double replacement_height_m) {
+  h.life_h = 0.0;
+  h.life_extrapolated = false;
+  const auto& st = h.stages;
+  if (st.empty()) return;
+  for (std::size_t k = 1; k < st.size(); ++k) {
+    const double h0 = st[k - 1].lifter.height_m, h1 = st[k].lifter.height_m;
+    if (h1 <= replacement_height_m && h0 > replacement_height_m) {
+      const double f = (h0 - replacement_height_m) / (h0 - h1);
+      h.life_h = st[k - 1].hours + f * (st[k].hours - st[k - 1].hours);
+      return;
+    }
+  }
+  if (st.front().lifter.height_m <= replacement_height_m) return;
+  // Beyond the simulated stages: extrapolate the height trend of the last stages.
+  h.life_extrapolated = true;
+  if (st.size() < 2) { h.life_h = INFINITY; return; }
+  const std::size_t a = st.size() >= 3 ? st.size() - 3 : 0, b = st.size() - 1;
+  const double rate = (st[a].lifter.height_m - st[b].lifter.height_m) / (st[b].hours - st[a].hours);
+  h.life_h = rate > 0.0 ? st[b].hours + (st[b].lifter.height_m - replacement_height_m) / rate : INFINITY;
+}
+
+WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
+                             const std::vector<StageRecord>& resume_from) {
+  WearHistory history;
+  const double R = scene.radius_m();
+  const int rows = scene.mill.rows;
+  const LinerUnit new_unit = make_liner_unit(scene.mill.lifter.points, R, rows, scene.mill.mesh);
+  const LifterMetrics new_metrics = measure_lifter(new_unit, R);
+  const double smoothing_m = smoothing_radius(scene);
+  const double stage_h = scene.wear.stage_hours;
+  const bool staged = scene.wear.mode == WearMode::Staged;
+
+  std::vector<LinerUnit> units{new_unit};
+  if (!scene.wear.average_rows) units.assign(static_cast<std::size_t>(rows), new_unit);
+  int first_stage = 0;
+  if (!resume_from.empty()) {
+    history.stages = resume_from;
+    units = resume_from.back().units;
+    first_stage = resume_from.back().stage;
+  }
+  double c_real = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+
+  for (int k = first_stage; k <= scene.wear.stages; ++k) {
+    const auto t0 = Clock::now();
+    double hours = k * stage_h;
+    MillGeometry mill = build_mill(R, rows, units);
+    // Each stage: a fresh charge, settled on this stage's geometry, same seed.
+    auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
+    double dir = direction_at(scene, hours);
+    settle_and_spin_up(*engine, scene, dir);
+    WindowResult w = simulate_window(*engine, scene, mill);
+    double simulated = w.simulated_s;
+    std::int64_t disk_steps = w.accounting.steps * static_cast<std::int64_t>(engine->state().size());
+    if (c_real <= 0.0) {
+      // Calibration is against the new liner: it needs stage 0's window.
+      if (k != 0 && resume_from.empty()) throw RunError("wear-rate calibration needs stage 0");
+      c_real = real_wear_rate(scene, k == 0 ? mill : build_mill(R, rows, {new_unit}), w.edge_power_W);
+    }
+    history.wear_rate_m3_per_J = c_real;
+
+    const bool resumed_stage = k == first_stage && !resume_from.empty();
+    if (!resumed_stage) {
+      StageRecord rec;
+      rec.stage = k;
+      rec.hours = hours;
+      rec.units = units;
+      rec.lifter = measure_lifter(units[0], R);
+      rec.charge = charge_figures(w.accounting, scene, dir * scene.angular_speed_rad_s());
+      const double t = scene.slice_thickness();
+      rec.area_loss_rate_mm2_per_h = c_real * w.lifter_power_mean_W / t * kSecondsPerHour * 1e6;
+      rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
+      rec.spectrum_count_per_s.resize(kSpectrumBins);
+      rec.spectrum_energy_W.resize(kSpectrumBins);
+      for (int b = 0; b < kSpectrumBins; ++b) {
+        rec.spectrum_count_per_s[b] = w.accounting.spectrum_count[b] / w.accounting.time_s;
+        rec.spectrum_energy_W[b] = w.accounting.spectrum_energy_J[b] / w.accounting.time_s;
+      }
+      rec.edge_wear_rate_m_per_h.resize(mill.boundary.size());
+      for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
+        const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
+        rec.edge_wear_rate_m_per_h[e] = (shell && !scene.wear.shell_wear) ? 0.0
+            : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real) * kSecondsPerHour;
+      }
+      rec.snapshot = engine->state();
+      rec.mill_angle_rad = engine->state().mill_angle_rad;
+      rec.worn_out = lifter_worn_out(rec.lifter, new_metrics);
+      for (const auto& e : engine->events())
+        history.events.push_back("stage " + std::to_string(k) + ": " + e.what);
+      if (k == scene.wear.stages || rec.worn_out) {
+        rec.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+        rec.simulated_s = simulated;
+        rec.disk_steps = disk_steps;
+        history.stages.push_back(rec);
+        if (cb.on_stage) cb.on_stage(history.stages.back());
+        if (rec.worn_out) history.events.push_back("stage " + std::to_string(k) + ": the lifter is worn to the shell");
+        break;
+      }
+      history.stages.push_back(rec);
+    }
+
+    // Wear through stage k+1.
+    const double target_h = (k + 1) * stage_h;
+    bool worn_out = false;
+    while (hours < target_h - 1e-9 && !worn_out) {
+      if (cb.should_stop && cb.should_stop()) throw RunError("interrupted");
+      const auto rates = depth_rates(scene, mill, w, c_real);  // m per operating second
+      const double reversal = next_reversal(scene, hours);
+      double dt_h = std::min(target_h, reversal) - hours;
+      std::vector<std::vector<double>> depths(rates.size());
+      if (staged) {
+        const double max_rate_h = max_of(rates) * kSecondsPerHour;
+        if (max_rate_h > 0.0) dt_h = std::min(dt_h, scene.wear.max_depth_step_m / max_rate_h);
+        for (std::size_t u = 0; u < rates.size(); ++u) {
+          depths[u].resize(rates[u].size());
+          for (std::size_t j = 0; j < rates[u].size(); ++j) depths[u][j] = rates[u][j] * dt_h * kSecondsPerHour;
+        }
+      } else {
+        // Continuous: the charge turns for update_interval of simulated time, which stands
+        // for factor times as much operation; wear uses that interval's own work.
+        const double sim_s = std::min(scene.wear.update_interval_s,
+                                      dt_h * kSecondsPerHour / scene.wear.factor);
+        engine->reset_window();
+        engine->step(std::max(1, steps_for(sim_s, engine->time_step_s())));
+        simulated += engine->accounting().time_s;
+        disk_steps += engine->accounting().steps * static_cast<std::int64_t>(engine->state().size());
+        dt_h = engine->accounting().time_s * scene.wear.factor / kSecondsPerHour;
+        const auto work = unit_edge_work(mill, engine->accounting().shear_work_J, scene.wear.average_rows);
+        const double t = scene.slice_thickness();
+        const double c_model = scene.wear.factor * c_real;
+        for (std::size_t u = 0; u < work.size(); ++u) {
+          const auto len = unit_edge_lengths(units[u], R);
+          depths[u].resize(len.size());
+          for (std::size_t j = 0; j < len.size(); ++j) {
+            const bool shell = !is_lifter_edge(units[u], static_cast<int>(j));
+            depths[u][j] = (shell && !scene.wear.shell_wear) ? 0.0 : archard_depth_m(work[u][j], len[j], t, c_model);
+          }
+        }
+        const double worst = max_of(depths);
+        if (worst > 0.25 * new_metrics.height_m) {
+          history.events.push_back("stage " + std::to_string(k + 1) + ": wear.factor " +
+                                   std::to_string(scene.wear.factor) + " wore " +
+                                   std::to_string(worst * 1e3) + " mm in one update (over a quarter of the lifter): "
+                                   "C_model is too large for rule 1; lower wear.factor");
+          compute_life(history, scene.wear.replacement_height_m);
+          return history;
+        }
+      }
+      // apply_wear -> resmooth (inside) for every unit.
+      try {
+        for (std::size_t u = 0; u < units.size(); ++u)
+          units[u] = apply_wear(units[u], depths[u], R, smoothing_m, scene.mill.mesh);
+      } catch (const RunError& e) {
+        history.events.push_back("stage " + std::to_string(k + 1) + ": " + e.what());
+        worn_out = true;
+        break;
+      }
+      hours += dt_h;
+      if (lifter_worn_out(measure_lifter(units[0], R), new_metrics)) { worn_out = true; break; }
+      if (hours >= target_h - 1e-9) break;
+      mill = build_mill(R, rows, units);
+      engine->set_liner(mill);
+      const double new_dir = direction_at(scene, hours);
+      if (new_dir != dir) {
+        dir = new_dir;
+        engine->set_mill_speed(dir * scene.angular_speed_rad_s());
+        // Let the charge turn round before measuring: half a revolution.
+        engine->step(steps_for(0.5 * scene.revolution_time_s(), engine->time_step_s()));
+        engine->reset_window();
+      }
+      if (staged) {
+        w = simulate_window(*engine, scene, mill);
+        simulated += w.simulated_s;
+        disk_steps += w.accounting.steps * static_cast<std::int64_t>(engine->state().size());
+      }
+    }
+    if (!resumed_stage && !history.stages.empty() && history.stages.back().stage == k) {
+      history.stages.back().wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      history.stages.back().simulated_s = simulated;
+      history.stages.back().disk_steps = disk_steps;
+      if (cb.on_stage) cb.on_stage(history.stages.back());
+    }
+    if (cb.on_progress) {
+      WearProgress p;
+      p.stage = k + 1;
+      p.hours = hours;
+      p.simulated_s = simulated;
+      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+      p.disk_steps_per_s = wall > 0 ? disk_steps / wall : 0.0;
+      cb.on_progress(p);
+    }
+    if (worn_out) {
+      // Record the worn-out geometry as the last stage, then stop cleanly.
+      StageRecord rec;
+      rec.stage = k + 1;
+      rec.hours = hours;
+      rec.units = units;
+      rec.lifter = measure_lifter(units[0], R);
+      rec.worn_out = true;
+      rec.charge = history.stages.empty() ? ChargeFigures{} : history.stages.back().charge;
+      history.stages.push_back(rec);
+      history.events.push_back("stage " + std::to_string(k + 1) + ": the lifter is worn to the shell at " +
+                               std::to_string(hours) + " h");
+      if (cb.on_stage) cb.on_stage(history.stages.back());
+      break;
+    }
+  }
+  compute_life(history, scene.wear.replacement_height_m);
+  return history;
+}
+
+}  // namespace millwear
