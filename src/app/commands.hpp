@@ -11,5 +11,8 @@ using Action = std::function<int()>;  // returns the exit code
 // Every register_* adds a subcommand; when it is chosen, *action is set.
 void register_profile(CLI::App& app, Action* action);
 void register_charge(CLI::App& app, Action* action);
+void register_run(CLI::App& app, Action* action);
+void register_animate(CLI::App& app, Action* action);
+void register_rule1(CLI::App& app, Action* action);
 
 }  // namespace millwear::app

@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
   millwear::app::Action action;
   millwear::app::register_profile(app, &action);
   millwear::app::register_charge(app, &action);
+  millwear::app::register_run(app, &action);
+  millwear::app::register_animate(app, &action);
+  millwear::app::register_rule1(app, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -104,3 +104,25 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& callbacks 
 void compute_life(WearHistory& history, double replacement_height_m);
 
 }  // namespace millwear
+
+namespace millwear {
+
+// Rule 1 check: the wear history in continuous mode at several factors (C_model = factor
+// * C, simulated time scaled by 1/factor), and the profile deviation between neighbours.
+struct Rule1Row {
+  double factor = 0.0;
+  double simulated_s = 0.0;
+  double wall_s = 0.0;
+  Polyline profile;                 // final unit surface (lifter-local, m)
+  double deviation_m = 0.0;         // largest normal distance to the previous (smaller) factor
+  double deviation_pct_height = 0.0;
+  std::vector<std::string> events;
+};
+struct Rule1Report {
+  std::vector<Rule1Row> rows;       // increasing factor
+  double recommended_factor = 0.0;  // largest factor whose deviation stays under tolerance
+  double tolerance_pct_height = 0.0;
+};
+Rule1Report rule1_check(const Scene& scene, std::vector<double> factors, double tolerance_pct_height);
+
+}  // namespace millwear

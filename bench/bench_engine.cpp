@@ -1,0 +1,94 @@
+// Engine benchmark: disk-steps per second of the charge on a 5 m mill slice (the probe
+// scene of shared/notes/box2d-mill-probe.md) at about 1k, 3k and 10k disks, the share of
+// time in collision, solve and our accounting, and the cost of the optional accounting.
+// Prints a table; asserts nothing (speed is measured here, never in tests).
+//   build/bench_engine [seconds_measured]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "engine/engine.hpp"
+#include "scene/scene.hpp"
+
+using namespace millwear;
+
+namespace {
+
+Scene probe_scene(double r_min_m) {
+  Scene s;
+  s.name = "probe";
+  s.source_file = "(bench)";
+  s.mill.diameter_m = 5.0;
+  s.mill.length_m = 1.0;
+  s.mill.speed_fraction_critical = 0.75;
+  s.mill.rows = 24;
+  TrapezoidDef t;
+  t.height_m = 0.15;
+  t.top_width_m = 0.10;
+  t.leading_face_angle_rad = t.trailing_face_angle_rad = 30.0 * 3.14159265358979 / 180.0;
+  s.mill.lifter.points = trapezoid_points(t);
+  s.mill.lifter.name = "probe";
+  s.mill.mesh.shell_edge_m = 0.05;
+  s.mill.mesh.lifter_edge_m = 0.02;
+  SpeciesDef sp;
+  sp.name = "ball";
+  sp.is_ball = true;
+  sp.density_kg_m3 = 2700.0;
+  sp.d_min_m = 2.0 * r_min_m;
+  sp.d_max_m = 2.0 * 1.67 * r_min_m;
+  sp.friction = sp.friction_liner = 0.5;
+  sp.restitution = sp.restitution_liner = 0.4;
+  s.charge.species = {sp};
+  s.charge.filling = 0.30;
+  s.charge.ball_filling = 0.30;
+  s.charge.bulk_packing = 0.8;
+  s.solver.time_step_s = 1.0 / 600.0;
+  s.solver.settle_time_s = 1.0;
+  s.solver.spinup_revolutions = 0.25;
+  return s;
+}
+
+struct Row {
+  std::size_t disks;
+  double rate, collide, solve, account;
+  long long escaped;
+};
+
+Row measure(const Scene& scene, const AccountingOptions& opts, double seconds) {
+  const MillGeometry mill = build_scene_mill(scene);
+  auto engine = make_engine(scene, mill, fill_charge(scene, mill), opts);
+  settle_and_spin_up(*engine, scene, 1.0);
+  const auto t0 = std::chrono::steady_clock::now();
+  engine->step(steps_for(seconds, engine->time_step_s()));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto& tm = engine->timing();
+  return {engine->state().size(), tm.disk_steps / wall, tm.collide_s / wall, tm.solve_s / wall,
+          tm.account_s / wall, static_cast<long long>(engine->accounting().escaped)};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const double seconds = argc > 1 ? std::atof(argv[1]) : 1.0;
+  std::printf("Box2D 2.4 backend, 5 m mill, 24 lifters, 75%% critical, dt 1/600 s, 8/3 iterations, "
+              "%.2f s measured\n", seconds);
+  std::printf("%8s %14s %9s %9s %9s %8s   %s\n", "disks", "disk-steps/s", "collide", "solve", "account",
+              "escaped", "accounting");
+  for (double r : {0.0287, 0.0166, 0.0091}) {
+    const Scene scene = probe_scene(r);
+    AccountingOptions full;
+    full.collision_spectrum = true;
+    AccountingOptions lean;
+    lean.collision_spectrum = false;
+    lean.shell_work = false;
+    lean.charge_shape = false;
+    for (auto [opts, label] : {std::pair{full, "all on (spectrum, shell, shape)"},
+                               std::pair{lean, "lifter work only"}}) {
+      const Row row = measure(scene, opts, seconds);
+      std::printf("%8zu %14.3g %8.0f%% %8.0f%% %8.0f%% %8lld   %s\n", row.disks, row.rate, 100 * row.collide,
+                  100 * row.solve, 100 * row.account, row.escaped, label);
+    }
+  }
+  return 0;
+}

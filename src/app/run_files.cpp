@@ -1,0 +1,280 @@
+#include "app/run_files.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <utility>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "mill/mill.hpp"
+
+namespace millwear::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string stage_base(const std::string& out, const std::string& design, int stage) {
+  return io::join_path(io::stages_dir(out), design + "_stage" + std::to_string(stage));
+}
+
+// The scalar doubles of a StageRecord, by name. One list for writing and reading, so the
+// two can never disagree. (A field added to StageRecord must be added here to survive
+// --resume.)
+std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
+  ChargeFigures& f = r.charge;
+  ChargeSummary& s = f.summary;
+  return {
+      {"hours", &r.hours},
+      {"lifter.area_m2", &r.lifter.area_m2},
+      {"lifter.height_m", &r.lifter.height_m},
+      {"lifter.leading_face_angle_rad", &r.lifter.leading_face_angle_rad},
+      {"lifter.trailing_face_angle_rad", &r.lifter.trailing_face_angle_rad},
+      {"charge.power_kW_per_m", &f.power_kW_per_m},
+      {"charge.torque_arm_kW_per_m", &f.torque_arm_kW_per_m},
+      {"charge.collision_kW_per_m", &f.collision_kW_per_m},
+      {"charge.liner_kW_per_m", &f.liner_kW_per_m},
+      {"charge.solver_kW_per_m", &f.solver_kW_per_m},
+      {"summary.time_s", &s.time_s},
+      {"summary.power_W", &s.power_W},
+      {"summary.torque_Nm", &s.torque_Nm},
+      {"summary.torque_arm_Nm", &s.torque_arm_Nm},
+      {"summary.collision_power_W", &s.collision_power_W},
+      {"summary.liner_dissipation_W", &s.liner_dissipation_W},
+      {"summary.solver_dissipation_W", &s.solver_dissipation_W},
+      {"summary.kinetic_change_W", &s.kinetic_change_W},
+      {"summary.mass_kg", &s.mass_kg},
+      {"summary.centre_of_mass_x_m", &s.centre_of_mass_m.x},
+      {"summary.centre_of_mass_y_m", &s.centre_of_mass_m.y},
+      {"summary.toe_deg", &s.toe_deg},
+      {"summary.shoulder_deg", &s.shoulder_deg},
+      {"summary.shear_work_rate_W", &s.shear_work_rate_W},
+      {"area_loss_rate_mm2_per_h", &r.area_loss_rate_mm2_per_h},
+      {"area_loss_rate_rel_sem", &r.area_loss_rate_rel_sem},
+      {"mill_angle_rad", &r.mill_angle_rad},
+      {"wall_s", &r.wall_s},
+      {"simulated_s", &r.simulated_s},
+      {"snapshot.mill_angle_rad", &r.snapshot.mill_angle_rad},
+      {"snapshot.mill_speed_rad_s", &r.snapshot.mill_speed_rad_s},
+      {"snapshot.time_s", &r.snapshot.time_s},
+  };
+}
+
+std::vector<std::pair<const char*, std::int64_t*>> integer_fields(StageRecord& r) {
+  return {{"summary.escaped", &r.charge.summary.escaped},
+          {"summary.non_finite", &r.charge.summary.non_finite},
+          {"disk_steps", &r.disk_steps}};
+}
+
+const io::CsvOptions kExact{10, true};
+
+struct Reader {
+  io::KeyValues kv;
+  std::string path;
+  std::string get(const std::string& key) const {
+    for (const auto& [k, v] : kv)
+      if (k == key) return v;
+    throw InputError(path, key, "a value for " + key + " (a stage file of an earlier run)");
+  }
+  double number(const std::string& key) const {
+    const std::string v = get(key);
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0') throw InputError(path, key, "a number, found '" + v + "'");
+    return d;
+  }
+  long long integer(const std::string& key) const {
+    const std::string v = get(key);
+    char* end = nullptr;
+    const long long i = std::strtoll(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0') throw InputError(path, key, "an integer, found '" + v + "'");
+    return i;
+  }
+};
+
+}  // namespace
+
+void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec_in) {
+  StageRecord rec = rec_in;  // the field table wants a mutable record; copies are cheap enough
+  const std::string base = stage_base(out, design, rec.stage);
+  io::ensure_dir(io::stages_dir(out));
+
+  io::CsvTable units({"unit", "x_m", "y_m"}, kExact);
+  for (std::size_t u = 0; u < rec.units.size(); ++u)
+    for (const Vec2& p : rec.units[u].surface) units.add_row({u, p.x, p.y});
+  units.write(base + ".units.csv");
+
+  io::CsvTable spec({"bin", "count_per_s", "energy_W"}, kExact);
+  const std::size_t nbins = std::max(rec.spectrum_count_per_s.size(), rec.spectrum_energy_W.size());
+  for (std::size_t k = 0; k < nbins; ++k)
+    spec.add_row({k, k < rec.spectrum_count_per_s.size() ? rec.spectrum_count_per_s[k] : 0.0,
+                  k < rec.spectrum_energy_W.size() ? rec.spectrum_energy_W[k] : 0.0});
+  spec.write(base + ".spectrum.csv");
+
+  io::CsvTable edges({"edge", "wear_rate_m_per_h"}, kExact);
+  for (std::size_t e = 0; e < rec.edge_wear_rate_m_per_h.size(); ++e)
+    edges.add_row({e, rec.edge_wear_rate_m_per_h[e]});
+  edges.write(base + ".edges.csv");
+
+  const ChargeState& st = rec.snapshot;
+  io::CsvTable charge({"x_m", "y_m", "vx_m_s", "vy_m_s", "angle_rad", "spin_rad_s", "radius_m",
+                       "mass_kg", "species", "active"},
+                      kExact);
+  for (std::size_t i = 0; i < st.size(); ++i)
+    charge.add_row({st.position_m[i].x, st.position_m[i].y, st.velocity_m_s[i].x,
+                    st.velocity_m_s[i].y, st.angle_rad[i], st.spin_rad_s[i], st.radius_m[i],
+                    st.mass_kg[i], static_cast<int>(st.species[i]), static_cast<int>(st.active[i])});
+  charge.write(base + ".charge.csv");
+
+  io::KeyValues kv;
+  kv.emplace_back("stage", std::to_string(rec.stage));
+  kv.emplace_back("units", std::to_string(rec.units.size()));
+  for (std::size_t u = 0; u < rec.units.size(); ++u)
+    kv.emplace_back("unit." + std::to_string(u) + ".lifter_half_base_m",
+                    io::format_exact(rec.units[u].lifter_half_base_m));
+  for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, io::format_exact(*p));
+  for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
+  kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
+  io::write_file_atomic(base + ".record", io::format_key_values(kv, "millwear stage record (exact)"));
+
+  // Last: the marker says every file above is complete.
+  io::write_stage_done(out, design, rec.stage,
+                       {{"hours", io::format_number(rec.hours)},
+                        {"wall_s", io::format_number(rec.wall_s, 6)},
+                        {"files", design + "_stage" + std::to_string(rec.stage) +
+                                      ".{record,units.csv,spectrum.csv,edges.csv,charge.csv}"}});
+}
+
+StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
+  const std::string base = stage_base(out, design, stage);
+  StageRecord rec;
+  Reader r{io::read_key_values(base + ".record"), base + ".record"};
+  rec.stage = static_cast<int>(r.integer("stage"));
+  if (rec.stage != stage) throw InputError(r.path, "stage", "stage=" + std::to_string(stage));
+  const long long nunits = r.integer("units");
+  if (nunits < 1 || nunits > 100000) throw InputError(r.path, "units", "a unit count >= 1");
+  rec.units.resize(static_cast<std::size_t>(nunits));
+  for (long long u = 0; u < nunits; ++u)
+    rec.units[static_cast<std::size_t>(u)].lifter_half_base_m =
+        r.number("unit." + std::to_string(u) + ".lifter_half_base_m");
+  for (auto& [k, p] : double_fields(rec)) *p = r.number(k);
+  for (auto& [k, p] : integer_fields(rec)) *p = r.integer(k);
+  rec.worn_out = r.integer("worn_out") != 0;
+
+  io::CsvData units = io::read_csv(base + ".units.csv");
+  {
+    const std::size_t uc = units.column("unit"), xc = units.column("x_m"), yc = units.column("y_m");
+    for (std::size_t i = 0; i < units.row_count(); ++i) {
+      const double u = units.number(i, uc);
+      if (!(u >= 0 && u < static_cast<double>(nunits)))
+        throw InputError(units.path, "line " + std::to_string(units.row_line[i]),
+                         "a unit index below " + std::to_string(nunits));
+      rec.units[static_cast<std::size_t>(u)].surface.push_back({units.number(i, xc), units.number(i, yc)});
+    }
+  }
+  io::CsvData spec = io::read_csv(base + ".spectrum.csv");
+  rec.spectrum_count_per_s = spec.numbers("count_per_s");
+  rec.spectrum_energy_W = spec.numbers("energy_W");
+  rec.edge_wear_rate_m_per_h = io::read_csv(base + ".edges.csv").numbers("wear_rate_m_per_h");
+
+  io::CsvData ch = io::read_csv(base + ".charge.csv");
+  ChargeState& st = rec.snapshot;
+  const auto x = ch.numbers("x_m"), y = ch.numbers("y_m"), vx = ch.numbers("vx_m_s"),
+             vy = ch.numbers("vy_m_s"), sp = ch.numbers("species"), ac = ch.numbers("active");
+  st.angle_rad = ch.numbers("angle_rad");
+  st.spin_rad_s = ch.numbers("spin_rad_s");
+  st.radius_m = ch.numbers("radius_m");
+  st.mass_kg = ch.numbers("mass_kg");
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    st.position_m.push_back({x[i], y[i]});
+    st.velocity_m_s.push_back({vx[i], vy[i]});
+    st.species.push_back(static_cast<std::uint8_t>(sp[i]));
+    st.active.push_back(static_cast<std::uint8_t>(ac[i]));
+  }
+  return rec;
+}
+
+void remove_stage_state(const std::string& out, const std::string& design) {
+  std::error_code ec;
+  const std::string dir = io::stages_dir(out), prefix = design + "_stage";
+  if (!fs::is_directory(dir, ec)) return;
+  std::vector<fs::path> doomed;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.compare(0, prefix.size(), prefix) != 0) continue;
+    // DESIGN_stage<digits>.<anything>: not another design whose name starts the same way.
+    std::size_t i = prefix.size();
+    if (i >= n.size() || !std::isdigit(static_cast<unsigned char>(n[i]))) continue;
+    while (i < n.size() && std::isdigit(static_cast<unsigned char>(n[i]))) ++i;
+    if (i < n.size() && n[i] == '.') doomed.push_back(e.path());
+  }
+  // Markers first, so a half-removed stage is never taken for a finished one.
+  for (const auto& p : doomed)
+    if (p.extension() == ".done") fs::remove(p, ec);
+  for (const auto& p : doomed) fs::remove(p, ec);
+  // Profiles of the earlier run would otherwise be drawn as extra stages.
+  const std::string pdir = io::profiles_dir(out);
+  if (fs::is_directory(pdir, ec))
+    for (const auto& e : fs::directory_iterator(pdir, ec)) {
+      const std::string n = e.path().filename().string();
+      if (n.compare(0, prefix.size(), prefix) == 0 && e.path().extension() == ".csv") {
+        const std::string mid = n.substr(prefix.size(), n.size() - prefix.size() - 4);
+        if (!mid.empty() && std::all_of(mid.begin(), mid.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+          fs::remove(e.path(), ec);
+      }
+    }
+}
+
+void write_profile_csv(const std::string& out, const std::string& design, const StageRecord& rec) {
+  io::CsvTable t({"x_mm", "y_mm"});
+  if (!rec.units.empty()) {
+    const LinerUnit& u = rec.units.front();
+    const double xmax = kProfileMargin * u.lifter_half_base_m;
+    for (const Vec2& p : u.surface)
+      if (std::fabs(p.x) <= xmax) t.add_row({p.x * 1e3, p.y * 1e3});
+  }
+  io::ensure_dir(io::profiles_dir(out));
+  t.write(io::profile_path(out, design, rec.stage));
+}
+
+void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
+                        const StageRecord& rec) {
+  io::CsvTable t({"x_m", "y_m", "radius_m", "species", "species_name"});
+  const ChargeState& st = rec.snapshot;
+  for (std::size_t i = 0; i < st.size(); ++i) {
+    if (!st.active[i]) continue;
+    const int s = st.species[i];
+    const std::string name =
+        s < static_cast<int>(scene.charge.species.size()) ? scene.charge.species[s].name : "?";
+    t.add_row({st.position_m[i].x, st.position_m[i].y, st.radius_m[i], s, name});
+  }
+  t.write(io::snapshot_path(out, design));
+}
+
+void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
+                     const StageRecord& rec) {
+  io::CsvTable t({"edge", "owner", "x1_m", "y1_m", "x2_m", "y2_m", "wear_rate_mm_per_1000h",
+                  "stage", "hours", "mill_angle_rad"});
+  if (!rec.units.empty()) {
+    const MillGeometry mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+    const std::size_t n = mill.boundary.size();
+    for (std::size_t e = 0; e < n; ++e) {
+      const Vec2 a = rotated(mill.boundary[e], rec.mill_angle_rad);
+      const Vec2 b = rotated(mill.boundary[(e + 1) % n], rec.mill_angle_rad);
+      // m/h -> mm per 1000 h: x 1e3 (mm) x 1e3 (per 1000 h).
+      const double w = e < rec.edge_wear_rate_m_per_h.size() ? rec.edge_wear_rate_m_per_h[e] * 1e6
+                                                             : std::nan("");
+      t.add_row({e, mill.edges[e].owner == EdgeOwner::Lifter ? "lifter" : "shell", a.x, a.y, b.x,
+                 b.y, w, rec.stage, rec.hours, rec.mill_angle_rad});
+    }
+  }
+  t.write(io::liner_path(out, design));
+}
+
+}  // namespace millwear::app

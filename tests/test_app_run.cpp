@@ -1,0 +1,270 @@
+// `millwear run` end to end on the lab-mill scene at draft fidelity (and `animate`):
+// the output folder, summary.csv, normalisation, figures, interrupt + --resume, exit codes.
+// One uninterrupted run is shared by every test of the suite (it takes ~15 s).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t got;
+  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string src(const std::string& rel) {
+  return "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/" + rel + "\"";
+}
+std::string q(const fs::path& p) { return "\"" + p.string() + "\""; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool has_magic(const fs::path& p, const std::string& magic) {
+  const std::string s = slurp(p);
+  return s.size() > magic.size() && s.compare(0, magic.size(), magic) == 0;
+}
+
+const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct",
+                                "height_mm", "power_kw", "power_norm", "collision_kw",
+                                "collision_norm", "utilization", "utilization_norm", "life_h",
+                                "life_extrapolated"};
+
+}  // namespace
+
+class AppRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("millwear-test-app-run-" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    full_ = root_ / "full";
+    full_result_ = run("run " + src("scenarios/lab-mill.toml") + " -o " + q(full_) + " --fidelity draft --quiet");
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override { ASSERT_EQ(full_result_.exit_code, 0) << full_result_.output; }
+
+  static fs::path root_, full_;
+  static Result full_result_;
+};
+fs::path AppRun::root_, AppRun::full_;
+Result AppRun::full_result_;
+
+TEST_F(AppRun, WritesEveryListedFile) {
+  // lab-mill: 2 stages after the new one, one design.
+  for (const char* f :
+       {"manifest.json", "summary.csv", "spectrum.csv", "snapshot_lab-mill.csv", "liner_lab-mill.csv",
+        "inputs/lab-mill.toml", "inputs/lab-2x30.toml", "profiles/lab-mill_stage0.csv",
+        "profiles/lab-mill_stage1.csv", "profiles/lab-mill_stage2.csv", "stages/lab-mill_stage2.done",
+        "plots/fig6_profiles.png", "plots/fig7_area.png", "plots/fig8_power.png",
+        "plots/fig9_collision.png", "plots/fig10_utilization.png", "plots/spectrum.png",
+        "plots/snapshot_lab-mill.png", "plots/fig6_profiles.svg", "plots/fig10_utilization.svg"})
+    EXPECT_TRUE(fs::is_regular_file(full_ / f)) << f;
+  // No temporaries left behind (every file is written under a temporary name, then renamed).
+  for (const auto& e : fs::recursive_directory_iterator(full_))
+    EXPECT_FALSE(millwear::io::is_temp_name(e.path().filename().string())) << e.path();
+}
+
+TEST_F(AppRun, SummaryParsesWithTheNamedColumns) {
+  const millwear::io::CsvData s = millwear::io::read_csv((full_ / "summary.csv").string());
+  for (const char* c : kColumns) EXPECT_TRUE(s.has_column(c)) << c;
+  ASSERT_EQ(s.row_count(), 3u);  // stages 0, 1, 2
+  const auto hours = s.numbers("hours"), area = s.numbers("area_mm2"), loss = s.numbers("area_loss_pct");
+  EXPECT_EQ(hours[0], 0.0);
+  EXPECT_EQ(hours[2], 200.0);  // 2 stages of 100 h
+  EXPECT_LT(area[2], area[0]);  // wear removes metal
+  EXPECT_GT(loss[2], 0.0);
+  // utilization = collision / power (both kW per mill); 10 significant digits written.
+  const auto u = s.numbers("utilization"), c = s.numbers("collision_kw"), p = s.numbers("power_kw");
+  for (std::size_t r = 0; r < s.row_count(); ++r) EXPECT_NEAR(u[r], c[r] / p[r], 1e-8 * std::fabs(u[r]));
+}
+
+TEST_F(AppRun, ReferenceNewStageNormalisedValuesAreOne) {
+  const millwear::io::CsvData s = millwear::io::read_csv((full_ / "summary.csv").string());
+  ASSERT_EQ(s.text(0, s.column("design")), "lab-mill");
+  ASSERT_EQ(s.number(0, "stage"), 0.0);
+  for (const char* c : {"area_norm", "power_norm", "collision_norm", "utilization_norm"})
+    EXPECT_EQ(s.number(0, c), 1.0) << c;  // x / x, exact
+  EXPECT_EQ(s.number(0, "area_loss_pct"), 0.0);
+}
+
+TEST_F(AppRun, FiguresAreNonEmptyPngImages) {
+  for (const char* f : {"fig6_profiles", "fig7_area", "fig8_power", "fig9_collision", "fig10_utilization",
+                        "spectrum", "snapshot_lab-mill"}) {
+    const fs::path p = full_ / "plots" / (std::string(f) + ".png");
+    ASSERT_TRUE(fs::is_regular_file(p)) << p;
+    EXPECT_GT(fs::file_size(p), 1000u) << p;
+    EXPECT_TRUE(has_magic(p, "\x89PNG\r\n\x1a\n")) << p;
+  }
+}
+
+TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
+  const std::string m = slurp(full_ / "manifest.json");
+  EXPECT_NE(m.find("\"version\": \"" MILLWEAR_VERSION "\""), std::string::npos) << m;
+  EXPECT_NE(m.find("\"fidelity\": \"draft\""), std::string::npos);
+  EXPECT_NE(m.find("\"seed\": 1"), std::string::npos);
+  EXPECT_NE(m.find("\"wall_s\""), std::string::npos);
+  EXPECT_NE(m.find("\"status\": \"finished\""), std::string::npos);
+}
+
+TEST_F(AppRun, ProfilesAreLifterLocalMillimetres) {
+  const millwear::io::CsvData p = millwear::io::read_csv((full_ / "profiles/lab-mill_stage0.csv").string());
+  double ymax = 0, xmax = 0;
+  for (double y : p.numbers("y_mm")) ymax = std::max(ymax, y);
+  for (double x : p.numbers("x_mm")) xmax = std::max(xmax, std::fabs(x));
+  EXPECT_NEAR(ymax, 20.0, 1e-6);  // lab-2x30 is 20 mm high when new
+  // Base half-width 16.6 mm; the file keeps the lifter plus up to 25% of it of shell.
+  EXPECT_GT(xmax, 16.0);
+  EXPECT_LT(xmax, 1.25 * 16.6);
+}
+
+TEST_F(AppRun, InterruptAfterStage1ThenResumeGivesTheSameSummary) {
+  const fs::path out = root_ / "resumed";
+  const std::string base = "run " + src("scenarios/lab-mill.toml") + " -o " + q(out) + " --fidelity draft --quiet";
+  const Result stopped = run(base + " --stop-after-stage 1");
+  EXPECT_NE(stopped.exit_code, 0) << stopped.output;
+  EXPECT_NE(stopped.output.find("--resume"), std::string::npos) << stopped.output;
+  EXPECT_TRUE(fs::exists(out / "stages/lab-mill_stage1.done"));
+  EXPECT_FALSE(fs::exists(out / "stages/lab-mill_stage2.done"));
+  const Result resumed = run(base + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  // Byte for byte: the stage state is stored exactly (%.17g) and each stage is deterministic.
+  EXPECT_EQ(slurp(out / "summary.csv"), slurp(full_ / "summary.csv"));
+  EXPECT_EQ(slurp(out / "profiles/lab-mill_stage2.csv"), slurp(full_ / "profiles/lab-mill_stage2.csv"));
+}
+
+TEST_F(AppRun, ComparisonFileNormalisesToItsReference) {
+  const fs::path out = root_ / "comparison";
+  const Result r = run("run " + src("tests/data/lab-comparison.toml") + " -o " + q(out) + " --fidelity draft --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const millwear::io::CsvData s = millwear::io::read_csv((out / "summary.csv").string());
+  ASSERT_EQ(s.row_count(), 6u);  // two designs x stages 0..2
+  const std::size_t dc = s.column("design");
+  double ref_power = NAN, ref_coll = NAN;
+  for (std::size_t i = 0; i < s.row_count(); ++i)
+    if (s.text(i, dc) == "lab-reverse" && s.number(i, "stage") == 0) {
+      for (const char* c : {"area_norm", "power_norm", "collision_norm", "utilization_norm"})
+        EXPECT_EQ(s.number(i, c), 1.0) << c;
+      ref_power = s.number(i, "power_kw");
+      ref_coll = s.number(i, "collision_kw");
+    }
+  ASSERT_TRUE(std::isfinite(ref_power));
+  const millwear::io::CsvData full = millwear::io::read_csv((full_ / "summary.csv").string());
+  for (std::size_t i = 0, k = 0; i < s.row_count(); ++i) {
+    if (s.text(i, dc) != "lab-mill") continue;
+    // Relative to the reference (10 significant digits written, so 1e-8 relative).
+    EXPECT_NEAR(s.number(i, "power_norm"), s.number(i, "power_kw") / ref_power, 1e-8);
+    EXPECT_NEAR(s.number(i, "collision_norm"), s.number(i, "collision_kw") / ref_coll, 1e-8);
+    // The same design alone or in a comparison (and in parallel) gives the same numbers.
+    EXPECT_EQ(s.text(i, s.column("power_kw")), full.text(k, full.column("power_kw")));
+    EXPECT_EQ(s.text(i, s.column("area_mm2")), full.text(k, full.column("area_mm2")));
+    ++k;
+  }
+  EXPECT_TRUE(fs::is_regular_file(out / "inputs/lab-comparison.toml"));
+  EXPECT_TRUE(fs::is_regular_file(out / "inputs/lab-reverse.toml"));
+  EXPECT_TRUE(fs::is_regular_file(out / "plots/snapshot_lab-reverse.png"));
+}
+
+TEST_F(AppRun, AnimateWritesAGifFromAFinishedRun) {
+  const fs::path gif = root_ / "anim.gif";
+  const Result r = run("animate " + src("scenarios/lab-mill.toml") + " -o " + q(gif) +
+                       " --seconds 0.5 --frames 10 --history " + q(full_));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_magic(gif, "GIF8")) << r.output;
+  EXPECT_GT(fs::file_size(gif), 1000u);
+}
+
+// ---- bad command lines: exit 2 and a message, before any work ----
+
+class AppRunCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("millwear-test-app-cli-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  void expect_bad(const std::string& args, const std::string& message) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing is written before validation passes";
+  }
+  fs::path dir_;
+};
+
+TEST_F(AppRunCli, UnknownOptionExits2) {
+  expect_bad("run " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") + " --no-such-option",
+             "--no-such-option");
+}
+
+TEST_F(AppRunCli, MissingSceneExits2) {
+  expect_bad("run " + q(dir_ / "nope.toml") + " -o " + q(dir_ / "out"), "nope.toml");
+  expect_bad("run -o " + q(dir_ / "out"), "scene");
+}
+
+TEST_F(AppRunCli, BadFidelityNameExits2) {
+  expect_bad("run " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") + " --fidelity sloppy",
+             "fidelity");
+}
+
+TEST_F(AppRunCli, ComparisonWithUnknownReferenceExits2) {
+  const std::string lab = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml";
+  const std::string f = write("cmp.toml", "[comparison]\ndesigns = [\"" + lab + "\"]\nreference = \"nobody\"\n");
+  expect_bad("run " + q(f) + " -o " + q(dir_ / "out"), "comparison.reference");
+}
+
+TEST_F(AppRunCli, ComparisonWithMissingDesignFileExits2) {
+  const std::string f = write("cmp.toml", "[comparison]\ndesigns = [\"missing.toml\"]\n");
+  expect_bad("run " + q(f) + " -o " + q(dir_ / "out"), "comparison.designs[0]");
+}
+
+TEST_F(AppRunCli, TwoDesignsWithOneNameExit2) {
+  expect_bad("run " + src("scenarios/lab-mill.toml") + " " + src("scenarios/lab-mill.toml") + " -o " +
+                 q(dir_ / "out"),
+             "name");
+}
+
+TEST_F(AppRunCli, ShippedComparisonSceneIsValid) {
+  // The default scene (the paper's comparison) validates; --check runs nothing.
+  const Result r = run("run " + src("scenarios/sag-2x30-vs-1x30.toml") + " -o " + q(dir_ / "out") + " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sag-2x30: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("sag-1x30: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reference"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
