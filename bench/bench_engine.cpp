@@ -83,8 +83,14 @@ int main(int argc, char** argv) {
     lean.collision_spectrum = false;
     lean.shell_work = false;
     lean.charge_shape = false;
-    for (auto [opts, label] : {std::pair{full, "all on (spectrum, shell, shape)"},
-                               std::pair{lean, "lifter work only"}}) {
+    AccountingOptions no_spectrum = full;
+    no_spectrum.collision_spectrum = false;
+    AccountingOptions with_log = full;
+    with_log.contact_log = true;
+    for (auto [opts, label] : {std::pair{full, "spectrum + shell + shape (default)"},
+                               std::pair{no_spectrum, "without the spectrum"},
+                               std::pair{lean, "lifter work only"},
+                               std::pair{with_log, "default + contact log"}}) {
       const Row row = measure(scene, opts, seconds);
       std::printf("%8zu %14.3g %8.0f%% %8.0f%% %8.0f%% %8lld   %s\n", row.disks, row.rate, 100 * row.collide,
                   100 * row.solve, 100 * row.account, row.escaped, label);

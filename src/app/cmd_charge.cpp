@@ -87,6 +87,17 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
            << fmt(r.accounting.spectrum_energy_J[k] / s.time_s) << '\n';
     io::write_file_atomic(out + "/spectrum.csv", spec.str());
   }
+  if (scene.outputs.contact_log) {
+    // Liner contacts of the window (step, edge, point, impulses, velocities), SI units.
+    std::ostringstream log;
+    log << "step,disk,edge,x_m,y_m,nx,ny,normal_impulse_Ns,tangent_impulse_Ns,vn_before,vn_after,vt_before,vt_after\n";
+    for (const ContactRecord& c : r.accounting.contact_log)
+      log << c.key << ',' << c.a << ',' << c.edge << ',' << fmt(c.point_m.x) << ',' << fmt(c.point_m.y) << ','
+          << fmt(c.normal.x) << ',' << fmt(c.normal.y) << ',' << fmt(c.normal_impulse) << ','
+          << fmt(c.tangent_impulse) << ',' << fmt(c.vn_before) << ',' << fmt(c.vn_after) << ','
+          << fmt(c.vt_before) << ',' << fmt(c.vt_after) << '\n';
+    io::write_file_atomic(out + "/contacts.csv", log.str());
+  }
   if (scene.outputs.snapshot) {
     std::ostringstream snap;
     snap << "x_m,y_m,radius_m,species\n";

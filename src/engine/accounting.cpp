@@ -11,8 +11,14 @@ namespace millwear {
 
 void reset_accounting(Accounting& acc, std::size_t edge_count) {
   AccountingOptions opts = acc.options;
+  std::vector<ContactRecord> log = std::move(acc.contact_log);
   acc = Accounting{};
   acc.options = opts;
+  if (opts.contact_log) {
+    log.clear();
+    log.reserve(opts.contact_log_limit);
+    acc.contact_log = std::move(log);
+  }
   if (opts.per_edge) {
     acc.shear_work_J.assign(edge_count, 0.0);
     acc.impact_energy_J.assign(edge_count, 0.0);
@@ -33,6 +39,14 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
   }
   acc.pl_normal_J += normal_loss;
   acc.pl_tangent_J += tangent_loss;
+  if (acc.options.contact_log) {
+    if (acc.contact_log.size() < acc.options.contact_log_limit) {
+      acc.contact_log.push_back(c);
+      acc.contact_log.back().key = static_cast<std::uint64_t>(acc.steps);  // step index
+    } else if (acc.contact_log_time_s == 0.0) {
+      acc.contact_log_time_s = acc.time_s;
+    }
+  }
   // Impulse on the disk; the drive supplies the opposite torque to hold the mill's speed.
   const Vec2 tangent = left_perp(c.normal);
   const Vec2 impulse = c.normal_impulse * c.normal + c.tangent_impulse * tangent;

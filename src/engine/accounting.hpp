@@ -31,6 +31,8 @@ struct AccountingOptions {
   bool shell_work = true;           // false: shell edges are skipped in per-edge sums
   bool collision_spectrum = false;  // log-binned energy per collision event
   bool charge_shape = true;         // centre of mass, toe and shoulder
+  bool contact_log = false;         // keep every liner contact record (bounded, see below)
+  std::size_t contact_log_limit = 200000;  // records kept per window at most
 };
 
 constexpr int kSpectrumBins = 40;          // log10 bins from 1e-8 J to 1e4 J (3 per decade)
@@ -64,6 +66,10 @@ struct Accounting {
   std::array<double, kShapeAngleBins> shell_band_occupancy{};  // area-time near the shell
   double shape_samples = 0.0;
   // Batch means for rule 2: shear work per edge group sampled in batches.
+  // Liner contacts of the window, when options.contact_log (memory reserved at reset, so
+  // logging does not allocate per contact).
+  std::vector<ContactRecord> contact_log;
+  double contact_log_time_s = 0.0;     // window time when the log filled up (0: not full)
   std::int64_t escaped = 0;            // disks lost through the liner (reported, never silent)
   std::int64_t non_finite = 0;         // disks whose state went NaN/inf
 };

@@ -5,6 +5,7 @@
 
 #include "common/errors.hpp"
 #include "engine/box2d/box2d_engine.hpp"
+#include "engine/soft/soft_engine.hpp"
 
 namespace millwear {
 
@@ -18,6 +19,7 @@ AccountingOptions accounting_options_for(const Scene& scene) {
   o.shell_work = scene.outputs.shell_work || scene.wear.shell_wear;
   o.collision_spectrum = scene.outputs.collision_spectrum;
   o.charge_shape = true;
+  o.contact_log = scene.outputs.contact_log;
   return o;
 }
 
@@ -27,10 +29,9 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
     case Backend::Box2D:
       return make_box2d_engine(scene, mill, initial, opts);
     case Backend::Soft:
-      break;
+      return make_soft_engine(scene, mill, initial, opts);
   }
-  throw InputError(scene.source_file, "solver.backend",
-                   "\"box2d\" (the soft backend is not built yet)");
+  throw InputError(scene.source_file, "solver.backend", "\"box2d\" or \"soft\"");
 }
 
 void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign) {

@@ -1,0 +1,92 @@
+// The shared contact accounting, record by record (no engine).
+#include <gtest/gtest.h>
+
+#include "engine/accounting.hpp"
+
+namespace millwear {
+namespace {
+
+ContactRecord liner_contact() {
+  ContactRecord c;
+  c.a = 0;
+  c.b = -1;
+  c.edge = 2;
+  c.point_m = {0.0, -1.0};  // at the bottom of a 1 m mill
+  c.normal = {0.0, 1.0};    // from the liner toward the disk
+  c.normal_impulse = 2.0;
+  c.tangent_impulse = -0.5;  // along left_perp(normal) = (-1, 0): i.e. +0.5 N s toward +x
+  c.vn_before = -1.0;
+  c.vn_after = 0.0;
+  c.vt_before = 0.4;
+  c.vt_after = 0.2;
+  return c;
+}
+
+TEST(Accounting, LinerContactGivesShearWorkImpactEnergyAndTorque) {
+  Accounting acc;
+  acc.options.per_edge = true;
+  reset_accounting(acc, 4);
+  account_contact(acc, liner_contact(), 1.0, false);
+  // Shear work |Pt * vt_after| = 0.5 * 0.2.
+  EXPECT_DOUBLE_EQ(acc.shear_work_J[2], 0.1);
+  // Normal loss -Pn * mean(vn) = -2 * (-0.5) = 1 J.
+  EXPECT_DOUBLE_EQ(acc.impact_energy_J[2], 1.0);
+  EXPECT_DOUBLE_EQ(acc.pl_normal_J, 1.0);
+  // Tangential loss -Pt * mean(vt) = 0.5 * 0.3.
+  EXPECT_DOUBLE_EQ(acc.pl_tangent_J, 0.15);
+  // Impulse on the disk (0.5, 2) at (0, -1): torque r x P = 0 * 2 - (-1) * 0.5 = 0.5 N m s,
+  // and with omega = 1 the drive did 0.5 J.
+  EXPECT_DOUBLE_EQ(acc.torque_impulse_Nms, 0.5);
+  EXPECT_DOUBLE_EQ(acc.drive_work_J, 0.5);
+  EXPECT_EQ(acc.contacts[2], 1u);
+}
+
+TEST(Accounting, ShellWorkIsSkippedWhenNotAskedFor) {
+  Accounting acc;
+  acc.options.shell_work = false;
+  reset_accounting(acc, 4);
+  account_contact(acc, liner_contact(), 1.0, true);
+  EXPECT_EQ(acc.shear_work_J[2], 0.0);
+  EXPECT_DOUBLE_EQ(acc.drive_work_J, 0.5);  // the drive still pays for it
+}
+
+TEST(Accounting, ParticleContactsCountAsCollisionsNotLinerWork) {
+  Accounting acc;
+  reset_accounting(acc, 4);
+  ContactRecord c = liner_contact();
+  c.b = 1;
+  account_contact(acc, c, 1.0, false);
+  EXPECT_DOUBLE_EQ(acc.pp_normal_J, 1.0);
+  EXPECT_DOUBLE_EQ(acc.pp_tangent_J, 0.15);
+  EXPECT_EQ(acc.drive_work_J, 0.0);
+  for (double w : acc.shear_work_J) EXPECT_EQ(w, 0.0);
+}
+
+TEST(Accounting, SpectrumBinsAreLogarithmic) {
+  EXPECT_EQ(spectrum_bin(kSpectrumMinJ * 0.5), 0);
+  const int b = spectrum_bin(1.0);
+  EXPECT_LE(spectrum_bin_lower_J(b), 1.0);
+  EXPECT_GT(spectrum_bin_lower_J(b + 1), 1.0);
+  Accounting acc;
+  account_collision_event(acc, 1.0);
+  account_collision_event(acc, 1.0);
+  EXPECT_EQ(acc.spectrum_count[b], 2.0);
+  EXPECT_DOUBLE_EQ(acc.spectrum_energy_J[b], 2.0);
+}
+
+TEST(Accounting, ContactLogKeepsLinerContactsUpToItsLimit) {
+  Accounting acc;
+  acc.options.contact_log = true;
+  acc.options.contact_log_limit = 3;
+  reset_accounting(acc, 4);
+  for (int k = 0; k < 5; ++k) account_contact(acc, liner_contact(), 1.0, false);
+  EXPECT_EQ(acc.contact_log.size(), 3u);
+  EXPECT_EQ(acc.contact_log[0].edge, 2);
+  Accounting off;
+  reset_accounting(off, 4);
+  account_contact(off, liner_contact(), 1.0, false);
+  EXPECT_TRUE(off.contact_log.empty());
+}
+
+}  // namespace
+}  // namespace millwear
