@@ -3,13 +3,15 @@
 # Inputs (gnuplot string variables, set with -e or by millwear):
 #   datafile  whitespace-separated frames; frame i (0-based) is two data blocks:
 #               index 2i     disks:  x_m y_m radius_m species        (world frame)
-#               index 2i+1   liner:  x1_m y1_m dx_m dy_m value        (one line per edge)
+#               index 2i+1   liner:  x_m y_m value   (closed path of the mill boundary;
+#                                    value of the edge starting at the vertex)
 #             blocks separated by two blank lines
-#   metafile  gnuplot commands setting: nframes, R (mill radius, m), cbmax, cblabel,
-#             titletext, and array ftitle[nframes] (one title per frame)
+#   metafile  gnuplot commands setting: nframes, R (mill radius, m), cbmax, cblabel and
+#             array ftitle[nframes] (one title per frame)
 #   outbase   output path without extension; writes outbase.gif
 #   delay     frame delay in 1/100 s ["5"]
 #   size      image size in pixels (square) ["640"]
+#   frame     optional: draw only frame K (0-based) to outbase.png instead of the GIF
 # By hand (after `millwear animate --keep-data`):
 #   gnuplot -e "datafile='frames.dat'; metafile='frames_meta.gp'; outbase='mill'" plots/animate.gp
 if (!exists("datafile") || !exists("metafile") || !exists("outbase")) {
@@ -19,8 +21,16 @@ if (!exists("delay")) delay = "5"
 if (!exists("size")) size = "640"
 load metafile
 
-set terminal gif animate delay int(delay) size int(size), int(size) noenhanced font 'Sans,10'
-set output outbase . ".gif"
+# frame='K' draws only frame K (0-based) to outbase.png, to check a restyle quickly.
+if (exists("frame")) {
+  set terminal png size int(size), int(size) noenhanced font 'Sans,10'
+  set output outbase . ".png"
+  first = int(frame); last = int(frame)
+} else {
+  set terminal gif animate delay int(delay) size int(size), int(size) noenhanced font 'Sans,10'
+  set output outbase . ".gif"
+  first = 0; last = nframes - 1
+}
 
 # Species colours: steel-blue balls/rock greys, muted so the liner colours stand out.
 species_rgb(s) = (s == 0) ? 0x7f8fa6 : (s == 1) ? 0xa08c70 : (s == 2) ? 0xb07d48 : \
@@ -30,7 +40,7 @@ set cbrange [0 : cbmax]
 set cblabel cblabel
 set colorbox vertical user origin screen 0.86, screen 0.15 size screen 0.03, screen 0.6
 set size ratio -1
-set lmargin at screen 0.08
+set lmargin at screen 0.11
 set rmargin at screen 0.82
 set xrange [-1.05 * R : 1.05 * R]
 set yrange [-1.05 * R : 1.05 * R]
@@ -40,9 +50,9 @@ set style fill solid 1.0 noborder
 unset key
 unset grid
 
-do for [i = 0 : nframes - 1] {
+do for [i = first : last] {
   set title ftitle[i + 1]
   plot datafile index (2 * i) using 1:2:3:(species_rgb(int($4))) with circles lc rgb variable, \
-       datafile index (2 * i + 1) using 1:2:3:4:5 with vectors nohead lw 4 lc palette
+       datafile index (2 * i + 1) using 1:2:3 with lines lw 4 lc palette
 }
 set output

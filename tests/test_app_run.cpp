@@ -3,6 +3,8 @@
 // One uninterrupted run is shared by every test of the suite (it takes ~15 s).
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -63,14 +65,42 @@ const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_no
 
 }  // namespace
 
+// What the shared run depends on: the binary and the scene files (size and mtime).
+std::string shared_run_stamp() {
+  std::string s;
+  for (const std::string& f : {std::string(MILLWEAR_BINARY),
+                               std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml",
+                               std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml"}) {
+    std::error_code ec;
+    s += f + " " + std::to_string(fs::file_size(f, ec)) + " " +
+         std::to_string(fs::last_write_time(f, ec).time_since_epoch().count()) + "\n";
+  }
+  return s;
+}
+
 class AppRun : public ::testing::Test {
  protected:
+  // CTest runs every test in its own process, so the shared uninterrupted run lives next to
+  // the test binary and is reused while the binary and the scene are unchanged; a file lock
+  // keeps parallel test processes from making it twice.
   static void SetUpTestSuite() {
     root_ = fs::temp_directory_path() / ("millwear-test-app-run-" + std::to_string(::getpid()));
     fs::remove_all(root_);
     fs::create_directories(root_);
-    full_ = root_ / "full";
-    full_result_ = run("run " + src("scenarios/lab-mill.toml") + " -o " + q(full_) + " --fidelity draft --quiet");
+    const fs::path cache = fs::path(MILLWEAR_BINARY).parent_path() / "test_app_run_cache";
+    fs::create_directories(cache);
+    full_ = cache / "full";
+    const int lock = ::open((cache / "lock").c_str(), O_CREAT | O_RDWR, 0644);
+    if (lock >= 0) ::flock(lock, LOCK_EX);
+    const std::string stamp = shared_run_stamp();
+    if (fs::exists(full_ / "plots/snapshot_lab-mill.png") && slurp(cache / "stamp") == stamp) {
+      full_result_.exit_code = 0;
+    } else {
+      fs::remove_all(full_);
+      full_result_ = run("run " + src("scenarios/lab-mill.toml") + " -o " + q(full_) + " --fidelity draft --quiet");
+      if (full_result_.exit_code == 0) std::ofstream(cache / "stamp") << stamp;
+    }
+    if (lock >= 0) ::close(lock);  // releases the lock
   }
   static void TearDownTestSuite() { fs::remove_all(root_); }
   void SetUp() override { ASSERT_EQ(full_result_.exit_code, 0) << full_result_.output; }

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <map>
+#include <string>
 
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
@@ -13,6 +16,20 @@ namespace millwear {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+
+// Every physics check runs on both backends (the Box2D library and our soft solver).
+class EngineTest : public ::testing::TestWithParam<Backend> {
+ protected:
+  Backend backend() const { return GetParam(); }
+  Scene with_backend(Scene s) const {
+    s.solver.backend = GetParam();
+    return s;
+  }
+};
+
+std::string backend_label(const ::testing::TestParamInfo<Backend>& info) {
+  return info.param == Backend::Box2D ? "box2d" : "soft";
+}
 
 // A closed box whose floor is an incline from (-2, 1) to (2, -1), counter-clockwise.
 MillGeometry incline_box() {
@@ -64,9 +81,9 @@ ChargeState one_disk(Vec2 p, double r, double mass) {
   return c;
 }
 
-TEST(Engine, SlidingDiskShearWorkIsFrictionTimesSlipDistance) {
+TEST_P(EngineTest, SlidingDiskShearWorkIsFrictionTimesSlipDistance) {
   const double mu = 0.1;  // below tan(theta)/3, so the disk slips while it rolls
-  const Scene scene = single_disk_scene(mu);
+  const Scene scene = with_backend(single_disk_scene(mu));
   const MillGeometry box = incline_box();
   const double r = 0.1;
   const Vec2 dir = normalized(box.boundary[1] - box.boundary[0]);
@@ -90,8 +107,8 @@ TEST(Engine, SlidingDiskShearWorkIsFrictionTimesSlipDistance) {
   EXPECT_EQ(engine->accounting().shear_work_J[1], 0.0);
 }
 
-TEST(Engine, EmptyMillDrawsNoTorque) {
-  Scene scene = testing::lab_mill();
+TEST_P(EngineTest, EmptyMillDrawsNoTorque) {
+  Scene scene = with_backend(testing::lab_mill());
   const MillGeometry mill = build_scene_mill(scene);
   ChargeState empty;
   auto engine = make_engine(scene, mill, empty, accounting_options_for(scene));
@@ -102,19 +119,22 @@ TEST(Engine, EmptyMillDrawsNoTorque) {
   EXPECT_EQ(s.power_W, 0.0);
 }
 
-// One measured run of the lab mill shared by the steady-state checks below.
-const ChargeRunResult& lab_run() {
-  static const ChargeRunResult result = [] {
+// One measured run of the lab mill per backend, shared by the steady-state checks below.
+const ChargeRunResult& lab_run(Backend backend) {
+  static std::map<Backend, ChargeRunResult> results;
+  auto it = results.find(backend);
+  if (it == results.end()) {
     Scene scene = testing::lab_mill();
+    scene.solver.backend = backend;
     scene.mill.direction = Direction::Forward;
     scene.run.revolutions = 3.0;
-    return run_charge_only(scene);
-  }();
-  return result;
+    it = results.emplace(backend, run_charge_only(scene)).first;
+  }
+  return it->second;
 }
 
-TEST(Engine, TorqueFromContactsEqualsWeightTimesCentreOfMassOffset) {
-  const ChargeRunResult& r = lab_run();
+TEST_P(EngineTest, TorqueFromContactsEqualsWeightTimesCentreOfMassOffset) {
+  const ChargeRunResult& r = lab_run(backend());
   const ChargeSummary& s = r.figures.summary;
   ASSERT_GT(s.torque_arm_Nm, 0.0);
   EXPECT_EQ(s.escaped, 0);
@@ -123,8 +143,8 @@ TEST(Engine, TorqueFromContactsEqualsWeightTimesCentreOfMassOffset) {
       << "contacts " << s.torque_Nm << " N m, M g x_cm " << s.torque_arm_Nm << " N m";
 }
 
-TEST(Engine, PowerInEqualsEnergyDissipated) {
-  const ChargeSummary& s = lab_run().figures.summary;
+TEST_P(EngineTest, PowerInEqualsEnergyDissipated) {
+  const ChargeSummary& s = lab_run(backend()).figures.summary;
   const double dissipated = s.collision_power_W + s.liner_dissipation_W + s.solver_dissipation_W;
   const double balance = dissipated + s.kinetic_change_W;
   // 5%: the rest is the symplectic-Euler gravity term (order dt) and float rounding.
@@ -136,8 +156,8 @@ TEST(Engine, PowerInEqualsEnergyDissipated) {
   EXPECT_LT(std::fabs(s.solver_dissipation_W), 0.05 * s.power_W);
 }
 
-TEST(Engine, SameSceneAndSeedGiveBitIdenticalResults) {
-  Scene scene = testing::lab_mill();
+TEST_P(EngineTest, SameSceneAndSeedGiveBitIdenticalResults) {
+  Scene scene = with_backend(testing::lab_mill());
   scene.run.revolutions = 0.5;
   scene.solver.spinup_revolutions = 0.2;
   const ChargeRunResult a = run_charge_only(scene);
@@ -152,8 +172,8 @@ TEST(Engine, SameSceneAndSeedGiveBitIdenticalResults) {
   }
 }
 
-TEST(Engine, MillAtRestDoesNoShearWorkAfterSettling) {
-  Scene scene = testing::lab_mill();
+TEST_P(EngineTest, MillAtRestDoesNoShearWorkAfterSettling) {
+  Scene scene = with_backend(testing::lab_mill());
   const MillGeometry mill = build_scene_mill(scene);
   auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
   engine->set_mill_speed(0.0);
@@ -163,7 +183,7 @@ TEST(Engine, MillAtRestDoesNoShearWorkAfterSettling) {
   double at_rest = 0.0;
   for (double w : engine->accounting().shear_work_J) at_rest += w;
   // Compare with the same bed turning: at rest the liner sees creep only, 1e-3 of it.
-  const ChargeSummary turning = lab_run().figures.summary;
+  const ChargeSummary turning = lab_run(backend()).figures.summary;
   EXPECT_LT(at_rest / engine->accounting().time_s, 1e-3 * turning.shear_work_rate_W)
       << "at rest " << at_rest << " J in 1 s; turning " << turning.shear_work_rate_W << " W";
 }
@@ -205,8 +225,8 @@ Ratio leading_trailing_ratio(Scene scene, double sign) {
   return r;
 }
 
-TEST(Engine, ReversingASymmetricMillMirrorsTheShearWork) {
-  const Scene scene = testing::lab_mill();
+TEST_P(EngineTest, ReversingASymmetricMillMirrorsTheShearWork) {
+  const Scene scene = with_backend(testing::lab_mill());
   const Ratio fwd = leading_trailing_ratio(scene, +1.0);
   const Ratio rev = leading_trailing_ratio(scene, -1.0);
   // The leading face works harder in both directions...
@@ -218,9 +238,10 @@ TEST(Engine, ReversingASymmetricMillMirrorsTheShearWork) {
                                        << ", reverse " << rev.mean << " +- " << rev.sem;
 }
 
-TEST(Engine, SagPowerIsWithinThirtyPercentOfMorrell) {
+TEST_P(EngineTest, SagPowerIsWithinThirtyPercentOfMorrell) {
   Scene scene = load_scene(testing::source_path("scenarios/sag-2x30.toml"));
   apply_fidelity(scene, "draft");
+  scene.solver.backend = backend();
   scene.mill.direction = Direction::Forward;
   scene.run.revolutions = 3.0;  // the power settles to ~1% over 3 revolutions
   const ChargeRunResult r = run_charge_only(scene);
@@ -235,9 +256,180 @@ TEST(Engine, SagPowerIsWithinThirtyPercentOfMorrell) {
   in.speed_fraction = scene.mill.speed_fraction_critical;
   in.charge_density_t_m3 = mass_per_m / (scene.charge.filling * area) / 1000.0;
   const MorrellResult m = morrell_power(in);
-  EXPECT_NEAR(r.figures.power_kW_per_m / m.net_power_kW, 1.0, 0.30)
+  // 30% for the library. The soft backend draws about 6% more (1850 against 1750 kW/m at
+  // draft): 2% from rolling resistance, which the library lacks, and 2-4% from friction that
+  // has converged (the library at 30 velocity iterations gives 1775 kW/m, 1.30x Morrell),
+  // which lifts the charge a little higher; 40% for it (README, "soft backend").
+  const double tolerance = backend() == Backend::Box2D ? 0.30 : 0.40;
+  EXPECT_NEAR(r.figures.power_kW_per_m / m.net_power_kW, 1.0, tolerance)
       << "engine " << r.figures.power_kW_per_m << " kW/m, Morrell " << m.net_power_kW << " kW/m";
 }
+
+
+// ---- Soft backend only: what the library cannot promise ----------------------------------
+
+// A 10 m mill with 8 thin plate lifters (200 mm high, 20 mm wide) and one ball, mill at rest. Row 0 sits at 3 o'clock: its plate lies along y = 0.
+Scene thin_lifter_scene(double dt_s) {
+  Scene s;
+  s.source_file = "(test)";
+  s.mill.diameter_m = 10.0;
+  s.mill.slice_thickness_m = 0.25;
+  s.mill.rows = 8;
+  TrapezoidDef plate;
+  plate.height_m = 0.2;
+  plate.top_width_m = 0.02;
+  s.mill.lifter.points = trapezoid_points(plate);
+  s.mill.mesh.shell_edge_m = 0.06;
+  s.mill.mesh.lifter_edge_m = 0.03;
+  SpeciesDef sp;
+  sp.density_kg_m3 = 2700.0;
+  sp.diameters_m = {0.04};
+  sp.mass_fractions = {1.0};
+  sp.friction = sp.friction_liner = 0.5;
+  sp.restitution = sp.restitution_liner = 0.3;
+  s.charge.species = {sp};
+  s.solver.backend = Backend::Soft;
+  s.solver.time_step_s = dt_s;
+  return s;
+}
+
+ChargeState fired_disk(Vec2 p, Vec2 v, double r, double mass) {
+  ChargeState c = one_disk(p, r, mass);
+  c.velocity_m_s[0] = v;
+  return c;
+}
+
+// 15 m/s is twice the fastest impact the SAG scene shows (about 7.5 m/s at the toe). From
+// 1/2000 s to 1/300 s a step moves the ball 7.5 to 50 mm: more than the plate is thick and
+// more than the ball's radius at the large steps, so only the speculative margin stops it.
+TEST(SoftEngine, FastDiskNeverPassesThroughAThinLifterOrTheShell) {
+  // A 40 mm ball: at 1/300 s a step (50 mm) is more than its radius, so neither the liner's
+  // knowledge of its inside (half a radius deep) nor the base margin alone can catch it.
+  const double r = 0.02, speed = 15.0;
+  for (double dt : {1.0 / 2000.0, 1.0 / 1000.0, 1.0 / 600.0, 1.0 / 300.0}) {
+    const Scene scene = thin_lifter_scene(dt);
+    const MillGeometry mill = build_scene_mill(scene);
+    const double mass = 2700.0 * kPi * r * r * 0.25;
+    // At the plate's upper face, straight down onto it, half-way up the plate.
+    {
+      auto engine = make_engine(scene, mill, fired_disk({4.9, 0.4}, {0.0, -speed}, r, mass),
+                                AccountingOptions{});
+      double lowest = 1e9;
+      for (int k = 0; k < steps_for(0.3, dt); ++k) {
+        engine->step(1);
+        lowest = std::min(lowest, engine->state().position_m[0].y);
+      }
+      EXPECT_TRUE(engine->state().active[0]) << "dt " << dt;
+      // The plate's upper face is at y = +10 mm: the centre stays a radius above it (less
+      // the soft overlap, a few mm at this speed).
+      EXPECT_GT(lowest, 0.01 + 0.5 * r) << "dt " << dt << ": the rock went into the plate";
+      EXPECT_TRUE(engine->events().empty()) << engine->events().front().what;
+    }
+    // At the shell between two lifters, straight out.
+    {
+      const Vec2 dir{std::cos(-0.375 * kPi), std::sin(-0.375 * kPi)};
+      auto engine = make_engine(scene, mill, fired_disk(4.5 * dir, speed * dir, r, mass),
+                                AccountingOptions{});
+      double farthest = 0.0;
+      for (int k = 0; k < steps_for(0.3, dt); ++k) {
+        engine->step(1);
+        farthest = std::max(farthest, length(engine->state().position_m[0]));
+      }
+      EXPECT_TRUE(engine->state().active[0]) << "dt " << dt;
+      EXPECT_LT(farthest, 5.0 - 0.5 * r) << "dt " << dt << ": the rock went into the shell";
+    }
+  }
+}
+
+// A settled bed in a mill at rest stays put: after 1 s of settling, half a second more
+// moves no disk by more than 1% of the smallest radius, and the kinetic energy left in the
+// bed (jitter) is below 1e-6 of its potential energy above the mill's bottom.
+TEST(SoftEngine, DensePileAtRestStaysAtRest) {
+  Scene scene = testing::lab_mill();
+  scene.solver.backend = Backend::Soft;
+  const MillGeometry mill = build_scene_mill(scene);
+  auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
+  engine->set_mill_speed(0.0);
+  engine->step(steps_for(1.0, engine->time_step_s()));
+  const ChargeState before = engine->state();
+  engine->step(steps_for(0.5, engine->time_step_s()));
+  const ChargeState& after = engine->state();
+  double creep = 0.0, r_min = 1.0, mgh = 0.0;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    creep = std::max(creep, length(after.position_m[i] - before.position_m[i]));
+    r_min = std::min(r_min, after.radius_m[i]);
+    mgh += after.mass_kg[i] * kGravity * (after.position_m[i].y + scene.radius_m());
+  }
+  EXPECT_LT(creep, 0.01 * r_min) << "largest creep " << creep * 1e3 << " mm";
+  EXPECT_LT(charge_kinetic_J(after), 1e-6 * mgh) << "jitter " << charge_kinetic_J(after) << " J";
+}
+
+// Batch means of one scene on one backend: power, toe, shoulder, lifter shear work and the
+// leading face's share of it.
+struct BatchFigures { std::vector<double> power, toe, shoulder, lifter_work, lead_share; };
+BatchFigures batch_figures(Scene scene, int batches, double revolutions_per_batch) {
+  scene.mill.direction = Direction::Forward;
+  const MillGeometry mill = build_scene_mill(scene);
+  auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
+  settle_and_spin_up(*engine, scene, 1.0);
+  const double omega = scene.angular_speed_rad_s();
+  BatchFigures f;
+  for (int b = 0; b < batches; ++b) {
+    engine->reset_window();
+    engine->step(steps_for(revolutions_per_batch * scene.revolution_time_s(), engine->time_step_s()));
+    const ChargeSummary s = summarize(engine->accounting(), omega, kGravity);
+    const FaceWork w = face_work(mill, engine->accounting().shear_work_J);
+    f.power.push_back(s.power_W);
+    f.toe.push_back(s.toe_deg);
+    f.shoulder.push_back(s.shoulder_deg);
+    f.lifter_work.push_back((w.plus_x + w.minus_x) / s.time_s);
+    f.lead_share.push_back(w.plus_x / (w.plus_x + w.minus_x));
+  }
+  return f;
+}
+
+Ratio mean_sem(const std::vector<double>& x) {
+  Ratio r;
+  const double n = static_cast<double>(x.size());
+  for (double v : x) r.mean += v / n;
+  double var = 0.0;
+  for (double v : x) var += (v - r.mean) * (v - r.mean) / (n - 1);
+  r.sem = std::sqrt(var / n);
+  return r;
+}
+
+// The two backends agree on the lab mill within their batch-means errors. Like with like:
+// no rolling resistance (Box2D 2.4 has none), and the library at 30 velocity iterations.
+// At its default 8 the library's friction has not converged in a bed 12 balls deep: its
+// contacts keep slipping, which adds about 30% of lifter shear work (README, "soft backend").
+TEST(SoftEngine, AgreesWithTheLibraryOnTheLabMill) {
+  Scene scene = testing::lab_mill();
+  for (auto& sp : scene.charge.species) sp.rolling_resistance = 0.0;
+  Scene lib = scene, soft = scene;
+  lib.solver.backend = Backend::Box2D;
+  lib.solver.velocity_iterations = 30;
+  lib.solver.position_iterations = 10;
+  soft.solver.backend = Backend::Soft;
+  const BatchFigures a = batch_figures(lib, 6, 0.5);
+  const BatchFigures b = batch_figures(soft, 6, 0.5);
+  auto agree = [](const char* what, const std::vector<double>& x, const std::vector<double>& y,
+                  double resolution) {
+    const Ratio p = mean_sem(x), q = mean_sem(y);
+    // Three standard errors of the difference, plus the measure's own resolution (toe and
+    // shoulder come in 5 degree bins).
+    const double tol = 3.0 * std::sqrt(p.sem * p.sem + q.sem * q.sem) + resolution;
+    EXPECT_NEAR(p.mean, q.mean, tol) << what << ": box2d " << p.mean << " +- " << p.sem << ", soft "
+                                     << q.mean << " +- " << q.sem;
+  };
+  agree("power (W)", a.power, b.power, 0.0);
+  agree("toe (deg)", a.toe, b.toe, 5.0);
+  agree("shoulder (deg)", a.shoulder, b.shoulder, 5.0);
+  agree("lifter shear work (W)", a.lifter_work, b.lifter_work, 0.0);
+  agree("leading-face share", a.lead_share, b.lead_share, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Engine, EngineTest, ::testing::Values(Backend::Box2D, Backend::Soft),
+                         backend_label);
 
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {
   // Check value from shared/notes/power-models.md: 5 m x 8 m dry grate mill.

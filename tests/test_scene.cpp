@@ -337,6 +337,30 @@ TEST_F(SceneUnits, StepsPerSecondGivesTheTimeStep) {
   EXPECT_DOUBLE_EQ(s.solver.time_step_s, 1.0 / 800.0);
 }
 
+TEST_F(SceneUnits, SoftSolverKeysAreRead) {
+  const Scene s = load_scene(scene_with(
+      "seed = 3", "seed = 3\nbackend = \"soft\"\ncontact_hertz = 120.0\ndamping_ratio = 2.0\npush_out = 15.0"));
+  EXPECT_EQ(s.solver.backend, Backend::Soft);
+  EXPECT_DOUBLE_EQ(s.solver.contact_hertz, 120.0);
+  EXPECT_DOUBLE_EQ(s.solver.damping_ratio, 2.0);
+  EXPECT_DOUBLE_EQ(s.solver.push_out_radii_per_s, 15.0);
+}
+
+TEST_F(SceneErrors, NonPositiveDampingRatioNamesKey) {
+  const std::string f = scene_with("seed = 3", "seed = 3\ndamping_ratio = 0.0");
+  expect_names(load_error(f), f, "solver.damping_ratio");
+}
+
+TEST_F(SceneErrors, NegativeContactHertzNamesKey) {
+  const std::string f = scene_with("seed = 3", "seed = 3\ncontact_hertz = -30.0");
+  expect_names(load_error(f), f, "solver.contact_hertz");
+}
+
+TEST_F(SceneErrors, NonPositivePushOutNamesKey) {
+  const std::string f = scene_with("seed = 3", "seed = 3\npush_out = 0");
+  expect_names(load_error(f), f, "solver.push_out");
+}
+
 TEST_F(SceneUnits, AreaLossRateSetsTheCalibrationSource) {
   const Scene s = load_scene(scene_with("wear_rate = 1e-11", "area_loss_rate = 2500.0"));
   EXPECT_EQ(s.wear.rate_source, WearRateSource::AreaLossRate);

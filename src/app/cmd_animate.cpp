@@ -134,6 +134,7 @@ int run_animate(const AnimateArgs& args) {
   double dir = direction_at_hours(scene, segments.front().hours);
   settle_and_spin_up(*engine, scene, dir);
   engine->reset_window();
+  const double start_s = engine->state().time_s;
   const int nframes = args.frames;
   const int steps_per_frame = std::max(1, steps_for(args.seconds / nframes, engine->time_step_s()));
   std::vector<Frame> frames;
@@ -161,7 +162,7 @@ int run_animate(const AnimateArgs& args) {
       fr.species.push_back(st.species[i]);
     }
     fr.mill_angle = st.mill_angle_rad;
-    fr.time_s = engine->accounting().time_s;
+    fr.time_s = st.time_s - start_s;  // animated seconds
     fr.speed = st.mill_speed_rad_s;
     fr.segment = seg;
     frames.push_back(std::move(fr));
@@ -175,11 +176,18 @@ int run_animate(const AnimateArgs& args) {
     for (std::size_t e = 0; e < s.edge_value.size() && e < acc.shear_work_J.size(); ++e)
       s.edge_value[e] = acc.time_s > 0 ? acc.shear_work_J[e] / acc.time_s / (s.mill.edge_length_m[e] * t) : 0.0;
   }
-  double cbmax = 0.0;
+  // Colour scale to the 98th percentile: a few hot edges (a lifter's leading corner) would
+  // otherwise leave the rest of the liner one colour. Hotter edges show at the top colour.
+  std::vector<double> all;
   for (const auto& s : segments)
     for (double v : s.edge_value)
-      if (std::isfinite(v)) cbmax = std::max(cbmax, v);
-  if (!(cbmax > 0)) cbmax = 1.0;
+      if (std::isfinite(v) && v > 0) all.push_back(v);
+  double cbmax = 1.0;
+  if (!all.empty()) {
+    const std::size_t k = std::min(all.size() - 1, static_cast<std::size_t>(0.98 * all.size()));
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end());
+    if (all[k] > 0) cbmax = all[k];
+  }
 
   // Data and meta files for the script.
   const fs::path work = args.keep_data
@@ -201,11 +209,11 @@ int run_animate(const AnimateArgs& args) {
     if (fr.position.empty()) data += "0 0 0 0\n";
     data += "\n\n";
     const std::size_t n = s.mill.boundary.size();
-    for (std::size_t e = 0; e < n; ++e) {
-      const Vec2 a = rotated(s.mill.boundary[e], fr.mill_angle);
-      const Vec2 b = rotated(s.mill.boundary[(e + 1) % n], fr.mill_angle);
-      data += fmt(a.x) + " " + fmt(a.y) + " " + fmt(b.x - a.x) + " " + fmt(b.y - a.y) + " " +
-              fmt(s.edge_value[e]) + "\n";
+    // One closed path; each vertex carries the value of the edge it starts. (A path, not
+    // one vector per edge: gnuplot drops vectors shorter than a pixel, leaving gaps.)
+    for (std::size_t e = 0; e <= n; ++e) {
+      const Vec2 a = rotated(s.mill.boundary[e % n], fr.mill_angle);
+      data += fmt(a.x) + " " + fmt(a.y) + " " + fmt(s.edge_value[e % n]) + "\n";
     }
     const double rpm = std::fabs(fr.speed) * 60.0 / (2.0 * kPi);
     std::string title = scene.name + "   t = " + fmt(fr.time_s, "%.2f") + " s   " + fmt(rpm, "%.1f") +

@@ -295,6 +295,7 @@ struct DesignState {
   double wear_rate_m3_per_J = std::nan("");
   std::vector<std::string> events;
   WearProgress progress;
+  Clock::time_point progress_at;      // when progress last came
   Clock::time_point started;
   double wall_s = 0.0;
   std::atomic<bool> stop{false};
@@ -508,14 +509,13 @@ void on_stage_done(RunContext& ctx, std::size_t i, const StageRecord& rec) {
   const DesignInput& d = ctx.plan.designs[i];
   DesignState& st = *ctx.states[i];
   const std::string& out = ctx.args.out;
-  if (rec.stage > st.resumed_up_to) {
-    write_profile_csv(out, d.name, rec);
-    write_stage_state(out, d.name, rec);  // exact state, then the done marker
-  }
+  write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
+  if (rec.stage > st.resumed_up_to) write_stage_state(out, d.name, rec);  // then the marker
   bool latest;
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
-    latest = rec.stage > st.latest_written;
+    // A worn-out record carries no charge: the snapshot keeps the last measured stage.
+    latest = rec.stage > st.latest_written && rec.snapshot.size() > 0;
     if (latest) st.latest_written = rec.stage;
   }
   // The snapshot and liner files show the latest stage (only this thread writes them).
@@ -531,8 +531,9 @@ void on_stage_done(RunContext& ctx, std::size_t i, const StageRecord& rec) {
   write_summary(ctx);
   if (rec.stage == 0) write_spectrum(ctx);
   write_manifest(ctx, false);
+  const bool last = rec.stage >= d.scene.wear.stages || rec.worn_out;
   if (ctx.args.stop_after_stage >= 0 && rec.stage >= ctx.args.stop_after_stage &&
-      rec.stage > st.resumed_up_to) {
+      rec.stage > st.resumed_up_to && !last) {
     // --stop-after-stage: this stage is on disk; leave the loop now, as an interrupt would.
     st.stop = true;
     throw StopRequested();
@@ -552,6 +553,7 @@ void run_design(RunContext& ctx, std::size_t i, const std::vector<StageRecord>& 
   cb.on_progress = [&ctx, &st](const WearProgress& p) {
     std::lock_guard<std::mutex> lock(ctx.mutex);
     st.progress = p;
+    st.progress_at = Clock::now();
   };
   cb.should_stop = [&st] { return g_signal.load() != 0 || st.stop.load(); };
   Status status = Status::Done;
@@ -640,11 +642,21 @@ std::string progress_line(const RunContext& ctx, std::size_t i, std::size_t name
                                  ? st.stages.at(st.resumed_up_to).hours : 0.0;
       const double done_h = st.progress.hours - start_h, left_h = total - st.progress.hours;
       const double elapsed = std::chrono::duration<double>(Clock::now() - st.started).count();
-      const double eta = done_h > 0 ? elapsed * left_h / done_h : std::nan("");
-      std::snprintf(buf, sizeof buf,
-                    "%-*s  stage %d/%d  %7.0f h  sim %8.1f s  %6.2f M disk-steps/s  left %s",
-                    w, d.name.c_str(), st.progress.stage, d.scene.wear.stages, st.progress.hours,
-                    st.progress.simulated_s, st.progress.disk_steps_per_s / 1e6, duration_text(eta).c_str());
+      // Time left: the rate up to the last report, less the time since that report.
+      const double at_report = std::chrono::duration<double>(st.progress_at - st.started).count();
+      const double since = std::chrono::duration<double>(Clock::now() - st.progress_at).count();
+      const double eta = done_h > 0 ? std::max(0.0, at_report * left_h / done_h - since) : std::nan("");
+      // The wear loop reports after each stage; before the first report only time runs.
+      if (st.progress.simulated_s <= 0.0)
+        std::snprintf(buf, sizeof buf, "%-*s  stage %d/%d  %7.0f h  measuring the %s liner ...  elapsed %s",
+                      w, d.name.c_str(), std::max(0, st.resumed_up_to), d.scene.wear.stages, start_h,
+                      st.resumed_up_to > 0 ? "worn" : "new", duration_text(elapsed).c_str());
+      else
+        std::snprintf(buf, sizeof buf,
+                      "%-*s  stage %d/%d  %7.0f h  sim %8.1f s  %6.2f M disk-steps/s  elapsed %s  left %s",
+                      w, d.name.c_str(), st.progress.stage, d.scene.wear.stages, st.progress.hours,
+                      st.progress.simulated_s, st.progress.disk_steps_per_s / 1e6,
+                      duration_text(elapsed).c_str(), duration_text(eta).c_str());
       break;
     }
     case Status::Done:
@@ -734,11 +746,11 @@ void print_final_summary(RunContext& ctx, double wall) {
       const double loss = own0 != st.stages.end() ? 100.0 * (1.0 - r.lifter.area_m2 / own0->second.lifter.area_m2) : std::nan("");
       const double p = r.charge.power_kW_per_m * d.scene.mill.length_m;
       const double u = r.charge.collision_kW_per_m / r.charge.power_kW_per_m;
-      std::printf("%-*s %6d %8.0f %10.1f %8.1f %10.1f %10.1f %8.3f %9.0f%s\n", 16, d.name.c_str(), k,
+      std::printf("%-*s %6d %8.0f %10.1f %8.1f %10.1f %10.4g %8.3f %9.0f%s\n", 16, d.name.c_str(), k,
                   r.hours, area, loss, r.lifter.height_m * 1e3, p, u, life_h, extrapolated ? "*" : " ");
     }
-    std::printf("%-*s %s%s%s\n", 16, "", status_name(st.status), st.error.empty() ? "" : ": ",
-                st.error.c_str());
+    std::printf("%-*s %s%s%s\n", 16, st.stages.empty() ? d.name.c_str() : "", status_name(st.status),
+                st.error.empty() ? "" : ": ", st.error.c_str());
     for (const auto& e : st.events) std::printf("%-*s event: %s\n", 16, "", e.c_str());
   }
   std::printf("(* life extrapolated from the stage trend; normalised to %s new; wall time %s)\n",

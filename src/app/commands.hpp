@@ -14,5 +14,9 @@ void register_charge(CLI::App& app, Action* action);
 void register_run(CLI::App& app, Action* action);
 void register_animate(CLI::App& app, Action* action);
 void register_rule1(CLI::App& app, Action* action);
+void register_tradeoff(CLI::App& app, Action* action);
+void register_validate(CLI::App& app, Action* action);
+void register_calibrate(CLI::App& app, Action* action);
+void register_hardness(CLI::App& app, Action* action);
 
 }  // namespace millwear::app

@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
   millwear::app::register_run(app, &action);
   millwear::app::register_animate(app, &action);
   millwear::app::register_rule1(app, &action);
+  millwear::app::register_tradeoff(app, &action);
+  millwear::app::register_validate(app, &action);
+  millwear::app::register_calibrate(app, &action);
+  millwear::app::register_hardness(app, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -6,6 +6,7 @@
 #include "common/errors.hpp"
 #include "engine/box2d/box2d_engine.hpp"
 #include "engine/soft/soft_engine.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear {
 
@@ -35,6 +36,9 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
 }
 
 void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign) {
+  // Before anything moves: a time step too large for the smallest disk leaks disks through
+  // the liner (scene/limits.hpp); stop with the limit named rather than report escapes.
+  check_numerical_limits(scene, scene.source_file);
   const double dt = engine.time_step_s();
   engine.set_mill_speed(0.0);
   engine.step(steps_for(scene.solver.settle_time_s, dt));

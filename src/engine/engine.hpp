@@ -40,7 +40,13 @@ class Engine {
   const Accounting& accounting() const { return accounting_; }
   const std::vector<EngineEvent>& events() const { return events_; }
   // Wall-clock seconds spent in each part of step(), for benchmarks.
-  struct Timing { double collide_s = 0, solve_s = 0, account_s = 0; std::int64_t disk_steps = 0; };
+  // collide_s is the narrow phase (pair tests, liner tests, contact matching); broad_s the
+  // broad phase where a backend can time it apart (the soft backend's grid; Box2D: 0).
+  struct Timing {
+    double collide_s = 0, solve_s = 0, account_s = 0;
+    std::int64_t disk_steps = 0;
+    double broad_s = 0;
+  };
   const Timing& timing() const { return timing_; }
 
  protected:

@@ -524,6 +524,11 @@ void read_solver(const TableReader& r, Scene& s) {
   if (auto x = r.integer("velocity_iterations", 1, 1000)) v.velocity_iterations = static_cast<int>(*x);
   if (auto x = r.integer("position_iterations", 1, 1000)) v.position_iterations = static_cast<int>(*x);
   if (auto x = r.integer("substeps", 1, 1000)) v.substeps = static_cast<int>(*x);
+  if (auto x = r.number("contact_hertz", non_negative(), "Hz; 0: substeps / time_step / 8"))
+    v.contact_hertz = *x;
+  if (auto x = r.number("damping_ratio", positive(), "contact damping ratio")) v.damping_ratio = *x;
+  if (auto x = r.number("push_out", positive(), "smallest particle radii per second"))
+    v.push_out_radii_per_s = *x;
   if (auto x = r.number("settle_time", non_negative(), "s")) v.settle_time_s = *x;
   if (auto x = r.number("spinup_revolutions", non_negative(), "revolutions")) v.spinup_revolutions = *x;
   if (auto x = r.integer("seed", 0, std::numeric_limits<long long>::max()))
@@ -669,7 +674,8 @@ Scene load_scene(const std::string& path) {
   read_charge(section("charge", true, {"filling", "ball_filling", "bulk_packing", "species"}), s, path);
   read_solver(section("solver", false,
                       {"backend", "time_step", "steps_per_second", "velocity_iterations",
-                       "position_iterations", "substeps", "settle_time", "spinup_revolutions", "seed",
+                       "position_iterations", "substeps", "contact_hertz", "damping_ratio", "push_out",
+                       "settle_time", "spinup_revolutions", "seed",
                        "size_cutoff"}),
               s);
   read_run(section("run", false, {"revolutions"}), s);

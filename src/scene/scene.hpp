@@ -65,6 +65,12 @@ struct SolverDef {
   int velocity_iterations = 8;
   int position_iterations = 3;
   int substeps = 4;                  // soft backend only
+  // Soft backend contact softness (Box2D v3's soft step): contact frequency and damping
+  // ratio of particle-particle contacts (liner contacts get twice the frequency), and the
+  // cap on the speed at which overlap is pushed out, in smallest particle radii per second.
+  double contact_hertz = 0.0;        // 0: an eighth of the substep rate (substeps / dt / 8)
+  double damping_ratio = 10.0;
+  double push_out_radii_per_s = 20.0;
   double settle_time_s = 2.0;        // charge settles at rest before the mill turns
   double spinup_revolutions = 1.0;   // turning before anything is measured
   std::uint64_t seed = 1;

@@ -108,7 +108,8 @@ void add_into(Accounting& total, const Accounting& part) {
 
 // simulate_window -> accumulate_work: run the window in batches (batch means for rule 2),
 // extending it while the lifter's shear power is less certain than the scene's target.
-WindowResult simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill) {
+WindowResult simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill,
+                             const std::function<void()>& check_stop) {
   constexpr int kBatches = 4;
   constexpr int kMaxBatches = 16;
   const double batch_s = scene.wear.window_revolutions * scene.revolution_time_s() / kBatches;
@@ -116,6 +117,7 @@ WindowResult simulate_window(Engine& engine, const Scene& scene, const MillGeome
   WindowResult w;
   std::vector<double> batch_power;
   for (int b = 0; b < kMaxBatches; ++b) {
+    check_stop();
     engine.reset_window();
     engine.step(batch_steps);
     const Accounting& acc = engine.accounting();
@@ -367,16 +369,39 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     first_stage = resume_from.back().stage;
   }
   double c_real = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+  if (!resume_from.empty() && (first_stage >= scene.wear.stages || resume_from.back().worn_out)) {
+    // Everything was finished already: nothing to simulate.
+    history.wear_rate_m3_per_J = c_real;
+    compute_life(history, scene.wear.replacement_height_m);
+    return history;
+  }
+  auto check_stop = [&cb] {
+    if (cb.should_stop && cb.should_stop()) throw RunError("interrupted");
+  };
+
+  // Progress after every window: stage being worn, operating hours, simulated seconds.
+  auto report_progress = [&cb](int stage, double hours, double simulated, std::int64_t disk_steps,
+                               Clock::time_point since) {
+    if (!cb.on_progress) return;
+    WearProgress p;
+    p.stage = stage;
+    p.hours = hours;
+    p.simulated_s = simulated;
+    const double wall = std::chrono::duration<double>(Clock::now() - since).count();
+    p.disk_steps_per_s = wall > 0 ? disk_steps / wall : 0.0;
+    cb.on_progress(p);
+  };
 
   for (int k = first_stage; k <= scene.wear.stages; ++k) {
     const auto t0 = Clock::now();
     double hours = k * stage_h;
     MillGeometry mill = build_mill(R, rows, units);
     // Each stage: a fresh charge, settled on this stage's geometry, same seed.
+    check_stop();
     auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
     double dir = direction_at(scene, hours);
     settle_and_spin_up(*engine, scene, dir);
-    WindowResult w = simulate_window(*engine, scene, mill);
+    WindowResult w = simulate_window(*engine, scene, mill, check_stop);
     double simulated = w.simulated_s;
     std::int64_t disk_steps = w.accounting.steps * static_cast<std::int64_t>(engine->state().size());
     if (c_real <= 0.0) {
@@ -430,7 +455,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     const double target_h = (k + 1) * stage_h;
     bool worn_out = false;
     while (hours < target_h - 1e-9 && !worn_out) {
-      if (cb.should_stop && cb.should_stop()) throw RunError("interrupted");
+      check_stop();
       const auto rates = depth_rates(scene, mill, w, c_real);  // m per operating second
       const double reversal = next_reversal(scene, hours);
       double dt_h = std::min(target_h, reversal) - hours;
@@ -496,10 +521,11 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
         engine->reset_window();
       }
       if (staged) {
-        w = simulate_window(*engine, scene, mill);
+        w = simulate_window(*engine, scene, mill, check_stop);
         simulated += w.simulated_s;
         disk_steps += w.accounting.steps * static_cast<std::int64_t>(engine->state().size());
       }
+      report_progress(k + 1, hours, simulated, disk_steps, t0);
     }
     if (!resumed_stage && !history.stages.empty() && history.stages.back().stage == k) {
       history.stages.back().wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -507,15 +533,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       history.stages.back().disk_steps = disk_steps;
       if (cb.on_stage) cb.on_stage(history.stages.back());
     }
-    if (cb.on_progress) {
-      WearProgress p;
-      p.stage = k + 1;
-      p.hours = hours;
-      p.simulated_s = simulated;
-      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-      p.disk_steps_per_s = wall > 0 ? disk_steps / wall : 0.0;
-      cb.on_progress(p);
-    }
+    report_progress(k + 1, hours, simulated, disk_steps, t0);
     if (worn_out) {
       // Record the worn-out geometry as the last stage, then stop cleanly.
       StageRecord rec;

@@ -1,0 +1,155 @@
+// `millwear validate SCENE --measured FILE -o OUT [--from RUN]`: measured lifter profiles
+// against the simulated wear history (the paper's Fig. 4).
+//
+// The history is either run here (stage boundaries on the survey hours when they share a
+// common step, see validation/profile_fit.hpp) or read from a finished `millwear run`
+// folder (--from RUN: its exact stage geometry, OUT/stages/DESIGN_stageK.units.csv, for the
+// design named by the scene). Outputs in OUT:
+//   validation.csv               one row per survey: distances (mm, % of the new lifter's
+//                                height), bias, areas and area error
+//   simulated_surveys.csv        the simulated profiles at the survey hours, in the survey
+//                                format (hours,x_mm,y_mm), lifter region only
+//   plots/validate_measured.dat, plots/validate_simulated.dat   gnuplot blocks
+//   validate_profiles.png/.svg   measured (dashed) against simulated (solid)
+// Exit codes: 0 done; 1 the run or a figure failed; 2 bad input.
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+#include "app/commands.hpp"
+#include "app/run_files.hpp"
+#include "app/validation_common.hpp"
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "plots/plots.hpp"
+#include "scene/fidelity.hpp"
+#include "validation/profile_fit.hpp"
+
+namespace millwear::app {
+
+namespace {
+
+struct ValidateArgs {
+  std::string scene, measured, out, from, fidelity;
+};
+
+int run_validate(const ValidateArgs& a) {
+  Scene scene = load_scene(a.scene);
+  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  const std::vector<validation::Survey> surveys = validation::read_surveys(a.measured);
+
+  std::vector<StageRecord> stages;
+  if (!a.from.empty()) {
+    const int k = io::last_finished_stage(a.from, scene.name);
+    if (k < 0)
+      throw InputError(a.from, "stages/" + scene.name + "_stage0.done",
+                       "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
+    for (int s = 0; s <= k; ++s) stages.push_back(read_stage_state(a.from, scene.name, s));
+    const double reached = stages.back().hours;
+    for (const auto& v : surveys)
+      if (v.hours > reached + 1e-6)
+        throw InputError(a.measured, "line " + std::to_string(v.first_line),
+                         "a survey within the " + io::format_number(reached) + " h the run in " + a.from +
+                             " reached, found " + io::format_number(v.hours) + " h");
+    std::printf("validate %s: %zu survey(s) against the run in %s (%d stage(s), %.0f h)\n", scene.name.c_str(),
+                surveys.size(), a.from.c_str(), k, reached);
+  } else {
+    const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+    const Scene s = validation::scene_for_surveys(scene, surveys, c, 1.0);
+    std::printf("validate %s: %zu survey(s); running %d stage(s) of %g h (fidelity %s)\n", scene.name.c_str(),
+                surveys.size(), s.wear.stages, s.wear.stage_hours, s.fidelity.c_str());
+    std::fflush(stdout);
+    const WearHistory h = run_wear_history(s, progress_callbacks());
+    for (const auto& e : h.events) std::printf("  event: %s\n", e.c_str());
+    stages = h.stages;
+  }
+
+  const validation::ProfileHistory history = validation::profile_history(stages);
+  for (const auto& v : surveys)
+    if (!history.covers(v.hours))
+      throw RunError("the wear history ends at " + io::format_number(history.last_hours()) +
+                     " h (the lifter wore out?), before the survey at " + io::format_number(v.hours) + " h");
+  const double new_height = stages.front().lifter.height_m;
+  const Polyline& new_surface = stages.front().units.front().surface;
+  const double half_base = stages.front().units.front().lifter_half_base_m;
+
+  io::ensure_dir(a.out);
+  io::ensure_dir(io::join_path(a.out, "plots"));
+  io::CsvTable table({"survey", "hours", "points", "mean_mm", "max_mm", "bias_mm", "mean_pct_height",
+                      "max_pct_height", "measured_area_mm2", "simulated_area_mm2", "area_error_mm2",
+                      "area_error_pct"});
+  std::vector<validation::Survey> simulated;
+  std::string measured_dat, simulated_dat;
+  std::printf("%7s %8s %9s %9s %9s %8s %8s %12s %12s %9s\n", "survey", "hours", "mean_mm", "max_mm", "bias_mm",
+              "mean_%h", "max_%h", "meas_mm2", "sim_mm2", "err_%");
+  for (std::size_t i = 0; i < surveys.size(); ++i) {
+    const auto& v = surveys[i];
+    const Polyline sim = history.profile_at(v.hours);
+    const auto c = validation::compare_profile(v, sim, scene.radius_m(), new_height, new_surface);
+    table.add_row({static_cast<int>(i + 1), v.hours, c.points, c.mean_distance_m * 1e3, c.max_distance_m * 1e3,
+                   c.bias_m * 1e3, c.mean_pct_height, c.max_pct_height, c.measured_area_m2 * 1e6,
+                   c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct});
+    std::printf("%7zu %8.0f %9.3f %9.3f %9.3f %8.2f %8.2f %12.1f %12.1f %9.2f\n", i + 1, v.hours,
+                c.mean_distance_m * 1e3, c.max_distance_m * 1e3, c.bias_m * 1e3, c.mean_pct_height,
+                c.max_pct_height, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6, c.area_error_pct);
+    // The simulated lifter region: the measured span, or the lifter and its feet.
+    const double xa = std::min(v.profile_m.front().x, -kProfileMargin * half_base);
+    const double xb = std::max(v.profile_m.back().x, kProfileMargin * half_base);
+    validation::Survey s;
+    s.hours = v.hours;
+    for (const Vec2& p : sim)
+      if (p.x >= xa && p.x <= xb) s.profile_m.push_back(p);
+    simulated.push_back(s);
+    const std::string title = io::format_number(v.hours) + " h";
+    measured_dat += profile_block(title, v.profile_m, i == 0);
+    simulated_dat += profile_block(title, s.profile_m, i == 0);
+  }
+  table.write(io::join_path(a.out, "validation.csv"));
+  io::write_file_atomic(io::join_path(a.out, "simulated_surveys.csv"),
+                        validation::format_surveys(simulated, "simulated by millwear validate: scene " + scene.name +
+                                                                  ", at the hours of " + a.measured));
+  const std::string mfile = io::join_path(a.out, "plots/validate_measured.dat");
+  const std::string sfile = io::join_path(a.out, "plots/validate_simulated.dat");
+  io::write_file_atomic(mfile, measured_dat);
+  io::write_file_atomic(sfile, simulated_dat);
+  std::printf("(distances: measured point to simulated profile; %% of the new lifter height %.1f mm; "
+              "bias > 0: simulation wore deeper; area error %% of the new lifter area over the measured span)\n",
+              new_height * 1e3);
+
+  int rc = 0;
+  try {
+    const auto files = plots::render_figure(
+        plots::script_path("validate_profiles"),
+        {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_profiles")},
+         {"title", "Measured (dashed) and simulated (solid) profiles: " + scene.name}},
+        io::join_path(a.out, "plots/gnuplot.log"));
+    std::printf("results in %s (validation.csv, simulated_surveys.csv); figure %s\n", a.out.c_str(),
+                files.empty() ? "-" : files.front().c_str());
+  } catch (const std::exception& e) {
+    if (plots::gnuplot_available()) rc = 1;
+    std::fprintf(stderr, "millwear: warning: figure: %s\n", e.what());
+    std::printf("results in %s (validation.csv, simulated_surveys.csv)\n", a.out.c_str());
+  }
+  return rc;
+}
+
+}  // namespace
+
+void register_validate(CLI::App& app, Action* action) {
+  auto args = std::make_shared<ValidateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "validate", "Compare measured lifter profiles with the simulated wear history (paper Fig. 4)");
+  cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--measured", args->measured, "measured surveys: CSV hours,x_mm,y_mm, one block per survey")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->callback([args, action] { *action = [args] { return run_validate(*args); }; });
+}
+
+}  // namespace millwear::app

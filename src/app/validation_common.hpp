@@ -1,0 +1,32 @@
+#pragma once
+// Small helpers shared by the validate and calibrate commands.
+#include <cstdio>
+#include <string>
+
+#include "geometry/polyline.hpp"
+#include "io/csv.hpp"
+#include "wear/wear.hpp"
+
+namespace millwear::app {
+
+// One line per finished stage on stdout (histories here are short; no live display).
+inline WearCallbacks progress_callbacks() {
+  WearCallbacks cb;
+  cb.on_stage = [](const StageRecord& r) {
+    std::printf("  stage %d at %.0f h: lifter area %.1f mm^2, height %.2f mm (%.1f s wall)\n", r.stage, r.hours,
+                r.lifter.area_m2 * 1e6, r.lifter.height_m * 1e3, r.wall_s);
+    std::fflush(stdout);
+  };
+  return cb;
+}
+
+// A gnuplot data block: a title line "TITLE,-" then x_mm,y_mm rows; blocks are separated by
+// two blank lines (gnuplot `index`).
+inline std::string profile_block(const std::string& title, const Polyline& line_m, bool first) {
+  std::string s = first ? "" : "\n\n";
+  s += title + ",-\n";
+  for (const Vec2& p : line_m) s += io::format_number(p.x * 1e3) + "," + io::format_number(p.y * 1e3) + "\n";
+  return s;
+}
+
+}  // namespace millwear::app

@@ -1,0 +1,144 @@
+#include "validation/hardness.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <numeric>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "validation/surveys.hpp"
+
+namespace millwear::validation {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+// The one column of `names` the file has; InputError if none or several.
+std::string exactly_one(const io::CsvData& d, const std::vector<std::string>& names, const std::string& what) {
+  std::string found;
+  int count = 0;
+  for (const auto& n : names)
+    if (d.has_column(n)) { found = n; ++count; }
+  if (count != 1) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw InputError(d.path, "line 1", "exactly one " + what + " column of: " + list +
+                                           (count == 0 ? " (none found)" : " (several found)"));
+  }
+  return found;
+}
+
+}  // namespace
+
+double coefficient_of_variation(const std::vector<double>& v) {
+  const double n = static_cast<double>(v.size());
+  if (v.size() < 2) return 0.0;
+  const double mean = std::accumulate(v.begin(), v.end(), 0.0) / n;
+  double var = 0.0;
+  for (double x : v) var += (x - mean) * (x - mean);
+  return std::sqrt(var / (n - 1.0)) / mean;
+}
+
+HardnessData parse_hardness(const std::string& text, const std::string& name) {
+  io::CsvData d = io::parse_csv(strip_comment_lines(text), name);
+  for (auto& h : d.header) h = trim(h);
+  HardnessData data;
+  data.path = name;
+  data.time_unit = exactly_one(d, {"days", "hours"}, "period length");
+  data.wear_column = exactly_one(d, {"area_loss_mm2", "mass_loss_kg", "height_loss_mm", "wear_rate"}, "wear");
+  const std::size_t ct = d.column(data.time_unit), cw = d.column(data.wear_column), ch = d.column("hardness");
+  const bool labelled = d.has_column("period");
+  double t = 0.0;
+  for (std::size_t r = 0; r < d.row_count(); ++r) {
+    HardnessPeriod p;
+    p.line = d.row_line[r];
+    const std::string where = "line " + std::to_string(p.line);
+    p.label = labelled ? trim(d.text(r, d.column("period"))) : std::to_string(r + 1);
+    p.length = d.number(r, ct);
+    p.wear = d.number(r, cw);
+    p.hardness = d.number(r, ch);
+    if (!(p.length > 0.0) || !std::isfinite(p.length))
+      throw InputError(name, where, "a period length > 0 in column " + data.time_unit);
+    if (!(p.wear > 0.0) || !std::isfinite(p.wear))
+      throw InputError(name, where, "a wear > 0 in column " + data.wear_column + " (the fit uses its logarithm)");
+    if (!(p.hardness > 0.0) || !std::isfinite(p.hardness))
+      throw InputError(name, where, "an ore hardness > 0 in column hardness");
+    p.start = t;
+    t += p.length;
+    p.rate = data.wear_column == "wear_rate" ? p.wear : p.wear / p.length;
+    p.corrected_rate = p.rate;
+    data.periods.push_back(p);
+  }
+  if (data.periods.size() < 3)
+    throw InputError(name, "line " + std::to_string(d.row_line.empty() ? 2 : d.row_line.back() + 1),
+                     "at least 3 periods (two fit parameters and one degree of freedom), found " +
+                         std::to_string(data.periods.size()));
+  bool varies = false;
+  for (const auto& p : data.periods) varies |= p.hardness != data.periods.front().hardness;
+  if (!varies) throw InputError(name, "column hardness", "at least two different hardness values (b is fitted from them)");
+  return data;
+}
+
+HardnessData read_hardness(const std::string& path) { return parse_hardness(io::read_file(path), path); }
+
+HardnessFit fit_hardness(HardnessData& data, double reference_hardness) {
+  auto& ps = data.periods;
+  const int n = static_cast<int>(ps.size());
+  Eigen::MatrixXd A(n, 2);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    A(i, 0) = 1.0;
+    A(i, 1) = std::log(ps[i].hardness);
+    y(i) = std::log(ps[i].rate);
+  }
+  const Eigen::Vector2d beta = A.colPivHouseholderQr().solve(y);
+  const Eigen::VectorXd res = y - A * beta;
+  const double rss = res.squaredNorm();
+  const double dof = n - 2;
+  const Eigen::Matrix2d cov = (rss / dof) * (A.transpose() * A).inverse();
+
+  HardnessFit f;
+  f.b = beta(1);
+  f.b_se = std::sqrt(std::max(0.0, cov(1, 1)));
+  const double ymean = y.mean();
+  const double tss = (y.array() - ymean).square().sum();
+  f.r_squared = tss > 0.0 ? 1.0 - rss / tss : 1.0;
+  f.reference_hardness = reference_hardness;
+  double dadb;
+  if (reference_hardness > 0.0) {
+    f.a = std::pow(reference_hardness, -f.b);
+    dadb = -f.a * std::log(reference_hardness);
+  } else {
+    double st = 0.0, sth = 0.0, sthl = 0.0;
+    for (const auto& p : ps) {
+      const double w = p.length * std::pow(p.hardness, f.b);
+      st += p.length;
+      sth += w;
+      sthl += w * std::log(p.hardness);
+    }
+    f.a = st / sth;
+    dadb = -f.a * sthl / sth;
+  }
+  f.a_se = std::fabs(dadb) * f.b_se;
+  std::vector<double> before, after;
+  for (auto& p : ps) {
+    p.ct = f.a * std::pow(p.hardness, f.b);
+    p.corrected_rate = p.rate / p.ct;
+    before.push_back(p.rate);
+    after.push_back(p.corrected_rate);
+  }
+  f.cv_before = coefficient_of_variation(before);
+  f.cv_after = coefficient_of_variation(after);
+  f.mean_rate = std::accumulate(before.begin(), before.end(), 0.0) / n;
+  f.mean_corrected_rate = std::accumulate(after.begin(), after.end(), 0.0) / n;
+  return f;
+}
+
+}  // namespace millwear::validation

@@ -1,0 +1,104 @@
+#include "validation/surveys.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+
+namespace millwear::validation {
+
+namespace {
+
+constexpr double kMm = 1e-3;
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + std::to_string(d.row_line[row]); }
+
+}  // namespace
+
+std::string strip_comment_lines(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    const bool last = end == std::string::npos;
+    if (last) end = text.size();
+    const std::string line = text.substr(pos, end - pos);
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] != '#') out += line;
+    if (!last) out += '\n';
+    pos = end + 1;
+  }
+  return out;
+}
+
+std::vector<Survey> parse_surveys(const std::string& text, const std::string& name) {
+  io::CsvData d = io::parse_csv(strip_comment_lines(text), name);
+  for (auto& h : d.header) h = trim(h);
+  const std::size_t ch = d.column("hours"), cx = d.column("x_mm"), cy = d.column("y_mm");
+  if (d.row_count() == 0) throw InputError(name, "line 2", "survey rows hours,x_mm,y_mm after the header");
+
+  std::vector<Survey> surveys;
+  std::map<double, std::size_t> seen;  // hours -> first line of its block
+  for (std::size_t r = 0; r < d.row_count(); ++r) {
+    const double h = d.number(r, ch), x = d.number(r, cx), y = d.number(r, cy);
+    if (!std::isfinite(h) || h < 0.0)
+      throw InputError(name, line_of(d, r), "operating hours >= 0 in column hours, found '" + d.text(r, ch) + "'");
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw InputError(name, line_of(d, r), "finite x_mm and y_mm");
+    if (surveys.empty() || surveys.back().hours != h) {
+      auto it = seen.find(h);
+      if (it != seen.end())
+        throw InputError(name, line_of(d, r),
+                         "one block of consecutive rows per survey; the survey at " + trim(d.text(r, ch)) +
+                             " h already appeared from line " + std::to_string(it->second));
+      if (!surveys.empty() && surveys.back().profile_m.size() < 2)
+        throw InputError(name, "line " + std::to_string(surveys.back().first_line),
+                         "at least 2 points in the survey at " + io::format_number(surveys.back().hours) + " h");
+      Survey s;
+      s.hours = h;
+      s.first_line = d.row_line[r];
+      seen[h] = s.first_line;
+      surveys.push_back(s);
+    }
+    Survey& s = surveys.back();
+    const Vec2 p{x * kMm, y * kMm};
+    if (!s.profile_m.empty() && s.profile_m.back() == p)
+      throw InputError(name, line_of(d, r), "a point different from the one before (repeated point)");
+    s.profile_m.push_back(p);
+  }
+  if (surveys.back().profile_m.size() < 2)
+    throw InputError(name, "line " + std::to_string(surveys.back().first_line),
+                     "at least 2 points in the survey at " + io::format_number(surveys.back().hours) + " h");
+  for (Survey& s : surveys)
+    if (s.profile_m.front().x > s.profile_m.back().x) std::reverse(s.profile_m.begin(), s.profile_m.end());
+  return surveys;
+}
+
+std::vector<Survey> read_surveys(const std::string& path) { return parse_surveys(io::read_file(path), path); }
+
+std::string format_surveys(const std::vector<Survey>& surveys, const std::string& comment) {
+  std::string out;
+  std::size_t pos = 0;
+  while (!comment.empty() && pos <= comment.size()) {
+    std::size_t end = comment.find('\n', pos);
+    if (end == std::string::npos) end = comment.size();
+    out += "# " + comment.substr(pos, end - pos) + "\n";
+    pos = end + 1;
+  }
+  io::CsvTable t({"hours", "x_mm", "y_mm"});
+  for (const Survey& s : surveys)
+    for (const Vec2& p : s.profile_m) t.add_row({s.hours, p.x / kMm, p.y / kMm});
+  return out + t.str();
+}
+
+}  // namespace millwear::validation

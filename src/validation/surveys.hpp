@@ -1,0 +1,48 @@
+#pragma once
+// Measured lifter profiles ("surveys"): what a mill's maintenance crew measures at a
+// relining inspection, read from a CSV file.
+//
+// Survey file format (CSV, see io/csv.hpp for the dialect):
+//   # Lines starting with '#' are comments (anywhere in the file; blank lines are skipped).
+//   hours,x_mm,y_mm
+//   0,-30.0,0.0          <- survey at 0 h (the new lifter), points in order along the profile
+//   0,-16.5,0.0
+//   ...
+//   1500,-30.0,0.0       <- the next survey starts where the hours value changes
+//   ...
+// - hours: operating hours of the survey (>= 0). One block of consecutive rows per survey;
+//   a block's hours value may not appear again later in the file.
+// - x_mm, y_mm: lifter-local coordinates in mm (mill/mill.hpp): x along the shell from
+//   the lifter centre, +x toward the leading face (forward rotation), y up from the
+//   original shell line toward the mill axis. These are the coordinates of the profiles
+//   `millwear run` writes (OUT/profiles/DESIGN_stageK.csv).
+// - At least 2 points per survey, in order along the profile (either direction; a survey
+//   running from +x to -x is reversed on reading). Extra columns are ignored.
+// Every problem throws InputError naming the file and the line.
+#include <string>
+#include <vector>
+
+#include "geometry/polyline.hpp"
+
+namespace millwear::validation {
+
+struct Survey {
+  double hours = 0.0;
+  Polyline profile_m;          // lifter-local, metres, ordered from -x to +x
+  std::size_t first_line = 0;  // 1-based line of the block's first row (for messages)
+};
+
+// Surveys in file order (blocks), each ordered from -x to +x. `name` names the file in
+// errors. Throws InputError(name, "line N", ...).
+std::vector<Survey> parse_surveys(const std::string& text, const std::string& name);
+std::vector<Survey> read_surveys(const std::string& path);
+
+// The file text for surveys (mm, %.10g), with `comment` (may be several lines) written as
+// '#' lines above the header.
+std::string format_surveys(const std::vector<Survey>& surveys, const std::string& comment = "");
+
+// Blank out '#' comment lines (keeping the line count, so later errors name the right
+// line) for the CSV reader, which knows no comments. Shared by the hardness reader.
+std::string strip_comment_lines(const std::string& text);
+
+}  // namespace millwear::validation

@@ -1,0 +1,65 @@
+// Stability: operating point. Mill speed from rest to 160% of critical (cascading,
+// cataracting, centrifuging) and filling from an empty mill to 50% of the mill area.
+// Every run must be sound: finite, no escaped disk, speeds under the bound of
+// stability_run.hpp (bench/stability_sweep prints the figures, docs/stability.md).
+#include "stability_common.hpp"
+
+namespace millwear::stability {
+
+TEST(StabilityOperating, MillSpeedFromRestToCentrifugingIsSound) {
+  for (double f : {0.0, 0.3, 0.75, 1.0, 1.3, 1.6}) {
+    Scene s = tiny_mill();
+    s.mill.speed_fraction_critical = f;
+    expect_sound_or_clear_stop(run_briefly(s, 1.0), "mill.speed", "speed " + std::to_string(f) + " of critical");
+  }
+}
+
+// Above critical the charge rides the shell: the centre of mass moves to the mill centre
+// and the torque arm vanishes. Checked as the bed's mean radius: over 80% of the
+// radius at 160% critical (the disks sit within two diameters of the shell).
+TEST(StabilityOperating, AboveCriticalTheChargeCentrifuges) {
+  Scene s = tiny_mill();
+  s.mill.speed_fraction_critical = 1.6;
+  const MillGeometry mill = build_scene_mill(s);
+  auto engine = make_engine(s, mill, fill_charge(s, mill), accounting_options_for(s));
+  settle_and_spin_up(*engine, s, 1.0);
+  engine->step(steps_for(2.0 * s.revolution_time_s(), engine->time_step_s()));
+  const ChargeState& st = engine->state();
+  double mean_r = 0.0, n = 0.0;
+  for (std::size_t i = 0; i < st.size(); ++i)
+    if (st.active[i]) mean_r += length(st.position_m[i]), n += 1.0;
+  ASSERT_GT(n, 0.0);
+  EXPECT_GT(mean_r / n, 0.8 * s.radius_m());
+}
+
+TEST(StabilityOperating, EmptyMillIsSound) {
+  Scene s = tiny_mill(15.0, 1.67, 1e-4);  // less than one disk's area: nothing placed
+  const Outcome o = run_briefly(s, 1.0);
+  expect_sound_or_clear_stop(o, "charge.filling", "empty mill");
+  EXPECT_EQ(o.disks, 0u);
+}
+
+TEST(StabilityOperating, OneParticleIsSound) {
+  // One 15-25 mm ball: 0.8 x filling x 0.283 m^2 = one disk's area at filling 1.1e-3.
+  Scene s = tiny_mill(20.0, 1.0, 1.3e-3);
+  const Outcome o = run_briefly(s, 2.0);
+  expect_sound_or_clear_stop(o, "charge.filling", "one particle");
+  EXPECT_EQ(o.disks, 1u);
+}
+
+TEST(StabilityOperating, FillingUpToHalfTheMillIsSound) {
+  for (double f : {0.01, 0.1, 0.3, 0.5}) {
+    Scene s = tiny_mill(15.0, 1.67, f);
+    expect_sound_or_clear_stop(run_briefly(s, 0.5), "charge.filling", "filling " + std::to_string(f));
+  }
+}
+
+// Past what fits inside the lifter tips the fill stops and names charge.filling.
+TEST(StabilityOperating, OverfilledMillStopsNamingTheFilling) {
+  Scene s = tiny_mill(15.0, 1.67, 0.9);
+  const Outcome o = run_briefly(s, 0.5);
+  EXPECT_FALSE(o.completed);
+  expect_sound_or_clear_stop(o, "charge.filling", "filling 0.9");
+}
+
+}  // namespace millwear::stability

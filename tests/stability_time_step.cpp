@@ -1,0 +1,59 @@
+// Stability: time step against particle size. A disk that travels more than
+// kMaxStepTravelRadii of the smallest radius per step at the mill's impact speed leaks
+// through the liner (bench/stability_sweep, docs/stability.md); the engine refuses such a
+// step before anything moves, naming solver.time_step. Inside the limit a run is sound.
+#include "stability_common.hpp"
+
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+
+namespace millwear::stability {
+
+// The sweep of the issue, 1/5000 s to 1/60 s, at two disk sizes. Every case is either
+// sound or stopped naming solver.time_step; the large steps must be the stopped ones.
+TEST(StabilityTimeStep, SweepIsSoundOrStopsNamingTheTimeStep) {
+  for (double d_mm : {15.0, 40.0})
+    for (double hz : {5000.0, 1000.0, 500.0, 240.0, 120.0, 60.0}) {
+      if (d_mm < 20.0 && hz > 2000.0) continue;  // 3000 steps a second of 150 disks: slow, far inside
+      Scene s = tiny_mill(d_mm);
+      s.solver.time_step_s = 1.0 / hz;
+      const Outcome o = run_briefly(s, 0.5);
+      const std::string label = "d_min " + std::to_string(d_mm) + " mm, dt 1/" + std::to_string(hz);
+      expect_sound_or_clear_stop(o, "solver.time_step", label);
+      EXPECT_EQ(o.completed, step_travel_radii(s) <= kMaxStepTravelRadii) << label;
+    }
+}
+
+// At the edge (6 mm disks, 1/1000 s: 1.57 radii a step, 870 disks) the run is still clean.
+TEST(StabilityTimeStep, SmallDisksJustInsideTheLimitDoNotLeak) {
+  Scene s = tiny_mill(6.0);
+  s.solver.time_step_s = 1.0 / 1000.0;
+  ASSERT_LE(step_travel_radii(s), kMaxStepTravelRadii);
+  expect_sound_or_clear_stop(run_briefly(s, 0.5), "solver.time_step", "6 mm at 1/1000");
+}
+
+// Beyond the limit the message says what to use: the largest allowed step.
+TEST(StabilityTimeStep, StopMessageGivesTheLargestAllowedStep) {
+  Scene s = tiny_mill(15.0);
+  s.solver.time_step_s = 1.0 / 60.0;
+  try {
+    check_numerical_limits(s, "scene.toml");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "solver.time_step");
+    EXPECT_NE(std::string(e.what()).find("at most"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("leak"), std::string::npos) << e.what();
+  }
+}
+
+// Every shipped scene at every preset is inside the limit (the presets must never trip it).
+TEST(StabilityTimeStep, ShippedScenesAtEveryPresetAreInsideTheLimit) {
+  for (const char* f : {"scenarios/lab-mill.toml", "scenarios/sag-2x30.toml", "scenarios/sag-1x30.toml"})
+    for (const char* p : {"draft", "standard", "reference"}) {
+      Scene s = load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/" + f);
+      apply_fidelity(s, p);
+      EXPECT_LE(step_travel_radii(s), kMaxStepTravelRadii) << f << " at " << p;
+    }
+}
+
+}  // namespace millwear::stability
