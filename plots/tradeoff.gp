@@ -14,6 +14,13 @@ table = datadir . "/tradeoff.csv"
 front = datadir . "/tradeoff_front.csv"
 
 is_preset(k) = (k eq "preset")
+# The y range follows the presets (3x the worst of them): a setting that breaks the profile
+# (e.g. a smoothing radius that removes the lifter) would flatten everything else; it is
+# clipped and named in a note instead.
+stats table using (is_preset(strcol("knob")) ? column("dev_max_pct") : NaN) nooutput name "P"
+ytop = 3.0 * P_max + 0.5
+stats table using (column("dev_max_pct") > ytop ? 1 : 0) nooutput name "OFF"
+offscale = int(OFF_sum)
 do for [fmt in formats] {
   eval term_cmd(fmt, 1000, 650)
   set output outbase . "." . fmt
@@ -23,7 +30,8 @@ do for [fmt in formats] {
   set logscale x
   set format x "%g"
   set mxtics 10
-  set yrange [0:*]
+  set yrange [0:ytop]
+  if (offscale > 0) { set label 99 sprintf("%d setting(s) above %.1f%% off the scale (see tradeoff.csv)", offscale, ytop) at graph 0.02, graph 0.96 left font ",9" } else { unset label 99 }
   set key top right
   plot front using "cpu_s":"dev_max_pct" with steps ls 8 dt 2 lw 2 title "Pareto front (largest deviation)", \
        table using "cpu_s":(is_preset(strcol("knob")) ? NaN : column("dev_max_pct")) \

@@ -40,6 +40,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "app/run_command.hpp"
 #include "app/run_files.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
@@ -59,17 +60,7 @@ namespace {
 // ---------------------------------------------------------------------------------------
 // Command line
 
-struct RunArgs {
-  std::vector<std::string> scenes;
-  std::string out;
-  std::string fidelity;
-  std::string reference;
-  bool resume = false;
-  bool quiet = false;
-  bool check = false;
-  int jobs = 0;
-  int stop_after_stage = -1;
-};
+// RunArgs: app/run_command.hpp (shared with `millwear screen-task`).
 
 // ---------------------------------------------------------------------------------------
 // Input: scenes and comparison files -> designs
@@ -757,6 +748,8 @@ void print_final_summary(RunContext& ctx, double wall) {
               ctx.plan.reference.c_str(), duration_text(wall).c_str());
 }
 
+}  // namespace
+
 int run_command(const RunArgs& args) {
   const Plan plan = make_plan(args);  // every scene validated; nothing written yet
   if (args.check) {
@@ -912,8 +905,6 @@ int run_command(const RunArgs& args) {
                    plan.designs[i].name.c_str(), ctx.states[i]->error.c_str());
   return failed || figures_failed ? 1 : 0;
 }
-
-}  // namespace
 
 void register_run(CLI::App& app, Action* action) {
   auto args = std::make_shared<RunArgs>();

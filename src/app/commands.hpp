@@ -18,5 +18,7 @@ void register_tradeoff(CLI::App& app, Action* action);
 void register_validate(CLI::App& app, Action* action);
 void register_calibrate(CLI::App& app, Action* action);
 void register_hardness(CLI::App& app, Action* action);
+void register_screen(CLI::App& app, Action* action);
+void register_screen_task(CLI::App& app, Action* action);
 
 }  // namespace millwear::app

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   millwear::app::register_validate(app, &action);
   millwear::app::register_calibrate(app, &action);
   millwear::app::register_hardness(app, &action);
+  millwear::app::register_screen(app, &action);
+  millwear::app::register_screen_task(app, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -22,8 +22,12 @@
 //
 // Notes.
 // - time step: the Box2D probe (shared/notes/box2d-mill-probe.md) lost 0 of 3,000 disks at
-//   1/600 s and 7 of 3,000 at 1/240 s; draft's 1/300 s sits near that edge, so the engine's
-//   escape report matters most at draft. The tradeoff runner measures each value.
+//   1/600 s and 7 of 3,000 at 1/240 s. The stability sweep (docs/stability.md) puts the edge
+//   at dt <= 1.6 r_min / (omega R + sqrt(2 g D)) and settle_and_spin_up refuses a larger step
+//   (scene/limits.hpp): on the SAG scenes draft's 1/300 s moves 1.28 smallest radii a step,
+//   standard's 0.77. A scene with much smaller particles must set solver.time_step itself.
+// - measured: `millwear tradeoff` runs every preset and one knob at a time against
+//   reference; README "Speed against accuracy" has the table the presets were checked on.
 // - factor: the paper saw 5e5 and 1e6 give the same profile and 1e7 deviate (rule 1).
 //   It only matters in continuous mode; staged mode advances by the depth bound.
 // - size cut-off: an absolute size (m) means something different in every scene (a 100 mm

@@ -58,7 +58,6 @@ TradeoffLadder tradeoff_ladder(const Scene& scene, const TradeoffOptions& o) {
   if (o.stages > 0) base.wear.stages = o.stages;
   if (o.stage_hours > 0.0) base.wear.stage_hours = o.stage_hours;
   const FidelityDef& draft = fidelity_preset("draft");
-  const FidelityDef& standard = fidelity_preset("standard");
   const FidelityDef& reference = fidelity_preset("reference");
 
   TradeoffLadder ladder;
@@ -156,7 +155,6 @@ TradeoffLadder tradeoff_ladder(const Scene& scene, const TradeoffOptions& o) {
     }
     knob("smoothing", {"wear.smoothing_radius"}, values);
   }
-  (void)standard;
   return ladder;
 }
 

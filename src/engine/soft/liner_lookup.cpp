@@ -9,6 +9,14 @@ namespace millwear::soft {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
+// A stand-in for the polar angle that increases with it, in [0, 4) (the "diamond angle":
+// position along the unit L1 circle). One division instead of an atan2. d/dtheta lies in
+// [1/2, 1], so a bin of width w in it spans at most 2w radians.
+double pseudo_angle(double x, double y) {
+  if (y >= 0.0) return x >= 0.0 ? y / (x + y) : 1.0 - x / (y - x);
+  return x < 0.0 ? 2.0 - y / (-x - y) : 3.0 + x / (x - y);
+}
+
 double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 ab = b - a;
   const double t = std::clamp(dot(p - a, ab) / length_sq(ab), 0.0, 1.0);
@@ -47,18 +55,24 @@ void LinerLookup::build(const MillGeometry& mill, double reach_m) {
     return;
   }
   // A centre within reach of a liner point sits at radius >= inner - reach, so the point is
-  // at most asin(reach / (inner - reach)) away in angle.
+  // at most asin(reach / (inner - reach)) away in angle. Bins are uniform in the pseudo-angle
+  // (no atan2 per query); one bin at most reach / inner radians wide.
   const double spread = std::asin(std::min(1.0, reach_m / (inner_m_ - reach_m)));
-  bins_ = std::max(16, static_cast<int>(std::ceil(2.0 * kPi * inner_m_ / reach_m)));
-  bins_per_rad_ = bins_ / (2.0 * kPi);
+  bins_ = std::max(16, static_cast<int>(std::ceil(8.0 * inner_m_ / reach_m)));
+  bins_per_unit_ = bins_ / 4.0;
   std::vector<std::vector<int>> lists(static_cast<std::size_t>(bins_));
   for (std::size_t k = 0; k < n; ++k) {
     const Vec2 a = a_[k], b = mill.boundary[(k + 1) % n];
     double t0 = std::atan2(a.y, a.x);
     double t1 = t0 + std::remainder(std::atan2(b.y, b.x) - t0, 2.0 * kPi);
     if (t1 < t0) std::swap(t0, t1);
-    const int lo = static_cast<int>(std::floor((t0 - spread) * bins_per_rad_));
-    const int hi = static_cast<int>(std::floor((t1 + spread) * bins_per_rad_));
+    // The edge's angular range widened by the spread, in pseudo-angle bins, with a slack of
+    // 1e-9 (far above the rounding of the angle and pseudo-angle) against bin borders.
+    const double p0 = pseudo_angle(std::cos(t0 - spread), std::sin(t0 - spread)) - 1e-9;
+    double p1 = pseudo_angle(std::cos(t1 + spread), std::sin(t1 + spread)) + 1e-9;
+    if (p1 < p0) p1 += 4.0;
+    const int lo = static_cast<int>(std::floor(p0 * bins_per_unit_));
+    const int hi = static_cast<int>(std::floor(p1 * bins_per_unit_));
     for (int q = lo; q <= hi && q < lo + bins_; ++q)
       lists[static_cast<std::size_t>(((q % bins_) + bins_) % bins_)].push_back(static_cast<int>(k));
   }
@@ -75,9 +89,7 @@ void LinerLookup::build(const MillGeometry& mill, double reach_m) {
 int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out, int capacity) const {
   int bin = 0;
   if (binned_) {
-    double phi = std::atan2(p.y, p.x);
-    if (phi < 0.0) phi += 2.0 * kPi;
-    bin = std::min(static_cast<int>(phi * bins_per_rad_), bins_ - 1);
+    bin = std::min(static_cast<int>(pseudo_angle(p.x, p.y) * bins_per_unit_), bins_ - 1);
   }
   const int n = static_cast<int>(a_.size());
   int count = 0;

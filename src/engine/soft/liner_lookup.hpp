@@ -1,6 +1,7 @@
 #pragma once
 // The liner of the soft backend, fixed in the mill frame. Disks are turned into the mill
-// frame and find their candidate edges through angle bins (an O(1) static lookup): a disk
+// frame and find their candidate edges through angle bins (an O(1) static lookup, binned by
+// a pseudo-angle that needs no atan2): a disk
 // far from the wall costs one radius test, a disk near it a handful of segment tests.
 //
 // Vertices are owned so that no contact is counted twice: edge k owns the points whose
@@ -55,7 +56,7 @@ class LinerLookup {
   bool binned_ = false;
   double inner_m_ = 0.0;    // smallest distance from the axis to the liner
   double reach_m_ = 0.0;
-  double bins_per_rad_ = 0.0;
+  double bins_per_unit_ = 0.0;  // bins per unit of pseudo-angle (4 units a turn)
 };
 
 }  // namespace millwear::soft

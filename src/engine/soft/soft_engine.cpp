@@ -16,6 +16,11 @@
 //
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
 //
+// Data. The substep passes touch a disk's velocity, displacement and inverse mass and
+// inertia: one 64-byte Body per disk. A contact is a hot row (what the passes read and
+// write), its step sums (relax) and its cold info (matching, restitution, accounting), three
+// flat arrays in key order kept at their high-water mark: no allocation per step once warm.
+//
 // Contacts. A contact's normal, anchors and liner velocity are fixed for the step (computed
 // once, as Box2D does); substeps update only the separation, s = s0 + n . (dp_a - dp_b),
 // with dp the displacement since the step began (the liner's: its velocity at the contact
@@ -74,23 +79,89 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// One contact, persisted across steps (warm starting), flat and plain.
-struct Contact {
-  std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | edge for liner
-  int a = 0, b = -1;       // internal disk indices; b = -1 for the liner
+// Solver state of one disk: everything a contact row reads or writes during the substeps,
+// in one 64-byte cache line (a pair row touches two lines, not fourteen scattered arrays).
+struct alignas(64) Body {
+  double vx = 0, vy = 0, w = 0;   // velocity
+  double dpx = 0, dpy = 0;        // displacement since the step began
+  double im = 0, ii = 0;          // inverse mass and inertia (0: inactive)
+};
+
+// Contacts are split by how often they are touched. The row is the hot part, read and
+// written by every warm start, solve and relax pass (4 x 3 passes a step); the step sums
+// are written once per substep (relax); the info is cold (matching, restitution,
+// accounting). All three are flat arrays in the same (key) order.
+struct PairRow {
+  int a = 0, b = 0;            // internal disk indices, a < b
+  double nx = 0, ny = 0;       // unit normal from b toward a
+  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
+  double s0 = 0;               // separation at the start of the step
+  double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
+  double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
+  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
+};
+struct LinerRow {
+  int a = 0;
+  double nx = 0, ny = 0;       // unit normal from the liner toward a
+  double alpha = 0;            // anchor r_a = -alpha n
+  double s0 = 0;
+  double vlx = 0, vly = 0;     // liner velocity at the contact point
+  double mn = 0, mt = 0, mr = 0;
+  double mu = 0, lever = 0;
+  double ln = 0, lt = 0, lr = 0;
+};
+struct StepSum {
+  double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
+};
+struct ContactInfo {
+  std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
   int edge = -1;           // liner edge the contact's work goes to
   int owner = -1;          // liner edge that found it (its key)
-  double nx = 0, ny = 0;   // unit normal from b (or the liner) toward a
-  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
   double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
-  double vlx = 0, vly = 0; // liner velocity at the contact point (0 for disk pairs)
-  double s0 = 0;           // separation at the start of the step
-  double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
-  double mu = 0, e = 0, lever = 0;
+  double e = 0;            // restitution
   double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
-  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
-  double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
   double event_J = 0;      // energy dissipated since this collision began (spectrum)
+};
+
+// A disk as the pair search sees it, stored in grid order so that the 3x3 cells' candidates
+// are read from contiguous memory.
+struct Candidate {
+  double x, y, r, marg;
+  int j;
+};
+
+// The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
+// use, so adding a contact is a bounds check and plain stores, no construction.
+template <class Row>
+struct ContactSet {
+  std::vector<Row> row;
+  std::vector<StepSum> sum;
+  std::vector<ContactInfo> info;
+  std::size_t n = 0;
+  std::size_t size() const { return n; }
+  void clear() { n = 0; }
+  void reserve(std::size_t m) {
+    if (row.size() >= m) return;
+    row.resize(m);
+    sum.resize(m);
+    info.resize(m);
+  }
+  void resize(std::size_t m) {
+    reserve(m);
+    n = m;
+  }
+  void swap(ContactSet& o) {
+    row.swap(o.row);
+    sum.swap(o.sum);
+    info.swap(o.info);
+    std::swap(n, o.n);
+  }
+  // Append a contact with zero step sums; the caller writes every field of row and info.
+  std::size_t add() {
+    if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
+    sum[n] = StepSum{};
+    return n++;
+  }
 };
 
 struct Softness {
@@ -127,14 +198,16 @@ class SoftEngine final : public Engine {
   void warm_start_match();
   void solve();
   template <bool kBias>
-  void solve_pass(double elapsed_s, bool accumulate);
+  void solve_pass(double elapsed_s);
   void warm_start();
   void restitution();
   void finish();
   void account_contacts();
   void check_inside_liner();
   void remove_disk(int i, const std::string& why);
-  Contact make_pair_contact(int i, int j) const;
+  void add_pair_contact(int i, int j);
+  template <class Row>
+  void sort_by_key(ContactSet<Row>& set, ContactSet<Row>& spare);
 
   // Description (fixed).
   double dt_ = 1.0 / 600.0;
@@ -148,19 +221,25 @@ class SoftEngine final : public Engine {
   std::vector<double> mu_pair_, e_pair_, rr_pair_;   // species x species
   std::vector<double> mu_liner_, e_liner_, rr_;      // per species
 
-  // Disk state, structure of arrays, in internal (cell) order; id_ maps to the caller's.
+  // Disk state in internal (cell) order; id_ maps to the caller's. The solver's part is an
+  // array of Body (one cache line each); the rest is structure of arrays.
   int n_ = 0;
   std::vector<int> id_;
-  std::vector<double> x_, y_, vx_, vy_, w_, ang_, im_, ii_, r_, mass_;
+  std::vector<Body> body_;
+  std::vector<double> x_, y_, ang_, r_, mass_;
   std::vector<unsigned char> act_;
   std::vector<std::uint8_t> sp_;
-  std::vector<double> dpx_, dpy_, x0_, y0_, vbx_, vby_, wb_, marg_;
+  std::vector<double> x0_, y0_, vbx_, vby_, wb_, marg_;
   std::vector<double> scratch_d_;
-  std::vector<int> scratch_i_, inverse_;
+  std::vector<Body> scratch_body_;
+  std::vector<int> scratch_i_, scratch_ids_, inverse_;
   std::vector<unsigned char> scratch_u_;
+  std::vector<std::pair<std::uint64_t, int>> scratch_keys_;
+  std::vector<Candidate> cand_;   // grid order
 
   // Contacts: current and last step's, each sorted by key.
-  std::vector<Contact> pp_, pl_, pp_old_, pl_old_;
+  ContactSet<PairRow> pp_, pp_old_;
+  ContactSet<LinerRow> pl_, pl_old_;
   soft::Grid grid_;
   soft::LinerLookup liner_;
   MillGeometry mill_;
@@ -228,30 +307,37 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
 
   const auto n = static_cast<std::size_t>(n_);
   id_.resize(n);
-  x_.resize(n); y_.resize(n); vx_.resize(n); vy_.resize(n); w_.resize(n); ang_.resize(n);
-  im_.resize(n); ii_.resize(n); r_.resize(n); mass_.resize(n); act_.resize(n); sp_.resize(n);
+  body_.resize(n);
+  x_.resize(n); y_.resize(n); ang_.resize(n);
+  r_.resize(n); mass_.resize(n); act_.resize(n); sp_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     id_[i] = static_cast<int>(i);
     x_[i] = state_.position_m[i].x;
     y_[i] = state_.position_m[i].y;
-    vx_[i] = state_.velocity_m_s[i].x;
-    vy_[i] = state_.velocity_m_s[i].y;
-    w_[i] = state_.spin_rad_s[i];
+    Body& b = body_[i];
+    b.vx = state_.velocity_m_s[i].x;
+    b.vy = state_.velocity_m_s[i].y;
+    b.w = state_.spin_rad_s[i];
     ang_[i] = state_.angle_rad[i];
     r_[i] = state_.radius_m[i];
     mass_[i] = state_.mass_kg[i];
     sp_[i] = state_.species[i];
     act_[i] = state_.active[i];
     // A disk's moment of inertia is m r^2 / 2.
-    im_[i] = act_[i] ? 1.0 / mass_[i] : 0.0;
-    ii_[i] = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
+    b.im = act_[i] ? 1.0 / mass_[i] : 0.0;
+    b.ii = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
   }
-  for (auto* v : {&dpx_, &dpy_, &x0_, &y0_, &vbx_, &vby_, &wb_, &marg_, &scratch_d_}) v->assign(n, 0.0);
+  for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &marg_, &scratch_d_}) v->assign(n, 0.0);
+  scratch_body_.resize(n);
   scratch_i_.assign(n, 0);
+  scratch_ids_.assign(n, 0);
   inverse_.assign(n, 0);
   scratch_u_.assign(n, 0);
   const std::size_t expected_contacts = 4 * n + 16;
-  for (auto* v : {&pp_, &pl_, &pp_old_, &pl_old_}) v->reserve(expected_contacts);
+  for (auto* v : {&pp_, &pp_old_}) v->reserve(expected_contacts);
+  for (auto* v : {&pl_, &pl_old_}) v->reserve(n + 16);
+  scratch_keys_.reserve(expected_contacts);
+  cand_.reserve(n);
   set_liner(mill);
   reset_window();
 }
@@ -283,13 +369,32 @@ void SoftEngine::set_liner(const MillGeometry& mill) {
 void SoftEngine::remove_disk(int i, const std::string& why) {
   const auto k = static_cast<std::size_t>(i);
   act_[k] = 0;
-  im_[k] = 0.0;
-  ii_[k] = 0.0;
+  body_[k].im = 0.0;
+  body_[k].ii = 0.0;
   state_.active[static_cast<std::size_t>(id_[k])] = 0;
   events_.push_back({state_.time_s, "disk " + std::to_string(id_[k]) + " " + why});
 }
 
 // ---- 2. broad phase helpers -------------------------------------------------------------
+
+// Sort a contact set by key (keys are unique, so any sort gives the same order), through
+// the spare set (whose contents are dead at this point) and scratch memory sized at
+// warm-up: no allocation.
+template <class Row>
+void SoftEngine::sort_by_key(ContactSet<Row>& set, ContactSet<Row>& spare) {
+  const std::size_t m = set.size();
+  scratch_keys_.clear();
+  for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.info[k].key, static_cast<int>(k));
+  std::sort(scratch_keys_.begin(), scratch_keys_.end());
+  spare.resize(m);
+  for (std::size_t t = 0; t < m; ++t) {
+    const auto k = static_cast<std::size_t>(scratch_keys_[t].second);
+    spare.row[t] = set.row[k];
+    spare.sum[t] = set.sum[k];
+    spare.info[t] = set.info[k];
+  }
+  set.swap(spare);
+}
 
 // Permute every per-disk array into grid order (active disks by cell, then the inactive),
 // and carry the contacts over to the new indices. Deterministic: the grid order is.
@@ -305,15 +410,17 @@ void SoftEngine::reorder_by_cell() {
     for (std::size_t i = 0; i < n; ++i) scratch_d_[i] = v[static_cast<std::size_t>(perm[i])];
     v.swap(scratch_d_);
   };
-  for (auto* v : {&x_, &y_, &vx_, &vy_, &w_, &ang_, &im_, &ii_, &r_, &mass_, &marg_}) permute_d(*v);
+  for (auto* v : {&x_, &y_, &ang_, &r_, &mass_, &marg_}) permute_d(*v);
+  for (std::size_t i = 0; i < n; ++i) scratch_body_[i] = body_[static_cast<std::size_t>(perm[i])];
+  body_.swap(scratch_body_);
   for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = act_[static_cast<std::size_t>(perm[i])];
   act_.swap(scratch_u_);
   for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = sp_[static_cast<std::size_t>(perm[i])];
   sp_.swap(scratch_u_);
-  std::vector<int> ids(n);  // rare (every kReorderInterval steps): a small allocation is fine
-  for (std::size_t i = 0; i < n; ++i) ids[i] = id_[static_cast<std::size_t>(perm[i])];
-  id_.swap(ids);
-  for (Contact& c : pp_) {
+  for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = id_[static_cast<std::size_t>(perm[i])];
+  id_.swap(scratch_ids_);
+  for (std::size_t q = 0; q < pp_.size(); ++q) {
+    PairRow& c = pp_.row[q];
     int a = inverse_[static_cast<std::size_t>(c.a)], b = inverse_[static_cast<std::size_t>(c.b)];
     if (a > b) {
       // Swapping the roles flips the normal and tangent: the tangent impulse on the new a
@@ -323,26 +430,32 @@ void SoftEngine::reorder_by_cell() {
     }
     c.a = a;
     c.b = b;
-    c.key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+    pp_.info[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
   }
-  for (Contact& c : pl_) {
+  for (std::size_t q = 0; q < pl_.size(); ++q) {
+    LinerRow& c = pl_.row[q];
     c.a = inverse_[static_cast<std::size_t>(c.a)];
-    c.key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(c.owner);
+    pl_.info[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
   }
-  auto by_key = [](const Contact& p, const Contact& q) { return p.key < q.key; };
-  std::sort(pp_.begin(), pp_.end(), by_key);
-  std::sort(pl_.begin(), pl_.end(), by_key);
+  // The old sets hold the step before last: dead, so they serve as sort buffers.
+  sort_by_key(pp_, pp_old_);
+  sort_by_key(pl_, pl_old_);
   grid_.build(x_.data(), y_.data(), act_.data(), n_, grid_.cell);
 }
 
 // ---- 3. narrow phase --------------------------------------------------------------------
 
-Contact SoftEngine::make_pair_contact(int i, int j) const {
+void SoftEngine::add_pair_contact(int i, int j) {
   const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
-  Contact c;
+  const std::size_t q = pp_.add();
+  PairRow& c = pp_.row[q];
+  ContactInfo& info = pp_.info[q];
   c.a = i;
   c.b = j;
-  c.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+  c.ln = c.lt = c.lr = 0.0;
+  info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+  info.edge = info.owner = -1;
+  info.event_J = 0.0;
   const double dx = x_[a] - x_[b], dy = y_[a] - y_[b];
   const double dist = std::sqrt(dx * dx + dy * dy);
   if (dist > 0.0) {
@@ -356,55 +469,66 @@ Contact SoftEngine::make_pair_contact(int i, int j) const {
   // The contact point is midway between the two surfaces.
   c.alpha = r_[a] + 0.5 * c.s0;
   c.beta = r_[b] + 0.5 * c.s0;
-  c.px = x_[a] - c.alpha * c.nx;
-  c.py = y_[a] - c.alpha * c.ny;
-  const double im = im_[a] + im_[b];
+  info.px = x_[a] - c.alpha * c.nx;
+  info.py = y_[a] - c.alpha * c.ny;
+  const Body& A = body_[a];
+  const Body& B = body_[b];
+  const double im = A.im + B.im;
   c.mn = im > 0.0 ? 1.0 / im : 0.0;
-  const double it = im + ii_[a] * c.alpha * c.alpha + ii_[b] * c.beta * c.beta;
+  const double it = im + A.ii * c.alpha * c.alpha + B.ii * c.beta * c.beta;
   c.mt = it > 0.0 ? 1.0 / it : 0.0;
-  const double ir = ii_[a] + ii_[b];
+  const double ir = A.ii + B.ii;
   c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
   const std::size_t pair = static_cast<std::size_t>(sp_[a]) * static_cast<std::size_t>(species_count_) + sp_[b];
   c.mu = mu_pair_[pair];
-  c.e = e_pair_[pair];
+  info.e = e_pair_[pair];
   // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
   // convention; a disk on a flat liner gets its own radius).
   c.lever = rr_pair_[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
-  c.vn0 = (vx_[a] - vx_[b]) * c.nx + (vy_[a] - vy_[b]) * c.ny;
-  return c;
+  info.vn0 = (A.vx - B.vx) * c.nx + (A.vy - B.vy) * c.ny;
 }
 
 // Pairs from the 3x3 cells around each disk, j > i only, in (i, j) order: sorted by key.
 void SoftEngine::find_pairs() {
   pp_.clear();
   const int dim = grid_.dim;
-  const int* order = grid_.order.data();
   const int* start = grid_.start.data();
+  const double* x = x_.data();
+  const double* y = y_.data();
+  const double* r = r_.data();
+  const double* marg = marg_.data();
+  const int placed = grid_.placed();
+  cand_.resize(static_cast<std::size_t>(placed));
+  for (int k = 0; k < placed; ++k) {
+    const int j = grid_.order[static_cast<std::size_t>(k)];
+    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j], marg[j], j};
+  }
+  const Candidate* grid_disks = cand_.data();
   int cand[64];
   for (int i = 0; i < n_; ++i) {
     const int cell = grid_.cell_of[static_cast<std::size_t>(i)];
     if (cell < 0) continue;
     const int cx = cell % dim, cy = cell / dim;
-    const double xi = x_[static_cast<std::size_t>(i)], yi = y_[static_cast<std::size_t>(i)];
-    const double reach_i = r_[static_cast<std::size_t>(i)] + marg_[static_cast<std::size_t>(i)];
+    const double xi = x[i], yi = y[i];
+    const double reach_i = r[i] + marg[i];
     int count = 0;
+    const int x_lo = std::max(cx - 1, 0), x_hi = std::min(cx + 1, dim - 1);
     for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, dim - 1); ++gy) {
       const int row = gy * dim;
-      const int k0 = start[row + std::max(cx - 1, 0)];
-      const int k1 = start[row + std::min(cx + 1, dim - 1) + 1];
+      const int k0 = start[row + x_lo];
+      const int k1 = start[row + x_hi + 1];
       for (int k = k0; k < k1; ++k) {
-        const int j = order[k];
-        if (j <= i) continue;
-        const auto jj = static_cast<std::size_t>(j);
-        const double dx = xi - x_[jj], dy = yi - y_[jj];
-        const double reach = reach_i + r_[jj] + marg_[jj];
-        if (dx * dx + dy * dy < reach * reach && count < 64) cand[count++] = j;
+        const Candidate& d = grid_disks[k];
+        if (d.j <= i) continue;
+        const double dx = xi - d.x, dy = yi - d.y;
+        const double reach = reach_i + d.r + d.marg;
+        if (dx * dx + dy * dy < reach * reach && count < 64) cand[count++] = d.j;
       }
     }
     // A handful of candidates: insertion sort keeps the list in key order.
     for (int p = 1; p < count; ++p)
       for (int q = p; q > 0 && cand[q - 1] > cand[q]; --q) std::swap(cand[q - 1], cand[q]);
-    for (int p = 0; p < count; ++p) pp_.push_back(make_pair_contact(i, cand[p]));
+    for (int p = 0; p < count; ++p) add_pair_contact(i, cand[p]);
   }
 }
 
@@ -424,32 +548,34 @@ void SoftEngine::find_liner_contacts() {
     const Vec2 pm{cs * x_[k] + sn * y_[k], -sn * x_[k] + cs * y_[k]};
     if (!liner_.may_touch(pm, r_[k] + margin)) continue;
     const int count = liner_.query(pm, r_[k], margin, hits, kMaxLinerHits);
-    for (int q = 0; q < count; ++q) {
-      const soft::LinerHit& hit = hits[q];
-      Contact c;
+    const Body& A = body_[k];
+    for (int h = 0; h < count; ++h) {
+      const soft::LinerHit& hit = hits[h];
+      const std::size_t q = pl_.add();
+      LinerRow& c = pl_.row[q];
+      ContactInfo& info = pl_.info[q];
       c.a = i;
-      c.b = -1;
-      c.edge = hit.edge;
-      c.owner = hit.owner;
-      c.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner);
+      c.ln = c.lt = c.lr = 0.0;
+      info.event_J = 0.0;
+      info.edge = hit.edge;
+      info.owner = hit.owner;
+      info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner);
       c.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
       c.ny = sn * hit.normal.x + cs * hit.normal.y;
       c.s0 = hit.gap;
       c.alpha = r_[k] + 0.5 * c.s0;
-      c.beta = 0.0;
-      c.px = x_[k] - c.alpha * c.nx;
-      c.py = y_[k] - c.alpha * c.ny;
-      c.vlx = -omega * c.py;
-      c.vly = omega * c.px;
-      c.mn = im_[k] > 0.0 ? 1.0 / im_[k] : 0.0;
-      const double it = im_[k] + ii_[k] * c.alpha * c.alpha;
+      info.px = x_[k] - c.alpha * c.nx;
+      info.py = y_[k] - c.alpha * c.ny;
+      c.vlx = -omega * info.py;
+      c.vly = omega * info.px;
+      c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
+      const double it = A.im + A.ii * c.alpha * c.alpha;
       c.mt = it > 0.0 ? 1.0 / it : 0.0;
-      c.mr = ii_[k] > 0.0 ? 1.0 / ii_[k] : 0.0;
+      c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
       c.mu = mu_liner_[sp_[k]];
-      c.e = e_liner_[sp_[k]];
+      info.e = e_liner_[sp_[k]];
       c.lever = rr_[sp_[k]] * r_[k];
-      c.vn0 = (vx_[k] - c.vlx) * c.nx + (vy_[k] - c.vly) * c.ny;
-      pl_.push_back(c);
+      info.vn0 = (A.vx - c.vlx) * c.nx + (A.vy - c.vly) * c.ny;
     }
   }
 }
@@ -458,23 +584,27 @@ void SoftEngine::find_liner_contacts() {
 // A disk-pair contact that ended closes its collision event for the spectrum.
 void SoftEngine::warm_start_match() {
   const bool spectrum = accounting_.options.collision_spectrum;
-  auto merge = [&](std::vector<Contact>& now, const std::vector<Contact>& old, bool events) {
+  auto merge = [&](auto& now, const auto& old, bool events) {
     std::size_t p = 0;
-    for (Contact& c : now) {
-      while (p < old.size() && old[p].key < c.key) {
-        if (events && old[p].event_J > 0.0) account_collision_event(accounting_, old[p].event_J);
+    const std::size_t m = old.size();
+    for (std::size_t q = 0; q < now.size(); ++q) {
+      ContactInfo& c = now.info[q];
+      while (p < m && old.info[p].key < c.key) {
+        if (events && old.info[p].event_J > 0.0) account_collision_event(accounting_, old.info[p].event_J);
         ++p;
       }
-      if (p < old.size() && old[p].key == c.key) {
-        c.ln = old[p].ln;
-        c.lt = old[p].lt;
-        c.lr = old[p].lr;
-        c.event_J = old[p].event_J;
+      if (p < m && old.info[p].key == c.key) {
+        auto& row = now.row[q];
+        const auto& prev = old.row[p];
+        row.ln = prev.ln;
+        row.lt = prev.lt;
+        row.lr = prev.lr;
+        c.event_J = old.info[p].event_J;
         ++p;
       }
     }
-    for (; p < old.size(); ++p)
-      if (events && old[p].event_J > 0.0) account_collision_event(accounting_, old[p].event_J);
+    for (; p < m; ++p)
+      if (events && old.info[p].event_J > 0.0) account_collision_event(accounting_, old.info[p].event_J);
   };
   merge(pp_, pp_old_, spectrum);
   merge(pl_, pl_old_, false);
@@ -482,49 +612,48 @@ void SoftEngine::warm_start_match() {
 
 // ---- 4. solve ---------------------------------------------------------------------------
 
+// Every pass below loads the two bodies of a row into locals, applies the row, and stores
+// them back once: the same arithmetic in the same order as updating the arrays in place,
+// without the reloads that possible aliasing would force.
 void SoftEngine::warm_start() {
-  double* vx = vx_.data();
-  double* vy = vy_.data();
-  double* w = w_.data();
-  const double* im = im_.data();
-  const double* ii = ii_.data();
-  for (const Contact& c : pp_) {
+  Body* body = body_.data();
+  for (std::size_t q = 0; q < pp_.size(); ++q) {
+    const PairRow& c = pp_.row[q];
+    Body& A = body[c.a];
+    Body& B = body[c.b];
     const double px = c.ln * c.nx - c.lt * c.ny, py = c.ln * c.ny + c.lt * c.nx;
-    vx[c.a] += im[c.a] * px;
-    vy[c.a] += im[c.a] * py;
-    w[c.a] += ii[c.a] * (c.lr - c.alpha * c.lt);
-    vx[c.b] -= im[c.b] * px;
-    vy[c.b] -= im[c.b] * py;
-    w[c.b] += ii[c.b] * (-c.lr - c.beta * c.lt);
+    A.vx += A.im * px;
+    A.vy += A.im * py;
+    A.w += A.ii * (c.lr - c.alpha * c.lt);
+    B.vx -= B.im * px;
+    B.vy -= B.im * py;
+    B.w += B.ii * (-c.lr - c.beta * c.lt);
   }
-  for (const Contact& c : pl_) {
+  for (std::size_t q = 0; q < pl_.size(); ++q) {
+    const LinerRow& c = pl_.row[q];
+    Body& A = body[c.a];
     const double px = c.ln * c.nx - c.lt * c.ny, py = c.ln * c.ny + c.lt * c.nx;
-    vx[c.a] += im[c.a] * px;
-    vy[c.a] += im[c.a] * py;
-    w[c.a] += ii[c.a] * (c.lr - c.alpha * c.lt);
+    A.vx += A.im * px;
+    A.vy += A.im * py;
+    A.w += A.ii * (c.lr - c.alpha * c.lt);
   }
 }
 
 // One Gauss-Seidel pass over the disk pairs, then the liner contacts (solved last, so they
-// win: the liner must not be pushed through). kBias: the soft solve; otherwise the relax.
+// win: the liner must not be pushed through). kBias: the soft solve; otherwise the relax,
+// which also adds the substep's impulses to the step sums.
 // Friction is bounded by mu times the normal impulse, rolling resistance by its lever times
 // it (the tangent of a contact is left_perp(n); r_a = -alpha n gives r_a x t = -alpha).
 template <bool kBias>
-void SoftEngine::solve_pass(double elapsed_s, bool accumulate) {
+void SoftEngine::solve_pass(double elapsed_s) {
   const double h = dt_ / substeps_;
   const double inv_h = 1.0 / h;
   const Softness soft = make_softness(hertz_, zeta_, h);
   const Softness soft_liner = make_softness(2.0 * hertz_, zeta_, h);
   const double push = push_out_m_s_;
-  double* vx = vx_.data();
-  double* vy = vy_.data();
-  double* w = w_.data();
-  const double* im = im_.data();
-  const double* ii = ii_.data();
-  const double* dpx = dpx_.data();
-  const double* dpy = dpy_.data();
+  Body* body = body_.data();
 
-  auto normal_row = [&](Contact& c, double s, double vn, const Softness& sf) {
+  auto normal_row = [&](auto& c, double s, double vn, const Softness& sf) {
     double mass_scale = 1.0, impulse_scale = 0.0, bias = 0.0;
     if (s > 0.0) {
       bias = s * inv_h;  // speculative: close the gap, no more
@@ -540,70 +669,98 @@ void SoftEngine::solve_pass(double elapsed_s, bool accumulate) {
     return d;
   };
 
-  for (Contact& c : pp_) {
-    const int a = c.a, b = c.b;
-    const double s = c.s0 + c.nx * (dpx[a] - dpx[b]) + c.ny * (dpy[a] - dpy[b]);
-    const double vn = c.nx * (vx[a] - vx[b]) + c.ny * (vy[a] - vy[b]);
+  const std::size_t npp = pp_.size();
+  PairRow* rows = pp_.row.data();
+  StepSum* sums = pp_.sum.data();
+  for (std::size_t q = 0; q < npp; ++q) {
+    PairRow& c = rows[q];
+    Body& A = body[c.a];
+    Body& B = body[c.b];
+    double vax = A.vx, vay = A.vy, wa = A.w;
+    double vbx = B.vx, vby = B.vy, wb = B.w;
+    const double ima = A.im, imb = B.im, iia = A.ii, iib = B.ii;
+    const double s = c.s0 + c.nx * (A.dpx - B.dpx) + c.ny * (A.dpy - B.dpy);
+    const double vn = c.nx * (vax - vbx) + c.ny * (vay - vby);
+    // A speculative row with no impulse whose gap does not close this substep applies
+    // nothing (normal impulse max(0 - m (vn + s/h), 0) = 0, friction and rolling bounded by
+    // it): skip it. Many rows are such margins kept against tunnelling.
+    if (s > 0.0 && vn + s * inv_h >= 0.0 && c.ln == 0.0 && c.lt == 0.0 && c.lr == 0.0) continue;
     const double dn = normal_row(c, s, vn, soft);
-    vx[a] += im[a] * dn * c.nx;
-    vy[a] += im[a] * dn * c.ny;
-    vx[b] -= im[b] * dn * c.nx;
-    vy[b] -= im[b] * dn * c.ny;
+    vax += ima * dn * c.nx;
+    vay += ima * dn * c.ny;
+    vbx -= imb * dn * c.nx;
+    vby -= imb * dn * c.ny;
     // Friction.
     const double tx = -c.ny, ty = c.nx;
-    const double vt = tx * (vx[a] - vx[b]) + ty * (vy[a] - vy[b]) - c.alpha * w[a] - c.beta * w[b];
+    const double vt = tx * (vax - vbx) + ty * (vay - vby) - c.alpha * wa - c.beta * wb;
     const double bound = c.mu * c.ln;
     const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
     const double dt_imp = lt - c.lt;
     c.lt = lt;
-    vx[a] += im[a] * dt_imp * tx;
-    vy[a] += im[a] * dt_imp * ty;
-    w[a] -= ii[a] * c.alpha * dt_imp;
-    vx[b] -= im[b] * dt_imp * tx;
-    vy[b] -= im[b] * dt_imp * ty;
-    w[b] -= ii[b] * c.beta * dt_imp;
+    vax += ima * dt_imp * tx;
+    vay += ima * dt_imp * ty;
+    wa -= iia * c.alpha * dt_imp;
+    vbx -= imb * dt_imp * tx;
+    vby -= imb * dt_imp * ty;
+    wb -= iib * c.beta * dt_imp;
     // Rolling resistance.
     if (c.lever > 0.0) {
       const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (w[a] - w[b]), -rb, rb);
+      const double lr = std::clamp(c.lr - c.mr * (wa - wb), -rb, rb);
       const double dr = lr - c.lr;
       c.lr = lr;
-      w[a] += ii[a] * dr;
-      w[b] -= ii[b] * dr;
+      wa += iia * dr;
+      wb -= iib * dr;
     }
-    if (accumulate) {
-      c.pn += c.ln;
-      c.pt += c.lt;
-      c.pr += c.lr;
+    A.vx = vax;
+    A.vy = vay;
+    A.w = wa;
+    B.vx = vbx;
+    B.vy = vby;
+    B.w = wb;
+    if (!kBias) {
+      sums[q].pn += c.ln;
+      sums[q].pt += c.lt;
+      sums[q].pr += c.lr;
     }
   }
   const double omega = state_.mill_speed_rad_s;
-  for (Contact& c : pl_) {
-    const int a = c.a;
-    const double s = c.s0 + c.nx * (dpx[a] - c.vlx * elapsed_s) + c.ny * (dpy[a] - c.vly * elapsed_s);
-    const double vn = c.nx * (vx[a] - c.vlx) + c.ny * (vy[a] - c.vly);
+  const std::size_t npl = pl_.size();
+  LinerRow* lrows = pl_.row.data();
+  StepSum* lsums = pl_.sum.data();
+  for (std::size_t q = 0; q < npl; ++q) {
+    LinerRow& c = lrows[q];
+    Body& A = body[c.a];
+    double vax = A.vx, vay = A.vy, wa = A.w;
+    const double ima = A.im, iia = A.ii;
+    const double s = c.s0 + c.nx * (A.dpx - c.vlx * elapsed_s) + c.ny * (A.dpy - c.vly * elapsed_s);
+    const double vn = c.nx * (vax - c.vlx) + c.ny * (vay - c.vly);
+    if (s > 0.0 && vn + s * inv_h >= 0.0 && c.ln == 0.0 && c.lt == 0.0 && c.lr == 0.0) continue;
     const double dn = normal_row(c, s, vn, soft_liner);
-    vx[a] += im[a] * dn * c.nx;
-    vy[a] += im[a] * dn * c.ny;
+    vax += ima * dn * c.nx;
+    vay += ima * dn * c.ny;
     const double tx = -c.ny, ty = c.nx;
-    const double vt = tx * (vx[a] - c.vlx) + ty * (vy[a] - c.vly) - c.alpha * w[a];
+    const double vt = tx * (vax - c.vlx) + ty * (vay - c.vly) - c.alpha * wa;
     const double bound = c.mu * c.ln;
     const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
     const double dt_imp = lt - c.lt;
     c.lt = lt;
-    vx[a] += im[a] * dt_imp * tx;
-    vy[a] += im[a] * dt_imp * ty;
-    w[a] -= ii[a] * c.alpha * dt_imp;
+    vax += ima * dt_imp * tx;
+    vay += ima * dt_imp * ty;
+    wa -= iia * c.alpha * dt_imp;
     if (c.lever > 0.0) {
       const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (w[a] - omega), -rb, rb);
-      w[a] += ii[a] * (lr - c.lr);
+      const double lr = std::clamp(c.lr - c.mr * (wa - omega), -rb, rb);
+      wa += iia * (lr - c.lr);
       c.lr = lr;
     }
-    if (accumulate) {
-      c.pn += c.ln;
-      c.pt += c.lt;
-      c.pr += c.lr;
+    A.vx = vax;
+    A.vy = vay;
+    A.w = wa;
+    if (!kBias) {
+      lsums[q].pn += c.ln;
+      lsums[q].pt += c.lt;
+      lsums[q].pr += c.lr;
     }
   }
 }
@@ -612,52 +769,61 @@ void SoftEngine::solve_pass(double elapsed_s, bool accumulate) {
 // carried load get the restitution impulse that sends them apart at e times that speed.
 void SoftEngine::restitution() {
   const double thr = -restitution_threshold_m_s_;
-  double* vx = vx_.data();
-  double* vy = vy_.data();
-  const double* im = im_.data();
-  for (Contact& c : pp_) {
-    if (c.e == 0.0 || c.vn0 > thr || c.pn == 0.0) continue;
-    const double vn = c.nx * (vx[c.a] - vx[c.b]) + c.ny * (vy[c.a] - vy[c.b]);
-    const double next = std::max(c.ln - c.mn * (vn + c.e * c.vn0), 0.0);
+  Body* body = body_.data();
+  for (std::size_t q = 0; q < pp_.size(); ++q) {
+    const ContactInfo& info = pp_.info[q];
+    StepSum& sum = pp_.sum[q];
+    if (info.e == 0.0 || info.vn0 > thr || sum.pn == 0.0) continue;
+    PairRow& c = pp_.row[q];
+    Body& A = body[c.a];
+    Body& B = body[c.b];
+    const double vn = c.nx * (A.vx - B.vx) + c.ny * (A.vy - B.vy);
+    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
-    c.pn += d;
-    vx[c.a] += im[c.a] * d * c.nx;
-    vy[c.a] += im[c.a] * d * c.ny;
-    vx[c.b] -= im[c.b] * d * c.nx;
-    vy[c.b] -= im[c.b] * d * c.ny;
+    sum.pn += d;
+    A.vx += A.im * d * c.nx;
+    A.vy += A.im * d * c.ny;
+    B.vx -= B.im * d * c.nx;
+    B.vy -= B.im * d * c.ny;
   }
-  for (Contact& c : pl_) {
-    if (c.e == 0.0 || c.vn0 > thr || c.pn == 0.0) continue;
-    const double vn = c.nx * (vx[c.a] - c.vlx) + c.ny * (vy[c.a] - c.vly);
-    const double next = std::max(c.ln - c.mn * (vn + c.e * c.vn0), 0.0);
+  for (std::size_t q = 0; q < pl_.size(); ++q) {
+    const ContactInfo& info = pl_.info[q];
+    StepSum& sum = pl_.sum[q];
+    if (info.e == 0.0 || info.vn0 > thr || sum.pn == 0.0) continue;
+    LinerRow& c = pl_.row[q];
+    Body& A = body[c.a];
+    const double vn = c.nx * (A.vx - c.vlx) + c.ny * (A.vy - c.vly);
+    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
-    c.pn += d;
-    vx[c.a] += im[c.a] * d * c.nx;
-    vy[c.a] += im[c.a] * d * c.ny;
+    sum.pn += d;
+    A.vx += A.im * d * c.nx;
+    A.vy += A.im * d * c.ny;
   }
 }
 
 void SoftEngine::solve() {
   const double h = dt_ / substeps_;
   const double gh = kGravity * h;
+  Body* body = body_.data();
   for (int sub = 0; sub < substeps_; ++sub) {
     for (int i = 0; i < n_; ++i)
-      if (im_[static_cast<std::size_t>(i)] > 0.0) vy_[static_cast<std::size_t>(i)] -= gh;
+      if (body[i].im > 0.0) body[i].vy -= gh;
     warm_start();
-    solve_pass<true>(sub * h, false);
+    solve_pass<true>(sub * h);
     for (int i = 0; i < n_; ++i) {
       const auto k = static_cast<std::size_t>(i);
       if (!act_[k]) continue;
-      const double ddx = h * vx_[k], ddy = h * vy_[k];
+      Body& b = body[i];
+      const double ddx = h * b.vx, ddy = h * b.vy;
       x_[k] += ddx;
       y_[k] += ddy;
-      dpx_[k] += ddx;
-      dpy_[k] += ddy;
-      ang_[k] += h * w_[k];
+      b.dpx += ddx;
+      b.dpy += ddy;
+      ang_[k] += h * b.w;
     }
-    solve_pass<false>((sub + 1) * h, true);
+    solve_pass<false>((sub + 1) * h);
   }
   restitution();
 }
@@ -667,66 +833,73 @@ void SoftEngine::solve() {
 void SoftEngine::account_contacts() {
   const double omega = state_.mill_speed_rad_s;
   const bool spectrum = accounting_.options.collision_spectrum;
+  const Body* body = body_.data();
   ContactRecord rec;
-  for (Contact& c : pp_) {
-    if (c.pn == 0.0 && c.pt == 0.0 && c.pr == 0.0) {
+  for (std::size_t q = 0; q < pp_.size(); ++q) {
+    const StepSum& sum = pp_.sum[q];
+    ContactInfo& info = pp_.info[q];
+    if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) {
       // Apart all step: a collision that was going on has ended.
-      if (spectrum && c.event_J > 0.0) account_collision_event(accounting_, c.event_J);
-      c.event_J = 0.0;
+      if (spectrum && info.event_J > 0.0) account_collision_event(accounting_, info.event_J);
+      info.event_J = 0.0;
       continue;
     }
+    const PairRow& c = pp_.row[q];
     const auto a = static_cast<std::size_t>(c.a), b = static_cast<std::size_t>(c.b);
     if (!act_[a] || !act_[b]) continue;
     const double tx = -c.ny, ty = c.nx;
     const double dx0 = vbx_[a] - vbx_[b], dy0 = vby_[a] - vby_[b];
-    const double dx1 = vx_[a] - vx_[b], dy1 = vy_[a] - vy_[b];
+    const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
     rec.a = id_[a];
     rec.b = id_[b];
     rec.edge = -1;
-    rec.point_m = {c.px, c.py};
+    rec.point_m = {info.px, info.py};
     rec.normal = {c.nx, c.ny};
-    rec.normal_impulse = c.pn;
-    rec.tangent_impulse = c.pt;
+    rec.normal_impulse = sum.pn;
+    rec.tangent_impulse = sum.pt;
     rec.vn_before = c.nx * dx0 + c.ny * dy0;
     rec.vn_after = c.nx * dx1 + c.ny * dy1;
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a] - c.beta * wb_[b];
-    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * w_[a] - c.beta * w_[b];
+    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
     const auto lo = static_cast<std::uint64_t>(std::min(rec.a, rec.b));
     const auto hi = static_cast<std::uint64_t>(std::max(rec.a, rec.b));
     rec.key = (lo << 32) | hi;
     account_contact(accounting_, rec, omega, false);
     // The rolling couple's dissipation (no field of its own in the record).
-    const double rolling_loss = -c.pr * 0.5 * ((wb_[a] - wb_[b]) + (w_[a] - w_[b]));
+    const double rolling_loss = -sum.pr * 0.5 * ((wb_[a] - wb_[b]) + (body[a].w - body[b].w));
     accounting_.pp_tangent_J += rolling_loss;
     if (spectrum) {
-      c.event_J += -c.pn * 0.5 * (rec.vn_before + rec.vn_after) -
-                   c.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
+      info.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
+                      sum.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
     }
   }
-  for (Contact& c : pl_) {
-    if (c.pn == 0.0 && c.pt == 0.0 && c.pr == 0.0) continue;
+  for (std::size_t q = 0; q < pl_.size(); ++q) {
+    const StepSum& sum = pl_.sum[q];
+    if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) continue;
+    const LinerRow& c = pl_.row[q];
+    const ContactInfo& info = pl_.info[q];
     const auto a = static_cast<std::size_t>(c.a);
     if (!act_[a]) continue;
     const double tx = -c.ny, ty = c.nx;
     const double dx0 = vbx_[a] - c.vlx, dy0 = vby_[a] - c.vly;
-    const double dx1 = vx_[a] - c.vlx, dy1 = vy_[a] - c.vly;
+    const double dx1 = body[a].vx - c.vlx, dy1 = body[a].vy - c.vly;
     rec.a = id_[a];
     rec.b = -1;
-    rec.edge = c.edge;
-    rec.point_m = {c.px, c.py};
+    rec.edge = info.edge;
+    rec.point_m = {info.px, info.py};
     rec.normal = {c.nx, c.ny};
-    rec.normal_impulse = c.pn;
-    rec.tangent_impulse = c.pt;
+    rec.normal_impulse = sum.pn;
+    rec.tangent_impulse = sum.pt;
     rec.vn_before = c.nx * dx0 + c.ny * dy0;
     rec.vn_after = c.nx * dx1 + c.ny * dy1;
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a];
-    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * w_[a];
-    rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(c.edge);
-    account_contact(accounting_, rec, omega, edge_is_shell_[static_cast<std::size_t>(c.edge)] != 0);
+    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
+    rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(info.edge);
+    account_contact(accounting_, rec, omega, edge_is_shell_[static_cast<std::size_t>(info.edge)] != 0);
     // Rolling couple against the liner: the drive supplies it at the mill's speed.
-    accounting_.pl_tangent_J += -c.pr * (0.5 * (wb_[a] + w_[a]) - omega);
-    accounting_.torque_impulse_Nms += c.pr;
-    accounting_.drive_work_J += omega * c.pr;
+    accounting_.pl_tangent_J += -sum.pr * (0.5 * (wb_[a] + body[a].w) - omega);
+    accounting_.torque_impulse_Nms += sum.pr;
+    accounting_.drive_work_J += omega * sum.pr;
   }
 }
 
@@ -767,20 +940,20 @@ void SoftEngine::finish() {
     const auto k = static_cast<std::size_t>(i);
     if (!act_[k]) continue;
     const auto id = static_cast<std::size_t>(id_[k]);
-    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]) || !std::isfinite(vx_[k]) ||
-        !std::isfinite(vy_[k]) || !std::isfinite(w_[k])) {
+    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]) || !std::isfinite(body_[k].vx) ||
+        !std::isfinite(body_[k].vy) || !std::isfinite(body_[k].w)) {
       accounting_.non_finite += 1;
       remove_disk(i, "went non-finite");
       continue;
     }
     // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the final
     // velocity): its potential energy is the solver's share of the energy balance.
-    const double corr_y = (y_[k] - y0_[k]) - dt_ * vy_[k];
+    const double corr_y = (y_[k] - y0_[k]) - dt_ * body_[k].vy;
     accounting_.solver_position_J -= mass_[k] * g * corr_y;
     state_.position_m[id] = {x_[k], y_[k]};
-    state_.velocity_m_s[id] = {vx_[k], vy_[k]};
+    state_.velocity_m_s[id] = {body_[k].vx, body_[k].vy};
     state_.angle_rad[id] = ang_[k];
-    state_.spin_rad_s[id] = w_[k];
+    state_.spin_rad_s[id] = body_[k].w;
     const double escape_r = max_r_m_ + 0.5 * r_[k];
     if (x_[k] * x_[k] + y_[k] * y_[k] > escape_r * escape_r) {
       accounting_.escaped += 1;
@@ -798,13 +971,13 @@ void SoftEngine::step_once() {
     const auto k = static_cast<std::size_t>(i);
     x0_[k] = x_[k];
     y0_[k] = y_[k];
-    vbx_[k] = vx_[k];
-    vby_[k] = act_[k] ? vy_[k] - g * dt_ : vy_[k];
-    wb_[k] = w_[k];
-    dpx_[k] = 0.0;
-    dpy_[k] = 0.0;
+    vbx_[k] = body_[k].vx;
+    vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+    wb_[k] = body_[k].w;
+    body_[k].dpx = 0.0;
+    body_[k].dpy = 0.0;
     if (!act_[k]) continue;
-    const double speed = std::sqrt(vx_[k] * vx_[k] + vy_[k] * vy_[k]);
+    const double speed = std::sqrt(body_[k].vx * body_[k].vx + body_[k].vy * body_[k].vy);
     marg_[k] = margin_base_m_ + 1.5 * (speed + g * dt_) * dt_;
     margin_max_ = std::max(margin_max_, marg_[k]);
   }
@@ -817,9 +990,9 @@ void SoftEngine::step_once() {
       const auto k = static_cast<std::size_t>(i);
       x0_[k] = x_[k];
       y0_[k] = y_[k];
-      vbx_[k] = vx_[k];
-      vby_[k] = act_[k] ? vy_[k] - g * dt_ : vy_[k];
-      wb_[k] = w_[k];
+      vbx_[k] = body_[k].vx;
+      vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+      wb_[k] = body_[k].w;
     }
   }
   const auto t_broad = Clock::now();

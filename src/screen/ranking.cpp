@@ -1,0 +1,179 @@
+// Screened designs: results read from their run folders, ranked by life with uncertainty,
+// Pareto fronts. See ranking.hpp for the uncertainty and tie rules.
+#include "screen/ranking.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+
+namespace millwear::screen {
+
+double life_sigma_h(const std::vector<StageRate>& st, double life_h) {
+  if (!std::isfinite(life_h) || st.empty()) return std::nan("");
+  double sum = 0.0, var = 0.0;
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const double h0 = st[k].hours;
+    if (h0 >= life_h) break;
+    // The last stage's rate carries the wear to the life (the extrapolation).
+    const double h1 = k + 1 < st.size() ? std::min(st[k + 1].hours, life_h) : life_h;
+    double rate = st[k].rate_mm2_per_h, rel = st[k].rel_sem;
+    if (!(rate > 0.0) || !std::isfinite(rate)) continue;  // a worn-out or unmeasured stage
+    if (!std::isfinite(rel)) rel = 0.0;
+    const double a = rate * (h1 - h0);
+    sum += a;
+    var += (a * rel) * (a * rel);
+  }
+  if (!(sum > 0.0)) return std::nan("");
+  return life_h * std::sqrt(var) / sum;
+}
+
+namespace {
+
+double to_number(const std::string& s) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  return (s.empty() || *end != '\0') ? std::nan("") : v;
+}
+
+}  // namespace
+
+DesignResult read_design_result(const std::string& out, const Candidate& c) {
+  DesignResult r;
+  r.design = c;
+  const std::string dir = design_dir(out, c.name);
+  const std::string status_file = task_status_path(out, c.name);
+  if (!io::file_exists(status_file)) {
+    r.reason = "never run (no task.status)";
+    return r;
+  }
+  try {
+    const io::KeyValues kv = io::read_key_values(status_file);
+    const std::string status = io::find_value(kv, "status");
+    if (status == "running") {
+      r.reason = "started but did not finish (killed, crashed, or still running)";
+      return r;
+    }
+    if (status == "failed") {
+      r.status = "failed";
+      r.reason = io::find_value(kv, "reason", "failed (no reason recorded)");
+      return r;
+    }
+    if (status != "finished") {
+      r.reason = "unknown task status '" + status + "' in task.status";
+      return r;
+    }
+    const io::CsvData s = io::read_csv(io::summary_path(dir));
+    const std::size_t cd = s.column("design");
+    std::map<int, std::size_t> rows;  // stage -> row
+    for (std::size_t i = 0; i < s.row_count(); ++i)
+      if (s.text(i, cd) == c.name) rows[static_cast<int>(s.number(i, "stage"))] = i;
+    if (rows.empty() || !rows.count(0)) {
+      r.status = "failed";
+      r.reason = "no new-liner stage in summary.csv";
+      return r;
+    }
+    const std::size_t first = rows.at(0), last = rows.rbegin()->second;
+    r.life_h = s.number(first, "life_h");
+    r.life_extrapolated = s.number(first, "life_extrapolated") != 0.0;
+    r.power_kw = s.number(first, "power_kw");
+    r.collision_kw = s.number(first, "collision_kw");
+    r.utilization = s.number(first, "utilization");
+    const double hours = s.number(last, "hours");
+    r.area_loss_mm2_per_1000h =
+        hours > 0.0 ? (s.number(first, "area_mm2") - s.number(last, "area_mm2")) / hours * 1000.0 : std::nan("");
+    std::vector<StageRate> rates;
+    for (const auto& [k, row] : rows) {
+      const io::KeyValues rec = io::read_key_values(
+          io::join_path(io::stages_dir(dir), c.name + "_stage" + std::to_string(k) + ".record"));
+      StageRate sr;
+      sr.hours = to_number(io::find_value(rec, "hours"));
+      sr.rate_mm2_per_h = to_number(io::find_value(rec, "area_loss_rate_mm2_per_h"));
+      sr.rel_sem = to_number(io::find_value(rec, "area_loss_rate_rel_sem"));
+      rates.push_back(sr);
+    }
+    r.life_sigma_h = life_sigma_h(rates, r.life_h);
+    r.status = "finished";
+  } catch (const std::exception& e) {
+    r.status = "failed";
+    r.reason = std::string("results unreadable: ") + e.what();
+  }
+  return r;
+}
+
+std::vector<bool> pareto_front(const std::vector<double>& a, const std::vector<double>& b, bool b_higher) {
+  const std::size_t n = a.size();
+  std::vector<bool> front(n, false);
+  auto better_b = [b_higher](double x, double y) { return b_higher ? x > y : x < y; };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
+    bool dominated = false;
+    for (std::size_t j = 0; j < n && !dominated; ++j) {
+      if (j == i || !std::isfinite(a[j]) || !std::isfinite(b[j])) continue;
+      const bool no_worse = a[j] >= a[i] && (b[j] == b[i] || better_b(b[j], b[i]));
+      const bool better = a[j] > a[i] || better_b(b[j], b[i]);
+      dominated = no_worse && better;
+    }
+    front[i] = !dominated;
+  }
+  return front;
+}
+
+std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power_higher) {
+  std::vector<DesignResult> done, failed, missing;
+  for (auto& r : res)
+    (r.status == "finished" ? done : r.status == "failed" ? failed : missing).push_back(r);
+  // Longest life first; a life that does not exist last; equal lives in task order.
+  std::stable_sort(done.begin(), done.end(), [](const DesignResult& x, const DesignResult& y) {
+    const bool fx = std::isfinite(x.life_h), fy = std::isfinite(y.life_h);
+    if (fx != fy) return fx;
+    return fx && x.life_h > y.life_h;
+  });
+  for (std::size_t i = 0; i < done.size(); ++i) done[i].rank = static_cast<int>(i) + 1;
+  if (!done.empty() && std::isfinite(done[0].life_h)) {
+    const double best = done[0].life_h;
+    const double sb = std::isfinite(done[0].life_sigma_h) ? done[0].life_sigma_h : 0.0;
+    for (auto& r : done) {
+      if (!std::isfinite(r.life_h)) continue;
+      const double si = std::isfinite(r.life_sigma_h) ? r.life_sigma_h : 0.0;
+      r.tied_with_best = best - r.life_h <= 2.0 * std::sqrt(sb * sb + si * si);
+    }
+  }
+  std::vector<double> life, power, util;
+  for (const auto& r : done) {
+    life.push_back(r.life_h);
+    power.push_back(r.power_kw);
+    util.push_back(r.utilization);
+  }
+  const auto fp = pareto_front(life, power, power_higher);
+  const auto fu = pareto_front(life, util, true);
+  for (std::size_t i = 0; i < done.size(); ++i) {
+    done[i].pareto_power = fp[i];
+    done[i].pareto_utilization = fu[i];
+  }
+  std::vector<DesignResult> outv = done;
+  outv.insert(outv.end(), failed.begin(), failed.end());
+  outv.insert(outv.end(), missing.begin(), missing.end());
+  return outv;
+}
+
+void write_ranking(const std::string& out, const std::vector<DesignResult>& ranked) {
+  io::CsvTable t({"rank", "design", "status", "life_h", "life_sigma_h", "life_extrapolated", "tied_with_best",
+                  "power_kw", "collision_kw", "utilization", "area_loss_mm2_per_1000h", "pareto_power",
+                  "pareto_utilization", "height_mm", "top_width_mm", "leading_face_angle_deg",
+                  "trailing_face_angle_deg", "rows", "direction", "area_mm2", "reason"});
+  for (const auto& r : ranked) {
+    const Candidate& c = r.design;
+    t.add_row({r.rank, c.name, r.status, r.life_h, r.life_sigma_h, r.life_extrapolated, r.tied_with_best,
+               r.power_kw, r.collision_kw, r.utilization, r.area_loss_mm2_per_1000h, r.pareto_power,
+               r.pareto_utilization, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg, c.rows,
+               c.direction, c.area_mm2, r.reason});
+  }
+  t.write(ranking_csv(out));
+}
+
+}  // namespace millwear::screen

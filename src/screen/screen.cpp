@@ -1,0 +1,473 @@
+// Screen files -> a validated ScreenDef; the family -> candidates -> candidate files.
+//
+// Candidates are checked by the code that will run them: each candidate's scene file is
+// written and read back with load_scene and build_scene_mill, so a candidate is accepted
+// exactly when `millwear run` would accept it (one code path, not a second set of rules).
+#include "screen/screen.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "profiles/profile.hpp"
+#include "scene/table_reader.hpp"
+
+namespace millwear::screen {
+
+namespace fs = std::filesystem;
+namespace tr = toml_reader;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+// A family parameter: a number, a list of numbers, or {min, max[, steps]}.
+Axis read_axis(const tr::TableReader& r, const char* key, tr::Bounds b, const std::string& unit,
+               const std::string& file, Sampling sampling, bool integer) {
+  Axis a;
+  const toml::node* n = r.raw().get(key);
+  if (!n) return a;
+  a.given = true;
+  const std::string what = std::string(integer ? "an integer" : "a number") + " " + b.describe() +
+                           " (" + unit + "), a list of them, or {min = , max = , steps = }";
+  auto number = [&](const toml::node& e, const std::string& k) {
+    const bool ok_type = integer ? e.is_integer() : e.is_number();
+    double v = std::nan("");
+    if (ok_type) v = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
+    if (!ok_type || !std::isfinite(v) || !b.contains(v))
+      throw InputError(file, k, "expected " + std::string(integer ? "an integer" : "a number") + " " +
+                                    b.describe() + " (" + unit + "), " + tr::got_text(e) + tr::line_text(e));
+    return v;
+  };
+  const std::string full = r.full(key);
+  if (n->is_number()) {
+    a.values.push_back(number(*n, full));
+  } else if (n->is_array()) {
+    const toml::array& arr = *n->as_array();
+    if (arr.empty()) throw InputError(file, full, "expected " + what + ", got an empty list" + tr::line_text(*n));
+    for (std::size_t i = 0; i < arr.size(); ++i)
+      a.values.push_back(number(arr[i], full + "[" + std::to_string(i) + "]"));
+  } else if (n->is_table()) {
+    tr::TableReader t(*n->as_table(), full, file, nullptr, {"min", "max", "steps"});
+    if (!t.has("min")) t.missing("min", "the range's lower end (" + unit + ")");
+    if (!t.has("max")) t.missing("max", "the range's upper end (" + unit + ")");
+    a.min = number(*t.raw().get("min"), full + ".min");
+    a.max = number(*t.raw().get("max"), full + ".max");
+    if (!(a.max > a.min)) t.fail("max", "a number greater than " + full + ".min");
+    if (t.has("steps")) {
+      const int steps = static_cast<int>(*t.integer("steps", 2, 10000, "values in the range"));
+      for (int i = 0; i < steps; ++i) {
+        double v = a.min + (a.max - a.min) * i / (steps - 1);
+        if (integer) v = std::round(v);
+        if (a.values.empty() || a.values.back() != v) a.values.push_back(v);
+      }
+    } else if (sampling == Sampling::Grid) {
+      t.missing("steps", "an integer >= 2 (sampling = \"grid\" takes every value of the range)");
+    } else if (integer) {
+      for (double v = std::ceil(a.min); v <= a.max; v += 1.0) a.values.push_back(v);
+    } else {
+      a.is_range = true;
+    }
+  } else {
+    r.fail(key, what);
+  }
+  return a;
+}
+
+std::string resolve(const std::string& file, const std::string& rel) {
+  return (fs::path(file).parent_path() / fs::path(rel)).lexically_normal().string();
+}
+
+std::string fmt(double v) { return io::format_exact(v); }
+
+}  // namespace
+
+ScreenDef load_screen(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(path, "", "screen file not found or not a regular file");
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(path, "line " + std::to_string(b.line),
+                     "not valid TOML: " + std::string(e.description()) + " (column " + std::to_string(b.column) + ")");
+  }
+  ScreenDef d;
+  d.source_file = path;
+  d.name = fs::path(path).stem().string();
+  tr::TableReader top(root, "", path, nullptr, {"screen", "family"});
+  const toml::table* st = top.table("screen");
+  if (!st) top.missing("screen", "a [screen] table with base = \"scene.toml\"");
+  tr::TableReader s(*st, "screen", path, nullptr,
+                    {"name", "base", "fidelity", "stages", "stage_hours", "sampling", "samples", "seed",
+                     "equal_area", "power"});
+  if (auto v = s.string("name")) {
+    if (!io::is_valid_design_name(*v)) s.fail("name", "a name of letters, digits, '.', '-' and '_'");
+    d.name = *v;
+  }
+  const auto base = s.string("base");
+  if (!base) s.missing("base", "the base scene file, relative to the screen file");
+  d.base_scene = resolve(path, *base);
+  if (!fs::is_regular_file(d.base_scene, ec))
+    s.fail("base", "an existing scene file, relative to the screen file (tried '" + d.base_scene + "')");
+  if (auto v = s.choice("fidelity", {"draft", "standard", "reference"}))
+    d.fidelity = std::vector<std::string>{"draft", "standard", "reference"}[static_cast<std::size_t>(*v)];
+  if (auto v = s.integer("stages", 1, 10000)) d.stages = static_cast<int>(*v);
+  if (auto v = s.number("stage_hours", tr::positive(), "hours of operation")) d.stage_hours = *v;
+  if (auto v = s.choice("sampling", {"grid", "latin_hypercube"})) d.sampling = static_cast<Sampling>(*v);
+  if (d.sampling == Sampling::LatinHypercube) {
+    if (!s.has("samples")) s.missing("samples", "an integer in [1, 100000] (candidates to draw)");
+    d.samples = static_cast<int>(*s.integer("samples", 1, 100000, "candidates to draw"));
+  } else if (s.has("samples")) {
+    s.fail("samples", "no samples with sampling = \"grid\" (the grid takes every combination)");
+  }
+  if (auto v = s.integer("seed", 0, std::numeric_limits<long long>::max())) d.seed = static_cast<std::uint64_t>(*v);
+  if (auto v = s.string("equal_area")) {
+    if (*v == "base") {
+      d.equal_area = "base";
+    } else {
+      d.equal_area = resolve(path, *v);
+      if (!fs::is_regular_file(d.equal_area, ec))
+        s.fail("equal_area", "\"base\" or an existing profile file, relative to the screen file (tried '" +
+                                 d.equal_area + "')");
+      load_profile(d.equal_area);  // its errors name the profile file
+    }
+  }
+  if (auto v = s.choice("power", {"min", "max"})) d.power_higher_is_better = *v == 1;
+
+  const toml::table* ft = top.table("family");
+  static const toml::table kEmpty;
+  tr::TableReader f(ft ? *ft : kEmpty, "family", path, nullptr,
+                    {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric", "rows",
+                     "direction", "profiles"});
+  d.height_mm = read_axis(f, "height", tr::positive(), "mm", path, d.sampling, false);
+  d.top_width_mm = read_axis(f, "top_width", tr::positive(), "mm", path, d.sampling, false);
+  d.leading_deg = read_axis(f, "leading_face_angle", {0.0, 90.0, false, true}, "deg from radial", path, d.sampling, false);
+  d.trailing_deg = read_axis(f, "trailing_face_angle", {0.0, 90.0, false, true}, "deg from radial", path, d.sampling, false);
+  d.rows = read_axis(f, "rows", tr::closed(1, 1000), "lifter rows", path, d.sampling, true);
+  if (auto v = f.boolean("symmetric")) d.symmetric = *v;
+  if (d.symmetric && d.trailing_deg.given)
+    f.fail("trailing_face_angle", "no trailing_face_angle with symmetric = true (it equals the leading one)");
+  if (f.has("direction")) {
+    const toml::node* n = f.raw().get("direction");
+    auto word = [&](const toml::node& e, const std::string& k) {
+      if (!e.is_string() || (e.as_string()->get() != "uni" && e.as_string()->get() != "bi"))
+        throw InputError(path, k, "expected \"uni\" or \"bi\", " + tr::got_text(e) + tr::line_text(e));
+      return e.as_string()->get();
+    };
+    if (n->is_array() && !n->as_array()->empty()) {
+      for (std::size_t i = 0; i < n->as_array()->size(); ++i)
+        d.directions.push_back(word((*n->as_array())[i], "family.direction[" + std::to_string(i) + "]"));
+    } else {
+      d.directions.push_back(word(*n, "family.direction"));
+    }
+  }
+  if (f.has("profiles")) {
+    for (const char* k : {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric"})
+      if (f.has(k)) f.fail(k, "no trapezoid parameters with family.profiles (the profiles are the candidates)");
+    if (!d.equal_area.empty())
+      s.fail("equal_area", "no equal_area with family.profiles (it scales trapezoids only)");
+    const toml::node* n = f.raw().get("profiles");
+    if (!n->is_array() || n->as_array()->empty()) f.fail("profiles", "a list of profile files");
+    for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
+      const toml::node& e = (*n->as_array())[i];
+      const std::string k = "family.profiles[" + std::to_string(i) + "]";
+      if (!e.is_string()) throw InputError(path, k, "expected a profile file name, " + tr::got_text(e) + tr::line_text(e));
+      const std::string p = resolve(path, e.as_string()->get());
+      if (!fs::is_regular_file(p, ec))
+        throw InputError(path, k, "expected an existing profile file, relative to the screen file (tried '" + p + "')" +
+                                      tr::line_text(e));
+      load_profile(p);
+      d.profiles.push_back(p);
+    }
+  }
+  if (!d.equal_area.empty() && d.top_width_mm.given)
+    f.fail("top_width", "no top_width with screen.equal_area (the area sets the top width)");
+
+  // The base scene: its own errors name it.
+  const Scene b = load_scene(d.base_scene);
+  if (d.profiles.empty() && b.mill.lifter.form != ProfileForm::Trapezoid) {
+    for (const char* k : {"height", "leading_face_angle", "trailing_face_angle"}) {
+      const Axis& a = std::string(k) == "height" ? d.height_mm
+                      : std::string(k) == "leading_face_angle" ? d.leading_deg : d.trailing_deg;
+      if (!a.given && !(std::string(k) == "trailing_face_angle" && d.symmetric))
+        f.missing(k, "a value: the base scene's lifter is not a trapezoid, so the family must give " +
+                         std::string("height, top_width (or screen.equal_area) and both face angles"));
+    }
+    if (!d.top_width_mm.given && d.equal_area.empty())
+      f.missing("top_width", "a value, or screen.equal_area: the base scene's lifter is not a trapezoid");
+  }
+  return d;
+}
+
+std::vector<std::string> varying_parameters(const ScreenDef& d) {
+  std::vector<std::string> v;
+  if (!d.profiles.empty() && d.profiles.size() > 1) v.push_back("profile");
+  if (d.height_mm.varies()) v.push_back("height_mm");
+  if (d.top_width_mm.varies()) v.push_back("top_width_mm");
+  if (d.leading_deg.varies()) v.push_back("leading_face_angle_deg");
+  if (d.trailing_deg.varies()) v.push_back("trailing_face_angle_deg");
+  if (d.rows.varies()) v.push_back("rows");
+  if (d.directions.size() > 1) v.push_back("direction");
+  return v;
+}
+
+std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
+  // Axis values with the base scene's defaults filled in.
+  const TrapezoidDef& bt = base.mill.lifter.trapezoid;
+  const bool base_trap = base.mill.lifter.form == ProfileForm::Trapezoid;
+  auto filled = [](Axis a, double fallback) {
+    if (!a.given) a.values = {fallback};
+    return a;
+  };
+  std::vector<Axis> axes;  // order: profile, height, top, leading, trailing, rows, direction
+  Axis profile_axis;
+  for (std::size_t i = 0; i < std::max<std::size_t>(1, d.profiles.size()); ++i) profile_axis.values.push_back(double(i));
+  axes.push_back(profile_axis);
+  axes.push_back(filled(d.height_mm, base_trap ? bt.height_m * 1e3 : 0.0));
+  axes.push_back(filled(d.top_width_mm, base_trap ? bt.top_width_m * 1e3 : 0.0));
+  axes.push_back(filled(d.leading_deg, base_trap ? bt.leading_face_angle_rad / kDeg : 0.0));
+  axes.push_back(filled(d.trailing_deg, base_trap ? bt.trailing_face_angle_rad / kDeg : 0.0));
+  axes.push_back(filled(d.rows, base.mill.rows));
+  Axis dir_axis;
+  const std::string base_dir = base.mill.direction == Direction::Bidirectional ? "bi" : "uni";
+  const std::vector<std::string> dirs = d.directions.empty() ? std::vector<std::string>{base_dir} : d.directions;
+  for (std::size_t i = 0; i < dirs.size(); ++i) dir_axis.values.push_back(double(i));
+  axes.push_back(dir_axis);
+
+  std::vector<std::vector<double>> points;  // one value per axis
+  if (d.sampling == Sampling::Grid) {
+    std::vector<std::size_t> idx(axes.size(), 0);
+    for (;;) {
+      std::vector<double> p;
+      for (std::size_t a = 0; a < axes.size(); ++a) p.push_back(axes[a].values[idx[a]]);
+      points.push_back(p);
+      std::size_t a = axes.size();
+      while (a > 0) {
+        --a;
+        if (++idx[a] < axes[a].values.size()) break;
+        idx[a] = 0;
+        if (a == 0) { a = axes.size() + 1; break; }
+      }
+      if (a == axes.size() + 1) break;
+    }
+  } else {
+    // Latin hypercube: every varying axis is cut into n strata and each stratum used once,
+    // in an order shuffled by the seed. Uniforms from the top 53 bits of mt19937_64, so the
+    // sample is the same on every platform (std::uniform_real_distribution is not).
+    const std::size_t n = static_cast<std::size_t>(d.samples);
+    std::mt19937_64 rng(d.seed);
+    auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    points.assign(n, std::vector<double>(axes.size(), 0.0));
+    for (std::size_t a = 0; a < axes.size(); ++a) {
+      std::vector<std::size_t> perm(n);
+      for (std::size_t i = 0; i < n; ++i) perm[i] = i;
+      for (std::size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[rng() % i]);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double u = (static_cast<double>(perm[i]) + uniform()) / static_cast<double>(n);
+        const Axis& ax = axes[a];
+        if (ax.is_range) {
+          points[i][a] = ax.min + u * (ax.max - ax.min);
+        } else {
+          const std::size_t k = std::min(ax.values.size() - 1, static_cast<std::size_t>(u * ax.values.size()));
+          points[i][a] = ax.values[k];
+        }
+      }
+    }
+  }
+
+  double ref_area_m2 = 0.0;
+  if (d.equal_area == "base") ref_area_m2 = measure_profile(base.mill.lifter.points).area_m2;
+  else if (!d.equal_area.empty()) ref_area_m2 = measure_profile(load_profile(d.equal_area).points).area_m2;
+
+  std::vector<Candidate> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    Candidate c;
+    c.sample = static_cast<int>(i);
+    char name[32];
+    std::snprintf(name, sizeof name, points.size() > 1000 ? "d%05zu" : "d%03zu", i);
+    c.name = name;
+    c.rows = static_cast<int>(p[5]);
+    c.direction = dirs[static_cast<std::size_t>(p[6])];
+    if (!d.profiles.empty()) {
+      c.profile_source = d.profiles[static_cast<std::size_t>(p[0])];
+      const LifterProfile prof = load_profile(c.profile_source);
+      const ProfileMetrics m = measure_profile(prof.points);
+      c.height_mm = m.height_m * 1e3;
+      c.top_width_mm = m.top_width_m * 1e3;
+      c.leading_deg = m.leading_face_angle_rad / kDeg;
+      c.trailing_deg = m.trailing_face_angle_rad / kDeg;
+      c.area_mm2 = m.area_m2 * 1e6;
+      out.push_back(c);
+      continue;
+    }
+    c.height_mm = p[1];
+    c.top_width_mm = p[2];
+    c.leading_deg = p[3];
+    c.trailing_deg = d.symmetric ? p[3] : p[4];
+    TrapezoidDef t;
+    t.height_m = c.height_mm * 1e-3;
+    t.top_width_m = c.top_width_mm * 1e-3;
+    t.leading_face_angle_rad = c.leading_deg * kDeg;
+    t.trailing_face_angle_rad = c.trailing_deg * kDeg;
+    try {
+      if (ref_area_m2 > 0.0) {
+        t.top_width_m = top_width_for_area(t, ref_area_m2, d.equal_area);
+        c.top_width_mm = t.top_width_m * 1e3;
+      }
+      const Polyline pts = trapezoid_points(t);
+      validate_lifter_polyline(pts, "", "");
+      c.area_mm2 = measure_profile(pts).area_m2 * 1e6;
+      if (!(c.area_mm2 > 0.0)) c.reason = "zero metal area";
+    } catch (const InputError& e) {
+      c.reason = e.expected;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::string designs_csv(const std::string& out) { return io::join_path(out, "designs.csv"); }
+std::string rejected_csv(const std::string& out) { return io::join_path(out, "rejected.csv"); }
+std::string ranking_csv(const std::string& out) { return io::join_path(out, "ranking.csv"); }
+std::string design_dir(const std::string& out, const std::string& name) {
+  return io::join_path(io::join_path(out, "designs"), name);
+}
+std::string task_status_path(const std::string& out, const std::string& name) {
+  return io::join_path(design_dir(out, name), "task.status");
+}
+
+void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const std::string& out) {
+  const std::string dir = io::join_path(out, "candidates");
+  io::ensure_dir(dir);
+  const toml::table base = toml::parse_file(d.base_scene);
+  for (Candidate& c : cands) {
+    if (!c.reason.empty()) continue;
+    const std::string scene_path = io::join_path(dir, c.name + ".toml");
+    const std::string profile_path = io::join_path(dir, c.name + "-profile.toml");
+    // The profile: a trapezoid with its top width written out (no match_area_of: the
+    // file says exactly what was run), or a copy of the listed profile file.
+    std::string profile;
+    if (!c.profile_source.empty()) {
+      profile = io::read_file(c.profile_source);
+    } else {
+      std::ostringstream p;
+      p << "# candidate " << c.name << " of screen " << d.name << " (written by millwear screen)\n"
+        << "name = \"" << c.name << "\"\nform = \"trapezoid\"\n"
+        << "height = " << fmt(c.height_mm) << "\n"
+        << "top_width = " << fmt(c.top_width_mm) << "\n"
+        << "leading_face_angle = " << fmt(c.leading_deg) << "\n"
+        << "trailing_face_angle = " << fmt(c.trailing_deg) << "\n";
+      profile = p.str();
+    }
+    // The scene: the base scene's tables with the candidate's changes.
+    toml::table t = base;
+    t.insert_or_assign("name", c.name);
+    if (!d.fidelity.empty()) t.insert_or_assign("fidelity", d.fidelity);
+    if (auto* lif = t["lifters"].as_table()) {
+      lif->insert_or_assign("profile", c.name + "-profile.toml");
+      lif->insert_or_assign("rows", static_cast<int64_t>(c.rows));
+    }
+    if (auto* mill = t["mill"].as_table()) {
+      mill->insert_or_assign("direction", c.direction == "bi" ? "bidirectional" : "forward");
+      if (c.direction != "bi") mill->erase("reverse_every");
+    }
+    if (d.stages > 0 || d.stage_hours > 0.0) {
+      if (!t["wear"].as_table()) t.insert_or_assign("wear", toml::table{});
+      auto* w = t["wear"].as_table();
+      if (d.stages > 0) w->insert_or_assign("stages", static_cast<int64_t>(d.stages));
+      if (d.stage_hours > 0.0) w->insert_or_assign("stage_hours", d.stage_hours);
+    }
+    std::ostringstream os;
+    os << "# candidate " << c.name << " of screen " << d.name << ": base scene " << d.base_scene
+       << " with its lifter, rows and direction (written by millwear screen)\n"
+       << toml::toml_formatter{t} << "\n";
+    io::write_file_atomic(profile_path, profile);
+    io::write_file_atomic(scene_path, os.str());
+    c.scene_file = "candidates/" + c.name + ".toml";
+    c.profile_file = "candidates/" + c.name + "-profile.toml";
+    try {
+      const Scene s = load_scene(scene_path);
+      build_scene_mill(s);
+      if (c.area_mm2 <= 0.0) c.area_mm2 = measure_profile(s.mill.lifter.points).area_m2 * 1e6;
+    } catch (const InputError& e) {
+      c.reason = (e.where.empty() ? "" : e.where + ": ") + e.expected;
+      std::error_code ec;
+      fs::remove(scene_path, ec);
+      fs::remove(profile_path, ec);
+      c.scene_file.clear();
+      c.profile_file.clear();
+    }
+  }
+}
+
+namespace {
+const std::vector<std::string> kDesignColumns = {
+    "task", "design", "sample", "height_mm", "top_width_mm", "leading_face_angle_deg", "trailing_face_angle_deg",
+    "rows", "direction", "area_mm2", "profile_source", "scene_file", "profile_file"};
+
+std::vector<io::CsvCell> design_cells(long long task, const Candidate& c) {
+  return {task, c.name, c.sample, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg,
+          c.rows, c.direction, c.area_mm2, c.profile_source, c.scene_file, c.profile_file};
+}
+}  // namespace
+
+void write_design_tables(const std::string& out, const std::vector<Candidate>& cands) {
+  // Exact numbers: the tasks read them back as the candidate's record.
+  io::CsvTable good(kDesignColumns, io::CsvOptions{10, true});
+  std::vector<std::string> rej_cols = kDesignColumns;
+  rej_cols.erase(rej_cols.begin());
+  rej_cols.push_back("reason");
+  io::CsvTable bad(rej_cols);
+  long long task = 0;
+  for (const Candidate& c : cands) {
+    if (c.reason.empty()) {
+      good.add_row(design_cells(task++, c));
+    } else {
+      auto cells = design_cells(0, c);
+      cells.erase(cells.begin());
+      cells.push_back(c.reason);
+      bad.add_row(cells);
+    }
+  }
+  good.write(designs_csv(out));
+  bad.write(rejected_csv(out));
+}
+
+std::vector<Candidate> read_designs(const std::string& out) {
+  const io::CsvData t = io::read_csv(designs_csv(out));
+  std::vector<Candidate> v;
+  for (std::size_t r = 0; r < t.row_count(); ++r) {
+    Candidate c;
+    c.name = t.text(r, t.column("design"));
+    c.sample = static_cast<int>(t.number(r, "sample"));
+    c.height_mm = t.number(r, "height_mm");
+    c.top_width_mm = t.number(r, "top_width_mm");
+    c.leading_deg = t.number(r, "leading_face_angle_deg");
+    c.trailing_deg = t.number(r, "trailing_face_angle_deg");
+    c.rows = static_cast<int>(t.number(r, "rows"));
+    c.direction = t.text(r, t.column("direction"));
+    c.area_mm2 = t.number(r, "area_mm2");
+    c.profile_source = t.text(r, t.column("profile_source"));
+    c.scene_file = t.text(r, t.column("scene_file"));
+    c.profile_file = t.text(r, t.column("profile_file"));
+    if (static_cast<std::size_t>(t.number(r, "task")) != r || !io::is_valid_design_name(c.name))
+      throw InputError(t.path, "line " + std::to_string(t.row_line[r]), "task numbers 0, 1, 2, ... in order and a design name");
+    v.push_back(c);
+  }
+  return v;
+}
+
+}  // namespace millwear::screen

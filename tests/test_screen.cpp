@@ -1,0 +1,425 @@
+// `millwear screen` end to end on a small lab-mill family (tests/data/screen-lab.toml: 4
+// designs, draft fidelity, one stage), and the screen module's pieces (sampling, life
+// uncertainty, ties, Pareto fronts).
+//
+// One local screen with --jobs 2 is the reference, shared by every test of the suite (cached
+// next to the test binary while the binary and the input files are unchanged, like
+// test_app_run's run). The same ranking.csv, byte for byte, must come out of --jobs 1, GNU
+// parallel and a real Slurm job array; the GNU parallel and Slurm tests skip with a message
+// (never pass) when the packages are missing.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "io/csv.hpp"
+#include "scene/scene.hpp"
+#include "screen/jobs.hpp"
+#include "screen/ranking.hpp"
+#include "screen/screen.hpp"
+
+namespace fs = std::filesystem;
+using namespace millwear;
+using namespace millwear::screen;
+
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result shell(const std::string& cmd) {
+  Result r;
+  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t got;
+  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+Result millwear_cmd(const std::string& args) { return shell(q(MILLWEAR_BINARY) + " " + args); }
+
+std::string src(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool have(const std::string& exe) { return shell("command -v " + exe + " >/dev/null").exit_code == 0; }
+
+const char* kScreen = "tests/data/screen-lab.toml";
+
+std::string stamp() {
+  std::string s;
+  for (const std::string& f : {std::string(MILLWEAR_BINARY), src(kScreen), src("scenarios/lab-mill.toml"),
+                               src("profiles/lab-2x30.toml")}) {
+    std::error_code ec;
+    s += f + " " + std::to_string(fs::file_size(f, ec)) + " " +
+         std::to_string(fs::last_write_time(f, ec).time_since_epoch().count()) + "\n";
+  }
+  return s;
+}
+
+}  // namespace
+
+class ScreenRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("millwear-test-screen-" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+    const fs::path cache = fs::path(MILLWEAR_BINARY).parent_path() / "test_screen_cache";
+    fs::create_directories(cache);
+    ref_ = cache / "jobs2";
+    const int lock = ::open((cache / "lock").c_str(), O_CREAT | O_RDWR, 0644);
+    if (lock >= 0) ::flock(lock, LOCK_EX);
+    const std::string st = stamp();
+    if (fs::exists(ref_ / "ranking.csv") && slurp(cache / "stamp") == st) {
+      ref_result_.exit_code = 0;
+    } else {
+      fs::remove_all(ref_);
+      ref_result_ = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(ref_) + " --jobs 2 --quiet");
+      if (ref_result_.exit_code == 0) std::ofstream(cache / "stamp") << st;
+    }
+    if (lock >= 0) ::close(lock);
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override { ASSERT_EQ(ref_result_.exit_code, 0) << ref_result_.output; }
+
+  static fs::path root_, ref_;
+  static Result ref_result_;
+};
+fs::path ScreenRun::root_, ScreenRun::ref_;
+Result ScreenRun::ref_result_;
+
+TEST_F(ScreenRun, RanksEveryDesignAndWritesTheFiles) {
+  const io::CsvData r = io::read_csv((ref_ / "ranking.csv").string());
+  ASSERT_EQ(r.row_count(), 4u);
+  for (std::size_t i = 0; i < r.row_count(); ++i) {
+    EXPECT_EQ(r.text(i, r.column("status")), "finished");
+    EXPECT_EQ(r.number(i, "rank"), double(i + 1));
+    EXPECT_GT(r.number(i, "life_h"), 0.0);
+    EXPECT_GT(r.number(i, "life_sigma_h"), 0.0);  // every draft window has batch-means noise
+    if (i > 0) EXPECT_LE(r.number(i, "life_h"), r.number(i - 1, "life_h"));
+  }
+  EXPECT_EQ(r.number(0, "tied_with_best"), 1.0);  // the best is tied with itself
+  EXPECT_EQ(r.number(0, "pareto_utilization"), 1.0);  // the longest life is always on a front
+  EXPECT_EQ(r.number(0, "pareto_power"), 1.0);
+  // Each candidate's folder is a `millwear run` folder.
+  for (const char* f : {"designs.csv", "rejected.csv", "candidates/d000.toml", "candidates/d000-profile.toml",
+                        "designs/d000/summary.csv", "designs/d000/manifest.json", "designs/d000/profiles/d000_stage1.csv",
+                        "designs/d000/plots/fig7_area.png", "designs/d000/task.status"})
+    EXPECT_TRUE(fs::exists(ref_ / f)) << f;
+  if (have("gnuplot"))
+    for (const char* f : {"plots/screen_pareto.png", "plots/screen_pareto.svg", "plots/screen_top_profiles.png"})
+      EXPECT_GT(fs::file_size(ref_ / f), 1000u) << f;
+  // equal_area = "base": every candidate has the lab 2x30's area (431 mm^2), to 1e-9 relative.
+  const io::CsvData d = io::read_csv((ref_ / "designs.csv").string());
+  for (std::size_t i = 0; i < d.row_count(); ++i) EXPECT_NEAR(d.number(i, "area_mm2"), 430.9401, 1e-3);
+}
+
+TEST_F(ScreenRun, RankingIsIdenticalWithOneJob) {
+  const fs::path out = root_ / "jobs1";
+  const Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 1 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+TEST_F(ScreenRun, RankingIsIdenticalThroughGnuParallel) {
+  if (!have("parallel")) GTEST_SKIP() << "GNU parallel is not installed (apt-get install parallel): not tested";
+  const fs::path out = root_ / "parallel";
+  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(out / "jobs.txt"));
+  r = shell("parallel --will-cite -j 2 < " + q(out / "jobs.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = millwear_cmd("screen --collect " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+// Stops the private Slurm on every way out of the test.
+struct SlurmGuard {
+  fs::path dir;
+  ~SlurmGuard() {
+    if (!dir.empty()) shell(q(src("tests/slurm/stop_slurm.sh")) + " " + q(dir));
+  }
+};
+
+TEST_F(ScreenRun, RankingIsIdenticalThroughASlurmJobArray) {
+  for (const char* exe : {"munged", "slurmctld", "slurmd", "sbatch", "squeue"})
+    if (!have(exe)) GTEST_SKIP() << exe << " is not installed (apt-get install slurm-wlm munge): Slurm not tested";
+  const fs::path dir = root_ / "slurm-daemons";
+  SlurmGuard guard{dir};
+  Result r = shell(q(src("tests/slurm/start_slurm.sh")) + " " + q(dir));
+  ASSERT_EQ(r.exit_code, 0) << "could not start a private Slurm:\n" << r.output;
+  const std::string env = "SLURM_CONF=" + q(dir / "slurm.conf") + " ";
+
+  const fs::path out = root_ / "slurm";
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit slurm --chunk 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(slurp(out / "screen.sbatch").find("#SBATCH --array=0-1"), std::string::npos);  // 4 designs, 2 a task
+  r = shell(env + "sbatch --parsable " + q(out / "screen.sbatch"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Accounting is off (no sacct): poll squeue until the array has left the queue.
+  const auto t0 = std::chrono::steady_clock::now();
+  for (;;) {
+    r = shell(env + "squeue -h -o %i");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    if (r.output.find_first_not_of(" \n") == std::string::npos) break;
+    ASSERT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(600)) << "the array did not finish";
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  r = millwear_cmd("screen --collect " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+  EXPECT_TRUE(fs::exists(out / "slurm/tasks.txt"));
+}
+
+TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
+  const fs::path out = root_ / "killed";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove_all(out / "designs/d002");
+  fs::remove(out / "ranking.csv");
+  // Start task 2 and kill it (SIGKILL: no chance to clean up) while it runs.
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(MILLWEAR_BINARY, MILLWEAR_BINARY, "screen-task", out.c_str(), "2", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int i = 0; i < 100 && !fs::exists(out / "designs/d002/task.status"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the task finished before it was killed";
+
+  Result r = millwear_cmd("screen --collect " + q(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("design d002 missing"), std::string::npos) << r.output;
+  for (const char* other : {"d000 missing", "d001 missing", "d003 missing", "failed:"})
+    EXPECT_EQ(r.output.find(other), std::string::npos) << other << "\n" << r.output;
+  const io::CsvData partial = io::read_csv((out / "ranking.csv").string());
+  ASSERT_EQ(partial.row_count(), 4u);
+  EXPECT_EQ(partial.text(3, partial.column("design")), "d002");
+  EXPECT_EQ(partial.text(3, partial.column("status")), "missing");
+
+  // --emit re-emits only the missing design.
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string jobs = slurp(out / "jobs.txt");
+  EXPECT_EQ(std::count(jobs.begin(), jobs.end(), '\n'), 1) << jobs;
+  EXPECT_NE(jobs.find("screen-task '" + out.string() + "' 2\n"), std::string::npos) << jobs;
+
+  r = millwear_cmd("screen-task " + q(out) + " 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = millwear_cmd("screen --collect " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: exit 2, a clear message, nothing run.
+
+namespace {
+fs::path write_screen(const fs::path& dir, const std::string& name, const std::string& text) {
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+std::string lab_base() { return src("scenarios/lab-mill.toml"); }
+}  // namespace
+
+TEST(ScreenInput, UnknownKeyExitsTwoNamingFileKeyAndLine) {
+  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-bad-" + std::to_string(::getpid()));
+  const fs::path f = write_screen(dir, "bad.toml",
+                                  "[screen]\nbase = '" + lab_base() + "'\n[family]\nheigth = 20.0\n");
+  const Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.toml: family.heigth: unknown key (did you mean 'height'?)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(line 4)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));  // nothing written before validation passes
+  fs::remove_all(dir);
+}
+
+TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
+  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-bad2-" + std::to_string(::getpid()));
+  const fs::path f = write_screen(dir, "bad.toml",
+                                  "[screen]\nbase = '" + lab_base() +
+                                      "'\n[family]\nleading_face_angle = {min = 10.0, max = 95.0, steps = 3}\n");
+  Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("family.leading_face_angle.max: expected a number in [0, 90)"), std::string::npos) << r.output;
+  // A range without steps in a grid.
+  const fs::path g = write_screen(dir, "grid.toml",
+                                  "[screen]\nbase = '" + lab_base() + "'\n[family]\nheight = {min = 10.0, max = 20.0}\n");
+  r = millwear_cmd("screen " + q(g) + " -o " + q(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("family.height.steps"), std::string::npos) << r.output;
+  // A missing base scene.
+  const fs::path m = write_screen(dir, "nobase.toml", "[screen]\nbase = 'nowhere.toml'\n");
+  r = millwear_cmd("screen " + q(m) + " -o " + q(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("screen.base"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(ScreenInput, FamilyWithNoValidCandidateExitsTwo) {
+  // The lab mill is 600 mm across: a lifter of 160 mm or more reaches past half the radius
+  // (radial faces and a 10 mm top, so the base fits the 157 mm pitch and height is the fault).
+  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-none-" + std::to_string(::getpid()));
+  const fs::path f = write_screen(dir, "tall.toml",
+                                  "[screen]\nbase = '" + lab_base() + "'\n[family]\nheight = [160.0, 200.0]\n"
+                                  "top_width = 10.0\nleading_face_angle = 0.0\ntrailing_face_angle = 0.0\n");
+  const Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("at least one valid candidate; all 2 were rejected"), std::string::npos) << r.output;
+  const io::CsvData rej = io::read_csv((dir / "out/rejected.csv").string());
+  ASSERT_EQ(rej.row_count(), 2u);
+  EXPECT_NE(rej.text(0, rej.column("reason")).find("half the mill radius"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(ScreenInput, CandidatesThatCannotBeBuiltAreRejectedWithTheReason) {
+  // 12 rows fit the 33 mm lab lifter; at 60 rows the pitch (31 mm) is narrower than its base;
+  // equal area with a 60/60 deg trapezoid of 20 mm has no positive top width (faces alone: 693 mm^2).
+  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-rej-" + std::to_string(::getpid()));
+  const fs::path f = write_screen(dir, "mixed.toml",
+                                  "[screen]\nbase = '" + lab_base() + "'\nequal_area = 'base'\n"
+                                  "[family]\nrows = [12, 60]\nleading_face_angle = [30.0, 60.0]\nsymmetric = true\n");
+  const Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out") + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData good = io::read_csv((dir / "out/designs.csv").string());
+  const io::CsvData bad = io::read_csv((dir / "out/rejected.csv").string());
+  ASSERT_EQ(good.row_count(), 1u);
+  EXPECT_EQ(good.text(0, good.column("design")), "d000");  // 30 deg, 12 rows
+  ASSERT_EQ(bad.row_count(), 3u);
+  EXPECT_NE(bad.text(0, bad.column("reason")).find("lifters.rows"), std::string::npos) << bad.text(0, bad.column("reason"));
+  EXPECT_NE(bad.text(1, bad.column("reason")).find("positive top width"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// ---------------------------------------------------------------------------------------
+// The screen module's pieces.
+
+TEST(ScreenRanking, LifeSigmaOfOneStageIsTheRelativeRateError) {
+  // One measured rate carries the whole life: sigma_life / life = s exactly.
+  EXPECT_NEAR(life_sigma_h({{0.0, 5.0, 0.1}}, 1000.0), 100.0, 1e-9);
+  // Two independent equal segments with equal errors: s / sqrt(2).
+  EXPECT_NEAR(life_sigma_h({{0.0, 5.0, 0.1}, {500.0, 5.0, 0.1}}, 1000.0), 100.0 / std::sqrt(2.0), 1e-9);
+  EXPECT_TRUE(std::isnan(life_sigma_h({}, 1000.0)));
+}
+
+TEST(ScreenRanking, ParetoFrontKeepsOnlyUndominatedDesigns) {
+  // life (more is better) against power (less is better).
+  const std::vector<double> life{1000, 900, 800, 950};
+  const std::vector<double> power{10, 8, 9, 12};
+  const auto f = pareto_front(life, power, false);
+  EXPECT_EQ(f, (std::vector<bool>{true, true, false, false}));  // 800@9 by 900@8; 950@12 by 1000@10
+  EXPECT_EQ(pareto_front(life, power, true), (std::vector<bool>{true, false, false, true}));
+}
+
+TEST(ScreenRanking, TiesWithinTwiceTheCombinedUncertainty) {
+  std::vector<DesignResult> v(3);
+  const double life[] = {1000, 900, 700}, sigma[] = {30, 40, 40};
+  for (int i = 0; i < 3; ++i) {
+    v[i].design.name = "d" + std::to_string(i);
+    v[i].status = "finished";
+    v[i].life_h = life[i];
+    v[i].life_sigma_h = sigma[i];
+    v[i].power_kw = 1.0;
+    v[i].utilization = 0.5;
+  }
+  v.push_back(DesignResult{});  // a missing design goes last, unranked
+  v.back().design.name = "d3";
+  const auto r = rank_designs(v, false);
+  ASSERT_EQ(r.size(), 4u);
+  EXPECT_TRUE(r[0].tied_with_best);
+  EXPECT_TRUE(r[1].tied_with_best);    // 100 <= 2 * 50
+  EXPECT_FALSE(r[2].tied_with_best);   // 300 > 100
+  EXPECT_EQ(r[3].rank, 0);
+  EXPECT_EQ(r[3].status, "missing");
+}
+
+TEST(ScreenSampling, LatinHypercubeUsesEveryStratumOnceAndIsSeeded) {
+  ScreenDef d;
+  d.sampling = Sampling::LatinHypercube;
+  d.samples = 10;
+  d.seed = 7;
+  d.height_mm.given = true;
+  d.height_mm.is_range = true;
+  d.height_mm.min = 10.0;
+  d.height_mm.max = 20.0;
+  d.leading_deg.given = true;
+  d.leading_deg.values = {10.0, 20.0};  // a list: one level per half of the strata
+  const Scene base = load_scene(src("scenarios/lab-mill.toml"));
+  const auto c = sample_family(d, base);
+  ASSERT_EQ(c.size(), 10u);
+  std::vector<int> strata(10, 0);
+  int low = 0;
+  for (const auto& x : c) {
+    ++strata[std::min(9, static_cast<int>((x.height_mm - 10.0)))];
+    low += x.leading_deg == 10.0;
+  }
+  for (int n : strata) EXPECT_EQ(n, 1);
+  EXPECT_EQ(low, 5);
+  const auto again = sample_family(d, base);
+  for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].height_mm, again[i].height_mm);
+  d.seed = 8;
+  EXPECT_NE(sample_family(d, base)[0].height_mm, c[0].height_mm);
+}
+
+TEST(ScreenSampling, GridTakesEveryCombinationLastParameterFastest) {
+  ScreenDef d;
+  d.rows.given = true;
+  d.rows.values = {10, 12};
+  d.directions = {"uni", "bi"};
+  const Scene base = load_scene(src("scenarios/lab-mill.toml"));
+  const auto c = sample_family(d, base);
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c[0].rows, 10);
+  EXPECT_EQ(c[0].direction, "uni");
+  EXPECT_EQ(c[1].direction, "bi");
+  EXPECT_EQ(c[2].rows, 12);
+  EXPECT_EQ(c[0].height_mm, 20.0);  // the base scene's lifter where the family says nothing
+}
+
+TEST(ScreenJobs, SlurmArrayChunksTheDesigns) {
+  EmitOptions o;
+  o.binary = "/bin/millwear";
+  o.out = "/x/out";
+  o.name = "s";
+  o.chunk = 2;
+  o.max_running = 3;
+  std::string tasks;
+  const std::string s = slurm_script({0, 1, 2, 3, 5}, o, tasks);
+  EXPECT_NE(s.find("#SBATCH --array=0-2%3\n"), std::string::npos) << s;
+  EXPECT_EQ(tasks, "0 1\n2 3\n5\n");
+  EXPECT_EQ(parallel_job_list({4}, o), "'/bin/millwear' screen-task '/x/out' 4\n");
+}
