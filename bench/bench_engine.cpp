@@ -10,6 +10,7 @@
 #include <string>
 
 #include "engine/engine.hpp"
+#include "probe_scene.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
 
@@ -17,42 +18,14 @@ using namespace millwear;
 
 namespace {
 
+// The probe scene at 1/600 s, or the largest step inside the time-step limit
+// (scene/limits.hpp) when the disks are too small for it (the 10k case: 1/600 s would move
+// 2.5 radii a step, and the probe lost a disk there): rounded down to a whole number of
+// steps per second.
 Scene probe_scene(double r_min_m) {
-  Scene s;
-  s.name = "probe";
-  s.source_file = "(bench)";
-  s.mill.diameter_m = 5.0;
-  s.mill.length_m = 1.0;
-  s.mill.speed_fraction_critical = 0.75;
-  s.mill.rows = 24;
-  TrapezoidDef t;
-  t.height_m = 0.15;
-  t.top_width_m = 0.10;
-  t.leading_face_angle_rad = t.trailing_face_angle_rad = 30.0 * 3.14159265358979 / 180.0;
-  s.mill.lifter.points = trapezoid_points(t);
-  s.mill.lifter.name = "probe";
-  s.mill.mesh.shell_edge_m = 0.05;
-  s.mill.mesh.lifter_edge_m = 0.02;
-  SpeciesDef sp;
-  sp.name = "ball";
-  sp.is_ball = true;
-  sp.density_kg_m3 = 2700.0;
-  sp.d_min_m = 2.0 * r_min_m;
-  sp.d_max_m = 2.0 * 1.67 * r_min_m;
-  sp.friction = sp.friction_liner = 0.5;
-  sp.restitution = sp.restitution_liner = 0.4;
-  s.charge.species = {sp};
-  s.charge.filling = 0.30;
-  s.charge.ball_filling = 0.30;
-  s.charge.bulk_packing = 0.8;
-  // 1/600 s, or the largest step inside the time-step limit (scene/limits.hpp) when the
-  // disks are too small for it (the 10k case: 1/600 s would move 2.5 radii a step, and the
-  // probe lost a disk there): rounded down to a whole number of steps per second.
-  s.solver.time_step_s = 1.0 / 600.0;
-  s.solver.settle_time_s = 1.0;
+  Scene s = bench::probe_scene(r_min_m);
   const double allowed = kMaxStepTravelRadii * r_min_m / impact_speed_m_s(s);
   if (allowed < s.solver.time_step_s) s.solver.time_step_s = 1.0 / std::ceil(1.0 / allowed);
-  s.solver.spinup_revolutions = 0.25;
   return s;
 }
 
