@@ -24,6 +24,7 @@
 #include <string>
 
 #include "common/errors.hpp"
+#include "geometry/simplify.hpp"
 
 namespace millwear {
 
@@ -53,6 +54,17 @@ Polygon without_repeats(const Polygon& ring) {
   for (const Vec2& p : ring)
     if (out.empty() || !(p == out.back())) out.push_back(p);
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
+  return out;
+}
+
+// Drop vertices within tol of the chain through their neighbours. Consecutive (nearly)
+// collinear edges make simultaneous skeleton events, which CGAL 5.5's builder can crash on
+// (MergeCoincidentNodes; CGAL issues 7203 and 7284, fixed in 5.6): a resampled worn liner
+// has runs of them. Every skeleton input goes through this.
+Polygon without_collinear(const Polygon& ring, double tol) {
+  if (ring.size() <= 3) return ring;
+  Polygon out;
+  for (int i : simplify_ring(ring, tol)) out.push_back(ring[static_cast<std::size_t>(i)]);
   return out;
 }
 
@@ -107,13 +119,16 @@ Polygon smooth_by_offsets(const Polygon& ring_in, double r) {
   const bool was_ccw = is_counter_clockwise(ring);
   if (!was_ccw) std::reverse(ring.begin(), ring.end());
 
+  // Collinear within a ten-thousandth of the radius: far below any wear depth that matters.
+  const double tol = 1e-4 * r;
+  ring = without_collinear(ring, tol);
   // Opening: remove spikes and ridges narrower than 2r.
   Polygon opened = inset_largest(ring, r);
   if (opened.size() < 3) return {};
-  opened = outset_outer(opened, r);
+  opened = outset_outer(without_collinear(opened, tol), r);
   // Closing: fill notches narrower than 2r.
-  Polygon closed = outset_outer(opened, r);
-  closed = inset_largest(closed, r);
+  Polygon closed = outset_outer(without_collinear(opened, tol), r);
+  closed = inset_largest(without_collinear(closed, tol), r);
   if (closed.size() < 3) return {};
 
   if (!was_ccw) std::reverse(closed.begin(), closed.end());
