@@ -17,9 +17,11 @@
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
 //
 // Data. The substep passes touch a disk's velocity, displacement and inverse mass and
-// inertia: one 64-byte Body per disk. A contact is a hot row (what the passes read and
-// write), its step sums (relax) and its cold info (matching, restitution, accounting), three
-// flat arrays in key order kept at their high-water mark: no allocation per step once warm.
+// inertia: one 64-byte Body per disk. A contact is a gap (what every pass reads to decide
+// whether the row acts), a row (anchors, masses, impulses; built lazily, the first time the
+// row acts), a state byte, its step sums (relax) and its cold info (matching, restitution,
+// accounting): flat arrays in key order kept at their high-water mark, no allocation per
+// step once warm. The warm start walks a list of the live rows only.
 //
 // Contacts. A contact's normal, anchors and liner velocity are fixed for the step (computed
 // once, as Box2D does); substeps update only the separation, s = s0 + n . (dp_a - dp_b),
@@ -87,29 +89,48 @@ struct alignas(64) Body {
   double im = 0, ii = 0;          // inverse mass and inertia (0: inactive)
 };
 
-// Contacts are split by how often they are touched. The row is the hot part, read and
-// written by every warm start, solve and relax pass (4 x 3 passes a step); the step sums
-// are written once per substep (relax); the info is cold (matching, restitution,
-// accounting). All three are flat arrays in the same (key) order.
-struct PairRow {
+// Contacts are split by how often they are touched. Most disk-pair contacts are
+// speculative margins that never carry an impulse: every solve and relax pass (2 x 4 a
+// step) reads their gap (bodies, normal, start separation: 32 bytes, two to a cache line)
+// and the state byte, finds the row inert and goes on. The row proper (anchors, masses,
+// impulses) is read only for rows that act; the step sums are written once per substep
+// (relax); the info is cold (matching, restitution, accounting). All are flat arrays in the
+// same (key) order. The kLive bit (below) is exactly "some impulse of the row is not zero",
+// so testing it is testing the impulses.
+struct PairGap {
   int a = 0, b = 0;            // internal disk indices, a < b
   double nx = 0, ny = 0;       // unit normal from b toward a
-  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
   double s0 = 0;               // separation at the start of the step
+};
+struct PairRow {
+  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
   double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
   double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
   double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
 };
-struct LinerRow {
+struct LinerGap {
   int a = 0;
   double nx = 0, ny = 0;       // unit normal from the liner toward a
-  double alpha = 0;            // anchor r_a = -alpha n
   double s0 = 0;
   double vlx = 0, vly = 0;     // liner velocity at the contact point
+};
+struct LinerRow {
+  double alpha = 0;            // anchor r_a = -alpha n
   double mn = 0, mt = 0, mr = 0;
   double mu = 0, lever = 0;
   double ln = 0, lt = 0, lr = 0;
 };
+// Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
+// wherever an impulse is written). kBuilt: the row's anchors, masses and material (and the
+// info's point, restitution and start velocity) have been computed. A disk-pair row is built
+// lazily, the first time a pass does not skip it: most are margins that never carry load,
+// and for them the narrow phase computes only the gap. An unbuilt row's impulses are zero
+// (not stored: kLive is clear).
+constexpr std::uint8_t kLive = 1, kBuilt = 2;
+template <class Row>
+std::uint8_t has_impulse(const Row& c) {
+  return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
+}
 struct StepSum {
   double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
 };
@@ -132,9 +153,11 @@ struct Candidate {
 
 // The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
 // use, so adding a contact is a bounds check and plain stores, no construction.
-template <class Row>
+template <class Gap, class Row>
 struct ContactSet {
+  std::vector<Gap> gap;
   std::vector<Row> row;
+  std::vector<std::uint8_t> state;  // kLive | kBuilt
   std::vector<StepSum> sum;
   std::vector<ContactInfo> info;
   std::size_t n = 0;
@@ -142,7 +165,9 @@ struct ContactSet {
   void clear() { n = 0; }
   void reserve(std::size_t m) {
     if (row.size() >= m) return;
+    gap.resize(m);
     row.resize(m);
+    state.resize(m);
     sum.resize(m);
     info.resize(m);
   }
@@ -151,12 +176,22 @@ struct ContactSet {
     n = m;
   }
   void swap(ContactSet& o) {
+    gap.swap(o.gap);
     row.swap(o.row);
+    state.swap(o.state);
     sum.swap(o.sum);
     info.swap(o.info);
     std::swap(n, o.n);
   }
-  // Append a contact with zero step sums; the caller writes every field of row and info.
+  void copy(std::size_t to, const ContactSet& o, std::size_t from) {
+    gap[to] = o.gap[from];
+    row[to] = o.row[from];
+    state[to] = o.state[from];
+    sum[to] = o.sum[from];
+    info[to] = o.info[from];
+  }
+  // Append a contact with zero step sums; the caller writes gap, state and info (and row
+  // when it builds it).
   std::size_t add() {
     if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
     sum[n] = StepSum{};
@@ -184,7 +219,14 @@ class SoftEngine final : public Engine {
   void set_liner(const MillGeometry& mill) override;
   void set_mill_speed(double omega_rad_s) override { state_.mill_speed_rad_s = omega_rad_s; }
   void step(int n) override {
+    if (n <= 0) return;
     for (int k = 0; k < n; ++k) step_once();
+    // The window's end energies: only the last step's count, so they are taken once here
+    // rather than after every step (two passes over the charge saved per step).
+    const auto t0 = Clock::now();
+    accounting_.kinetic_J_end = charge_kinetic_J(state_);
+    accounting_.potential_J_end = charge_potential_J(state_, kGravity);
+    timing_.account_s += seconds_since(t0);
   }
   const ChargeState& state() const override { return state_; }
   double time_step_s() const override { return dt_; }
@@ -206,8 +248,9 @@ class SoftEngine final : public Engine {
   void check_inside_liner();
   void remove_disk(int i, const std::string& why);
   void add_pair_contact(int i, int j);
-  template <class Row>
-  void sort_by_key(ContactSet<Row>& set, ContactSet<Row>& spare);
+  void build_pair_row(std::size_t q);
+  template <class Set>
+  void sort_by_key(Set& set, Set& spare);
 
   // Description (fixed).
   double dt_ = 1.0 / 600.0;
@@ -229,17 +272,21 @@ class SoftEngine final : public Engine {
   std::vector<double> x_, y_, ang_, r_, mass_;
   std::vector<unsigned char> act_;
   std::vector<std::uint8_t> sp_;
-  std::vector<double> x0_, y0_, vbx_, vby_, wb_, marg_;
+  std::vector<double> x0_, y0_, vbx_, vby_, wb_, vy0_, marg_;
   std::vector<double> scratch_d_;
   std::vector<Body> scratch_body_;
   std::vector<int> scratch_i_, scratch_ids_, inverse_;
   std::vector<unsigned char> scratch_u_;
   std::vector<std::pair<std::uint64_t, int>> scratch_keys_;
+  // The live disk-pair rows (some impulse not zero) in key order, for the warm start: set by
+  // the match for the first substep and by each relax pass for the next.
+  std::vector<int> warm_rows_;
+  std::size_t warm_n_ = 0;
   std::vector<Candidate> cand_;   // grid order
 
   // Contacts: current and last step's, each sorted by key.
-  ContactSet<PairRow> pp_, pp_old_;
-  ContactSet<LinerRow> pl_, pl_old_;
+  ContactSet<PairGap, PairRow> pp_, pp_old_;
+  ContactSet<LinerGap, LinerRow> pl_, pl_old_;
   soft::Grid grid_;
   soft::LinerLookup liner_;
   MillGeometry mill_;
@@ -327,7 +374,7 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
     b.im = act_[i] ? 1.0 / mass_[i] : 0.0;
     b.ii = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
   }
-  for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &marg_, &scratch_d_}) v->assign(n, 0.0);
+  for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &vy0_, &marg_, &scratch_d_}) v->assign(n, 0.0);
   scratch_body_.resize(n);
   scratch_i_.assign(n, 0);
   scratch_ids_.assign(n, 0);
@@ -380,8 +427,8 @@ void SoftEngine::remove_disk(int i, const std::string& why) {
 // Sort a contact set by key (keys are unique, so any sort gives the same order), through
 // the spare set (whose contents are dead at this point) and scratch memory sized at
 // warm-up: no allocation.
-template <class Row>
-void SoftEngine::sort_by_key(ContactSet<Row>& set, ContactSet<Row>& spare) {
+template <class Set>
+void SoftEngine::sort_by_key(Set& set, Set& spare) {
   const std::size_t m = set.size();
   scratch_keys_.clear();
   for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.info[k].key, static_cast<int>(k));
@@ -389,9 +436,7 @@ void SoftEngine::sort_by_key(ContactSet<Row>& set, ContactSet<Row>& spare) {
   spare.resize(m);
   for (std::size_t t = 0; t < m; ++t) {
     const auto k = static_cast<std::size_t>(scratch_keys_[t].second);
-    spare.row[t] = set.row[k];
-    spare.sum[t] = set.sum[k];
-    spare.info[t] = set.info[k];
+    spare.copy(t, set, k);
   }
   set.swap(spare);
 }
@@ -420,20 +465,20 @@ void SoftEngine::reorder_by_cell() {
   for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = id_[static_cast<std::size_t>(perm[i])];
   id_.swap(scratch_ids_);
   for (std::size_t q = 0; q < pp_.size(); ++q) {
-    PairRow& c = pp_.row[q];
+    PairGap& c = pp_.gap[q];
     int a = inverse_[static_cast<std::size_t>(c.a)], b = inverse_[static_cast<std::size_t>(c.b)];
     if (a > b) {
       // Swapping the roles flips the normal and tangent: the tangent impulse on the new a
       // keeps its sign, the rolling couple on it changes sign.
       std::swap(a, b);
-      c.lr = -c.lr;
+      pp_.row[q].lr = -pp_.row[q].lr;
     }
     c.a = a;
     c.b = b;
     pp_.info[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
   }
   for (std::size_t q = 0; q < pl_.size(); ++q) {
-    LinerRow& c = pl_.row[q];
+    LinerGap& c = pl_.gap[q];
     c.a = inverse_[static_cast<std::size_t>(c.a)];
     pl_.info[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
   }
@@ -445,32 +490,46 @@ void SoftEngine::reorder_by_cell() {
 
 // ---- 3. narrow phase --------------------------------------------------------------------
 
+// The gap of a new disk-pair contact (all that the skip test of the passes reads); the row
+// is built by build_pair_row when first needed.
 void SoftEngine::add_pair_contact(int i, int j) {
   const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
   const std::size_t q = pp_.add();
-  PairRow& c = pp_.row[q];
+  PairGap& g = pp_.gap[q];
   ContactInfo& info = pp_.info[q];
-  c.a = i;
-  c.b = j;
-  c.ln = c.lt = c.lr = 0.0;
+  g.a = i;
+  g.b = j;
+  pp_.state[q] = 0;
   info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
-  info.edge = info.owner = -1;
   info.event_J = 0.0;
   const double dx = x_[a] - x_[b], dy = y_[a] - y_[b];
   const double dist = std::sqrt(dx * dx + dy * dy);
   if (dist > 0.0) {
-    c.nx = dx / dist;
-    c.ny = dy / dist;
+    g.nx = dx / dist;
+    g.ny = dy / dist;
   } else {
-    c.nx = 0.0;
-    c.ny = 1.0;
+    g.nx = 0.0;
+    g.ny = 1.0;
   }
-  c.s0 = dist - r_[a] - r_[b];
+  g.s0 = dist - r_[a] - r_[b];
+}
+
+// Everything else of a disk-pair row, from the state at the start of the step (x0, the
+// start velocities; masses and materials do not change within a step), so that building it
+// in the middle of the solve gives the same bits as building it in the narrow phase.
+void SoftEngine::build_pair_row(std::size_t q) {
+  const PairGap& g = pp_.gap[q];
+  PairRow& c = pp_.row[q];
+  ContactInfo& info = pp_.info[q];
+  const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
+  if (!(pp_.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
+  pp_.state[q] |= kBuilt;
+  info.edge = info.owner = -1;
   // The contact point is midway between the two surfaces.
-  c.alpha = r_[a] + 0.5 * c.s0;
-  c.beta = r_[b] + 0.5 * c.s0;
-  info.px = x_[a] - c.alpha * c.nx;
-  info.py = y_[a] - c.alpha * c.ny;
+  c.alpha = r_[a] + 0.5 * g.s0;
+  c.beta = r_[b] + 0.5 * g.s0;
+  info.px = x0_[a] - c.alpha * g.nx;
+  info.py = y0_[a] - c.alpha * g.ny;
   const Body& A = body_[a];
   const Body& B = body_[b];
   const double im = A.im + B.im;
@@ -485,7 +544,7 @@ void SoftEngine::add_pair_contact(int i, int j) {
   // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
   // convention; a disk on a flat liner gets its own radius).
   c.lever = rr_pair_[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
-  info.vn0 = (A.vx - B.vx) * c.nx + (A.vy - B.vy) * c.ny;
+  info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
 }
 
 // Pairs from the 3x3 cells around each disk, j > i only, in (i, j) order: sorted by key.
@@ -504,7 +563,8 @@ void SoftEngine::find_pairs() {
     cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j], marg[j], j};
   }
   const Candidate* grid_disks = cand_.data();
-  int cand[64];
+  constexpr int kMaxCand = 64;
+  int cand[kMaxCand + 1];  // one spare slot: the scan below stores before it counts
   for (int i = 0; i < n_; ++i) {
     const int cell = grid_.cell_of[static_cast<std::size_t>(i)];
     if (cell < 0) continue;
@@ -517,12 +577,15 @@ void SoftEngine::find_pairs() {
       const int row = gy * dim;
       const int k0 = start[row + x_lo];
       const int k1 = start[row + x_hi + 1];
+      // Branch-free: whether a neighbour is a candidate follows no pattern a predictor can
+      // learn, so every one is tested and stored, and only counted if it passes.
       for (int k = k0; k < k1; ++k) {
         const Candidate& d = grid_disks[k];
-        if (d.j <= i) continue;
         const double dx = xi - d.x, dy = yi - d.y;
         const double reach = reach_i + d.r + d.marg;
-        if (dx * dx + dy * dy < reach * reach && count < 64) cand[count++] = d.j;
+        const bool take = (d.j > i) & (dx * dx + dy * dy < reach * reach) & (count < kMaxCand);
+        cand[count] = d.j;
+        count += take ? 1 : 0;
       }
     }
     // A handful of candidates: insertion sort keeps the list in key order.
@@ -552,22 +615,24 @@ void SoftEngine::find_liner_contacts() {
     for (int h = 0; h < count; ++h) {
       const soft::LinerHit& hit = hits[h];
       const std::size_t q = pl_.add();
+      LinerGap& g = pl_.gap[q];
       LinerRow& c = pl_.row[q];
       ContactInfo& info = pl_.info[q];
-      c.a = i;
+      g.a = i;
       c.ln = c.lt = c.lr = 0.0;
+      pl_.state[q] = kBuilt;
       info.event_J = 0.0;
       info.edge = hit.edge;
       info.owner = hit.owner;
       info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner);
-      c.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
-      c.ny = sn * hit.normal.x + cs * hit.normal.y;
-      c.s0 = hit.gap;
-      c.alpha = r_[k] + 0.5 * c.s0;
-      info.px = x_[k] - c.alpha * c.nx;
-      info.py = y_[k] - c.alpha * c.ny;
-      c.vlx = -omega * info.py;
-      c.vly = omega * info.px;
+      g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
+      g.ny = sn * hit.normal.x + cs * hit.normal.y;
+      g.s0 = hit.gap;
+      c.alpha = r_[k] + 0.5 * g.s0;
+      info.px = x_[k] - c.alpha * g.nx;
+      info.py = y_[k] - c.alpha * g.ny;
+      g.vlx = -omega * info.py;
+      g.vly = omega * info.px;
       c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
       const double it = A.im + A.ii * c.alpha * c.alpha;
       c.mt = it > 0.0 ? 1.0 / it : 0.0;
@@ -575,7 +640,7 @@ void SoftEngine::find_liner_contacts() {
       c.mu = mu_liner_[sp_[k]];
       info.e = e_liner_[sp_[k]];
       c.lever = rr_[sp_[k]] * r_[k];
-      info.vn0 = (A.vx - c.vlx) * c.nx + (A.vy - c.vly) * c.ny;
+      info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
     }
   }
 }
@@ -594,11 +659,15 @@ void SoftEngine::warm_start_match() {
         ++p;
       }
       if (p < m && old.info[p].key == c.key) {
-        auto& row = now.row[q];
-        const auto& prev = old.row[p];
-        row.ln = prev.ln;
-        row.lt = prev.lt;
-        row.lr = prev.lr;
+        // Only a live row carries impulses (an unbuilt one stores none).
+        if (old.state[p] & kLive) {
+          auto& row = now.row[q];
+          const auto& prev = old.row[p];
+          row.ln = prev.ln;
+          row.lt = prev.lt;
+          row.lr = prev.lr;
+          now.state[q] |= kLive;
+        }
         c.event_J = old.info[p].event_J;
         ++p;
       }
@@ -608,6 +677,14 @@ void SoftEngine::warm_start_match() {
   };
   merge(pp_, pp_old_, spectrum);
   merge(pl_, pl_old_, false);
+  // The warm start applies the live rows: build them now, and list them.
+  if (warm_rows_.size() < pp_.size()) warm_rows_.resize(pp_.row.size());
+  warm_n_ = 0;
+  for (std::size_t q = 0; q < pp_.size(); ++q) {
+    if (!(pp_.state[q] & kLive)) continue;
+    build_pair_row(q);
+    warm_rows_[warm_n_++] = static_cast<int>(q);
+  }
 }
 
 // ---- 4. solve ---------------------------------------------------------------------------
@@ -617,11 +694,15 @@ void SoftEngine::warm_start_match() {
 // without the reloads that possible aliasing would force.
 void SoftEngine::warm_start() {
   Body* body = body_.data();
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
+  // Only the live rows: a row without impulse applies nothing (adding its zero impulses
+  // would leave every velocity as it was), and most rows are such margins.
+  for (std::size_t t = 0; t < warm_n_; ++t) {
+    const auto q = static_cast<std::size_t>(warm_rows_[t]);
+    const PairGap& g = pp_.gap[q];
     const PairRow& c = pp_.row[q];
-    Body& A = body[c.a];
-    Body& B = body[c.b];
-    const double px = c.ln * c.nx - c.lt * c.ny, py = c.ln * c.ny + c.lt * c.nx;
+    Body& A = body[g.a];
+    Body& B = body[g.b];
+    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
     A.vx += A.im * px;
     A.vy += A.im * py;
     A.w += A.ii * (c.lr - c.alpha * c.lt);
@@ -630,9 +711,10 @@ void SoftEngine::warm_start() {
     B.w += B.ii * (-c.lr - c.beta * c.lt);
   }
   for (std::size_t q = 0; q < pl_.size(); ++q) {
+    const LinerGap& g = pl_.gap[q];
     const LinerRow& c = pl_.row[q];
-    Body& A = body[c.a];
-    const double px = c.ln * c.nx - c.lt * c.ny, py = c.ln * c.ny + c.lt * c.nx;
+    Body& A = body[g.a];
+    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
     A.vx += A.im * px;
     A.vy += A.im * py;
     A.w += A.ii * (c.lr - c.alpha * c.lt);
@@ -670,28 +752,34 @@ void SoftEngine::solve_pass(double elapsed_s) {
   };
 
   const std::size_t npp = pp_.size();
+  const PairGap* gaps = pp_.gap.data();
   PairRow* rows = pp_.row.data();
+  std::uint8_t* state = pp_.state.data();
   StepSum* sums = pp_.sum.data();
+  int* warm = warm_rows_.data();
+  std::size_t warm_n = 0;
   for (std::size_t q = 0; q < npp; ++q) {
-    PairRow& c = rows[q];
-    Body& A = body[c.a];
-    Body& B = body[c.b];
-    double vax = A.vx, vay = A.vy, wa = A.w;
-    double vbx = B.vx, vby = B.vy, wb = B.w;
-    const double ima = A.im, imb = B.im, iia = A.ii, iib = B.ii;
-    const double s = c.s0 + c.nx * (A.dpx - B.dpx) + c.ny * (A.dpy - B.dpy);
-    const double vn = c.nx * (vax - vbx) + c.ny * (vay - vby);
+    const PairGap& g = gaps[q];
+    Body& A = body[g.a];
+    Body& B = body[g.b];
+    const double s = g.s0 + g.nx * (A.dpx - B.dpx) + g.ny * (A.dpy - B.dpy);
+    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
     // A speculative row with no impulse whose gap does not close this substep applies
     // nothing (normal impulse max(0 - m (vn + s/h), 0) = 0, friction and rolling bounded by
     // it): skip it. Many rows are such margins kept against tunnelling.
-    if (s > 0.0 && vn + s * inv_h >= 0.0 && c.ln == 0.0 && c.lt == 0.0 && c.lr == 0.0) continue;
+    if (s > 0.0 && vn + s * inv_h >= 0.0 && !(state[q] & kLive)) continue;
+    if (!(state[q] & kBuilt)) build_pair_row(q);
+    PairRow& c = rows[q];
+    double vax = A.vx, vay = A.vy, wa = A.w;
+    double vbx = B.vx, vby = B.vy, wb = B.w;
+    const double ima = A.im, imb = B.im, iia = A.ii, iib = B.ii;
     const double dn = normal_row(c, s, vn, soft);
-    vax += ima * dn * c.nx;
-    vay += ima * dn * c.ny;
-    vbx -= imb * dn * c.nx;
-    vby -= imb * dn * c.ny;
+    vax += ima * dn * g.nx;
+    vay += ima * dn * g.ny;
+    vbx -= imb * dn * g.nx;
+    vby -= imb * dn * g.ny;
     // Friction.
-    const double tx = -c.ny, ty = c.nx;
+    const double tx = -g.ny, ty = g.nx;
     const double vt = tx * (vax - vbx) + ty * (vay - vby) - c.alpha * wa - c.beta * wb;
     const double bound = c.mu * c.ln;
     const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
@@ -718,29 +806,38 @@ void SoftEngine::solve_pass(double elapsed_s) {
     B.vx = vbx;
     B.vy = vby;
     B.w = wb;
+    const std::uint8_t live = has_impulse(c);
+    state[q] = kBuilt | live;
     if (!kBias) {
+      // The next warm start applies the rows left live (a skipped row stays inert).
+      warm[warm_n] = static_cast<int>(q);
+      warm_n += live;
       sums[q].pn += c.ln;
       sums[q].pt += c.lt;
       sums[q].pr += c.lr;
     }
   }
+  if (!kBias) warm_n_ = warm_n;
   const double omega = state_.mill_speed_rad_s;
   const std::size_t npl = pl_.size();
+  const LinerGap* lgaps = pl_.gap.data();
   LinerRow* lrows = pl_.row.data();
+  std::uint8_t* lstate = pl_.state.data();
   StepSum* lsums = pl_.sum.data();
   for (std::size_t q = 0; q < npl; ++q) {
+    const LinerGap& g = lgaps[q];
+    Body& A = body[g.a];
+    const double s = g.s0 + g.nx * (A.dpx - g.vlx * elapsed_s) + g.ny * (A.dpy - g.vly * elapsed_s);
+    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
+    if (s > 0.0 && vn + s * inv_h >= 0.0 && !(lstate[q] & kLive)) continue;
     LinerRow& c = lrows[q];
-    Body& A = body[c.a];
     double vax = A.vx, vay = A.vy, wa = A.w;
     const double ima = A.im, iia = A.ii;
-    const double s = c.s0 + c.nx * (A.dpx - c.vlx * elapsed_s) + c.ny * (A.dpy - c.vly * elapsed_s);
-    const double vn = c.nx * (vax - c.vlx) + c.ny * (vay - c.vly);
-    if (s > 0.0 && vn + s * inv_h >= 0.0 && c.ln == 0.0 && c.lt == 0.0 && c.lr == 0.0) continue;
     const double dn = normal_row(c, s, vn, soft_liner);
-    vax += ima * dn * c.nx;
-    vay += ima * dn * c.ny;
-    const double tx = -c.ny, ty = c.nx;
-    const double vt = tx * (vax - c.vlx) + ty * (vay - c.vly) - c.alpha * wa;
+    vax += ima * dn * g.nx;
+    vay += ima * dn * g.ny;
+    const double tx = -g.ny, ty = g.nx;
+    const double vt = tx * (vax - g.vlx) + ty * (vay - g.vly) - c.alpha * wa;
     const double bound = c.mu * c.ln;
     const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
     const double dt_imp = lt - c.lt;
@@ -757,6 +854,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
     A.vx = vax;
     A.vy = vay;
     A.w = wa;
+    lstate[q] = kBuilt | has_impulse(c);
     if (!kBias) {
       lsums[q].pn += c.ln;
       lsums[q].pt += c.lt;
@@ -773,33 +871,37 @@ void SoftEngine::restitution() {
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     const ContactInfo& info = pp_.info[q];
     StepSum& sum = pp_.sum[q];
-    if (info.e == 0.0 || info.vn0 > thr || sum.pn == 0.0) continue;
+    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
+    const PairGap& g = pp_.gap[q];
     PairRow& c = pp_.row[q];
-    Body& A = body[c.a];
-    Body& B = body[c.b];
-    const double vn = c.nx * (A.vx - B.vx) + c.ny * (A.vy - B.vy);
+    Body& A = body[g.a];
+    Body& B = body[g.b];
+    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
     const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
+    pp_.state[q] = kBuilt | has_impulse(c);
     sum.pn += d;
-    A.vx += A.im * d * c.nx;
-    A.vy += A.im * d * c.ny;
-    B.vx -= B.im * d * c.nx;
-    B.vy -= B.im * d * c.ny;
+    A.vx += A.im * d * g.nx;
+    A.vy += A.im * d * g.ny;
+    B.vx -= B.im * d * g.nx;
+    B.vy -= B.im * d * g.ny;
   }
   for (std::size_t q = 0; q < pl_.size(); ++q) {
     const ContactInfo& info = pl_.info[q];
     StepSum& sum = pl_.sum[q];
-    if (info.e == 0.0 || info.vn0 > thr || sum.pn == 0.0) continue;
+    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
+    const LinerGap& g = pl_.gap[q];
     LinerRow& c = pl_.row[q];
-    Body& A = body[c.a];
-    const double vn = c.nx * (A.vx - c.vlx) + c.ny * (A.vy - c.vly);
+    Body& A = body[g.a];
+    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
     const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
+    pl_.state[q] = kBuilt | has_impulse(c);
     sum.pn += d;
-    A.vx += A.im * d * c.nx;
-    A.vy += A.im * d * c.ny;
+    A.vx += A.im * d * g.nx;
+    A.vy += A.im * d * g.ny;
   }
 }
 
@@ -844,21 +946,22 @@ void SoftEngine::account_contacts() {
       info.event_J = 0.0;
       continue;
     }
+    const PairGap& g = pp_.gap[q];
     const PairRow& c = pp_.row[q];
-    const auto a = static_cast<std::size_t>(c.a), b = static_cast<std::size_t>(c.b);
+    const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
     if (!act_[a] || !act_[b]) continue;
-    const double tx = -c.ny, ty = c.nx;
+    const double tx = -g.ny, ty = g.nx;
     const double dx0 = vbx_[a] - vbx_[b], dy0 = vby_[a] - vby_[b];
     const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
     rec.a = id_[a];
     rec.b = id_[b];
     rec.edge = -1;
     rec.point_m = {info.px, info.py};
-    rec.normal = {c.nx, c.ny};
+    rec.normal = {g.nx, g.ny};
     rec.normal_impulse = sum.pn;
     rec.tangent_impulse = sum.pt;
-    rec.vn_before = c.nx * dx0 + c.ny * dy0;
-    rec.vn_after = c.nx * dx1 + c.ny * dy1;
+    rec.vn_before = g.nx * dx0 + g.ny * dy0;
+    rec.vn_after = g.nx * dx1 + g.ny * dy1;
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a] - c.beta * wb_[b];
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
     const auto lo = static_cast<std::uint64_t>(std::min(rec.a, rec.b));
@@ -876,22 +979,23 @@ void SoftEngine::account_contacts() {
   for (std::size_t q = 0; q < pl_.size(); ++q) {
     const StepSum& sum = pl_.sum[q];
     if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) continue;
+    const LinerGap& g = pl_.gap[q];
     const LinerRow& c = pl_.row[q];
     const ContactInfo& info = pl_.info[q];
-    const auto a = static_cast<std::size_t>(c.a);
+    const auto a = static_cast<std::size_t>(g.a);
     if (!act_[a]) continue;
-    const double tx = -c.ny, ty = c.nx;
-    const double dx0 = vbx_[a] - c.vlx, dy0 = vby_[a] - c.vly;
-    const double dx1 = body[a].vx - c.vlx, dy1 = body[a].vy - c.vly;
+    const double tx = -g.ny, ty = g.nx;
+    const double dx0 = vbx_[a] - g.vlx, dy0 = vby_[a] - g.vly;
+    const double dx1 = body[a].vx - g.vlx, dy1 = body[a].vy - g.vly;
     rec.a = id_[a];
     rec.b = -1;
     rec.edge = info.edge;
     rec.point_m = {info.px, info.py};
-    rec.normal = {c.nx, c.ny};
+    rec.normal = {g.nx, g.ny};
     rec.normal_impulse = sum.pn;
     rec.tangent_impulse = sum.pt;
-    rec.vn_before = c.nx * dx0 + c.ny * dy0;
-    rec.vn_after = c.nx * dx1 + c.ny * dy1;
+    rec.vn_before = g.nx * dx0 + g.ny * dy0;
+    rec.vn_after = g.nx * dx1 + g.ny * dy1;
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a];
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
     rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(info.edge);
@@ -973,6 +1077,7 @@ void SoftEngine::step_once() {
     y0_[k] = y_[k];
     vbx_[k] = body_[k].vx;
     vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+    vy0_[k] = body_[k].vy;
     wb_[k] = body_[k].w;
     body_[k].dpx = 0.0;
     body_[k].dpy = 0.0;
@@ -992,6 +1097,7 @@ void SoftEngine::step_once() {
       y0_[k] = y_[k];
       vbx_[k] = body_[k].vx;
       vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+      vy0_[k] = body_[k].vy;
       wb_[k] = body_[k].w;
     }
   }
@@ -1025,8 +1131,6 @@ void SoftEngine::step_once() {
   state_.mill_angle_rad += state_.mill_speed_rad_s * dt_;
   if (accounting_.steps % 16 == 0) check_inside_liner();
   account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_, kGravity);
-  accounting_.kinetic_J_end = charge_kinetic_J(state_);
-  accounting_.potential_J_end = charge_potential_J(state_, kGravity);
   timing_.account_s += seconds_since(t_solve);
 }
 
