@@ -1,5 +1,6 @@
-// Validation: survey files, measured against simulated profiles, calibration of C, and the
-// ore-hardness correction. Round trips on the lab mill (draft fidelity, one stage).
+// Validation: survey files (profiles and areas only), measured against simulated profiles
+// and areas, calibration of C, and the ore-hardness correction. Round trips on the lab mill
+// (draft fidelity, one stage; two 50 h stages for the areas, tests/data/lab-quick.toml).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -16,6 +17,8 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "plots/plots.hpp"
+#include "validation/area_fit.hpp"
+#include "validation/area_surveys.hpp"
 #include "validation/hardness.hpp"
 #include "validation/profile_fit.hpp"
 #include "validation/surveys.hpp"
@@ -25,6 +28,8 @@ namespace fs = std::filesystem;
 namespace millwear {
 namespace {
 
+using validation::AreaSurvey;
+using validation::AreaSurveys;
 using validation::Survey;
 
 // ---- helpers ----
@@ -245,6 +250,249 @@ TEST(ValidationCalibration, RecoversAKnownWearRateWithinItsUncertainty) {
   EXPECT_LE(r.runs.size(), 4u);
   std::printf("[ calibration ] C = %.4g +- %.2g (true %.4g) after %zu runs\n", r.c_m3_per_J, r.expanded_m3_per_J,
               c_true, r.runs.size());
+}
+
+// ---- area surveys ----
+
+TEST(ValidationAreaSurveys, FileRoundTripKeepsRowsAndRepeatedHours) {
+  const std::string text =
+      "# liner survey, two lifters per inspection\n"
+      "hours, area_mm2 ,lifter\n"  // spaces around names and an extra column are fine
+      "0,431.5,A\n"
+      "\n"
+      "500,400.25,A\n500,398.0,B\n"
+      "# a comment between rows\n"
+      "250,415,A\n";  // any order
+  const AreaSurveys a = validation::parse_area_surveys(text, "a.csv");
+  EXPECT_FALSE(a.losses);
+  ASSERT_EQ(a.surveys.size(), 4u);
+  EXPECT_EQ(a.surveys[2].hours, 500.0);
+  EXPECT_DOUBLE_EQ(a.surveys[2].value_m2, 398.0e-6);  // mm^2 -> m^2
+  EXPECT_EQ(a.surveys[0].line, 3u);
+  EXPECT_EQ(a.surveys[3].line, 8u);
+  const AreaSurveys back = validation::parse_area_surveys(validation::format_area_surveys(a, "x\ny"), "b.csv");
+  ASSERT_EQ(back.surveys.size(), a.surveys.size());
+  for (std::size_t i = 0; i < a.surveys.size(); ++i) {
+    EXPECT_EQ(back.surveys[i].hours, a.surveys[i].hours);
+    EXPECT_DOUBLE_EQ(back.surveys[i].value_m2, a.surveys[i].value_m2);
+  }
+  const AreaSurveys l = validation::parse_area_surveys("hours,area_loss_mm2\n100,12.5\n", "l.csv");
+  EXPECT_TRUE(l.losses);
+  EXPECT_TRUE(validation::parse_area_surveys(validation::format_area_surveys(l), "l2.csv").losses);
+}
+
+TEST(ValidationAreaSurveys, TheHeaderTellsProfilesFromAreas) {
+  const auto p = validation::parse_measurements("hours,x_mm,y_mm\n0,-1,0\n0,1,0\n", "p.csv");
+  EXPECT_FALSE(p.areas_only);
+  EXPECT_EQ(p.count(), 1u);
+  const auto a = validation::parse_measurements("# c\nhours,area_mm2\n0,400\n100,380\n", "a.csv");
+  EXPECT_TRUE(a.areas_only);
+  EXPECT_EQ(a.count(), 2u);
+  EXPECT_EQ(a.hours(), (std::vector<double>{0.0, 100.0}));
+  EXPECT_EQ(a.lines(), (std::vector<std::size_t>{3, 4}));
+}
+
+TEST(ValidationAreaSurveys, LossIsFromTheMeasuredNewAreaElseTheScenes) {
+  // With 0 h rows their mean is the reference; without, the scene's new lifter area.
+  const auto with0 = validation::measured_areas(
+      validation::parse_area_surveys("hours,area_mm2\n0,400\n0,404\n100,380\n", "a.csv"), 410e-6);
+  EXPECT_TRUE(with0.reference_measured);
+  EXPECT_NEAR(with0.reference_m2, 402e-6, 1e-15);
+  EXPECT_NEAR(with0.loss_m2[2], 22e-6, 1e-15);
+  const auto without0 =
+      validation::measured_areas(validation::parse_area_surveys("hours,area_mm2\n100,380\n", "a.csv"), 410e-6);
+  EXPECT_FALSE(without0.reference_measured);
+  EXPECT_NEAR(without0.loss_m2[0], 30e-6, 1e-15);
+  const auto loss =
+      validation::measured_areas(validation::parse_area_surveys("hours,area_loss_mm2\n100,25\n", "l.csv"), 410e-6);
+  EXPECT_NEAR(loss.loss_m2[0], 25e-6, 1e-15);
+  EXPECT_NEAR(loss.area_m2[0], 385e-6, 1e-15);
+}
+
+TEST(ValidationAreaSurveys, ShippedExampleIsALabelledSyntheticAreaSurvey) {
+  // validation/lab-mill-areas.csv: the lab-mill run's areas at 0 h (one row) and 100 and 200 h
+  // (three lifters each), 2 mm^2 noise (its header says so; make_examples.py makes it).
+  const std::string path = testing::source_path("validation/lab-mill-areas.csv");
+  EXPECT_EQ(io::read_file(path).rfind("# SYNTHETIC, NOT MEASURED", 0), 0u);
+  const auto m = validation::read_measurements(path);
+  ASSERT_TRUE(m.areas_only);
+  EXPECT_EQ(m.hours(), (std::vector<double>{0, 100, 100, 100, 200, 200, 200}));
+  // The new lab lifter (lab-2x30) is 419.1 mm^2: the 0 h row is within its 2 mm^2 noise (3 sd).
+  EXPECT_NEAR(m.areas.surveys[0].value_m2, 419.1e-6, 6e-6);
+  const auto loss = validation::measured_areas(m.areas, 419.1e-6);
+  EXPECT_TRUE(loss.reference_measured);
+  for (std::size_t i = 1; i < 7; ++i) EXPECT_GT(loss.loss_m2[i], 0.0);
+}
+
+// A bad area file names the file and the line of the problem.
+void expect_measurement_error(const std::string& text, const std::string& where, const std::string& says) {
+  try {
+    validation::parse_measurements(text, "bad.csv");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "bad.csv");
+    EXPECT_EQ(e.where, where) << e.what();
+    EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+  }
+}
+
+TEST(ValidationAreaSurveys, MalformedFilesNameFileAndLine) {
+  expect_measurement_error("hours,area\n0,400\n", "line 1", "hours,area_mm2");       // neither format
+  expect_measurement_error("# c\n# c\nhours,size\n0,400\n", "line 3", "x_mm,y_mm");  // the header's own line
+  expect_measurement_error("time,area_mm2\n0,400\n", "line 1", "column named hours");
+  expect_measurement_error("hours,area_mm2,area_loss_mm2\n0,400,0\n", "line 1", "not both");
+  expect_measurement_error("# c\nhours,area_mm2\n", "line 3", "rows hours,area_mm2");
+  expect_measurement_error("hours,area_mm2\n0,400\n100,abc\n", "line 3", "column area_mm2");
+  expect_measurement_error("hours,area_mm2\n0,400\n100,-5\n", "line 3", "area > 0");
+  expect_measurement_error("hours,area_mm2\n0,400\n100,0\n", "line 3", "area > 0");
+  expect_measurement_error("hours,area_mm2\n0,400\n-1,380\n", "line 3", "hours >= 0");
+  expect_measurement_error("hours,area_mm2\n0,400\nnan,380\n", "line 3", "hours >= 0");
+  expect_measurement_error("hours,area_loss_mm2\n100,inf\n", "line 2", "finite area loss");
+  expect_measurement_error("hours,area_mm2\n0,400\n100,380,1\n", "line 3", "fields");
+}
+
+TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
+  const fs::path d = temp_dir("cli-areas");
+  const std::string bad = (d / "bad-areas.csv").string();
+  std::ofstream(bad) << "# areas\nhours,area_mm2\n0,419\n100,-3\n";
+  const std::string scene = testing::source_path("scenarios/lab-mill.toml");
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    const CliResult r = run_cli(cmd + " \"" + scene + "\" --measured \"" + bad + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(bad + ": line 4: a lifter area > 0"), std::string::npos) << r.output;
+  }
+  // Only the new lifter: nothing to calibrate on.
+  const std::string unworn = (d / "unworn.csv").string();
+  std::ofstream(unworn) << "hours,area_mm2\n0,419\n";
+  const CliResult u = run_cli("calibrate \"" + scene + "\" --measured \"" + unworn + "\" -o \"" + (d / "out").string() + "\"");
+  EXPECT_EQ(u.exit_code, 2) << u.output;
+  EXPECT_NE(u.output.find(unworn + ": hours: at least one survey after 0 h"), std::string::npos) << u.output;
+  EXPECT_FALSE(fs::exists(d / "out"));  // nothing written before the input is valid
+  fs::remove_all(d);
+}
+
+// ---- areas ----
+
+TEST(ValidationAreas, AreaHistoryIsExactAtStagesAndLinearBetween) {
+  const validation::AreaHistory h{{0.0, 100.0, 200.0}, {400e-6, 360e-6, 330e-6}};
+  EXPECT_EQ(h.area_at(100.0), 360e-6);
+  EXPECT_NEAR(h.area_at(25.0), 390e-6, 1e-18);
+  EXPECT_NEAR(h.area_at(150.0), 345e-6, 1e-18);
+  // Beyond the last stage the last slope goes on to a fifth of the last interval, then stops.
+  EXPECT_DOUBLE_EQ(h.extrapolation_limit(), 220.0);
+  EXPECT_NEAR(h.area_at(210.0), 327e-6, 1e-18);
+  EXPECT_NEAR(h.area_at(400.0), 324e-6, 1e-18);
+}
+
+TEST(ValidationAreas, AreasMeasuredFromASimulatedRunValidateWithZeroError) {
+  const WearHistory& h = quick_history();
+  AreaSurveys measured;
+  for (const auto& st : h.stages) measured.surveys.push_back({st.hours, st.lifter.area_m2, 0});
+  // Through the file format (mm^2, 10 significant digits), as a user's file would be.
+  const AreaSurveys surveys = validation::parse_area_surveys(validation::format_area_surveys(measured), "sim.csv");
+  const auto rows = validation::compare_areas(surveys, validation::area_history(h.stages));
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& c : rows) {
+    // 10 significant digits of ~400 mm^2: 5e-8 mm^2 rounding.
+    EXPECT_LT(std::fabs(c.area_error_m2), 1e-13) << c.hours << " h";
+    EXPECT_LT(std::fabs(c.area_error_pct), 1e-6);
+    EXPECT_LT(std::fabs(c.loss_error_m2), 1e-13);
+  }
+  EXPECT_GT(rows[1].measured_loss_m2, 0.0);  // the worn survey did lose metal
+  EXPECT_NEAR(rows[1].simulated_loss_m2, h.stages[0].lifter.area_m2 - h.stages[1].lifter.area_m2, 1e-18);
+  EXPECT_TRUE(std::isnan(rows[0].loss_error_pct));  // 0 h: no loss to compare with
+}
+
+// A synthetic history in place of the engine: the lifter area falls by 0.3 mm^2/h at
+// C = 1e-10 m^3/J, in proportion to C t, so the time-scaling and the linear interpolation
+// between stages are exact, and the "simulation" carries no statistical error.
+WearHistory synthetic_area_history(const Scene& s) {
+  WearHistory h;
+  h.wear_rate_m3_per_J = s.wear.wear_rate_m3_per_J;
+  for (int k = 0; k <= s.wear.stages; ++k) {
+    StageRecord r;
+    r.stage = k;
+    r.hours = k * s.wear.stage_hours;
+    r.units = {LinerUnit{{{-0.02, 0.0}, {0.02, 0.0}}, 0.02}};
+    r.lifter.area_m2 = 400e-6 - 0.3e-6 * (h.wear_rate_m3_per_J / 1e-10) * r.hours;
+    r.simulated_s = 1.0;
+    h.stages.push_back(r);
+  }
+  return h;
+}
+
+TEST(ValidationCalibration, AreasOnAnExactlyScalingHistoryGiveCBackAndTheFitErrorWhenKnown) {
+  Scene guess = quick_lab();
+  const double c_true = 1e-10;
+  guess.wear.wear_rate_m3_per_J = 1.7 * c_true;
+  Scene truth_scene = guess;
+  truth_scene.wear.wear_rate_m3_per_J = c_true;
+  truth_scene.wear.stage_hours = 100.0;
+  truth_scene.wear.stages = 3;
+  const WearHistory truth = synthetic_area_history(truth_scene);
+
+  // One worn area: the fit is exact and its own error unknown (one residual).
+  AreaSurveys one;
+  one.surveys = {{0.0, truth.stages[0].lifter.area_m2, 2}, {200.0, truth.stages[2].lifter.area_m2, 3}};
+  const auto r1 = validation::calibrate_wear_rate(guess, one, {}, {}, synthetic_area_history);
+  EXPECT_TRUE(r1.converged);
+  EXPECT_NEAR(r1.c_m3_per_J, c_true, 1e-6 * c_true);  // the golden section stops at 1e-7 of s
+  EXPECT_FALSE(r1.fit_error_known);
+  EXPECT_EQ(r1.sigma_fit_m3_per_J, 0.0);
+
+  // Several noisy worn areas (sd 1 mm^2): the fit's error is known and covers the miss.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 1e-6);
+  AreaSurveys many;
+  for (int k = 1; k <= 3; ++k)
+    for (int lifter = 0; lifter < 3; ++lifter)
+      many.surveys.push_back({truth.stages[k].hours, truth.stages[k].lifter.area_m2 + noise(rng), 0});
+  const auto r = validation::calibrate_wear_rate(guess, many, {}, {}, synthetic_area_history);
+  EXPECT_TRUE(r.converged);
+  EXPECT_TRUE(r.fit_error_known);
+  EXPECT_GT(r.sigma_fit_m3_per_J, 0.0);
+  EXPECT_EQ(r.sigma_model_m3_per_J, 0.0);  // the synthetic history has no statistical error
+  // 9 losses of 30-90 mm^2 with 1 mm^2 noise: C to about 1%.
+  EXPECT_LT(r.expanded_m3_per_J, 0.05 * c_true);
+  EXPECT_NEAR(r.c_m3_per_J, c_true, r.expanded_m3_per_J);
+  EXPECT_EQ(r.survey_c.size(), 9u);
+}
+
+TEST(ValidationCalibration, RecoversAKnownWearRateFromAreasAloneWithinItsUncertainty) {
+  const Scene truth_scene = load_scene(testing::source_path("tests/data/lab-quick.toml"));
+  const WearHistory truth = run_wear_history(truth_scene);
+  const double c_true = truth_scene.wear.wear_rate_m3_per_J;
+  ASSERT_EQ(truth.stages.size(), 3u);
+  // Area surveys: the new lifter, and three lifters at each of 50 and 100 h, each area with
+  // Gaussian measurement noise of sd 1 mm^2 (0.25% of the 419 mm^2 lifter, about 3% of the
+  // loss at 50 h), through the file format.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1e-6);
+  AreaSurveys made;
+  for (const auto& st : truth.stages)
+    for (int lifter = 0; lifter < (st.hours > 0.0 ? 3 : 1); ++lifter)
+      made.surveys.push_back({st.hours, st.lifter.area_m2 + noise(rng), 0});
+  const AreaSurveys surveys = validation::parse_area_surveys(validation::format_area_surveys(made), "areas.csv");
+
+  Scene guess = truth_scene;
+  guess.wear.wear_rate_m3_per_J = 1.3 * c_true;
+  validation::CalibrationOptions opt;
+  // One lab-quick history's cumulative wear is uncertain by about 4% (its sigma_model): a 1%
+  // tolerance on s is below what one history can resolve.
+  opt.rel_tol = 0.05;
+  const auto r = validation::calibrate_wear_rate(guess, surveys, opt);
+  EXPECT_TRUE(r.converged) << r.runs.size() << " runs";
+  EXPECT_TRUE(r.fit_error_known);
+  // Stated uncertainty: the expanded uncertainty U (k = 2) the calibration reports.
+  EXPECT_NEAR(r.c_m3_per_J, c_true, r.expanded_m3_per_J)
+      << "C = " << r.c_m3_per_J << " +- " << r.expanded_m3_per_J << " (true " << c_true << ")";
+  EXPECT_GT(r.sigma_model_m3_per_J, 0.0);
+  EXPECT_LT(r.expanded_m3_per_J, 0.25 * c_true);  // informative, not a blanket error
+  EXPECT_EQ(r.survey_c.size(), 6u);
+  std::printf("[ calibration ] areas: C = %.4g +- %.2g (true %.4g) after %zu runs:", r.c_m3_per_J,
+              r.expanded_m3_per_J, c_true, r.runs.size());
+  for (const auto& run : r.runs) std::printf(" %.4g (x %.3f)", run.c_m3_per_J, run.fit.scale);
+  std::printf("\n");
 }
 
 // ---- hardness ----

@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""Makes the example inputs of this folder (see README.md). Neither file is a measurement.
+"""Makes the example inputs of this folder (see README.md). No file is a measurement.
 
   lab-mill-surveys.csv    SIMULATED surveys: the lifter profiles of a `millwear run` of
                           scenarios/lab-mill.toml (its own draft fidelity, C = 1e-10 m^3/J) at
                           0, 100 and 200 h, with Gaussian "measurement" noise (sd 0.1 mm in x
                           and y, seed 7) added.
+  lab-mill-areas.csv      SYNTHETIC area-only surveys from the same run: the lifter area of its
+                          OUT/summary.csv at 0 h (one row) and at 100 and 200 h (three rows each,
+                          three lifters surveyed), each plus Gaussian noise of sd 2 mm^2 (seed 13).
   hardness-synthetic.csv  SYNTHETIC periods: wear rate = R0 * a * H^b with R0 = 20 mm^2/day,
                           b = 2.0, a = 14^-2 (CT = 1 at hardness 14), times exp(N(0, 0.02^2))
                           noise (seed 11); period lengths as in the paper's Fig. 1.
@@ -41,6 +44,29 @@ def surveys(run_dir: Path):
     (here / "lab-mill-surveys.csv").write_text(text)
 
 
+def areas(run_dir: Path):
+    rng = random.Random(13)
+    rows = []
+    with open(run_dir / "summary.csv") as f:
+        for r in csv.DictReader(f):
+            if r["design"] != "lab-mill":
+                continue
+            hours, area = float(r["hours"]), float(r["area_mm2"])
+            for _ in range(3 if hours > 0 else 1):
+                rows.append(f"{hours:g},{area + rng.gauss(0.0, 2.0):.1f}")
+    text = (
+        "# SYNTHETIC, NOT MEASURED: example area-only surveys for `millwear validate` and `millwear calibrate`.\n"
+        "# Made by validation/make_examples.py from the run that made lab-mill-surveys.csv (`millwear run\n"
+        "# scenarios/lab-mill.toml`, draft fidelity, wear_rate = 1e-10 m^3/J, bidirectional, 100 h stages).\n"
+        "# Model: every lifter wears like the simulated one; a survey measures its area with Gaussian error\n"
+        "# of sd 2 mm^2 (0.5% of the 419 mm^2 new lifter), seed 13. One row at 0 h (the new lifter: the\n"
+        "# reference of the area loss), three rows (three lifters) at each of 100 and 200 h.\n"
+        "# Format: hours,area_mm2; one row per lifter surveyed; area = the lifter's metal cross-section\n"
+        "# above the original shell line (as `millwear profile` and OUT/summary.csv report it).\n"
+        "hours,area_mm2\n" + "\n".join(rows) + "\n")
+    (here / "lab-mill-areas.csv").write_text(text)
+
+
 def hardness():
     rng = random.Random(11)
     r0, b = 20.0, 2.0
@@ -65,4 +91,5 @@ if __name__ == "__main__":
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     surveys(Path(sys.argv[1]))
+    areas(Path(sys.argv[1]))
     hardness()

@@ -1,12 +1,14 @@
 // `millwear calibrate SCENE --measured FILE [-o OUT]`: the real wear rate C that makes the
 // simulated wear history fit measured lifter profiles (least squares on the signed normal
-// distances; method in validation/profile_fit.hpp), with its uncertainty, and a copy of
-// the scene with `wear.wear_rate` filled in.
+// distances; validation/profile_fit.hpp) or, when the file holds areas only, measured lifter
+// areas (least squares on the area loss; validation/area_fit.hpp), with its uncertainty
+// (validation/calibration.hpp), and a copy of the scene with `wear.wear_rate` filled in.
 //
 // Outputs: OUT/STEM-calibrated.toml (or, without -o, STEM-calibrated.toml next to the
 // scene), OUT/calibration.csv (one row per history run), OUT/calibration_surveys.csv (the
-// per-survey estimates). The copy keeps the scene's text and comments; only the wear-rate
-// line changes (and the profile path, rewritten relative to the copy's folder).
+// per-survey estimates), OUT/calibration_result.csv. The copy keeps the scene's text and
+// comments; only the wear-rate line changes (and the profile path, rewritten relative to the
+// copy's folder).
 // Exit codes: 0 converged; 1 a run failed or no convergence within --max-runs (the best
 // estimate is still written); 2 bad input.
 #include <CLI/CLI.hpp>
@@ -24,6 +26,8 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
+#include "validation/area_fit.hpp"
+#include "validation/area_surveys.hpp"
 #include "validation/profile_fit.hpp"
 
 namespace millwear::app {
@@ -118,10 +122,13 @@ std::string calibrated_scene_text(const std::string& scene_path, const std::stri
 int run_calibrate(const CalibrateArgs& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  const auto surveys = validation::read_surveys(a.measured);
+  const validation::Measurements measured = validation::read_measurements(a.measured);
   bool worn = false;
-  for (const auto& v : surveys) worn |= v.hours > 0.0;
-  if (!worn) throw InputError(a.measured, "hours", "at least one survey after 0 h (a worn profile) to calibrate on");
+  for (double h : measured.hours()) worn |= h > 0.0;
+  if (!worn)
+    throw InputError(a.measured, "hours", std::string("at least one survey after 0 h (a worn ") +
+                                              (measured.areas_only ? "lifter area" : "profile") + ") to calibrate on");
+  const bool areas = measured.areas_only;
 
   const std::string stem = fs::path(a.scene).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene)).parent_path().string() : a.out;
@@ -130,31 +137,39 @@ int run_calibrate(const CalibrateArgs& a) {
   validation::CalibrationOptions opt;
   opt.max_runs = a.max_runs;
   opt.rel_tol = a.tolerance_pct / 100.0;
-  std::printf("calibrate %s against %zu survey(s) in %s (fidelity %s, up to %d wear histories)\n",
-              scene.name.c_str(), surveys.size(), a.measured.c_str(), scene.fidelity.c_str(), opt.max_runs);
+  std::printf("calibrate %s against %zu %s in %s (least squares on %s; fidelity %s, up to %d wear histories)\n",
+              scene.name.c_str(), measured.count(), areas ? "lifter area(s)" : "profile survey(s)", a.measured.c_str(),
+              areas ? "the area loss" : "the normal distances", scene.fidelity.c_str(), opt.max_runs);
   std::fflush(stdout);
-  const auto on_run = [](const validation::CalibrationRun& r) {
-    std::printf("run %d: C = %.4g m^3/J to %.0f h: best fit C = %.4g (x %.4f), rms %.3f mm over %d points%s "
-                "(%.1f s)\n",
-                r.run, r.c_m3_per_J, r.reached_hours, r.c_estimate, r.fit.scale, r.fit.rms_m * 1e3, r.fit.points,
+  const auto on_run = [areas](const validation::CalibrationRun& r) {
+    std::printf("run %d: C = %.4g m^3/J to %.0f h: best fit C = %.4g (x %.4f), rms %.3f %s over %d %s%s (%.1f s)\n",
+                r.run, r.c_m3_per_J, r.reached_hours, r.c_estimate, r.fit.scale, r.fit.rms * (areas ? 1e6 : 1e3),
+                areas ? "mm^2" : "mm", r.fit.points, areas ? "worn area(s)" : "points",
                 r.fit.at_bound ? ", at the end of the history" : "", r.wall_s);
     for (const auto& e : r.events) std::printf("  event: %s\n", e.c_str());
     std::fflush(stdout);
   };
   const auto history = [](const Scene& s) { return run_wear_history(s, progress_callbacks()); };
-  const validation::CalibrationResult res = validation::calibrate_wear_rate(scene, surveys, opt, on_run, history);
+  const validation::CalibrationResult res =
+      areas ? validation::calibrate_wear_rate(scene, measured.areas, opt, on_run, history)
+            : validation::calibrate_wear_rate(scene, measured.profiles, opt, on_run, history);
 
-  std::printf("C = %.4g +- %.2g m^3/J (expanded uncertainty, k = 2, about 95%%; standard %.2g: fit %.2g, "
+  char fit_sigma[32] = "unknown";
+  if (res.fit_error_known) std::snprintf(fit_sigma, sizeof fit_sigma, "%.2g", res.sigma_fit_m3_per_J);
+  std::printf("C = %.4g +- %.2g m^3/J (expanded uncertainty, k = 2, about 95%%; standard %.2g: fit %s, "
               "simulation statistics %.2g)%s\n",
-              res.c_m3_per_J, res.expanded_m3_per_J, res.sigma_m3_per_J, res.sigma_fit_m3_per_J,
-              res.sigma_model_m3_per_J, res.converged ? "" : "  NOT CONVERGED");
+              res.c_m3_per_J, res.expanded_m3_per_J, res.sigma_m3_per_J, fit_sigma, res.sigma_model_m3_per_J,
+              res.converged ? "" : "  NOT CONVERGED");
+  if (!res.fit_error_known)
+    std::printf("  one worn area survey: the fit's own error is unknown, U counts the simulation statistics only "
+                "(two or more areas after 0 h give it)\n");
   for (std::size_t j = 0; j < res.survey_c.size(); ++j)
     std::printf("  survey at %.0f h alone: C = %.4g m^3/J\n", res.survey_hours[j], res.survey_c[j]);
 
   io::ensure_dir(out_dir);
   char note[200];
-  std::snprintf(note, sizeof note, "calibrated on %s: %.4g +- %.2g (k=2)", fs::path(a.measured).filename().c_str(),
-                res.c_m3_per_J, res.expanded_m3_per_J);
+  std::snprintf(note, sizeof note, "calibrated on %s%s: %.4g +- %.2g (k=2)", fs::path(a.measured).filename().c_str(),
+                areas ? " (areas)" : "", res.c_m3_per_J, res.expanded_m3_per_J);
   io::write_file_atomic(scene_out, calibrated_scene_text(a.scene, out_dir, res.c_m3_per_J, note));
   // The copy must read back as a valid scene with exactly this C.
   const Scene check = load_scene(scene_out);
@@ -163,19 +178,22 @@ int run_calibrate(const CalibrateArgs& a) {
     throw RunError(scene_out + ": the calibrated copy does not read back with the calibrated wear rate");
 
   if (!a.out.empty()) {
-    io::CsvTable runs({"run", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J", "rms_mm", "points",
-                       "sigma_scale_curvature", "sigma_scale_spread", "at_bound", "wall_s"});
+    // rms of the residuals: normal distances (mm) for profiles, area losses (mm^2) for areas.
+    io::CsvTable runs({"run", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J",
+                       areas ? "rms_mm2" : "rms_mm", "points", "sigma_scale_curvature", "sigma_scale_spread",
+                       "at_bound", "wall_s"});
     for (const auto& r : res.runs)
-      runs.add_row({r.run, r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms_m * 1e3, r.fit.points,
-                    r.fit.sigma_curvature, r.fit.sigma_spread, r.fit.at_bound, r.wall_s});
+      runs.add_row({r.run, r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms * (areas ? 1e6 : 1e3),
+                    r.fit.points, r.fit.sigma_curvature, r.fit.sigma_spread, r.fit.at_bound, r.wall_s});
     runs.write(io::join_path(a.out, "calibration.csv"));
     io::CsvTable per({"hours", "c_m3_per_J"});
     for (std::size_t j = 0; j < res.survey_c.size(); ++j) per.add_row({res.survey_hours[j], res.survey_c[j]});
     per.write(io::join_path(a.out, "calibration_surveys.csv"));
     io::CsvTable sum({"c_m3_per_J", "sigma_m3_per_J", "sigma_fit_m3_per_J", "sigma_simulation_m3_per_J",
-                      "expanded_m3_per_J", "converged", "runs"});
+                      "expanded_m3_per_J", "converged", "runs", "fit_on", "fit_error_known"});
     sum.add_row({res.c_m3_per_J, res.sigma_m3_per_J, res.sigma_fit_m3_per_J, res.sigma_model_m3_per_J,
-                 res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size())});
+                 res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size()),
+                 areas ? "area_loss" : "profiles", res.fit_error_known});
     sum.write(io::join_path(a.out, "calibration_result.csv"));
   }
   std::printf("calibrated scene: %s\n", scene_out.c_str());
@@ -192,16 +210,22 @@ int run_calibrate(const CalibrateArgs& a) {
 void register_calibrate(CLI::App& app, Action* action) {
   auto args = std::make_shared<CalibrateArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "calibrate", "Fit the real wear rate C to measured lifter profiles; writes a calibrated scene copy");
+      "calibrate",
+      "Fit the real wear rate C to measured lifter profiles or areas; writes a calibrated scene copy");
   cmd->add_option("scene", args->scene, "scene file (TOML); its wear rate is the first guess")
       ->required()->check(CLI::ExistingFile);
-  cmd->add_option("--measured", args->measured, "measured surveys: CSV hours,x_mm,y_mm, one block per survey")
+  cmd->add_option("--measured", args->measured,
+                  "measured surveys (CSV): profiles hours,x_mm,y_mm or areas only hours,area_mm2 (see below)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder (default: the calibrated scene goes next to SCENE)");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--max-runs", args->max_runs, "wear histories at most (default 5)")->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (default 1)")
       ->check(CLI::PositiveNumber);
+  cmd->footer(std::string(kMeasuredFileHelp) +
+              "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
+              "squares on the area loss of every row after 0 h (two or more such rows give the fit's own\n"
+              "error). C is printed with U = 2 sigma (about 95%).");
   cmd->callback([args, action] { *action = [args] { return run_calibrate(*args); }; });
 }
 

@@ -9,6 +9,18 @@
 
 namespace millwear::app {
 
+// The --measured file formats, for the help of validate and calibrate (validation/README.md).
+inline constexpr const char* kMeasuredFileHelp =
+    "Measured file (--measured), CSV; lines starting with # are comments:\n"
+    "  profiles    hours,x_mm,y_mm     one block of consecutive rows per survey, points in order\n"
+    "                                  along the lifter (lifter-local mm: x along the shell, +x the\n"
+    "                                  leading face; y up from the original shell line)\n"
+    "  areas only  hours,area_mm2      one row per lifter surveyed (hours may repeat): the lifter's\n"
+    "                                  cross-section above the original shell line, mm^2; a 0 h row\n"
+    "                                  is the reference of the area loss (else the scene's new lifter)\n"
+    "         or   hours,area_loss_mm2 one row per lifter: the area lost since new, mm^2\n"
+    "Examples: validation/lab-mill-surveys.csv, validation/lab-mill-areas.csv.";
+
 // One line per finished stage on stdout (histories here are short; no live display).
 inline WearCallbacks progress_callbacks() {
   WearCallbacks cb;

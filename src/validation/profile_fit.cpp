@@ -1,14 +1,11 @@
-// Profile comparison, interpolation between stages, and the calibration of C (see
-// profile_fit.hpp for the method).
+// Profile comparison, interpolation between stages, and the calibration of C on profiles
+// (see profile_fit.hpp; the time-scale fit itself is in calibration.cpp).
 #include "validation/profile_fit.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
-#include "common/errors.hpp"
 #include "io/csv.hpp"
 
 namespace millwear::validation {
@@ -55,29 +52,6 @@ Polygon clip_half_plane(const Polygon& poly, F f) {
     if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
   }
   return out;
-}
-
-// Least-squares 1D minimum of fn over [lo, hi]: a log-spaced scan, then golden section
-// between the best scan point's neighbours (the misfit need not be unimodal far away).
-double minimize_scale(const std::function<double(double)>& fn, double lo, double hi, bool& at_bound) {
-  constexpr int kScan = 80;
-  std::vector<double> s(kScan), v(kScan);
-  for (int k = 0; k < kScan; ++k) {
-    s[k] = lo * std::pow(hi / lo, static_cast<double>(k) / (kScan - 1));
-    v[k] = fn(s[k]);
-  }
-  const int best = static_cast<int>(std::min_element(v.begin(), v.end()) - v.begin());
-  at_bound = best == kScan - 1;
-  double a = s[std::max(0, best - 1)], b = s[std::min(kScan - 1, best + 1)];
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double c = b - g * (b - a), d = a + g * (b - a);
-  double fc = fn(c), fd = fn(d);
-  for (int it = 0; it < 60 && (b - a) > 1e-7 * b; ++it) {
-    if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = fn(c); }
-    else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = fn(d); }
-  }
-  const double m = 0.5 * (a + b);
-  return fn(m) <= v[best] ? m : s[best];
 }
 
 }  // namespace
@@ -192,161 +166,36 @@ ProfileComparison compare_profile(const Survey& measured, const Polyline& simula
 }
 
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {
-  double hmin = INFINITY, hmax = 0.0;
-  for (const Survey& s : surveys)
-    if (s.hours > 0.0) { hmin = std::min(hmin, s.hours); hmax = std::max(hmax, s.hours); }
-  if (!(hmax > 0.0)) return 0.0;
-  for (int k = 1; k <= max_stages; ++k) {
-    const double h0 = hmin / k;
-    if (hmax / h0 > max_stages + 1e-6) return 0.0;
-    bool ok = true;
-    for (const Survey& s : surveys) {
-      const double q = s.hours / h0;
-      if (std::fabs(q - std::round(q)) > 1e-6 * std::max(1.0, q)) { ok = false; break; }
-    }
-    if (ok) return h0;
-  }
-  return 0.0;
+  return common_stage_hours(survey_hours(surveys), max_stages);
 }
 
 Scene scene_for_surveys(const Scene& scene, const std::vector<Survey>& surveys, double c, double reach) {
-  Scene s = scene;
-  double hmax = 0.0;
-  for (const Survey& v : surveys) hmax = std::max(hmax, v.hours);
-  const double h0 = common_stage_hours(surveys);
-  if (h0 > 0.0) s.wear.stage_hours = h0;
-  s.wear.stages = std::max(1, static_cast<int>(std::ceil(reach * hmax / s.wear.stage_hours - 1e-9)));
-  if (c > 0.0) {
-    s.wear.rate_source = WearRateSource::Given;
-    s.wear.wear_rate_m3_per_J = c;
-  }
-  return s;
+  return scene_for_survey_hours(scene, survey_hours(surveys), c, reach);
 }
 
 ScaleFit fit_time_scale(const ProfileHistory& history, const std::vector<Survey>& surveys) {
   std::vector<const Survey*> worn;
+  std::vector<double> worn_hours;
   for (const Survey& s : surveys)
-    if (s.hours > 0.0) worn.push_back(&s);
-  if (worn.empty()) throw InputError("", "surveys", "at least one survey after 0 h (a worn profile) to calibrate on");
-  if (!(history.last_hours() > 0.0)) throw RunError("the wear history has no worn stage to compare with");
-
-  // Residuals of a set of surveys at scale s.
-  auto residuals = [&](const std::vector<const Survey*>& set, double s, std::vector<double>& r) {
-    r.clear();
-    for (const Survey* v : set) {
-      const Polyline sim = history.profile_at(std::min(v->hours * s, history.extrapolation_limit()));
-      for (const Vec2& p : v->profile_m) r.push_back(signed_distance(p, sim));
+    if (s.hours > 0.0) {
+      worn.push_back(&s);
+      worn_hours.push_back(s.hours);
     }
-  };
-  auto misfit = [&](const std::vector<const Survey*>& set) {
-    return [&history, &residuals, set](double s) {
-      (void)history;
-      std::vector<double> r;
-      residuals(set, s, r);
-      double ss = 0.0;
-      for (double x : r) ss += x * x;
-      return ss;
-    };
-  };
-  double hmax = 0.0;
-  for (const Survey* v : worn) hmax = std::max(hmax, v->hours);
-
-  ScaleFit fit;
-  const double s_hi = history.extrapolation_limit() / hmax;
-  fit.scale = minimize_scale(misfit(worn), 1e-3 * s_hi, s_hi, fit.at_bound);
-
-  std::vector<double> r, rp, rm;
-  residuals(worn, fit.scale, r);
-  fit.points = static_cast<int>(r.size());
-  double rss = 0.0;
-  for (double x : r) rss += x * x;
-  fit.rms_m = std::sqrt(rss / r.size());
-  // Gauss-Newton: J = d r / d s by central differences (one-sided at the history's end);
-  // the step spans several geometry updates so the piecewise-linear interpolation is smooth.
-  const double ds = 0.02 * fit.scale;
-  const double s_up = std::min(fit.scale + ds, s_hi), s_dn = fit.scale - ds;
-  residuals(worn, s_up, rp);
-  residuals(worn, s_dn, rm);
-  double jj = 0.0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    const double j = (rp[i] - rm[i]) / (s_up - s_dn);
-    jj += j * j;
-  }
-  fit.sigma_curvature = (jj > 0.0 && r.size() > 1) ? std::sqrt(rss / (r.size() - 1) / jj) : INFINITY;
-
-  for (const Survey* v : worn) {
-    bool bound;
-    const double sj = minimize_scale(misfit({v}), 1e-3 * history.extrapolation_limit() / v->hours,
-                                     history.extrapolation_limit() / v->hours, bound);
-    fit.survey_hours.push_back(v->hours);
-    fit.survey_scale.push_back(sj);
-  }
-  const std::size_t m = fit.survey_scale.size();
-  if (m >= 2) {
-    const double mean = std::accumulate(fit.survey_scale.begin(), fit.survey_scale.end(), 0.0) / m;
-    double var = 0.0;
-    for (double x : fit.survey_scale) var += (x - mean) * (x - mean);
-    fit.sigma_spread = std::sqrt(var / (m - 1) / m);
-  }
-  return fit;
-}
-
-double history_relative_error(const Scene& scene, const std::vector<StageRecord>& stages, double hours) {
-  // Stage k's wear (up to the next stage) came from about simulated_s / window windows, each
-  // with the stage's relative batch-means error (the first window's; later windows of the
-  // stage see similar geometry).
-  const double window_s = scene.wear.window_revolutions * scene.revolution_time_s();
-  double n_total = 0.0, var_sum = 0.0;
-  for (std::size_t k = 0; k + 1 < stages.size(); ++k) {
-    if (stages[k].hours >= hours - 1e-6) break;
-    const double n = std::max(1.0, std::round(stages[k].simulated_s / window_s));
-    n_total += n;
-    var_sum += n * stages[k].area_loss_rate_rel_sem * stages[k].area_loss_rate_rel_sem;
-  }
-  return n_total > 0.0 ? std::sqrt(var_sum) / n_total : 0.0;
+  const double limit = history.extrapolation_limit();
+  return fit_time_scale(worn_hours, limit, [&](std::size_t j, double s, std::vector<double>& r) {
+    const Polyline sim = history.profile_at(std::min(worn[j]->hours * s, limit));
+    for (const Vec2& p : worn[j]->profile_m) r.push_back(signed_distance(p, sim));
+  });
 }
 
 CalibrationResult calibrate_wear_rate(const Scene& scene, const std::vector<Survey>& surveys,
                                       const CalibrationOptions& opt,
                                       const std::function<void(const CalibrationRun&)>& on_run,
                                       const std::function<WearHistory(const Scene&)>& run_history) {
-  CalibrationResult result;
-  double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
-  for (int run = 1; run <= opt.max_runs; ++run) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const Scene s = scene_for_surveys(scene, surveys, c, run == 1 ? opt.first_reach : opt.reach);
-    WearHistory h = run_history ? run_history(s) : run_wear_history(s);
-    CalibrationRun r;
-    r.run = run;
-    r.c_m3_per_J = h.wear_rate_m3_per_J;
-    const ProfileHistory ph = profile_history(h.stages);
-    r.reached_hours = ph.last_hours();
-    r.fit = fit_time_scale(ph, surveys);
-    r.c_estimate = r.fit.scale * r.c_m3_per_J;
-    r.events = h.events;
-    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    result.runs.push_back(r);
-    result.last_history = std::move(h);
-    if (on_run) on_run(r);
-    c = r.c_estimate;
-    if (std::fabs(r.fit.scale - 1.0) <= opt.rel_tol && !r.fit.at_bound) {
-      result.converged = true;
-      break;
-    }
-  }
-  const CalibrationRun& last = result.runs.back();
-  result.c_m3_per_J = last.c_estimate;
-  double hmax = 0.0;
-  for (const Survey& v : surveys) hmax = std::max(hmax, v.hours);
-  const Scene s = scene_for_surveys(scene, surveys, last.c_m3_per_J, 1.0);
-  result.sigma_fit_m3_per_J = last.c_m3_per_J * std::max(last.fit.sigma_curvature, last.fit.sigma_spread);
-  result.sigma_model_m3_per_J =
-      result.c_m3_per_J * history_relative_error(s, result.last_history.stages, std::min(hmax, last.reached_hours));
-  result.sigma_m3_per_J = std::hypot(result.sigma_fit_m3_per_J, result.sigma_model_m3_per_J);
-  result.expanded_m3_per_J = 2.0 * result.sigma_m3_per_J;
-  result.survey_hours = last.fit.survey_hours;
-  for (double sj : last.fit.survey_scale) result.survey_c.push_back(sj * last.c_m3_per_J);
-  return result;
+  const auto fit = [&surveys](const std::vector<StageRecord>& stages) {
+    return fit_time_scale(profile_history(stages), surveys);
+  };
+  return calibrate_by_time_scale(scene, survey_hours(surveys), fit, opt, on_run, run_history);
 }
 
 }  // namespace millwear::validation

@@ -41,11 +41,40 @@ std::string strip_comment_lines(const std::string& text) {
   return out;
 }
 
+SurveyCsv parse_survey_csv(const std::string& text, const std::string& name) {
+  const std::string stripped = strip_comment_lines(text);
+  SurveyCsv csv{io::parse_csv(stripped, name), 1};
+  for (auto& h : csv.data.header) h = trim(h);
+  // The header is the first line with anything on it (parse_csv skips blank lines).
+  std::size_t pos = 0;
+  while (pos < stripped.size()) {
+    std::size_t end = stripped.find('\n', pos);
+    if (end == std::string::npos) end = stripped.size();
+    if (stripped.find_first_not_of(" \t\r", pos) < end) break;
+    ++csv.header_line;
+    pos = end + 1;
+  }
+  return csv;
+}
+
+std::string comment_lines(const std::string& comment) {
+  std::string out;
+  std::size_t pos = 0;
+  while (!comment.empty() && pos <= comment.size()) {
+    std::size_t end = comment.find('\n', pos);
+    if (end == std::string::npos) end = comment.size();
+    out += "# " + comment.substr(pos, end - pos) + "\n";
+    pos = end + 1;
+  }
+  return out;
+}
+
 std::vector<Survey> parse_surveys(const std::string& text, const std::string& name) {
-  io::CsvData d = io::parse_csv(strip_comment_lines(text), name);
-  for (auto& h : d.header) h = trim(h);
+  const SurveyCsv csv = parse_survey_csv(text, name);
+  const io::CsvData& d = csv.data;
   const std::size_t ch = d.column("hours"), cx = d.column("x_mm"), cy = d.column("y_mm");
-  if (d.row_count() == 0) throw InputError(name, "line 2", "survey rows hours,x_mm,y_mm after the header");
+  if (d.row_count() == 0)
+    throw InputError(name, "line " + std::to_string(csv.header_line + 1), "survey rows hours,x_mm,y_mm after the header");
 
   std::vector<Survey> surveys;
   std::map<double, std::size_t> seen;  // hours -> first line of its block
@@ -86,15 +115,14 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
 
 std::vector<Survey> read_surveys(const std::string& path) { return parse_surveys(io::read_file(path), path); }
 
+std::vector<double> survey_hours(const std::vector<Survey>& surveys) {
+  std::vector<double> h;
+  for (const Survey& s : surveys) h.push_back(s.hours);
+  return h;
+}
+
 std::string format_surveys(const std::vector<Survey>& surveys, const std::string& comment) {
-  std::string out;
-  std::size_t pos = 0;
-  while (!comment.empty() && pos <= comment.size()) {
-    std::size_t end = comment.find('\n', pos);
-    if (end == std::string::npos) end = comment.size();
-    out += "# " + comment.substr(pos, end - pos) + "\n";
-    pos = end + 1;
-  }
+  const std::string out = comment_lines(comment);
   io::CsvTable t({"hours", "x_mm", "y_mm"});
   for (const Survey& s : surveys)
     for (const Vec2& p : s.profile_m) t.add_row({s.hours, p.x / kMm, p.y / kMm});

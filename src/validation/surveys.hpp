@@ -18,11 +18,13 @@
 //   `millwear run` writes (OUT/profiles/DESIGN_stageK.csv).
 // - At least 2 points per survey, in order along the profile (either direction; a survey
 //   running from +x to -x is reversed on reading). Extra columns are ignored.
-// Every problem throws InputError naming the file and the line.
+// Every problem throws InputError naming the file and the line. A file of lifter areas only
+// (hours,area_mm2) is read by area_surveys.hpp, which also tells the two formats apart.
 #include <string>
 #include <vector>
 
 #include "geometry/polyline.hpp"
+#include "io/csv.hpp"
 
 namespace millwear::validation {
 
@@ -37,9 +39,24 @@ struct Survey {
 std::vector<Survey> parse_surveys(const std::string& text, const std::string& name);
 std::vector<Survey> read_surveys(const std::string& path);
 
+// The hours of every survey, in file order.
+std::vector<double> survey_hours(const std::vector<Survey>& surveys);
+
 // The file text for surveys (mm, %.10g), with `comment` (may be several lines) written as
 // '#' lines above the header.
 std::string format_surveys(const std::vector<Survey>& surveys, const std::string& comment = "");
+
+// `comment` (may be several lines) as '#' lines, each ending in '\n'; "" for no comment.
+std::string comment_lines(const std::string& comment);
+
+// A measurement file read as CSV: '#' comment lines blanked, header names trimmed, and the
+// header's own line in the file (1-based; comments may come before it). Shared by the
+// profile and area survey readers.
+struct SurveyCsv {
+  io::CsvData data;
+  std::size_t header_line = 1;
+};
+SurveyCsv parse_survey_csv(const std::string& text, const std::string& name);
 
 // Blank out '#' comment lines (keeping the line count, so later errors name the right
 // line) for the CSV reader, which knows no comments. Shared by the hardness reader.

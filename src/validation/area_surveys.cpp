@@ -1,0 +1,115 @@
+#include "validation/area_surveys.hpp"
+
+#include <cmath>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+
+namespace millwear::validation {
+
+namespace {
+
+constexpr double kMm2 = 1e-6;
+
+const char* const kEitherFormat =
+    "columns hours,x_mm,y_mm (measured profiles, one block of rows per survey) or hours,area_mm2 "
+    "(measured lifter areas, one row per lifter survey; or hours,area_loss_mm2)";
+
+}  // namespace
+
+AreaSurveys parse_area_surveys(const std::string& text, const std::string& name) {
+  const SurveyCsv csv = parse_survey_csv(text, name);
+  const io::CsvData& d = csv.data;
+  const std::string header = "line " + std::to_string(csv.header_line);
+  if (!d.has_column("hours")) throw InputError(name, header, "a column named hours (operating hours of each survey)");
+  const bool area = d.has_column("area_mm2"), loss = d.has_column("area_loss_mm2");
+  if (area && loss) throw InputError(name, header, "one of the columns area_mm2 or area_loss_mm2, not both");
+  if (!area && !loss) throw InputError(name, header, kEitherFormat);
+  const std::string value_col = area ? "area_mm2" : "area_loss_mm2";
+  if (d.row_count() == 0)
+    throw InputError(name, "line " + std::to_string(csv.header_line + 1),
+                     "area survey rows hours," + value_col + " after the header");
+
+  AreaSurveys out;
+  out.losses = loss;
+  const std::size_t ch = d.column("hours"), cv = d.column(value_col);
+  for (std::size_t r = 0; r < d.row_count(); ++r) {
+    const std::string line = "line " + std::to_string(d.row_line[r]);
+    const double h = d.number(r, ch), v = d.number(r, cv);
+    if (!std::isfinite(h) || h < 0.0)
+      throw InputError(name, line, "operating hours >= 0 in column hours, found '" + d.text(r, ch) + "'");
+    if (area && !(std::isfinite(v) && v > 0.0))
+      throw InputError(name, line, "a lifter area > 0 (mm^2) in column area_mm2, found '" + d.text(r, cv) + "'");
+    if (loss && !std::isfinite(v))
+      throw InputError(name, line, "a finite area loss (mm^2) in column area_loss_mm2, found '" + d.text(r, cv) + "'");
+    out.surveys.push_back({h, v * kMm2, d.row_line[r]});
+  }
+  return out;
+}
+
+AreaSurveys read_area_surveys(const std::string& path) { return parse_area_surveys(io::read_file(path), path); }
+
+std::string format_area_surveys(const AreaSurveys& surveys, const std::string& comment) {
+  io::CsvTable t({"hours", surveys.losses ? "area_loss_mm2" : "area_mm2"});
+  for (const AreaSurvey& s : surveys.surveys) t.add_row({s.hours, s.value_m2 / kMm2});
+  return comment_lines(comment) + t.str();
+}
+
+std::vector<double> survey_hours(const AreaSurveys& surveys) {
+  std::vector<double> h;
+  for (const AreaSurvey& s : surveys.surveys) h.push_back(s.hours);
+  return h;
+}
+
+MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2) {
+  MeasuredAreas m;
+  m.reference_m2 = new_area_m2;
+  if (!surveys.losses) {
+    double sum = 0.0;
+    int n = 0;
+    for (const AreaSurvey& s : surveys.surveys)
+      if (s.hours == 0.0) { sum += s.value_m2; ++n; }
+    if (n > 0) {
+      m.reference_m2 = sum / n;
+      m.reference_measured = true;
+    }
+  }
+  for (const AreaSurvey& s : surveys.surveys) {
+    m.area_m2.push_back(surveys.losses ? m.reference_m2 - s.value_m2 : s.value_m2);
+    m.loss_m2.push_back(surveys.losses ? s.value_m2 : m.reference_m2 - s.value_m2);
+  }
+  return m;
+}
+
+std::vector<double> Measurements::hours() const {
+  return areas_only ? survey_hours(areas) : survey_hours(profiles);
+}
+
+std::vector<std::size_t> Measurements::lines() const {
+  std::vector<std::size_t> l;
+  if (areas_only)
+    for (const AreaSurvey& s : areas.surveys) l.push_back(s.line);
+  else
+    for (const Survey& s : profiles) l.push_back(s.first_line);
+  return l;
+}
+
+Measurements parse_measurements(const std::string& text, const std::string& name) {
+  const SurveyCsv csv = parse_survey_csv(text, name);
+  const io::CsvData& d = csv.data;
+  Measurements m;
+  if (d.has_column("x_mm") || d.has_column("y_mm")) {
+    m.profiles = parse_surveys(text, name);
+  } else if (d.has_column("area_mm2") || d.has_column("area_loss_mm2")) {
+    m.areas_only = true;
+    m.areas = parse_area_surveys(text, name);
+  } else {
+    throw InputError(name, "line " + std::to_string(csv.header_line), kEitherFormat);
+  }
+  return m;
+}
+
+Measurements read_measurements(const std::string& path) { return parse_measurements(io::read_file(path), path); }
+
+}  // namespace millwear::validation

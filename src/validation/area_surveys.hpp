@@ -1,0 +1,70 @@
+#pragma once
+// Measured lifter areas ("area surveys"): what a liner survey gives when only the lifters'
+// cross-section areas were kept (from a profile gauge, a 3D scan or a weighed worn lifter),
+// read from a CSV file; and a measurement file that holds either profiles or areas.
+//
+// Area survey file format (CSV, the same dialect and '#' comments as the profile surveys):
+//   # liner survey, feed end, lifters 3 and 9
+//   hours,area_mm2
+//   0,43100             <- the new lifter (optional: the reference of the area loss)
+//   1500,37250          <- one row per lifter surveyed
+//   1500,36900          <- several lifters at one inspection: one row each, same hours
+//   3000,30100
+// - hours: operating hours of the survey (>= 0); rows in any order, hours may repeat.
+// - area_mm2: the lifter's metal cross-section above the original shell line, mm^2 (> 0),
+//   the area `millwear profile` and OUT/summary.csv (area_mm2) report. Or, instead of
+//   area_mm2, area_loss_mm2: the area lost since the lifter was new, mm^2 (finite).
+// - Extra columns are ignored; at least one row.
+// Area loss (what the calibration fits): for area_loss_mm2 the value itself; for area_mm2,
+// A_ref - area, with A_ref the mean of the file's 0 h rows, or the scene's new lifter area
+// when the file has no 0 h row (then fitting the loss is fitting the area itself).
+// Every problem throws InputError naming the file and the line.
+#include <string>
+#include <vector>
+
+#include "validation/surveys.hpp"
+
+namespace millwear::validation {
+
+struct AreaSurvey {
+  double hours = 0.0;
+  double value_m2 = 0.0;      // the lifter area, or the area loss (AreaSurveys::losses)
+  std::size_t line = 0;       // 1-based line of the row (for messages)
+};
+
+struct AreaSurveys {
+  bool losses = false;              // the file gave area_loss_mm2 instead of area_mm2
+  std::vector<AreaSurvey> surveys;  // file order
+};
+
+AreaSurveys parse_area_surveys(const std::string& text, const std::string& name);
+AreaSurveys read_area_surveys(const std::string& path);
+
+// The file text (mm^2, %.10g) with `comment` as '#' lines above the header.
+std::string format_area_surveys(const AreaSurveys& surveys, const std::string& comment = "");
+
+std::vector<double> survey_hours(const AreaSurveys& surveys);
+
+// The measured areas and area losses of every row (file order), with the reference area
+// of the losses (rules above); new_area_m2 is the scene's new lifter area.
+struct MeasuredAreas {
+  double reference_m2 = 0.0;
+  bool reference_measured = false;   // from the file's 0 h rows (not the scene)
+  std::vector<double> area_m2, loss_m2;
+};
+MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2);
+
+// A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
+// or area surveys (area_mm2 or area_loss_mm2, no x_mm/y_mm), told apart by the header.
+struct Measurements {
+  bool areas_only = false;          // the file holds area surveys
+  std::vector<Survey> profiles;     // when !areas_only
+  AreaSurveys areas;                // when areas_only
+  std::vector<double> hours() const;
+  std::vector<std::size_t> lines() const;   // of each survey (its first row), for messages
+  std::size_t count() const { return areas_only ? areas.surveys.size() : profiles.size(); }
+};
+Measurements parse_measurements(const std::string& text, const std::string& name);
+Measurements read_measurements(const std::string& path);
+
+}  // namespace millwear::validation

@@ -1,0 +1,203 @@
+// The time-scale fit and the calibration loop shared by the profile and area calibrations
+// (method in calibration.hpp).
+#include "validation/calibration.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "common/errors.hpp"
+
+namespace millwear::validation {
+
+namespace {
+
+// Least-squares 1D minimum of fn over [lo, hi]: a log-spaced scan, then golden section
+// between the best scan point's neighbours (the misfit need not be unimodal far away).
+double minimize_scale(const std::function<double(double)>& fn, double lo, double hi, bool& at_bound) {
+  constexpr int kScan = 80;
+  std::vector<double> s(kScan), v(kScan);
+  for (int k = 0; k < kScan; ++k) {
+    s[k] = lo * std::pow(hi / lo, static_cast<double>(k) / (kScan - 1));
+    v[k] = fn(s[k]);
+  }
+  const int best = static_cast<int>(std::min_element(v.begin(), v.end()) - v.begin());
+  double a = s[std::max(0, best - 1)], b = s[std::min(kScan - 1, best + 1)];
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double c = b - g * (b - a), d = a + g * (b - a);
+  double fc = fn(c), fd = fn(d);
+  for (int it = 0; it < 60 && (b - a) > 1e-7 * b; ++it) {
+    if (fc < fd) { b = d; d = c; fd = fc; c = b - g * (b - a); fc = fn(c); }
+    else { a = c; c = d; fc = fd; d = a + g * (b - a); fd = fn(d); }
+  }
+  const double m = 0.5 * (a + b);
+  const double found = fn(m) <= v[best] ? m : s[best];
+  // At the bound only if the refined minimum is (within the search's resolution) hi itself:
+  // the last scan point being the best says little, the scan steps by about 9%.
+  at_bound = hi - found <= 1e-6 * hi;
+  return found;
+}
+
+}  // namespace
+
+double extrapolation_limit(const std::vector<double>& h) {
+  if (h.empty()) return 0.0;
+  return h.size() < 2 ? h.back() : h.back() + 0.2 * (h.back() - h[h.size() - 2]);
+}
+
+double common_stage_hours(const std::vector<double>& survey_hours, int max_stages) {
+  double hmin = INFINITY, hmax = 0.0;
+  for (double h : survey_hours)
+    if (h > 0.0) { hmin = std::min(hmin, h); hmax = std::max(hmax, h); }
+  if (!(hmax > 0.0)) return 0.0;
+  for (int k = 1; k <= max_stages; ++k) {
+    const double h0 = hmin / k;
+    if (hmax / h0 > max_stages + 1e-6) return 0.0;
+    bool ok = true;
+    for (double h : survey_hours) {
+      const double q = h / h0;
+      if (std::fabs(q - std::round(q)) > 1e-6 * std::max(1.0, q)) { ok = false; break; }
+    }
+    if (ok) return h0;
+  }
+  return 0.0;
+}
+
+Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& survey_hours, double c, double reach) {
+  Scene s = scene;
+  double hmax = 0.0;
+  for (double h : survey_hours) hmax = std::max(hmax, h);
+  const double h0 = common_stage_hours(survey_hours);
+  if (h0 > 0.0) s.wear.stage_hours = h0;
+  s.wear.stages = std::max(1, static_cast<int>(std::ceil(reach * hmax / s.wear.stage_hours - 1e-9)));
+  if (c > 0.0) {
+    s.wear.rate_source = WearRateSource::Given;
+    s.wear.wear_rate_m3_per_J = c;
+  }
+  return s;
+}
+
+ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hours, const ScaledResiduals& residuals) {
+  if (worn_hours.empty())
+    throw InputError("", "surveys", "at least one survey after 0 h (a worn lifter) to calibrate on");
+  if (!(reach_hours > 0.0)) throw RunError("the wear history has no worn stage to compare with");
+
+  std::vector<std::size_t> all(worn_hours.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  // Residuals of a set of surveys at scale s.
+  auto collect = [&residuals](const std::vector<std::size_t>& set, double s, std::vector<double>& r) {
+    r.clear();
+    for (std::size_t j : set) residuals(j, s, r);
+  };
+  auto misfit = [&collect](const std::vector<std::size_t>& set) {
+    return [&collect, set](double s) {
+      std::vector<double> r;
+      collect(set, s, r);
+      double ss = 0.0;
+      for (double x : r) ss += x * x;
+      return ss;
+    };
+  };
+  const double hmax = *std::max_element(worn_hours.begin(), worn_hours.end());
+
+  ScaleFit fit;
+  const double s_hi = reach_hours / hmax;
+  fit.scale = minimize_scale(misfit(all), 1e-3 * s_hi, s_hi, fit.at_bound);
+
+  std::vector<double> r, rp, rm;
+  collect(all, fit.scale, r);
+  fit.points = static_cast<int>(r.size());
+  double rss = 0.0;
+  for (double x : r) rss += x * x;
+  fit.rms = std::sqrt(rss / r.size());
+  // Gauss-Newton: J = d r / d s by central differences (one-sided at the history's end);
+  // the step spans several geometry updates so the piecewise-linear interpolation is smooth.
+  const double ds = 0.02 * fit.scale;
+  const double s_up = std::min(fit.scale + ds, s_hi), s_dn = fit.scale - ds;
+  collect(all, s_up, rp);
+  collect(all, s_dn, rm);
+  double jj = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const double j = (rp[i] - rm[i]) / (s_up - s_dn);
+    jj += j * j;
+  }
+  fit.sigma_curvature = (jj > 0.0 && r.size() > 1) ? std::sqrt(rss / (r.size() - 1) / jj) : INFINITY;
+
+  for (std::size_t j = 0; j < worn_hours.size(); ++j) {
+    bool bound;
+    const double hi = reach_hours / worn_hours[j];
+    const double sj = minimize_scale(misfit({j}), 1e-3 * hi, hi, bound);
+    fit.survey_hours.push_back(worn_hours[j]);
+    fit.survey_scale.push_back(sj);
+  }
+  const std::size_t m = fit.survey_scale.size();
+  if (m >= 2) {
+    const double mean = std::accumulate(fit.survey_scale.begin(), fit.survey_scale.end(), 0.0) / m;
+    double var = 0.0;
+    for (double x : fit.survey_scale) var += (x - mean) * (x - mean);
+    fit.sigma_spread = std::sqrt(var / (m - 1) / m);
+  }
+  return fit;
+}
+
+double history_relative_error(const Scene& scene, const std::vector<StageRecord>& stages, double hours) {
+  // Stage k's wear (up to the next stage) came from about simulated_s / window windows, each
+  // with the stage's relative batch-means error (the first window's; later windows of the
+  // stage see similar geometry).
+  const double window_s = scene.wear.window_revolutions * scene.revolution_time_s();
+  double n_total = 0.0, var_sum = 0.0;
+  for (std::size_t k = 0; k + 1 < stages.size(); ++k) {
+    if (stages[k].hours >= hours - 1e-6) break;
+    const double n = std::max(1.0, std::round(stages[k].simulated_s / window_s));
+    n_total += n;
+    var_sum += n * stages[k].area_loss_rate_rel_sem * stages[k].area_loss_rate_rel_sem;
+  }
+  return n_total > 0.0 ? std::sqrt(var_sum) / n_total : 0.0;
+}
+
+CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<double>& survey_hours,
+                                          const HistoryFit& fit_history, const CalibrationOptions& opt,
+                                          const std::function<void(const CalibrationRun&)>& on_run,
+                                          const std::function<WearHistory(const Scene&)>& run_history) {
+  CalibrationResult result;
+  double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+  for (int run = 1; run <= opt.max_runs; ++run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
+    WearHistory h = run_history ? run_history(s) : run_wear_history(s);
+    CalibrationRun r;
+    r.run = run;
+    r.c_m3_per_J = h.wear_rate_m3_per_J;
+    for (const StageRecord& st : h.stages) r.reached_hours = std::max(r.reached_hours, st.hours);
+    r.fit = fit_history(h.stages);
+    r.c_estimate = r.fit.scale * r.c_m3_per_J;
+    r.events = h.events;
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.runs.push_back(r);
+    result.last_history = std::move(h);
+    if (on_run) on_run(r);
+    c = r.c_estimate;
+    if (std::fabs(r.fit.scale - 1.0) <= opt.rel_tol && !r.fit.at_bound) {
+      result.converged = true;
+      break;
+    }
+  }
+  const CalibrationRun& last = result.runs.back();
+  result.c_m3_per_J = last.c_estimate;
+  double hmax = 0.0;
+  for (double h : survey_hours) hmax = std::max(hmax, h);
+  const Scene s = scene_for_survey_hours(scene, survey_hours, last.c_m3_per_J, 1.0);
+  result.fit_error_known = last.fit.error_known();
+  result.sigma_fit_m3_per_J =
+      result.fit_error_known ? last.c_m3_per_J * std::max(last.fit.sigma_curvature, last.fit.sigma_spread) : 0.0;
+  result.sigma_model_m3_per_J =
+      result.c_m3_per_J * history_relative_error(s, result.last_history.stages, std::min(hmax, last.reached_hours));
+  result.sigma_m3_per_J = std::hypot(result.sigma_fit_m3_per_J, result.sigma_model_m3_per_J);
+  result.expanded_m3_per_J = 2.0 * result.sigma_m3_per_J;
+  result.survey_hours = last.fit.survey_hours;
+  for (double sj : last.fit.survey_scale) result.survey_c.push_back(sj * last.c_m3_per_J);
+  return result;
+}
+
+}  // namespace millwear::validation

@@ -1,0 +1,122 @@
+#pragma once
+// The calibration of the real wear rate C by time scaling, shared by the fit on measured
+// profiles (profile_fit.hpp: residuals are signed normal distances, m) and the fit on
+// measured areas alone (area_fit.hpp: residuals are area losses, m^2).
+//
+// In the staged loop the lifter geometry depends on C and the operating time t almost only
+// through the product C t (depth = C x work / area, and the loop steps by depth), so the
+// history run with C_run predicts the lifter for C = s C_run at hours h as its own lifter at
+// s h. A 1D search on s (a log-spaced scan, then golden section) over one history gives the
+// least-squares s; a new history at C = s C_run removes what the time-scaling misses
+// (reversal times, stage restarts), and the loop stops when s is 1 within a tolerance.
+//
+// Uncertainty: the larger of (a) the Gauss-Newton standard error from the curvature of the
+// misfit, sigma_s^2 = (RSS / (n - 1)) / sum (d r_i / d s)^2, and (b) the standard error of the
+// mean of the per-survey estimates (with two or more worn surveys), which catches correlated
+// residuals that (a) treats as independent; combined in quadrature with (c) the statistical
+// error of the simulation itself: the wear up to the last survey is a sum over N measuring
+// windows whose rates carry the batch-means relative error of rule 2
+// (StageRecord::area_loss_rate_rel_sem, about 7-10% per lab-mill window), so one history's
+// cumulative wear, and hence C, is uncertain by sqrt(sum n_k sem_k^2) / N. With a single
+// residual (one worn area survey) neither (a) nor (b) exists: the fit is exact, its error is
+// not known, and only (c) is counted (CalibrationResult::fit_error_known = false). It is
+// reported as an expanded uncertainty U = 2 sigma (about 95%). A round trip on simulated
+// surveys carries (c) twice (the surveys are one realisation, the fit another): there the
+// difference may reach about sqrt(2) U.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "wear/wear.hpp"
+
+namespace millwear::validation {
+
+// How far past its last stage a history (stage hours, increasing) may be read by the
+// calibration: a fifth of the last interval beyond it. It lets a history that ends at the
+// last survey still find a best C slightly above its own, instead of every later run
+// needing one more stage.
+double extrapolation_limit(const std::vector<double>& stage_hours);
+
+// Stage hours for a fresh run that puts stage boundaries on the survey hours: the largest
+// step h0 with every survey's hours a whole multiple of it (1e-6 relative), if that needs
+// at most max_stages stages to the last survey; otherwise 0 (use the scene's stage_hours).
+double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = 50);
+
+// The scene set up for a fresh history covering the surveys up to `reach` x the last
+// survey's hours: stage_hours from common_stage_hours (or the scene's), enough stages,
+// wear rate C given (when c_m3_per_J > 0).
+Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& survey_hours, double c_m3_per_J,
+                             double reach = 1.0);
+
+// Least-squares time scale s of one history against the worn surveys (hours > 0).
+// C = s * C_run.
+struct ScaleFit {
+  double scale = 1.0;
+  double sigma_curvature = 0.0;       // (a) Gauss-Newton standard error of s
+  double sigma_spread = 0.0;          // (b) standard error of the mean of per-survey estimates
+  double rms = 0.0;                   // residual rms at s (m for profiles, m^2 for areas)
+  int points = 0;                     // residuals
+  bool at_bound = false;              // the best s is at the largest the history reaches
+  std::vector<double> survey_hours;   // worn surveys
+  std::vector<double> survey_scale;   // per-survey least-squares s
+  // (a) needs two residuals or more (one worn area survey has one).
+  bool error_known() const { return points >= 2; }
+};
+
+// Residuals of worn survey j (index into worn_hours) when the history is read at time scale
+// s (survey hours h -> history hours s h), appended to r. The function clamps s h to what
+// the history can give (its extrapolation_limit).
+using ScaledResiduals = std::function<void(std::size_t j, double s, std::vector<double>& r)>;
+
+// The least-squares s of the residuals over every worn survey, its errors (a) and (b), and
+// the per-survey s. reach_hours: the furthest hours the history can be read at. Throws
+// InputError("", "surveys", ...) if worn_hours is empty (nothing to fit).
+ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hours, const ScaledResiduals& residuals);
+
+struct CalibrationOptions {
+  int max_runs = 5;
+  double rel_tol = 0.01;        // stop when the run's own C fits within this
+  double first_reach = 1.6;     // first history runs to this x the last survey's hours
+  double reach = 1.0;           // later histories (plus the extrapolation limit)
+};
+
+struct CalibrationRun {
+  int run = 0;
+  double c_m3_per_J = 0.0;      // C of the history run
+  double reached_hours = 0.0;
+  ScaleFit fit;                 // s against this history
+  double c_estimate = 0.0;      // s * C
+  double wall_s = 0.0;
+  std::vector<std::string> events;
+};
+
+struct CalibrationResult {
+  double c_m3_per_J = 0.0;
+  double sigma_m3_per_J = 0.0;    // standard uncertainty (fit and simulation combined)
+  double sigma_fit_m3_per_J = 0.0;    // (a) or (b) above; 0 when not known
+  double sigma_model_m3_per_J = 0.0;  // (c) above
+  double expanded_m3_per_J = 0.0; // U = 2 sigma (about 95%)
+  bool fit_error_known = true;    // false: one residual only, (a) and (b) do not exist
+  bool converged = false;
+  std::vector<CalibrationRun> runs;
+  std::vector<double> survey_hours, survey_c;  // per-survey estimates (last run)
+  WearHistory last_history;                    // of the last run
+};
+
+// (c) above: relative statistical error of the cumulative wear of a history up to `hours`.
+double history_relative_error(const Scene& scene, const std::vector<StageRecord>& stages, double hours);
+
+// Fits one history's stages against the surveys (fit_time_scale with its residuals).
+using HistoryFit = std::function<ScaleFit(const std::vector<StageRecord>& stages)>;
+
+// Runs wear histories of `scene` (its C as the first guess), each covering survey_hours
+// (scene_for_survey_hours), until the fitted C agrees with the run's own C. on_run is
+// called after every history (progress; may be empty). `run_history` runs one history
+// (default: run_wear_history); tests and the app may wrap it.
+CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<double>& survey_hours,
+                                          const HistoryFit& fit_history, const CalibrationOptions& options = {},
+                                          const std::function<void(const CalibrationRun&)>& on_run = {},
+                                          const std::function<WearHistory(const Scene&)>& run_history = {});
+
+}  // namespace millwear::validation

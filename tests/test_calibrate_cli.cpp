@@ -1,0 +1,196 @@
+// `millwear validate` and `millwear calibrate` end to end, as a user runs them: the built
+// binary on the quick lab mill (tests/data/lab-quick.toml: scenarios/lab-mill.toml at draft
+// fidelity, one way, two 50 h stages, about 3 s a history). Surveys are made from a
+// `millwear run` of that scene (its OUT/summary.csv areas and OUT/profiles/*.csv), so
+// validate must find zero error and calibrate must find the scene's own C.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/csv.hpp"
+#include "scene/scene.hpp"
+#include "validation/area_surveys.hpp"
+
+namespace fs = std::filesystem;
+
+namespace millwear {
+namespace {
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t got;
+  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string q(const fs::path& p) { return "\"" + p.string() + "\""; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+const fs::path kScene = fs::path(MILLWEAR_SOURCE_DIR) / "tests/data/lab-quick.toml";
+
+// Every test gets its own folder and one `millwear run` of the quick scene in it.
+class CalibrateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("millwear-test-calibrate-cli-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    run_dir_ = dir_ / "run";
+    const Result r = run("run " + q(kScene) + " -o " + q(run_dir_) + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // The run's lifter areas (OUT/summary.csv) as an area survey file: one row per stage.
+  fs::path areas_from_run() const {
+    const io::CsvData summary = io::read_csv((run_dir_ / "summary.csv").string());
+    std::string text = "# made from `millwear run` of tests/data/lab-quick.toml\nhours,area_mm2\n";
+    for (std::size_t i = 0; i < summary.row_count(); ++i)
+      text += summary.text(i, summary.column("hours")) + "," + summary.text(i, summary.column("area_mm2")) + "\n";
+    const fs::path p = dir_ / "areas.csv";
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  fs::path dir_, run_dir_;
+};
+
+TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
+  const fs::path areas = areas_from_run();
+  const fs::path out = dir_ / "val";
+  const Result r = run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out) + " --from " + q(run_dir_));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  const io::CsvData v = io::read_csv((out / "validation.csv").string());
+  EXPECT_EQ(v.header, (std::vector<std::string>{"survey", "line", "hours", "measured_area_mm2", "simulated_area_mm2",
+                                                "area_error_mm2", "area_error_pct", "measured_loss_mm2",
+                                                "simulated_loss_mm2", "loss_error_mm2", "loss_error_pct"}));
+  ASSERT_EQ(v.row_count(), 3u);  // 0, 50 and 100 h
+  for (std::size_t i = 0; i < v.row_count(); ++i) {
+    // summary.csv carries 10 significant digits of ~400 mm^2: 5e-8 mm^2 of rounding.
+    EXPECT_LT(std::fabs(v.number(i, "area_error_mm2")), 1e-6) << "row " << i;
+    EXPECT_LT(std::fabs(v.number(i, "loss_error_mm2")), 1e-6) << "row " << i;
+    EXPECT_GT(v.number(i, "measured_area_mm2"), 0.0);
+  }
+  EXPECT_GT(v.number(2, "measured_loss_mm2"), v.number(1, "measured_loss_mm2"));  // wear went on
+  EXPECT_GT(v.number(1, "measured_loss_mm2"), 0.0);
+  // The simulated areas are written in the area survey format, readable as measurements.
+  const auto sim = validation::read_measurements((out / "simulated_areas.csv").string());
+  EXPECT_TRUE(sim.areas_only);
+  EXPECT_EQ(sim.count(), 3u);
+  EXPECT_NE(r.output.find("area survey(s)"), std::string::npos) << r.output;
+}
+
+TEST_F(CalibrateCli, ValidateRunsTheSameHistoryItselfWithoutFrom) {
+  // Without --from, validate runs the history itself with stages on the survey hours (the
+  // scene's own 50 h here): same scene and seed, so the same areas bit for bit.
+  const fs::path areas = areas_from_run();
+  const fs::path out = dir_ / "val";
+  const Result r = run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData v = io::read_csv((out / "validation.csv").string());
+  ASSERT_EQ(v.row_count(), 3u);
+  for (std::size_t i = 0; i < v.row_count(); ++i)
+    EXPECT_LT(std::fabs(v.number(i, "area_error_pct")), 1e-6) << "row " << i;
+}
+
+TEST_F(CalibrateCli, ValidateFindsZeroDistanceOnProfilesMadeFromTheRun) {
+  // The run's stage profiles (OUT/profiles/lab-quick_stageK.csv) as a profile survey file.
+  std::string text = "hours,x_mm,y_mm\n";
+  for (int k = 0; k <= 2; ++k) {
+    const io::CsvData p = io::read_csv((run_dir_ / ("profiles/lab-quick_stage" + std::to_string(k) + ".csv")).string());
+    for (std::size_t i = 0; i < p.row_count(); ++i)
+      text += std::to_string(50 * k) + "," + p.text(i, p.column("x_mm")) + "," + p.text(i, p.column("y_mm")) + "\n";
+  }
+  const fs::path surveys = dir_ / "profiles.csv";
+  std::ofstream(surveys) << text;
+  const fs::path out = dir_ / "val";
+  const Result r = run("validate " + q(kScene) + " --measured " + q(surveys) + " -o " + q(out) + " --from " + q(run_dir_));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData v = io::read_csv((out / "validation.csv").string());
+  EXPECT_EQ(v.header.front(), "survey");
+  ASSERT_EQ(v.row_count(), 3u);
+  for (std::size_t i = 0; i < v.row_count(); ++i) {
+    // 10 significant digits of ~10 mm coordinates (the run's profile files).
+    EXPECT_LT(v.number(i, "max_mm"), 1e-6) << "row " << i;
+    EXPECT_LT(std::fabs(v.number(i, "area_error_pct")), 1e-6) << "row " << i;
+  }
+  EXPECT_TRUE(fs::exists(out / "simulated_surveys.csv"));
+}
+
+TEST_F(CalibrateCli, CalibrateOnAreasAloneWritesTheSceneWithTheFittedRate) {
+  const fs::path areas = areas_from_run();
+  // The first guess: the same scene 30% off in C (its profile path made absolute, since the
+  // copy lives in the test folder).
+  std::string text = slurp(kScene);
+  const std::string rate = "wear_rate = 1e-10 ", profile = "\"../../profiles/lab-2x30.toml\"";
+  const double c_true = load_scene(kScene.string()).wear.wear_rate_m3_per_J;
+  ASSERT_NE(text.find(rate), std::string::npos);
+  ASSERT_NE(text.find(profile), std::string::npos);
+  text.replace(text.find(rate), rate.size(), "wear_rate = 1.3e-10 ");
+  text.replace(text.find(profile), profile.size(),
+               "\"" + (fs::path(MILLWEAR_SOURCE_DIR) / "profiles/lab-2x30.toml").string() + "\"");
+  const fs::path guess = dir_ / "guess.toml";
+  std::ofstream(guess) << text;
+
+  const fs::path out = dir_ / "cal";
+  // One history of this scene has about 4% statistical error in its cumulative wear, so the
+  // default 1% tolerance on the run's own C is below what it resolves; 10% converges in 2-3
+  // histories.
+  const Result r = run("calibrate " + q(guess) + " --measured " + q(areas) + " -o " + q(out) + " --tolerance 10");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("least squares on the area loss"), std::string::npos) << r.output;
+
+  const io::CsvData res = io::read_csv((out / "calibration_result.csv").string());
+  ASSERT_EQ(res.row_count(), 1u);
+  EXPECT_EQ(res.text(0, res.column("fit_on")), "area_loss");
+  EXPECT_EQ(res.number(0, "converged"), 1.0);
+  EXPECT_EQ(res.number(0, "fit_error_known"), 1.0);  // two worn areas: 50 and 100 h
+  const double c = res.number(0, "c_m3_per_J"), u = res.number(0, "expanded_m3_per_J");
+  EXPECT_GT(u, 0.0);
+  // The surveys are one realisation of the simulation and the fit another: the round trip
+  // may miss by up to about sqrt(2) U (README, Validation).
+  EXPECT_NEAR(c, c_true, std::sqrt(2.0) * u) << "C = " << c << " +- " << u;
+  const io::CsvData runs = io::read_csv((out / "calibration.csv").string());
+  EXPECT_TRUE(runs.has_column("rms_mm2"));
+  EXPECT_EQ(runs.row_count(), static_cast<std::size_t>(res.number(0, "runs")));
+  EXPECT_EQ(io::read_csv((out / "calibration_surveys.csv").string()).row_count(), 2u);
+
+  // The calibrated copy loads as a scene with C filled in (6 significant digits).
+  const Scene cal = load_scene((out / "guess-calibrated.toml").string());
+  EXPECT_EQ(cal.wear.rate_source, WearRateSource::Given);
+  EXPECT_NEAR(cal.wear.wear_rate_m3_per_J, c, 1e-5 * c);
+  EXPECT_NE(slurp(out / "guess-calibrated.toml").find("calibrated on areas.csv (areas)"), std::string::npos);
+  std::printf("[ calibrate cli ] areas: C = %.4g +- %.2g (true %.4g) after %d runs\n", c, u, c_true,
+              static_cast<int>(res.number(0, "runs")));
+}
+
+}  // namespace
+}  // namespace millwear
