@@ -111,4 +111,60 @@ TEST(StabilityProfile, FeatureNarrowerThanTwiceTheSmoothingRadiusGoesAtTheFirstU
   EXPECT_NEAR(h_narrow, h0, 0.02 * h0);    // mitred offsets keep it (2%: the mesh)
 }
 
+// ...and the scene is refused before it runs: the message names wear.smoothing_radius and
+// gives the largest radius that keeps the fin, which then passes the check.
+TEST(StabilityProfile, SmoothingRadiusWiderThanTheThinnestFeatureIsRefused) {
+  Scene s = tiny_mill();
+  s.mill.lifter.points = thin_fin();
+  s.mill.mesh = {0.010, 0.001};
+  s.wear.smoothing_radius_m = 0.002;
+  EXPECT_GT(smoothing_loss(s, 0.002).height_fraction, 0.5);
+  std::string message;
+  try {
+    check_smoothing_radius(s, "fin.toml");
+    FAIL() << "a 2 mm radius on a 1.6 mm fin should be refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "fin.toml");
+    EXPECT_EQ(e.where, "wear.smoothing_radius");
+    message = e.what();
+  }
+  const auto at = message.find("at most ");
+  ASSERT_NE(at, std::string::npos) << message;
+  const double largest_mm = std::stod(message.substr(at + 8));
+  EXPECT_GE(largest_mm, 0.5) << message;   // the radius the test above keeps it with
+  EXPECT_LE(largest_mm, 1.05) << message;  // half the fin's widest part (2 mm at its base)
+  s.wear.smoothing_radius_m = 0.0005;
+  EXPECT_NO_THROW(check_smoothing_radius(s, "fin.toml"));
+}
+
+// The shipped scenes at their default radius (the smallest particle radius) lose nothing
+// when the new lifter is smoothed (mitred offsets keep straight-sided shapes).
+TEST(StabilityProfile, ShippedScenesSmoothInsideTheBound) {
+  for (const char* f : {"scenarios/sag-2x30.toml", "scenarios/sag-1x30.toml", "scenarios/lab-mill.toml"}) {
+    const Scene s = load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/" + f);
+    EXPECT_NO_THROW(check_smoothing_radius(s, f)) << f;
+    const SmoothingLoss l = smoothing_loss(s, s.wear.smoothing_radius_m > 0 ? s.wear.smoothing_radius_m
+                                                                           : s.smallest_particle_radius_m());
+    EXPECT_LE(l.area_fraction, 0.01) << f;
+    EXPECT_LE(l.height_fraction, 0.01) << f;
+  }
+}
+
+// A worn lifter can grow what the new one lacks (a thin fin left between two wear
+// grooves, say). The smoothing then takes area no shear work removed, which the wear loop
+// measures after every update and stops on (resmoothing_loss_m2). Here: the fin worn
+// evenly by 0.1 mm; nothing lost to a 0.5 mm radius, most of the fin to a 2 mm one.
+TEST(StabilityProfile, ResmoothingLossIsZeroForASmallRadiusAndLargeForAWideOne) {
+  Scene s = tiny_mill();
+  const double R = s.radius_m();
+  const MillMeshDef mesh{0.010, 0.001};
+  const LinerUnit unit = make_liner_unit(thin_fin(), R, s.mill.rows, mesh);
+  const std::vector<double> depth(unit.surface.size() - 1, 0.0001);
+  const double area = measure_lifter(unit, R).area_m2;
+  const double small = resmoothing_loss_m2(unit, apply_wear(unit, depth, R, 0.0005, mesh), depth, R);
+  const double wide = resmoothing_loss_m2(unit, apply_wear(unit, depth, R, 0.002, mesh), depth, R);
+  EXPECT_LT(std::fabs(small), 0.02 * area) << small / area;
+  EXPECT_GT(wide, 0.1 * area) << wide / area;
+}
+
 }  // namespace millwear::stability

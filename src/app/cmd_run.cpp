@@ -48,6 +48,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "scene/scene.hpp"
 #include "wear/wear.hpp"
 
@@ -102,6 +103,9 @@ void profile_files(const std::string& path, std::vector<std::string>& files, int
 void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override) {
   Scene scene = load_scene(scene_file);  // throws InputError naming the file and key
   if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
+  // The measured limits too, so a scene outside them stops here (exit 2), before any work.
+  check_numerical_limits(scene, scene_file);
+  check_smoothing_radius(scene, scene_file);
   if (!io::is_valid_design_name(scene.name))
     throw InputError(scene_file, "name",
                      "a design name of letters, digits, '.', '-' and '_' (it names the output "
@@ -221,6 +225,18 @@ Plan make_plan(const RunArgs& args) {
     throw InputError(args.out, "-o", "an output folder, but a file of that name exists");
   return plan;
 }
+
+}  // namespace
+
+std::vector<Scene> load_designs(const std::string& path) {
+  RunArgs args;
+  args.scenes = {path};
+  std::vector<Scene> scenes;
+  for (auto& d : make_plan(args).designs) scenes.push_back(std::move(d.scene));
+  return scenes;
+}
+
+namespace {
 
 // ---------------------------------------------------------------------------------------
 // Run state shared between the design threads and the main thread (one mutex).

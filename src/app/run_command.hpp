@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "scene/scene.hpp"
+
 namespace millwear::app {
 
 struct RunArgs {
@@ -22,5 +24,9 @@ struct RunArgs {
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.
 // Returns the exit code of `millwear run` (0, 1, 130/143); throws InputError on bad input.
 int run_command(const RunArgs& args);
+
+// The designs a scene or comparison file names, loaded and checked as `millwear run` does
+// (throws InputError naming the file and key). Their own fidelity is kept.
+std::vector<Scene> load_designs(const std::string& path);
 
 }  // namespace millwear::app

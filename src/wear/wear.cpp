@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "common/errors.hpp"
@@ -309,6 +310,58 @@ LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_dept
   return out;
 }
 
+SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m) {
+  const double R = scene.radius_m();
+  const LinerUnit unit = make_liner_unit(scene.mill.lifter.points, R, scene.mill.rows, scene.mill.mesh);
+  const LifterMetrics before = measure_lifter(unit, R);
+  SmoothingLoss loss;
+  try {
+    const LinerUnit after = apply_wear(unit, std::vector<double>(unit.surface.size() - 1, 0.0), R, smoothing_m,
+                                       scene.mill.mesh);
+    const LifterMetrics m = measure_lifter(after, R);
+    loss.area_fraction = 1.0 - m.area_m2 / before.area_m2;
+    loss.height_fraction = 1.0 - m.height_m / before.height_m;
+  } catch (const RunError&) {
+    loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
+  }
+  return loss;
+}
+
+double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
+                           double radius_m) {
+  const std::vector<double> len = unit_edge_lengths(before, radius_m);
+  double worn = 0.0;  // what Archard's depths remove from the lifter
+  for (std::size_t j = 0; j < len.size() && j < edge_depth_m.size(); ++j)
+    if (is_lifter_edge(before, static_cast<int>(j))) worn += edge_depth_m[j] * len[j];
+  return measure_lifter(before, radius_m).area_m2 - measure_lifter(after, radius_m).area_m2 - worn;
+}
+
+void check_smoothing_radius(const Scene& scene, const std::string& file) {
+  const double r = smoothing_radius(scene);
+  auto too_much = [&](double radius) {
+    const SmoothingLoss l = smoothing_loss(scene, radius);
+    return l.area_fraction > kMaxSmoothingAreaLoss || l.height_fraction > kMaxSmoothingHeightLoss;
+  };
+  if (r <= 0.0 || !too_much(r)) return;
+  // Bisect for the largest radius within the bounds (to 1% of r; 0 when even a tiny one is not).
+  double lo = 0.0, hi = r;
+  for (int i = 0; i < 12 && hi - lo > 0.01 * r; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (too_much(mid) ? hi : lo) = mid;
+  }
+  const SmoothingLoss l = smoothing_loss(scene, r);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a smoothing radius of at most %.3g mm for this lifter: re-smoothing the new lifter at %.3g mm "
+                "removes %.0f%% of its area and %.0f%% of its height before any wear (the radius is wider than half "
+                "its narrowest part; bounds %.0f%% and %.0f%%)%s",
+                lo * 1e3, r * 1e3, 100.0 * l.area_fraction, 100.0 * l.height_fraction, 100.0 * kMaxSmoothingAreaLoss,
+                100.0 * kMaxSmoothingHeightLoss,
+                scene.wear.smoothing_radius_m > 0.0 ? "" : "; the default is the smallest particle radius: set "
+                                                           "wear.smoothing_radius");
+  throw InputError(file, "wear.smoothing_radius", buf);
+}
+
 LinerUnit wear_under_load_field(const LinerUnit& unit, double radius_m,
                                 const std::function<double(Vec2)>& shear_power_W_per_m2,
                                 double c_model_m3_per_J, double sim_time_s, int updates,
@@ -351,6 +404,7 @@ void compute_life(WearHistory& h, double replacement_height_m) {
 
 WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
                              const std::vector<StageRecord>& resume_from) {
+  check_smoothing_radius(scene, scene.source_file);
   WearHistory history;
   const double R = scene.radius_m();
   const int rows = scene.mill.rows;
@@ -499,14 +553,31 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
         }
       }
       // apply_wear -> resmooth (inside) for every unit.
+      std::string smoothing_error;
       try {
-        for (std::size_t u = 0; u < units.size(); ++u)
-          units[u] = apply_wear(units[u], depths[u], R, smoothing_m, scene.mill.mesh);
+        for (std::size_t u = 0; u < units.size(); ++u) {
+          LinerUnit worn = apply_wear(units[u], depths[u], R, smoothing_m, scene.mill.mesh);
+          // A smoothing radius wider than a feature the worn lifter grew would wear it
+          // away without any shear work: stop with the limit rather than report that as wear.
+          const double lost = resmoothing_loss_m2(units[u], worn, depths[u], R);
+          if (lost > kMaxSmoothingAreaLoss * new_metrics.area_m2) {
+            char buf[400];
+            std::snprintf(buf, sizeof buf,
+                          "stage %d: re-smoothing at wear.smoothing_radius %.3g mm removed %.1f%% of the new lifter's "
+                          "area beyond the wear itself (bound %.0f%%): the worn lifter has a feature narrower than "
+                          "twice the radius; lower wear.smoothing_radius",
+                          k + 1, smoothing_m * 1e3, 100.0 * lost / new_metrics.area_m2, 100.0 * kMaxSmoothingAreaLoss);
+            smoothing_error = buf;
+            break;
+          }
+          units[u] = std::move(worn);
+        }
       } catch (const RunError& e) {
         history.events.push_back("stage " + std::to_string(k + 1) + ": " + e.what());
         worn_out = true;
         break;
       }
+      if (!smoothing_error.empty()) throw RunError(smoothing_error);
       hours += dt_h;
       if (lifter_worn_out(measure_lifter(units[0], R), new_metrics)) { worn_out = true; break; }
       if (hours >= target_h - 1e-9) break;

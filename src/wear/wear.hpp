@@ -37,6 +37,32 @@ std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
 LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_depth_m,
                      double radius_m, double smoothing_m, const MillMeshDef& mesh);
 
+// What one re-smoothing at smoothing_m does to the new lifter (apply_wear with no wear):
+// the share of its area and of its height it removes. Corners round off a little; a
+// feature narrower than 2 x smoothing_m goes entirely.
+struct SmoothingLoss {
+  double area_fraction = 0.0, height_fraction = 0.0;
+};
+SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m);
+
+// The largest share of the new lifter one re-smoothing may remove before the scene is
+// refused: more means the radius is wider than the lifter's narrowest part and would wear
+// it away without any shear work.
+constexpr double kMaxSmoothingAreaLoss = 0.05;
+constexpr double kMaxSmoothingHeightLoss = 0.05;
+
+// Throw InputError(file, "wear.smoothing_radius", ...) if re-smoothing the new lifter at the
+// scene's radius removes more than the bounds above; the message gives the largest radius
+// that keeps within them.
+void check_smoothing_radius(const Scene& scene, const std::string& file);
+
+// Lifter area one wear update removed beyond its Archard depths (m^2): the area the
+// re-smoothing took. Near zero while the radius is under half the lifter's narrowest part;
+// large when a worn lifter has grown a feature the smoothing cuts away (a sharp or thin
+// top). `before` is the unit the depths were applied to, `after` apply_wear's result.
+double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
+                           double radius_m);
+
 // Wear a unit under a synthetic load field in place of the engine: `shear_power_W_per_m2`
 // gives the shear power per unit area at a lifter-local point. The unit wears for
 // sim_time_s of simulated time with C_model, in `updates` equal geometry updates.
