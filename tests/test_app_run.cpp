@@ -289,6 +289,47 @@ TEST_F(AppRunCli, TwoDesignsWithOneNameExit2) {
              "name");
 }
 
+// A scene outside a measured numerical limit stops before any work too (exit 2, nothing
+// written), naming the key: the time step, and a smoothing radius wider than the lifter.
+TEST_F(AppRunCli, SceneOutsideANumericalLimitExits2BeforeAnyWork) {
+  const std::string lab = slurp(fs::path(MILLWEAR_SOURCE_DIR) / "scenarios/lab-mill.toml");
+  const std::string profile = std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml";
+  auto scene_with = [&](const std::string& from, const std::string& to) {
+    std::string t = lab;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) t.replace(at, from.size(), to);
+    const auto p = t.find("\"../profiles/lab-2x30.toml\"");
+    if (p != std::string::npos) t.replace(p, std::string("\"../profiles/lab-2x30.toml\"").size(), "\"" + profile + "\"");
+    return t;
+  };
+  const std::string dt = write("dt.toml", scene_with("time_step = 0.001", "time_step = 0.05"));
+  expect_bad("run " + q(dt) + " -o " + q(dir_ / "out"), "solver.time_step");
+  const std::string wide = write("wide.toml", scene_with("smoothing_radius = 2.0", "smoothing_radius = 30.0"));
+  expect_bad("run " + q(wide) + " -o " + q(dir_ / "out"), "wear.smoothing_radius");
+}
+
+// A scene pays only for the outputs it asks for: without the collision spectrum the run
+// completes, spectrum.csv has no rows for it and no spectrum figure is drawn.
+TEST_F(AppRunCli, SceneWithoutTheSpectrumRunsAndDrawsNoSpectrumFigure) {
+  std::string t = slurp(fs::path(MILLWEAR_SOURCE_DIR) / "tests/data/lab-quick.toml");
+  const std::string rel = "\"../../profiles/lab-2x30.toml\"";
+  const auto p = t.find(rel);
+  ASSERT_NE(p, std::string::npos);
+  t.replace(p, rel.size(), "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml\"");
+  const std::string on = "collision_spectrum = true";
+  const auto o = t.find(on);
+  ASSERT_NE(o, std::string::npos);
+  t.replace(o, on.size(), "collision_spectrum = false");
+  const std::string f = write("no-spectrum.toml", t);
+  const Result r = run("run " + q(f) + " -o " + q(dir_ / "out") + " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  const std::string spectrum = slurp(dir_ / "out/spectrum.csv");
+  EXPECT_EQ(spectrum.find("lab-quick"), std::string::npos) << spectrum;
+  EXPECT_FALSE(fs::exists(dir_ / "out/plots/spectrum.png"));
+  EXPECT_TRUE(fs::exists(dir_ / "out/summary.csv"));
+}
+
 TEST_F(AppRunCli, ShippedComparisonSceneIsValid) {
   // The default scene (the paper's comparison) validates; --check runs nothing.
   const Result r = run("run " + src("scenarios/sag-2x30-vs-1x30.toml") + " -o " + q(dir_ / "out") + " --check");

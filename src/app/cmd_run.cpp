@@ -385,6 +385,8 @@ void write_summary(RunContext& ctx) {
 void write_spectrum(RunContext& ctx) {
   io::CsvTable t({"design", "stage", "hours", "energy_J_lower", "energy_J_upper", "count_per_s", "energy_W"});
   for (std::size_t i = 0; i < ctx.plan.designs.size(); ++i) {
+    // A scene that did not ask for the spectrum has none (zeros, not a measurement).
+    if (!ctx.plan.designs[i].scene.outputs.collision_spectrum) continue;
     auto it = ctx.states[i]->stages.find(0);
     if (it == ctx.states[i]->stages.end()) continue;
     const StageRecord& r = it->second;
