@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Benchmarks as a table (figures are printed and tracked, never asserted):
-#   1. engine disk-steps per second at about 1k, 3k and 10k disks (build/bench_engine,
-#      the default accounting row; see bench/bench_engine.cpp for the scene);
+#   1. engine disk-steps per second at about 1k, 3k and 10k disks on both backends, at equal
+#      time step and substeps, with the time shares (build/bench_backends; the probe scene
+#      is bench/probe_scene.hpp);
 #   2. wall and CPU time of the default comparison (scenarios/sag-2x30-vs-1x30.toml, both
 #      designs) at each fidelity preset, through `millwear run`.
 # Usage: bench/run_benchmarks.sh [--quick] [--presets "draft standard reference"] [BUILD_DIR]
@@ -23,19 +24,15 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-for exe in bench_engine millwear; do
+for exe in bench_backends millwear; do
   [ -x "$build/$exe" ] || { echo "run_benchmarks: $build/$exe not found; build first (cmake --build $build)" >&2; exit 2; }
 done
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-echo "## Engine: disk-steps per second (Box2D 2.4 backend, default accounting)"
+echo "## Engine: disk-steps per second, Box2D 2.4 library against our soft solver"
 seconds=2.0; [ $quick = 1 ] && seconds=0.5
-"$build/bench_engine" "$seconds" > "$tmp/engine.txt"
-echo
-echo "| disks | dt (s) | disk-steps/s | escaped |"
-echo "|---|---|---|---|"
-awk '/\(default\)/ { printf "| %s | %s | %s | %s |\n", $1, $2, $3, $7 }' "$tmp/engine.txt"
+"$build/bench_backends" "$seconds"
 echo
 
 echo "## Default comparison (sag-2x30-vs-1x30) per preset"

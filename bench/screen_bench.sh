@@ -7,9 +7,9 @@
 #    (scenarios/screen-sag-face-angle.toml, SAG mill, 4 stages of 750 h), drawn as a Latin
 #    hypercube of N from its grid levels, run by the local pool with --jobs 2, at each
 #    fidelity in FIDELITIES ("draft standard" for both).
-# 2. Slurm: the lab screen (tests/data/screen-lab.toml, 4 designs) as 1 array task (--chunk 4)
-#    and as 2 tasks (--chunk 2) on a private single-node Slurm (tests/slurm/start_slurm.sh);
-#    skipped with a message if slurm-wlm/munge are missing.
+# 2. Slurm: the same N-design SAG screen at the first fidelity of FIDELITIES, as 1 array task
+#    (--chunk N) and as 2 tasks (--chunk N/2) on a private single-node Slurm
+#    (tests/slurm/start_slurm.sh); skipped with a message if slurm-wlm/munge are missing.
 # The load average is printed before and after: on a shared machine it is the first thing
 # to read next to any wall time.
 set -euo pipefail
@@ -54,14 +54,16 @@ if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
 fi
 SLURM_DIR="$WORK/slurm-daemons"
 eval "$("$ROOT/tests/slurm/start_slurm.sh" "$SLURM_DIR")"
-for chunk in 4 2; do
+first_fid=${FIDELITIES%% *}
+half=$(( (N + 1) / 2 ))
+for chunk in "$N" "$half"; do
   out="$WORK/slurm-$chunk"
-  "$BIN" screen "$ROOT/tests/data/screen-lab.toml" -o "$out" --emit slurm --chunk "$chunk" > /dev/null
+  "$BIN" screen "$WORK/sag-$first_fid.toml" -o "$out" --emit slurm --chunk "$chunk" > /dev/null
   t0=$(now)
   sbatch --parsable "$out/screen.sbatch" > /dev/null
   while [ -n "$(squeue -h -o %i)" ]; do sleep 0.2; done
   t1=$(now)
   "$BIN" screen --collect "$out" > /dev/null
-  awk -v c="$chunk" -v a="$t0" -v b="$t1" -v l="$(load)" 'BEGIN {
-    printf "Slurm, lab screen (4 designs): %d array task(s) of %d: %.1f s wall (submit to empty queue); load after %s\n", 4 / c, c, b - a, l }'
+  awk -v n="$N" -v c="$chunk" -v f="$first_fid" -v a="$t0" -v b="$t1" -v l="$(load)" 'BEGIN {
+    printf "Slurm, SAG face-angle screen (%d designs, %s): %d array task(s) of up to %d: %.1f s wall (submit to empty queue); load after %s\n", n, f, int((n + c - 1) / c), c, b - a, l }'
 done

@@ -391,13 +391,19 @@ TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
   const FidelityDef& s = fidelity_preset("standard");
   const FidelityDef& r = fidelity_preset("reference");
   EXPECT_DOUBLE_EQ(d.time_step_s, 1.0 / 300.0);
-  EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 500.0);
+  EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 400.0);
   EXPECT_DOUBLE_EQ(r.time_step_s, 1.0 / 1000.0);
   EXPECT_EQ(d.velocity_iterations, 6);
   EXPECT_EQ(r.position_iterations, 4);
   EXPECT_DOUBLE_EQ(d.window_revolutions, 1.0);
-  EXPECT_DOUBLE_EQ(r.window_revolutions, 6.0);
-  EXPECT_DOUBLE_EQ(s.max_depth_step_m, 0.004);
+  EXPECT_DOUBLE_EQ(s.window_revolutions, 1.5);
+  EXPECT_DOUBLE_EQ(r.window_revolutions, 4.0);
+  EXPECT_DOUBLE_EQ(s.max_depth_step_m, 0.006);
+  EXPECT_DOUBLE_EQ(r.max_depth_step_m, 0.002);
+  for (const FidelityDef* p : {&d, &s, &r}) {
+    EXPECT_EQ(p->backend, Backend::Soft) << p->name;
+    EXPECT_EQ(p->substeps, 4) << p->name;
+  }
   EXPECT_DOUBLE_EQ(d.shell_edge_m, 0.060);
   EXPECT_DOUBLE_EQ(r.lifter_edge_m, 0.010);
 }
@@ -407,6 +413,7 @@ TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
   ASSERT_EQ(p.size(), 3u);
   for (std::size_t i = 1; i < p.size(); ++i) {
     EXPECT_LT(p[i].time_step_s, p[i - 1].time_step_s) << p[i].name;
+    EXPECT_GE(p[i].substeps, p[i - 1].substeps) << p[i].name;
     EXPECT_GT(p[i].velocity_iterations, p[i - 1].velocity_iterations) << p[i].name;
     EXPECT_GT(p[i].position_iterations, p[i - 1].position_iterations) << p[i].name;
     EXPECT_GT(p[i].window_revolutions, p[i - 1].window_revolutions) << p[i].name;
@@ -446,6 +453,18 @@ TEST_F(SceneFidelity, SceneKeysOverrideThePreset) {
   EXPECT_DOUBLE_EQ(s.solver.time_step_s, 0.0025);
   EXPECT_EQ(s.solver.velocity_iterations, 7);
   EXPECT_EQ(s.solver.position_iterations, fidelity_preset("draft").position_iterations);
+}
+
+TEST_F(SceneFidelity, TheBackendComesFromThePresetUnlessTheFileNamesOne) {
+  Scene preset_backend = load_scene(write("scene.toml", kBaseScene));
+  EXPECT_EQ(preset_backend.solver.backend, fidelity_preset(preset_backend.fidelity).backend);
+  EXPECT_EQ(preset_backend.solver.substeps, fidelity_preset(preset_backend.fidelity).substeps);
+  Scene library = load_scene(scene_with("seed = 3", "seed = 3\nbackend = \"box2d\"\nsubsteps = 7"));
+  for (const char* p : {"draft", "standard", "reference"}) {
+    apply_fidelity(library, p);
+    EXPECT_EQ(library.solver.backend, Backend::Box2D) << p;
+    EXPECT_EQ(library.solver.substeps, 7) << p;
+  }
 }
 
 TEST_F(SceneFidelity, PresetsChangeTheSameSceneDifferently) {

@@ -63,8 +63,8 @@ TEST(TradeoffLadder, StartsWithTheReferenceAndMovesOneKnobFromStandard) {
   const TradeoffLadder ladder = tradeoff_ladder(scene, o);
   ASSERT_GE(ladder.settings.size(), 3u);
   EXPECT_EQ(ladder.settings[0].label, "reference");
-  EXPECT_EQ(ladder.settings[0].scene.fidelity, "reference");
-  EXPECT_EQ(ladder.settings[0].scene.wear.stages, 1);
+  EXPECT_EQ(ladder.settings[0].scenes[0].fidelity, "reference");
+  EXPECT_EQ(ladder.settings[0].scenes[0].wear.stages, 1);
   EXPECT_TRUE(ladder.held_knobs.empty());  // the SAG scene leaves every knob to the preset
   std::set<std::string> knobs;
   const FidelityDef& std_p = fidelity_preset("standard");
@@ -72,13 +72,47 @@ TEST(TradeoffLadder, StartsWithTheReferenceAndMovesOneKnobFromStandard) {
     knobs.insert(s.knob);
     if (s.knob == "time_step") {
       // Only the knob moved: the rest is the standard preset.
-      EXPECT_EQ(s.scene.solver.velocity_iterations, std_p.velocity_iterations) << s.label;
-      EXPECT_DOUBLE_EQ(s.scene.wear.window_revolutions, std_p.window_revolutions) << s.label;
-      EXPECT_DOUBLE_EQ(s.scene.mill.mesh.lifter_edge_m, std_p.lifter_edge_m) << s.label;
+      EXPECT_EQ(s.scenes[0].solver.velocity_iterations, std_p.velocity_iterations) << s.label;
+      EXPECT_DOUBLE_EQ(s.scenes[0].wear.window_revolutions, std_p.window_revolutions) << s.label;
+      EXPECT_DOUBLE_EQ(s.scenes[0].mill.mesh.lifter_edge_m, std_p.lifter_edge_m) << s.label;
+      EXPECT_EQ(s.scenes[0].solver.backend, std_p.backend) << s.label;
+    }
+    if (s.knob == "backend") {
+      EXPECT_NE(s.scenes[0].solver.backend, std_p.backend) << s.label;
     }
   }
-  for (const char* k : {"preset", "time_step", "iterations", "window", "depth_step", "size_cutoff", "mesh", "smoothing"})
+  for (const char* k : {"preset", "backend", "time_step", "window", "depth_step", "size_cutoff", "mesh", "smoothing"})
     EXPECT_EQ(knobs.count(k), 1u) << k;
+  // The solver knob that means something for standard's backend, and not the other.
+  const bool soft = std_p.backend == Backend::Soft;
+  EXPECT_EQ(knobs.count("substeps"), soft ? 1u : 0u);
+  EXPECT_EQ(knobs.count("iterations"), soft ? 0u : 1u);
+}
+
+TEST(TradeoffLadder, AComparisonLaddersEveryDesignTogether) {
+  const Scene a = load_scene(source_path("scenarios/sag-2x30.toml"));
+  const Scene b = load_scene(source_path("scenarios/sag-1x30.toml"));
+  TradeoffOptions o;
+  o.stages = 2;
+  const TradeoffLadder ladder = tradeoff_ladder(std::vector<Scene>{a, b}, o);
+  ASSERT_GE(ladder.settings.size(), 3u);
+  for (const auto& s : ladder.settings) {
+    ASSERT_EQ(s.scenes.size(), 2u) << s.label;
+    EXPECT_EQ(s.scenes[0].name, a.name);
+    EXPECT_EQ(s.scenes[1].name, b.name);
+    // The same numerical settings on both designs; the designs keep their own lifters.
+    EXPECT_DOUBLE_EQ(s.scenes[0].solver.time_step_s, s.scenes[1].solver.time_step_s) << s.label;
+    EXPECT_EQ(s.scenes[0].solver.backend, s.scenes[1].solver.backend) << s.label;
+    EXPECT_DOUBLE_EQ(s.scenes[0].wear.max_depth_step_m, s.scenes[1].wear.max_depth_step_m) << s.label;
+    EXPECT_EQ(s.scenes[1].wear.stages, 2) << s.label;
+    EXPECT_NE(s.scenes[0].mill.direction, s.scenes[1].mill.direction) << s.label;
+  }
+  // A knob one design's file sets is held for the whole comparison.
+  Scene held = b;
+  held.explicit_keys.insert("wear.window_revolutions");
+  const TradeoffLadder l2 = tradeoff_ladder(std::vector<Scene>{a, held}, o);
+  for (const auto& s : l2.settings) EXPECT_NE(s.knob, "window") << s.label;
+  EXPECT_EQ(l2.held_knobs.size(), 1u);
 }
 
 TEST(TradeoffLadder, QuickIsThePresetsOnly) {

@@ -8,10 +8,11 @@ namespace millwear {
 const std::vector<FidelityDef>& fidelity_presets() {
   static const std::vector<FidelityDef> presets = [] {
     std::vector<FidelityDef> p(3);
-    // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter edge
-    p[0] = {"draft", 1.0 / 300.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030};
-    p[1] = {"standard", 1.0 / 500.0, 8, 3, 2.0, 0.004, 1e6, 0.0, 0.040, 0.020};
-    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 6.0, 0.001, 5e5, 0.0, 0.020, 0.010};
+    // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter
+    // edge, backend, substeps
+    p[0] = {"draft", 1.0 / 300.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4};
+    p[1] = {"standard", 1.0 / 400.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.040, 0.020, Backend::Soft, 4};
+    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 4.0, 0.002, 5e5, 0.0, 0.020, 0.010, Backend::Soft, 4};
     return p;
   }();
   return presets;
@@ -29,6 +30,8 @@ void apply_fidelity(Scene& scene, const std::string& name) {
   // The file may give the time step either way; both mean it chose one.
   if (!scene.file_sets("solver.time_step") && !scene.file_sets("solver.steps_per_second"))
     scene.solver.time_step_s = p.time_step_s;
+  if (!scene.file_sets("solver.backend")) scene.solver.backend = p.backend;
+  if (!scene.file_sets("solver.substeps")) scene.solver.substeps = p.substeps;
   if (!scene.file_sets("solver.velocity_iterations"))
     scene.solver.velocity_iterations = p.velocity_iterations;
   if (!scene.file_sets("solver.position_iterations"))

@@ -53,82 +53,107 @@ struct HistoryDigest {
 
 }  // namespace
 
-TradeoffLadder tradeoff_ladder(const Scene& scene, const TradeoffOptions& o) {
-  Scene base = scene;
-  if (o.stages > 0) base.wear.stages = o.stages;
-  if (o.stage_hours > 0.0) base.wear.stage_hours = o.stage_hours;
+TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const TradeoffOptions& o) {
+  if (designs.empty()) throw InputError("", "SCENE", "at least one design");
+  std::vector<Scene> base = designs;
+  for (Scene& s : base) {
+    if (o.stages > 0) s.wear.stages = o.stages;
+    if (o.stage_hours > 0.0) s.wear.stage_hours = o.stage_hours;
+  }
   const FidelityDef& draft = fidelity_preset("draft");
+  const FidelityDef& standard = fidelity_preset("standard");
   const FidelityDef& reference = fidelity_preset("reference");
 
   TradeoffLadder ladder;
   auto preset = [&](const std::string& name) {
-    Scene s = base;
-    apply_fidelity(s, name);
-    ladder.settings.push_back({name, "preset", name, s});
+    std::vector<Scene> scenes = base;
+    for (Scene& s : scenes) apply_fidelity(s, name);
+    ladder.settings.push_back({name, "preset", name, std::move(scenes)});
   };
   preset("reference");
   preset("standard");
   preset("draft");
   if (o.quick) return ladder;
 
-  Scene std_scene = base;
-  apply_fidelity(std_scene, "standard");
-  // One knob of the standard scene; held (listed, not laddered) when the file sets a key.
+  std::vector<Scene> std_scenes = base;
+  for (Scene& s : std_scenes) apply_fidelity(s, "standard");
+  const Scene& std_scene = std_scenes.front();
+  auto any_file_sets = [&](const std::string& key) {
+    for (const Scene& s : designs)
+      if (s.file_sets(key)) return true;
+    return false;
+  };
+  using Setter = std::function<void(Scene&)>;
+  // One knob of the standard scenes; held (listed, not laddered) when a file sets a key.
   auto knob = [&](const std::string& name, std::vector<std::string> keys,
-                  const std::vector<std::pair<std::string, std::function<void(Scene&)>>>& values) {
+                  const std::vector<std::pair<std::string, Setter>>& values) {
     for (const auto& k : keys)
-      if (scene.file_sets(k)) {
-        ladder.held_knobs.push_back(name + " (the scene sets " + k + ")");
+      if (any_file_sets(k)) {
+        ladder.held_knobs.push_back(name + " (a scene sets " + k + ")");
         return;
       }
     for (const auto& [text, set] : values) {
-      Scene s = std_scene;
-      set(s);
-      s.fidelity = "standard+" + name;
-      ladder.settings.push_back({name + "=" + text, name, text, s});
+      std::vector<Scene> scenes = std_scenes;
+      for (Scene& s : scenes) {
+        set(s);
+        s.fidelity = "standard+" + name;
+      }
+      ladder.settings.push_back({name + "=" + text, name, text, std::move(scenes)});
     }
   };
+  const bool soft = std_scene.solver.backend == Backend::Soft;
+  knob("backend", {"solver.backend"},
+       {{soft ? "box2d" : "soft", [soft](Scene& s) { s.solver.backend = soft ? Backend::Box2D : Backend::Soft; }}});
   auto dt_value = [](double dt) {
-    return std::pair{time_step_text(dt), std::function<void(Scene&)>([dt](Scene& s) { s.solver.time_step_s = dt; })};
+    return std::pair{time_step_text(dt), Setter([dt](Scene& s) { s.solver.time_step_s = dt; })};
   };
   knob("time_step", {"solver.time_step", "solver.steps_per_second"},
        {dt_value(1.0 / 200.0), dt_value(draft.time_step_s), dt_value(reference.time_step_s)});
-  auto iter_value = [](const FidelityDef& p) {
-    return std::pair{std::to_string(p.velocity_iterations) + "/" + std::to_string(p.position_iterations),
-                     std::function<void(Scene&)>([v = p.velocity_iterations, q = p.position_iterations](Scene& s) {
-                       s.solver.velocity_iterations = v;
-                       s.solver.position_iterations = q;
-                     })};
-  };
-  knob("iterations", {"solver.velocity_iterations", "solver.position_iterations"},
-       {iter_value(draft), iter_value(reference)});
+  if (soft) {
+    auto sub_value = [](int n) {
+      return std::pair{std::to_string(n), Setter([n](Scene& s) { s.solver.substeps = n; })};
+    };
+    knob("substeps", {"solver.substeps"},
+         {sub_value(std::max(1, standard.substeps / 2)), sub_value(2 * standard.substeps)});
+  } else {
+    auto iter_value = [](const FidelityDef& p) {
+      return std::pair{std::to_string(p.velocity_iterations) + "/" + std::to_string(p.position_iterations),
+                       Setter([v = p.velocity_iterations, q = p.position_iterations](Scene& s) {
+                         s.solver.velocity_iterations = v;
+                         s.solver.position_iterations = q;
+                       })};
+    };
+    knob("iterations", {"solver.velocity_iterations", "solver.position_iterations"},
+         {iter_value(draft), iter_value(reference)});
+  }
   auto window_value = [](double w) {
-    return std::pair{num(w), std::function<void(Scene&)>([w](Scene& s) { s.wear.window_revolutions = w; })};
+    return std::pair{num(w), Setter([w](Scene& s) { s.wear.window_revolutions = w; })};
   };
   knob("window", {"wear.window_revolutions"}, {window_value(draft.window_revolutions),
                                               window_value(reference.window_revolutions)});
-  if (scene.wear.mode == WearMode::Staged) {
+  if (std_scene.wear.mode == WearMode::Staged) {
     auto depth_value = [](double d) {
-      return std::pair{num(d * 1e3) + "mm", std::function<void(Scene&)>([d](Scene& s) { s.wear.max_depth_step_m = d; })};
+      return std::pair{num(d * 1e3) + "mm", Setter([d](Scene& s) { s.wear.max_depth_step_m = d; })};
     };
     knob("depth_step", {"wear.max_depth_step"},
          {depth_value(draft.max_depth_step_m), depth_value(reference.max_depth_step_m)});
   } else {
     auto factor_value = [](double f) {
-      return std::pair{num(f), std::function<void(Scene&)>([f](Scene& s) { s.wear.factor = f; })};
+      return std::pair{num(f), Setter([f](Scene& s) { s.wear.factor = f; })};
     };
     knob("factor", {"wear.factor"}, {factor_value(draft.factor), factor_value(reference.factor)});
   }
   // Size cut-off: relative to the smallest rock, as an absolute size means nothing across
-  // scenes. Only values that keep part of every rock species are laddered.
+  // scenes. Only values that keep part of every rock species of every design are laddered.
   {
     double smallest_rock = INFINITY, largest_rock_min = INFINITY;
-    for (const auto& sp : std_scene.charge.species)
-      if (!sp.is_ball && std_scene.species_in_use(sp)) {
-        smallest_rock = std::min(smallest_rock, sp.smallest_diameter_m());
-        largest_rock_min = std::min(largest_rock_min, sp.largest_diameter_m());
-      }
-    std::vector<std::pair<std::string, std::function<void(Scene&)>>> values;
+    for (const Scene& d : std_scenes)
+      for (const auto& sp : d.charge.species)
+        if (!sp.is_ball && d.species_in_use(sp)) {
+          smallest_rock = std::min(smallest_rock, sp.smallest_diameter_m());
+          largest_rock_min = std::min(largest_rock_min, sp.largest_diameter_m());
+        }
+    std::vector<std::pair<std::string, Setter>> values;
     if (std::isfinite(smallest_rock))
       for (double f : {1.25, 1.5}) {
         const double cut = f * smallest_rock;
@@ -139,19 +164,23 @@ TradeoffLadder tradeoff_ladder(const Scene& scene, const TradeoffOptions& o) {
   }
   auto mesh_value = [](const FidelityDef& p) {
     return std::pair{num(p.shell_edge_m * 1e3) + "/" + num(p.lifter_edge_m * 1e3) + "mm",
-                     std::function<void(Scene&)>([a = p.shell_edge_m, b = p.lifter_edge_m](Scene& s) {
+                     Setter([a = p.shell_edge_m, b = p.lifter_edge_m](Scene& s) {
                        s.mill.mesh.shell_edge_m = a;
                        s.mill.mesh.lifter_edge_m = b;
                      })};
   };
   knob("mesh", {"lifters.shell_edge", "lifters.lifter_edge"}, {mesh_value(draft), mesh_value(reference)});
   {
-    const double r0 = std_scene.wear.smoothing_radius_m > 0.0 ? std_scene.wear.smoothing_radius_m
-                                                              : std_scene.smallest_particle_radius_m();
-    std::vector<std::pair<std::string, std::function<void(Scene&)>>> values;
+    // The default radius is each design's smallest particle radius: scale it per design.
+    std::vector<std::pair<std::string, Setter>> values;
     for (double f : {0.5, 2.0}) {
-      const double r = f * r0;
-      values.push_back({num(r * 1e3) + "mm", [r](Scene& s) { s.wear.smoothing_radius_m = r; }});
+      const double r0 = std_scene.wear.smoothing_radius_m > 0.0 ? std_scene.wear.smoothing_radius_m
+                                                                : std_scene.smallest_particle_radius_m();
+      values.push_back({num(f * r0 * 1e3) + "mm", [f](Scene& s) {
+                          const double r = s.wear.smoothing_radius_m > 0.0 ? s.wear.smoothing_radius_m
+                                                                           : s.smallest_particle_radius_m();
+                          s.wear.smoothing_radius_m = f * r;
+                        }});
     }
     knob("smoothing", {"wear.smoothing_radius"}, values);
   }
@@ -195,35 +224,65 @@ HistoryDigest digest(const WearHistory& h) {
   return d;
 }
 
-void compare_digests(TradeoffRow& row, const HistoryDigest& d, const HistoryDigest& ref, double height_m,
-                     double area_m2) {
-  double dmax = 0.0, dmean = 0.0;
+struct DesignErrors {
+  double dev_max_m = 0.0, dev_mean_m = 0.0;
+  double area_err = 0.0, power_err = 0.0, life_err = kNaN;  // fractions
+};
+
+DesignErrors compare_digests(const HistoryDigest& d, const HistoryDigest& ref, double height_m, double area_m2) {
+  DesignErrors e;
   // Sampled every 1% of the lifter height: fine against any deviation worth reporting.
-  profile_deviation(d.final_profile, ref.final_profile, 0.01 * height_m, dmax, dmean);
-  row.dev_max_mm = dmax * 1e3;
-  row.dev_mean_mm = dmean * 1e3;
-  row.dev_max_pct = 100.0 * dmax / height_m;
-  row.dev_mean_pct = 100.0 * dmean / height_m;
+  profile_deviation(d.final_profile, ref.final_profile, 0.01 * height_m, e.dev_max_m, e.dev_mean_m);
   const std::size_t n = std::min(d.hours.size(), ref.hours.size());
-  double area_err = 0.0, power_err = 0.0;
   for (std::size_t k = 0; k < n; ++k) {
-    area_err = std::max(area_err, std::fabs(d.area_m2[k] - ref.area_m2[k]) / area_m2);
+    e.area_err = std::max(e.area_err, std::fabs(d.area_m2[k] - ref.area_m2[k]) / area_m2);
     const double p = d.power_kW_per_m[k], pr = ref.power_kW_per_m[k];
-    if (std::isfinite(p) && std::isfinite(pr) && pr != 0.0) power_err = std::max(power_err, std::fabs(p - pr) / pr);
+    if (std::isfinite(p) && std::isfinite(pr) && pr != 0.0) e.power_err = std::max(e.power_err, std::fabs(p - pr) / pr);
   }
-  row.area_err_pct = 100.0 * area_err;
-  row.power_err_pct = 100.0 * power_err;
-  row.life_err_pct = (std::isfinite(d.life_h) && std::isfinite(ref.life_h) && ref.life_h > 0.0)
-                         ? 100.0 * std::fabs(d.life_h - ref.life_h) / ref.life_h
-                         : kNaN;
+  if (std::isfinite(d.life_h) && std::isfinite(ref.life_h) && ref.life_h > 0.0)
+    e.life_err = std::fabs(d.life_h - ref.life_h) / ref.life_h;
+  return e;
+}
+
+// The order of the designs by life, longest first (ties by index).
+std::vector<std::size_t> life_order(const std::vector<HistoryDigest>& d) {
+  std::vector<std::size_t> idx(d.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return d[a].life_h > d[b].life_h; });
+  return idx;
+}
+
+// Fill row's errors from its designs' digests against the reference's.
+void compare_setting(TradeoffRow& row, const std::vector<HistoryDigest>& d, const std::vector<HistoryDigest>& ref,
+                     const std::vector<double>& height_m, const std::vector<double>& area_m2) {
+  row.dev_max_mm = row.dev_max_pct = row.dev_mean_mm = row.dev_mean_pct = 0.0;
+  row.area_err_pct = row.power_err_pct = row.life_err_pct = 0.0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const DesignErrors e = compare_digests(d[i], ref[i], height_m[i], area_m2[i]);
+    row.dev_max_mm = std::max(row.dev_max_mm, e.dev_max_m * 1e3);
+    row.dev_max_pct = std::max(row.dev_max_pct, 100.0 * e.dev_max_m / height_m[i]);
+    row.dev_mean_mm = std::max(row.dev_mean_mm, e.dev_mean_m * 1e3);
+    row.dev_mean_pct = std::max(row.dev_mean_pct, 100.0 * e.dev_mean_m / height_m[i]);
+    row.area_err_pct = std::max(row.area_err_pct, 100.0 * e.area_err);
+    row.power_err_pct = std::max(row.power_err_pct, 100.0 * e.power_err);
+    // NaN (no life) anywhere makes the worst NaN: max() would hide it.
+    row.life_err_pct = std::isfinite(e.life_err) && std::isfinite(row.life_err_pct)
+                           ? std::max(row.life_err_pct, 100.0 * e.life_err)
+                           : kNaN;
+    row.designs[i].dev_max_pct = 100.0 * e.dev_max_m / height_m[i];
+    row.designs[i].life_err_pct = 100.0 * e.life_err;
+  }
+  row.life_order_same = life_order(d) == life_order(ref);
+  row.life_ratio_err_pct = d.size() < 2 ? kNaN : 0.0;
+  for (std::size_t i = 1; i < d.size(); ++i) {
+    const double r = d[i].life_h / d[0].life_h, rr = ref[i].life_h / ref[0].life_h;
+    row.life_ratio_err_pct = std::isfinite(r) && std::isfinite(rr) && std::isfinite(row.life_ratio_err_pct)
+                                 ? std::max(row.life_ratio_err_pct, 100.0 * std::fabs(r - rr) / rr)
+                                 : kNaN;
+  }
 }
 
 }  // namespace
-
-void compare_with_reference(TradeoffRow& row, const WearHistory& h, const WearHistory& ref, double height_m,
-                            double area_m2) {
-  compare_digests(row, digest(h), digest(ref), height_m, area_m2);
-}
 
 void mark_pareto(std::vector<TradeoffRow>& rows) {
   for (auto& r : rows) {
@@ -244,68 +303,90 @@ void mark_pareto(std::vector<TradeoffRow>& rows) {
 
 TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const TradeoffCallbacks& cb) {
   if (ladder.settings.empty()) throw RunError("tradeoff: an empty ladder");
-  const Scene& ref_scene = ladder.settings.front().scene;
+  const std::vector<Scene>& ref_scenes = ladder.settings.front().scenes;
+  const std::size_t n_designs = ref_scenes.size();
   TradeoffReport report;
-  report.scene_name = ref_scene.name;
   report.held_knobs = ladder.held_knobs;
-  report.stages = ref_scene.wear.stages;
-  report.stage_hours = ref_scene.wear.stage_hours;
-  // The scales: the new lifter (the mesh does not change its area or height beyond
-  // rounding; take the reference's).
-  const LifterMetrics new_lifter = measure_lifter(
-      make_liner_unit(ref_scene.mill.lifter.points, ref_scene.radius_m(), ref_scene.mill.rows, ref_scene.mill.mesh),
-      ref_scene.radius_m());
-  report.lifter_height_m = new_lifter.height_m;
-  report.lifter_area_m2 = new_lifter.area_m2;
+  report.stages = ref_scenes.front().wear.stages;
+  report.stage_hours = ref_scenes.front().wear.stage_hours;
+  for (const Scene& s : ref_scenes) {
+    report.scene_name += (report.scene_name.empty() ? "" : " + ") + s.name;
+    report.design_names.push_back(s.name);
+    // The scales: the new lifter (the mesh does not change its area or height beyond
+    // rounding; take the reference's).
+    const LifterMetrics m = measure_lifter(
+        make_liner_unit(s.mill.lifter.points, s.radius_m(), s.mill.rows, s.mill.mesh), s.radius_m());
+    report.lifter_height_m.push_back(m.height_m);
+    report.lifter_area_m2.push_back(m.area_m2);
+  }
 
+  // One task per (setting, design); the reference's designs come first.
   const std::size_t n = ladder.settings.size();
   std::vector<TradeoffRow> rows(n);
-  std::vector<HistoryDigest> digests(n);
+  std::vector<std::vector<HistoryDigest>> digests(n, std::vector<HistoryDigest>(n_designs));
+  for (std::size_t i = 0; i < n; ++i) {
+    const TradeoffSetting& s = ladder.settings[i];
+    if (s.scenes.size() != n_designs) throw RunError("tradeoff: setting " + s.label + " has a different design count");
+    rows[i].label = s.label;
+    rows[i].knob = s.knob;
+    rows[i].value = s.value;
+    rows[i].designs.resize(n_designs);
+  }
   std::mutex mutex;
   std::atomic<std::size_t> next{0};
   auto worker = [&] {
     for (;;) {
-      const std::size_t i = next.fetch_add(1);
-      if (i >= n) return;
+      const std::size_t task = next.fetch_add(1);
+      if (task >= n * n_designs) return;
+      const std::size_t i = task / n_designs, k = task % n_designs;
       const TradeoffSetting& s = ladder.settings[i];
+      const Scene& scene = s.scenes[k];
       if (cb.on_start) {
         std::lock_guard<std::mutex> lock(mutex);
         cb.on_start(s);
       }
-      TradeoffRow row;
-      row.label = s.label;
-      row.knob = s.knob;
-      row.value = s.value;
+      TradeoffDesign out;
+      out.name = scene.name;
+      HistoryDigest dig;
+      std::vector<std::string> events;
+      std::int64_t disk_steps = 0;
+      double simulated = 0.0;
+      std::string error;
       const auto t0 = Clock::now();
       const double c0 = thread_cpu_s();
       try {
-        const WearHistory h = run_wear_history(s.scene);
-        row.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-        row.cpu_s = thread_cpu_s() - c0;
+        const WearHistory h = run_wear_history(scene);
         for (const auto& st : h.stages) {
-          row.disk_steps += st.disk_steps;
-          row.simulated_s += st.simulated_s;
+          disk_steps += st.disk_steps;
+          simulated += st.simulated_s;
         }
-        row.stages = h.stages.size();
-        row.final_hours = h.stages.back().hours;
-        row.final_area_mm2 = h.stages.back().lifter.area_m2 * 1e6;
-        row.final_height_mm = h.stages.back().lifter.height_m * 1e3;
-        row.life_h = h.life_h;
-        row.life_extrapolated = h.life_extrapolated;
-        row.events = h.events;
-        digests[i] = digest(h);
-        row.final_profile = digests[i].final_profile;
+        out.final_hours = h.stages.back().hours;
+        out.final_area_mm2 = h.stages.back().lifter.area_m2 * 1e6;
+        out.final_height_mm = h.stages.back().lifter.height_m * 1e3;
+        out.life_h = h.life_h;
+        out.life_extrapolated = h.life_extrapolated;
+        for (const auto& e : h.events) events.push_back(scene.name + ": " + e);
+        dig = digest(h);
+        out.final_profile = dig.final_profile;
       } catch (const std::runtime_error& e) {  // RunError, or InputError from a limit check
-        row.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-        row.cpu_s = thread_cpu_s() - c0;
-        row.error = e.what();
+        error = scene.name + ": " + e.what();
       }
+      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double cpu = thread_cpu_s() - c0;
       std::lock_guard<std::mutex> lock(mutex);
-      rows[i] = std::move(row);
-      if (cb.on_row) cb.on_row(rows[i]);
+      TradeoffRow& row = rows[i];
+      row.wall_s += wall;
+      row.cpu_s += cpu;
+      row.disk_steps += disk_steps;
+      row.simulated_s += simulated;
+      row.events.insert(row.events.end(), events.begin(), events.end());
+      if (!error.empty()) row.error += (row.error.empty() ? "" : "; ") + error;
+      digests[i][k] = std::move(dig);
+      row.designs[k] = out;
+      if (cb.on_design) cb.on_design(s, out, wall, cpu, error);
     }
   };
-  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n)));
+  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n * n_designs)));
   std::vector<std::thread> pool;
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
@@ -317,10 +398,11 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
     TradeoffRow& r = rows[i];
     if (!r.error.empty()) {
       r.dev_max_mm = r.dev_max_pct = r.dev_mean_mm = r.dev_mean_pct = kNaN;
-      r.area_err_pct = r.power_err_pct = r.life_err_pct = kNaN;
+      r.area_err_pct = r.power_err_pct = r.life_err_pct = r.life_ratio_err_pct = kNaN;
+      r.life_order_same = false;
       continue;
     }
-    compare_digests(r, digests[i], digests[0], report.lifter_height_m, report.lifter_area_m2);
+    compare_setting(r, digests[i], digests[0], report.lifter_height_m, report.lifter_area_m2);
     r.speedup = r.cpu_s > 0.0 ? ref.cpu_s / r.cpu_s : kNaN;
   }
   mark_pareto(rows);
