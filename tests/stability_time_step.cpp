@@ -24,6 +24,23 @@ TEST(StabilityTimeStep, SweepIsSoundOrStopsNamingTheTimeStep) {
     }
 }
 
+// The same sweep on the soft backend (the presets' backend), whose limit is per substep:
+// with 4 substeps it runs steps four times as long as the library may, and every run it
+// does not refuse must be as sound (no disk through the liner, finite, bounded speed).
+TEST(StabilityTimeStep, SoftBackendSweepIsSoundOrStopsNamingTheTimeStep) {
+  for (double d_mm : {6.0, 15.0, 40.0})
+    for (double hz : {1000.0, 500.0, 240.0, 120.0, 60.0}) {
+      Scene s = tiny_mill(d_mm);
+      s.solver.backend = Backend::Soft;
+      s.solver.substeps = 4;
+      s.solver.time_step_s = 1.0 / hz;
+      const Outcome o = run_briefly(s, 0.5);
+      const std::string label = "soft, d_min " + std::to_string(d_mm) + " mm, dt 1/" + std::to_string(hz);
+      expect_sound_or_clear_stop(o, "solver.time_step", label);
+      EXPECT_EQ(o.completed, step_travel_radii(s) / 4.0 <= kMaxStepTravelRadii) << label;
+    }
+}
+
 // At the edge (6 mm disks, 1/1000 s: 1.57 radii a step, 870 disks) the run is still clean.
 TEST(StabilityTimeStep, SmallDisksJustInsideTheLimitDoNotLeak) {
   Scene s = tiny_mill(6.0);
