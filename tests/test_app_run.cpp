@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli_support.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -23,28 +24,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t got;
-  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = millwear::testing::CliResult;
+constexpr auto run = &millwear::testing::run_millwear;
 
 std::string src(const std::string& rel) {
   return "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/" + rel + "\"";
 }
-std::string q(const fs::path& p) { return "\"" + p.string() + "\""; }
+constexpr auto q = &millwear::testing::quoted;
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

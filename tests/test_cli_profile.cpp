@@ -10,27 +10,14 @@
 #include <regex>
 #include <string>
 
+#include "cli_support.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t got;
-  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = millwear::testing::CliResult;
+constexpr auto run = &millwear::testing::run_millwear;
 
 std::string shipped(const std::string& name) {
   return "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/" + name + "\"";

@@ -24,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "cli_support.hpp"
 #include "io/csv.hpp"
 #include "scene/scene.hpp"
 #include "screen/jobs.hpp"
@@ -36,22 +37,8 @@ using namespace millwear::screen;
 
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result shell(const std::string& cmd) {
-  Result r;
-  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t got;
-  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = millwear::testing::CliResult;
+constexpr auto shell = &millwear::testing::run_shell;
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 Result millwear_cmd(const std::string& args) { return shell(q(MILLWEAR_BINARY) + " " + args); }
@@ -120,7 +107,9 @@ TEST_F(ScreenRun, RanksEveryDesignAndWritesTheFiles) {
     EXPECT_EQ(r.number(i, "rank"), double(i + 1));
     EXPECT_GT(r.number(i, "life_h"), 0.0);
     EXPECT_GT(r.number(i, "life_sigma_h"), 0.0);  // every draft window has batch-means noise
-    if (i > 0) EXPECT_LE(r.number(i, "life_h"), r.number(i - 1, "life_h"));
+    if (i > 0) {
+      EXPECT_LE(r.number(i, "life_h"), r.number(i - 1, "life_h"));
+    }
   }
   EXPECT_EQ(r.number(0, "tied_with_best"), 1.0);  // the best is tied with itself
   EXPECT_EQ(r.number(0, "pareto_utilization"), 1.0);  // the longest life is always on a front
@@ -130,9 +119,10 @@ TEST_F(ScreenRun, RanksEveryDesignAndWritesTheFiles) {
                         "designs/d000/summary.csv", "designs/d000/manifest.json", "designs/d000/profiles/d000_stage1.csv",
                         "designs/d000/plots/fig7_area.png", "designs/d000/task.status"})
     EXPECT_TRUE(fs::exists(ref_ / f)) << f;
-  if (have("gnuplot"))
+  if (have("gnuplot")) {
     for (const char* f : {"plots/screen_pareto.png", "plots/screen_pareto.svg", "plots/screen_top_profiles.png"})
       EXPECT_GT(fs::file_size(ref_ / f), 1000u) << f;
+  }
   // equal_area = "base": every candidate has the lab 2x30's area (431 mm^2), to 1e-9 relative.
   const io::CsvData d = io::read_csv((ref_ / "designs.csv").string());
   for (std::size_t i = 0; i < d.row_count(); ++i) EXPECT_NEAR(d.number(i, "area_mm2"), 430.9401, 1e-3);

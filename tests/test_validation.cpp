@@ -12,6 +12,7 @@
 #include <fstream>
 #include <random>
 
+#include "cli_support.hpp"
 #include "common/errors.hpp"
 #include "engine_fixtures.hpp"
 #include "io/atomic_write.hpp"
@@ -34,23 +35,8 @@ using validation::Survey;
 
 // ---- helpers ----
 
-struct CliResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-CliResult run_cli(const std::string& args) {
-  const std::string cmd = std::string("\"") + MILLWEAR_BINARY + "\" " + args + " 2>&1";
-  CliResult r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t got;
-  while ((got = fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, got);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using testing::CliResult;
+constexpr auto run_cli = &testing::run_millwear;
 
 fs::path temp_dir(const std::string& tag) {
   const fs::path d = fs::temp_directory_path() / ("millwear-test-validation-" + tag + "-" + std::to_string(::getpid()));

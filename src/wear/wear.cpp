@@ -30,8 +30,6 @@ namespace {
 constexpr double kSecondsPerHour = 3600.0;
 using Clock = std::chrono::steady_clock;
 
-int unit_index(const MillGeometry& mill, int row) { return mill.units.size() == 1 ? 0 : row; }
-
 double unit_edge_mid_x(const LinerUnit& u, int j) { return 0.5 * (u.surface[j].x + u.surface[j + 1].x); }
 
 bool is_lifter_edge(const LinerUnit& u, int j) {
