@@ -6,7 +6,9 @@
 // next to the test binary while the binary and the input files are unchanged, like
 // test_app_run's run). The same ranking.csv, byte for byte, must come out of --jobs 1, GNU
 // parallel and a real Slurm job array; the GNU parallel and Slurm tests skip with a message
-// (never pass) when the packages are missing.
+// (never pass) when the packages are missing. Copies of the reference test --resume (only an
+// unfinished design runs again) and the live progress line (on a pseudo-terminal); a 2 x 2
+// face-angle family tests the heat map.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -15,14 +17,21 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "io/csv.hpp"
@@ -231,6 +240,223 @@ TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   r = millwear_cmd("screen --collect " + q(out));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+namespace {
+
+// Every regular file under dir (relative path) with its modification time.
+std::map<std::string, fs::file_time_type> file_times(const fs::path& dir) {
+  std::map<std::string, fs::file_time_type> t;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) t[fs::relative(e.path(), dir).string()] = e.last_write_time();
+  return t;
+}
+
+std::set<std::string> file_names(const fs::path& dir) {
+  std::set<std::string> s;
+  if (fs::exists(dir))
+    for (const auto& e : fs::directory_iterator(dir)) s.insert(e.path().filename().string());
+  return s;
+}
+
+// `millwear ARGS` with stdout and stderr on a pseudo-terminal, as in a user's terminal (the
+// screen's live progress line is drawn only when stderr is a terminal). Output as the
+// terminal received it (\r, \x1b[K and \r\n included).
+Result millwear_on_tty(const std::vector<std::string>& args) {
+  Result r;
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0) return r;
+  if (::grantpt(master) != 0 || ::unlockpt(master) != 0 || ::ptsname(master) == nullptr) {
+    ::close(master);
+    return r;
+  }
+  ::fcntl(master, F_SETFD, FD_CLOEXEC);
+  const std::string slave = ::ptsname(master);
+  std::vector<char*> argv{const_cast<char*>(MILLWEAR_BINARY)};
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(master);
+    return r;
+  }
+  if (pid == 0) {
+    ::setsid();
+    const int s = ::open(slave.c_str(), O_RDWR);
+    const int null = ::open("/dev/null", O_RDONLY);
+    if (s < 0 || null < 0) ::_exit(127);
+    ::dup2(null, 0);
+    ::dup2(s, 1);
+    ::dup2(s, 2);
+    ::execv(MILLWEAR_BINARY, argv.data());
+    ::_exit(127);
+  }
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(master, buf, sizeof buf);
+    if (n > 0) r.output.append(buf, static_cast<std::size_t>(n));
+    else if (n < 0 && errno == EINTR) continue;
+    else break;  // EIO: the program and its tasks have closed the terminal
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  ::close(master);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+struct ProgressLine {
+  int done = -1, total = -1, running = -1, failed = -1;
+  std::string elapsed, left;
+};
+
+// The progress lines a terminal showed, in order (each redraw after \r\x1b[K is one line).
+std::vector<ProgressLine> progress_lines(const std::string& tty) {
+  static const std::regex re(
+      R"(screen: (\d+)/(\d+) done, (\d+) running, (\d+) failed, elapsed (\S+), left (\S+))");
+  std::vector<ProgressLine> v;
+  std::string seg;
+  auto flush = [&] {
+    std::smatch m;
+    if (std::regex_search(seg, m, re))
+      v.push_back({std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]), m[5], m[6]});
+    seg.clear();
+  };
+  for (char c : tty) {
+    if (c == '\r' || c == '\n') flush();
+    else seg += c;
+  }
+  flush();
+  return v;
+}
+
+}  // namespace
+
+TEST_F(ScreenRun, ResumeRunsOnlyTheUnfinishedDesignAndGivesTheSameRanking) {
+  // A design is finished when designs/NAME/task.status says status=finished: take one design's
+  // folder away (and the pool's task logs, which every spawned task rewrites).
+  const fs::path out = root_ / "resume";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove_all(out / "designs/d001");
+  fs::remove_all(out / "logs");
+  const auto before = file_times(out / "designs");
+  ASSERT_FALSE(before.empty());
+
+  const Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --resume --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Only d001 was started again: one task log, and the other designs' files are untouched.
+  EXPECT_EQ(file_names(out / "logs"), (std::set<std::string>{"d001.log"}));
+  auto after = file_times(out / "designs");
+  for (auto it = after.begin(); it != after.end();)
+    it = it->first.rfind("d001/", 0) == 0 ? after.erase(it) : std::next(it);
+  std::string touched;  // files of the finished designs that disappeared, appeared or were rewritten
+  for (const auto& [f, t] : before)
+    if (!after.count(f) || !(after.at(f) == t)) touched += f + "\n";
+  for (const auto& [f, t] : after)
+    if (!before.count(f)) touched += f + " (new)\n";
+  EXPECT_EQ(touched, "");
+  EXPECT_NE(slurp(out / "designs/d001/task.status").find("status=finished"), std::string::npos);
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+TEST_F(ScreenRun, ProgressOnATerminalCountsDoneRunningFailedAndTimeLeft) {
+  // Resume with two designs to run, one at a time: d000 cannot write its folder (a file has
+  // its name) and fails at once, d003 runs. Without a terminal the pool draws no progress
+  // line (docs/screen.md: "On a terminal one line shows ..."), so the run gets a pseudo-terminal.
+  const fs::path out = root_ / "progress";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove_all(out / "designs/d000");
+  std::ofstream(out / "designs/d000") << "not a folder\n";
+  fs::remove_all(out / "designs/d003");
+  const int total = static_cast<int>(io::read_csv((out / "designs.csv").string()).row_count());
+  ASSERT_EQ(total, 4);
+
+  const Result r = millwear_on_tty({"screen", src(kScreen), "-o", out.string(), "--jobs", "1", "--resume"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;  // d000 failed: not every design is ranked
+  EXPECT_NE(r.output.find("4 design(s), 2 to run, 1 job(s)"), std::string::npos) << r.output;
+  const std::vector<ProgressLine> lines = progress_lines(r.output);
+  ASSERT_FALSE(lines.empty()) << "no progress line on a terminal:\n" << r.output;
+  bool saw_running = false, saw_estimate = false;
+  for (const auto& l : lines) {
+    EXPECT_EQ(l.total, total);
+    EXPECT_LE(l.done + l.running + l.failed, total);
+    EXPECT_LE(l.running, 1);  // --jobs 1
+    saw_running |= l.running == 1;
+    // Once a design has ended (here d000) while d003 runs, a time left is shown ("--" before).
+    saw_estimate |= l.running == 1 && l.failed == 1 && l.left != "--";
+  }
+  EXPECT_TRUE(saw_running) << r.output;
+  EXPECT_TRUE(saw_estimate) << r.output;
+  // The last line: every design accounted for, nothing running.
+  const ProgressLine& last = lines.back();
+  EXPECT_EQ(last.done, total - 1) << r.output;
+  EXPECT_EQ(last.failed, 1) << r.output;
+  EXPECT_EQ(last.running, 0) << r.output;
+  EXPECT_EQ(last.done + last.failed, total);
+  EXPECT_EQ(last.left, "0s") << r.output;
+  EXPECT_NE(slurp(out / "designs/d003/task.status").find("status=finished"), std::string::npos);
+}
+
+TEST_F(ScreenRun, HeatMapOfLifeForATwoParameterFamily) {
+  // The lab screen varies one parameter only: no heat map there.
+  EXPECT_FALSE(fs::exists(ref_ / "plots/screen_heatmap.png"));
+  EXPECT_FALSE(fs::exists(ref_ / "plots/data/heatmap.dat"));
+  if (!have("gnuplot"))
+    GTEST_SKIP() << "gnuplot is not installed: the screen draws no figures (and writes no heat-map data)";
+  // The lab screen with two varying face angles: a 2 x 2 grid, 4 designs.
+  const fs::path dir = root_ / "heatmap";
+  const fs::path f = dir / "screen-lab-2d.toml";
+  fs::create_directories(dir);
+  std::ofstream(f) << "[screen]\nname = \"lab-two-angles\"\nbase = '" << src("scenarios/lab-mill.toml")
+                   << "'\nfidelity = \"draft\"\nstages = 1\nsampling = \"grid\"\nequal_area = \"base\"\n"
+                      "[family]\nheight = 20.0\nleading_face_angle = [10.0, 30.0]\n"
+                      "trailing_face_angle = [20.0, 40.0]\ndirection = \"uni\"\n";
+  const fs::path out = dir / "out";
+  const Result r = millwear_cmd("screen " + q(f) + " -o " + q(out) + " --jobs 2 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  EXPECT_EQ(slurp(out / "plots/screen_heatmap.png").rfind("\x89PNG\r\n", 0), 0u);
+  EXPECT_GT(fs::file_size(out / "plots/screen_heatmap.png"), 1000u);
+  EXPECT_NE(slurp(out / "plots/screen_heatmap.svg").find("<svg"), std::string::npos);
+  EXPECT_GT(fs::file_size(out / "plots/screen_heatmap.svg"), 1000u);
+
+  // heatmap.dat: x (leading), y (trailing), life_h, design; one row per grid cell.
+  const io::CsvData designs = io::read_csv((out / "designs.csv").string());
+  const io::CsvData ranking = io::read_csv((out / "ranking.csv").string());
+  ASSERT_EQ(designs.row_count(), 4u);
+  ASSERT_EQ(ranking.row_count(), 4u);
+  std::set<std::pair<double, double>> cells;
+  std::set<std::string> named;
+  std::size_t rows = 0;
+  std::istringstream dat(slurp(out / "plots/data/heatmap.dat"));
+  for (std::string line; std::getline(dat, line);) {
+    if (line.empty()) continue;
+    ++rows;
+    std::istringstream in(line);
+    std::string x, y, life, name;
+    ASSERT_TRUE(std::getline(in, x, ',') && std::getline(in, y, ',') && std::getline(in, life, ',') &&
+                std::getline(in, name))
+        << line;
+    cells.insert({std::stod(x), std::stod(y)});
+    named.insert(name);
+    std::size_t di = designs.row_count(), ri = ranking.row_count();
+    for (std::size_t i = 0; i < designs.row_count(); ++i)
+      if (designs.text(i, designs.column("design")) == name) di = i;
+    for (std::size_t i = 0; i < ranking.row_count(); ++i)
+      if (ranking.text(i, ranking.column("design")) == name) ri = i;
+    ASSERT_LT(di, designs.row_count()) << name;
+    ASSERT_LT(ri, ranking.row_count()) << name;
+    // heatmap.dat and ranking.csv are both written to 10 significant digits: relative 1e-9.
+    EXPECT_NEAR(std::stod(x), designs.number(di, "leading_face_angle_deg"), 1e-9 * std::abs(std::stod(x))) << line;
+    EXPECT_NEAR(std::stod(y), designs.number(di, "trailing_face_angle_deg"), 1e-9 * std::abs(std::stod(y))) << line;
+    const double life_h = ranking.number(ri, "life_h");
+    EXPECT_GT(life_h, 0.0);
+    EXPECT_NEAR(std::stod(life), life_h, 1e-9 * life_h) << line;
+  }
+  EXPECT_EQ(rows, 4u);
+  EXPECT_EQ(named.size(), 4u);
+  EXPECT_EQ(cells, (std::set<std::pair<double, double>>{{10, 20}, {10, 40}, {30, 20}, {30, 40}}));
 }
 
 // ---------------------------------------------------------------------------------------

@@ -396,6 +396,16 @@ int run_pool(const ScreenArgs& args, const std::string& out, const std::vector<C
       }
       workers_left.fetch_sub(1);
     });
+  auto print_progress = [&] {
+    std::lock_guard<std::mutex> lock(pool.mutex);
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const int fresh = pool.done + pool.failed - already_done;
+    const int left = total - pool.done - pool.failed;
+    const double eta = fresh > 0 ? el * left / fresh : std::nan("");
+    std::fprintf(stderr, "\r\x1b[Kscreen: %d/%d done, %d running, %d failed, elapsed %s, left %s", pool.done, total,
+                 pool.running, pool.failed, duration_text(el).c_str(), duration_text(eta).c_str());
+    std::fflush(stderr);
+  };
   int last_signal = 0;
   while (workers_left.load() > 0) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
@@ -408,19 +418,14 @@ int run_pool(const ScreenArgs& args, const std::string& out, const std::vector<C
         for (pid_t p : pool.running_pids) kill(p, SIGTERM);
       last_signal = sig;
     }
-    if (live) {
-      std::lock_guard<std::mutex> lock(pool.mutex);
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const int fresh = pool.done + pool.failed - already_done;
-      const int left = total - pool.done - pool.failed;
-      const double eta = fresh > 0 ? el * left / fresh : std::nan("");
-      std::fprintf(stderr, "\r\x1b[Kscreen: %d/%d done, %d running, %d failed, elapsed %s, left %s", pool.done, total,
-                   pool.running, pool.failed, duration_text(el).c_str(), duration_text(eta).c_str());
-      std::fflush(stderr);
-    }
+    if (live) print_progress();
   }
   for (auto& w : workers) w.join();
-  if (live) std::fprintf(stderr, "\n");
+  if (live) {
+    // The last design may finish after the last tick: the line ends with the final counts.
+    print_progress();
+    std::fprintf(stderr, "\n");
+  }
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
   const int sig = g_screen_signal.load();
