@@ -406,6 +406,8 @@ TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
   }
   EXPECT_DOUBLE_EQ(d.shell_edge_m, 0.060);
   EXPECT_DOUBLE_EQ(r.lifter_edge_m, 0.010);
+  EXPECT_DOUBLE_EQ(s.lifter_edge_m, 0.010);
+  EXPECT_DOUBLE_EQ(s.shell_edge_m, 0.020);
 }
 
 TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
@@ -419,8 +421,9 @@ TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
     EXPECT_GT(p[i].window_revolutions, p[i - 1].window_revolutions) << p[i].name;
     EXPECT_LT(p[i].max_depth_step_m, p[i - 1].max_depth_step_m) << p[i].name;
     EXPECT_LT(p[i].factor, p[i - 1].factor) << p[i].name;
-    EXPECT_LT(p[i].shell_edge_m, p[i - 1].shell_edge_m) << p[i].name;
-    EXPECT_LT(p[i].lifter_edge_m, p[i - 1].lifter_edge_m) << p[i].name;
+    // Standard shares the reference's mesh (the knob the tradeoff found to matter most).
+    EXPECT_LE(p[i].shell_edge_m, p[i - 1].shell_edge_m) << p[i].name;
+    EXPECT_LE(p[i].lifter_edge_m, p[i - 1].lifter_edge_m) << p[i].name;
   }
 }
 

@@ -162,14 +162,16 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
       }
     if (!values.empty()) knob("size_cutoff", {"solver.size_cutoff"}, values);
   }
-  auto mesh_value = [](const FidelityDef& p) {
-    return std::pair{num(p.shell_edge_m * 1e3) + "/" + num(p.lifter_edge_m * 1e3) + "mm",
-                     Setter([a = p.shell_edge_m, b = p.lifter_edge_m](Scene& s) {
-                       s.mill.mesh.shell_edge_m = a;
-                       s.mill.mesh.lifter_edge_m = b;
+  auto mesh_value = [](double shell_m, double lifter_m) {
+    return std::pair{num(shell_m * 1e3) + "/" + num(lifter_m * 1e3) + "mm", Setter([shell_m, lifter_m](Scene& s) {
+                       s.mill.mesh.shell_edge_m = shell_m;
+                       s.mill.mesh.lifter_edge_m = lifter_m;
                      })};
   };
-  knob("mesh", {"lifters.shell_edge", "lifters.lifter_edge"}, {mesh_value(draft), mesh_value(reference)});
+  // Draft's mesh, and half standard's (standard already shares the reference's).
+  knob("mesh", {"lifters.shell_edge", "lifters.lifter_edge"},
+       {mesh_value(draft.shell_edge_m, draft.lifter_edge_m),
+        mesh_value(0.5 * standard.shell_edge_m, 0.5 * standard.lifter_edge_m)});
   {
     // The default radius is each design's smallest particle radius: scale it per design.
     std::vector<std::pair<std::string, Setter>> values;

@@ -11,7 +11,7 @@
 //   window             wear.window_revolutions   draft's, reference's
 //   depth_step         wear.max_depth_step       draft's, reference's
 //   size_cutoff        solver.size_cutoff        1.25 and 1.5 x the smallest rock size
-//   mesh               lifters.*_edge            draft's, reference's
+//   mesh               lifters.*_edge            draft's, half standard's
 //   smoothing          wear.smoothing_radius     0.5 and 2 x the default (smallest radius)
 //   factor             wear.factor               draft's, reference's (continuous mode only)
 // A knob a scene file sets itself is held (the scene's value is part of the design, as

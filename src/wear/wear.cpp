@@ -555,16 +555,23 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       try {
         for (std::size_t u = 0; u < units.size(); ++u) {
           LinerUnit worn = apply_wear(units[u], depths[u], R, smoothing_m, scene.mill.mesh);
-          // A smoothing radius wider than a feature the worn lifter grew would wear it
-          // away without any shear work: stop with the limit rather than report that as wear.
+          // A smoothing radius wider than a feature the worn lifter grew changes it without
+          // any shear work: the opening takes metal, or the mitred closing of an acute notch
+          // adds metal and can even raise the lifter. Stop with the limit rather than report
+          // either as wear.
           const double lost = resmoothing_loss_m2(units[u], worn, depths[u], R);
-          if (lost > kMaxSmoothingAreaLoss * new_metrics.area_m2) {
-            char buf[400];
+          const double rise = measure_lifter(worn, R).height_m - measure_lifter(units[u], R).height_m;
+          if (std::fabs(lost) > kMaxSmoothingAreaLoss * new_metrics.area_m2 ||
+              rise > kMaxSmoothingHeightLoss * new_metrics.height_m) {
+            char buf[480];
             std::snprintf(buf, sizeof buf,
-                          "stage %d: re-smoothing at wear.smoothing_radius %.3g mm removed %.1f%% of the new lifter's "
-                          "area beyond the wear itself (bound %.0f%%): the worn lifter has a feature narrower than "
-                          "twice the radius; lower wear.smoothing_radius",
-                          k + 1, smoothing_m * 1e3, 100.0 * lost / new_metrics.area_m2, 100.0 * kMaxSmoothingAreaLoss);
+                          "stage %d: re-smoothing at wear.smoothing_radius %.3g mm %s %.1f%% of the new lifter's "
+                          "area beyond the wear itself and changed its height by %+.1f mm (bounds %.0f%% of the area, "
+                          "no rise over %.0f%% of the height): the worn lifter has a feature narrower than twice the "
+                          "radius; lower wear.smoothing_radius",
+                          k + 1, smoothing_m * 1e3, lost >= 0.0 ? "removed" : "added",
+                          100.0 * std::fabs(lost) / new_metrics.area_m2, rise * 1e3, 100.0 * kMaxSmoothingAreaLoss,
+                          100.0 * kMaxSmoothingHeightLoss);
             smoothing_error = buf;
             break;
           }

@@ -57,9 +57,12 @@ constexpr double kMaxSmoothingHeightLoss = 0.05;
 void check_smoothing_radius(const Scene& scene, const std::string& file);
 
 // Lifter area one wear update removed beyond its Archard depths (m^2): the area the
-// re-smoothing took. Near zero while the radius is under half the lifter's narrowest part;
-// large when a worn lifter has grown a feature the smoothing cuts away (a sharp or thin
-// top). `before` is the unit the depths were applied to, `after` apply_wear's result.
+// re-smoothing took (negative: added). Near zero while the radius is under half the
+// lifter's narrowest part; large when a worn lifter has grown a feature the smoothing cuts
+// away (a thin top) or fills (a mitred closing of an acute notch adds metal, even height).
+// `before` is the unit the depths were applied to, `after` apply_wear's result. The wear
+// loop stops when it exceeds kMaxSmoothingAreaLoss of the new area either way, or when an
+// update raises the lifter by over kMaxSmoothingHeightLoss of its new height.
 double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
                            double radius_m);
 
