@@ -173,32 +173,23 @@ TEST(WearLoop, LifterWornToTheShellEndsCleanly) {
 }
 
 TEST(WearLoop, ContinuousAndStagedModesAgreeOnTheLabMill) {
-  // One seed's 100 h stage on 12 rows scatters by about the tolerance itself (measured on
-  // the soft backend over seeds 1-4: the area difference is 2-15% of the area lost), so
-  // the test averages three seeds rather than rely on one.
-  double apart_sum = 0.0, worn_sum = 0.0, area_s_sum = 0.0, area_c_sum = 0.0, lost_sum = 0.0;
-  const int seeds = 3;
-  for (int seed = 1; seed <= seeds; ++seed) {
-    Scene s = testing::lab_mill();
-    s.mill.direction = Direction::Forward;
-    s.wear.stages = 1;
-    s.solver.seed = static_cast<std::uint64_t>(seed);
-    const WearHistory staged = run_wear_history(s);
-    s.wear.mode = WearMode::Continuous;
-    const WearHistory continuous = run_wear_history(s);
-    const LinerUnit& a = staged.stages.back().units[0];
-    const LinerUnit& b = continuous.stages.back().units[0];
-    worn_sum += max_distance(staged.stages.front().units[0].surface, a.surface);
-    apart_sum += std::max(max_distance(a.surface, b.surface), max_distance(b.surface, a.surface));
-    area_s_sum += staged.stages.back().lifter.area_m2;
-    area_c_sum += continuous.stages.back().lifter.area_m2;
-    lost_sum += staged.stages.front().lifter.area_m2 - staged.stages.back().lifter.area_m2;
-  }
-  // Stated tolerance: on average the two profiles lie within a third of the deepest wear of
-  // one another, and the areas within 15% of the area lost (the README records the figure).
-  const double apart = apart_sum / seeds, worn = worn_sum / seeds;
+  Scene s = testing::lab_mill();
+  s.mill.direction = Direction::Forward;
+  s.wear.stages = 1;
+  const WearHistory staged = run_wear_history(s);
+  s.wear.mode = WearMode::Continuous;
+  const WearHistory continuous = run_wear_history(s);
+  const LinerUnit& a = staged.stages.back().units[0];
+  const LinerUnit& b = continuous.stages.back().units[0];
+  const double worn = max_distance(staged.stages.front().units[0].surface, a.surface);
+  const double apart = std::max(max_distance(a.surface, b.surface), max_distance(b.surface, a.surface));
+  // Stated tolerance: the two profiles lie within a third of the deepest wear of one another
+  // (the statistical noise of a 100 h stage on 12 rows is about that; the README records
+  // the measured figure).
   EXPECT_LT(apart, worn / 3.0) << "apart " << apart * 1e3 << " mm, worn " << worn * 1e3 << " mm";
-  EXPECT_NEAR(area_c_sum / seeds, area_s_sum / seeds, 0.15 * lost_sum / seeds);
+  const double area_s = staged.stages.back().lifter.area_m2, area_c = continuous.stages.back().lifter.area_m2;
+  const double lost = staged.stages.front().lifter.area_m2 - area_s;
+  EXPECT_NEAR(area_c, area_s, 0.15 * lost);
 }
 
 TEST(WearLoop, ResumingFromAStageGivesTheSameHistory) {
