@@ -61,8 +61,8 @@ void check_smoothing_radius(const Scene& scene, const std::string& file);
 // lifter's narrowest part; large when a worn lifter has grown a feature the smoothing cuts
 // away (a thin top) or fills (a mitred closing of an acute notch adds metal, even height).
 // `before` is the unit the depths were applied to, `after` apply_wear's result. The wear
-// loop stops when it exceeds kMaxSmoothingAreaLoss of the new area either way, or when an
-// update raises the lifter by over kMaxSmoothingHeightLoss of its new height.
+// loop stops when it removes over kMaxSmoothingAreaLoss of the new area, or when an update
+// raises the lifter by over kMaxSmoothingHeightLoss of its new height.
 double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
                            double radius_m);
 
