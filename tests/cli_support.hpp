@@ -5,6 +5,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace millwear::testing {
@@ -34,5 +36,13 @@ inline CliResult run_millwear(const std::string& args) {
 
 // A path in double quotes for the shell.
 inline std::string quoted(const std::filesystem::path& p) { return "\"" + p.string() + "\""; }
+
+// A whole file as text ("" if it cannot be read).
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
 
 }  // namespace millwear::testing

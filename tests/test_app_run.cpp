@@ -32,12 +32,7 @@ std::string src(const std::string& rel) {
 }
 constexpr auto q = &millwear::testing::quoted;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+constexpr auto slurp = &millwear::testing::read_text;
 
 bool has_magic(const fs::path& p, const std::string& magic) {
   const std::string s = slurp(p);

@@ -30,12 +30,7 @@ constexpr auto run = &millwear::testing::run_millwear;
 
 constexpr auto q = &millwear::testing::quoted;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+constexpr auto slurp = &millwear::testing::read_text;
 
 const fs::path kScene = fs::path(MILLWEAR_SOURCE_DIR) / "tests/data/lab-quick.toml";
 

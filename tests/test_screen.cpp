@@ -54,12 +54,7 @@ Result millwear_cmd(const std::string& args) { return shell(q(MILLWEAR_BINARY) +
 
 std::string src(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+constexpr auto slurp = &millwear::testing::read_text;
 
 bool have(const std::string& exe) { return shell("command -v " + exe + " >/dev/null").exit_code == 0; }
 

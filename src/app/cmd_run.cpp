@@ -40,6 +40,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "app/duration_text.hpp"
 #include "app/run_command.hpp"
 #include "app/run_files.hpp"
 #include "common/errors.hpp"
@@ -625,15 +626,6 @@ void run_design(RunContext& ctx, std::size_t i, const std::vector<StageRecord>& 
 
 // ---------------------------------------------------------------------------------------
 // Terminal progress
-
-std::string duration_text(double s) {
-  if (!std::isfinite(s) || s < 0) return "--";
-  char buf[32];
-  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, (int(s) % 3600) / 60);
-  return buf;
-}
 
 // One line per design. Caller holds the mutex.
 std::string progress_line(const RunContext& ctx, std::size_t i, std::size_t name_width) {

@@ -37,6 +37,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "app/duration_text.hpp"
 #include "app/run_command.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
@@ -82,15 +83,6 @@ std::string self_exe() {
   std::error_code ec;
   const fs::path p = fs::read_symlink("/proc/self/exe", ec);
   return ec ? std::string("millwear") : p.string();
-}
-
-std::string duration_text(double s) {
-  if (!std::isfinite(s) || s < 0) return "--";
-  char buf[32];
-  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 3600) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, (int(s) % 3600) / 60);
-  return buf;
 }
 
 // The "error" of the first design in a run folder's manifest.json (our own writer's format:
