@@ -197,8 +197,11 @@ FaceWork face_work(const MillGeometry& mill, const std::vector<double>& work) {
     const auto& info = mill.edges[e];
     if (info.owner != EdgeOwner::Lifter) continue;
     const auto& surf = mill.units[mill.units.size() == 1 ? 0 : info.row].surface;
-    const double x = 0.5 * (surf[info.unit_edge].x + surf[info.unit_edge + 1].x);
-    (x > 0 ? f.plus_x : f.minus_x) += work[e];
+    const double xa = surf[info.unit_edge].x, xb = surf[info.unit_edge + 1].x;
+    // An edge across the axis (the middle of the top) gives each face its share by length.
+    const double plus = xa >= 0.0 ? 1.0 : xb <= 0.0 ? 0.0 : xb / (xb - xa);
+    f.plus_x += plus * work[e];
+    f.minus_x += (1.0 - plus) * work[e];
   }
   return f;
 }

@@ -178,7 +178,12 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     result.last_history = std::move(h);
     if (on_run) on_run(r);
     c = r.c_estimate;
-    if (std::fabs(r.fit.scale - 1.0) <= opt.rel_tol && !r.fit.at_bound) {
+    // A scale change inside this history's own statistical error cannot be resolved by
+    // another history (it would only draw new noise): that is converged too.
+    double hmax = 0.0;
+    for (double sh : survey_hours) hmax = std::max(hmax, sh);
+    const double own_error = history_relative_error(s, result.last_history.stages, std::min(hmax, r.reached_hours));
+    if (std::fabs(r.fit.scale - 1.0) <= std::max(opt.rel_tol, own_error) && !r.fit.at_bound) {
       result.converged = true;
       break;
     }

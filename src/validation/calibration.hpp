@@ -76,7 +76,8 @@ ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hour
 
 struct CalibrationOptions {
   int max_runs = 5;
-  double rel_tol = 0.01;        // stop when the run's own C fits within this
+  double rel_tol = 0.01;        // stop when the run's own C fits within this, or within the
+                                // run's own statistical error if that is larger
   double first_reach = 1.6;     // first history runs to this x the last survey's hours
   double reach = 1.0;           // later histories (plus the extrapolation limit)
 };
