@@ -10,6 +10,7 @@
 
 #include "engine_fixtures.hpp"
 #include "scene/fidelity.hpp"
+#include "common/errors.hpp"
 #include "wear/tradeoff.hpp"
 
 namespace millwear {
@@ -122,6 +123,45 @@ TEST(TradeoffLadder, QuickIsThePresetsOnly) {
   ASSERT_EQ(ladder.settings.size(), 3u);
   EXPECT_EQ(ladder.settings[1].label, "standard");
   EXPECT_EQ(ladder.settings[2].label, "draft");
+}
+
+TEST(TradeoffLadder, ReseededReferenceAndStandardMeasureTheNoise) {
+  const Scene scene = load_scene(source_path("scenarios/sag-1x30.toml"));
+  const TradeoffLadder ladder = tradeoff_ladder(scene, {});
+  int seeds = 0;
+  for (const auto& s : ladder.settings) {
+    if (s.knob != "seed") continue;
+    ++seeds;
+    const bool ref = s.label.rfind("reference", 0) == 0;
+    Scene preset = scene;
+    apply_fidelity(preset, ref ? "reference" : "standard");
+    // Only the seed differs from the preset run.
+    EXPECT_EQ(s.scenes[0].solver.seed, preset.solver.seed + 1) << s.label;
+    EXPECT_EQ(s.scenes[0].fidelity, preset.fidelity) << s.label;
+    EXPECT_DOUBLE_EQ(s.scenes[0].solver.time_step_s, preset.solver.time_step_s) << s.label;
+    EXPECT_DOUBLE_EQ(s.scenes[0].wear.window_revolutions, preset.wear.window_revolutions) << s.label;
+  }
+  EXPECT_EQ(seeds, 2);
+}
+
+TEST(TradeoffLadder, OnlyKeepsTheReferenceAndTheNamedSettings) {
+  const Scene scene = load_scene(source_path("scenarios/sag-1x30.toml"));
+  TradeoffOptions o;
+  o.only = {"window=4", "standard"};
+  const TradeoffLadder ladder = tradeoff_ladder(scene, o);
+  ASSERT_EQ(ladder.settings.size(), 3u);
+  EXPECT_EQ(ladder.settings[0].label, "reference");
+  EXPECT_EQ(ladder.settings[1].label, "standard");  // in the ladder's order
+  EXPECT_EQ(ladder.settings[2].label, "window=4");
+  o.only = {"standard", "window=5"};
+  try {
+    tradeoff_ladder(scene, o);
+    ADD_FAILURE() << "an unknown label was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--only");
+    EXPECT_NE(std::string(e.what()).find("window=5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("window=4"), std::string::npos) << e.what();  // lists the labels
+  }
 }
 
 TEST(TradeoffLadder, KnobsTheSceneSetsAreHeld) {

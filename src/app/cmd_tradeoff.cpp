@@ -1,4 +1,4 @@
-// `millwear tradeoff SCENE -o OUT [--quick] [--stages N] [--stage-hours H] [--jobs J]`:
+// `millwear tradeoff SCENE -o OUT [--quick] [--only LABELS] [--stages N] [--stage-hours H] [--jobs J]`:
 // the wear history of one design, or of every design of a comparison file, over the
 // fidelity ladder (wear/tradeoff.hpp), each run measured against the reference run.
 //
@@ -39,6 +39,7 @@ struct TradeoffArgs {
   double stage_hours = 0.0;
   int jobs = 1;
   bool no_plot = false;
+  std::vector<std::string> only;
 };
 
 std::string fmt(double v, const char* f = "%.2f") {
@@ -109,6 +110,13 @@ void write_outputs(const TradeoffReport& r, const std::string& out) {
     md << " Life is listed per design (" << r.scene_name << "); order same: the designs come out in the "
        << "reference's order of life; life ratio err: error of each design's life relative to the first's.";
   md << "\n";
+  for (const auto& row : r.rows)
+    if (row.knob == "seed" && row.label.rfind("reference", 0) == 0 && row.error.empty())
+      md << "\nNoise floor: `" << row.label << "` (the reference's numerics, the charge's noise drawn again) "
+         << "deviates " << fmt(row.dev_max_pct, "%.1f") << "% of the lifter height at the worst point and "
+         << fmt(row.dev_mean_pct, "%.1f") << "% on average, area " << fmt(row.area_err_pct)
+         << "%, life " << fmt(row.life_err_pct, "%.1f")
+         << "%: a setting closer to the reference than that cannot be told from it.\n";
   for (const auto& h : r.held_knobs) md << "\nHeld: " << h;
   if (!r.held_knobs.empty()) md << "\n";
   io::write_file_atomic(out + "/tradeoff.md", md.str());
@@ -121,6 +129,7 @@ int run_tradeoff_cmd(const TradeoffArgs& a) {
   o.quick = a.quick;
   o.stages = a.stages;
   o.stage_hours = a.stage_hours;
+  o.only = a.only;
   const TradeoffLadder ladder = tradeoff_ladder(designs, o);
   io::ensure_dir(a.out);
   const Scene& first = ladder.settings.front().scenes.front();
@@ -178,6 +187,10 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_option("-j,--jobs", args->jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-plot", args->no_plot, "skip the figure");
+  cmd->add_option("--only", args->only,
+                  "run only these settings, by label (comma-separated, e.g. \"standard,standard seed=2\"); "
+                  "the reference always runs")
+      ->delimiter(',');
   cmd->callback([args, action] { *action = [args] { return run_tradeoff_cmd(*args); }; });
 }
 

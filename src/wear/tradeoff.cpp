@@ -73,7 +73,40 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
   preset("reference");
   preset("standard");
   preset("draft");
-  if (o.quick) return ladder;
+  // Another seed at reference and at standard: the same numerics with the charge's noise
+  // drawn again. The first is the ladder's noise floor (no setting can be shown closer to
+  // the reference than the reference is to itself); the second is standard's own scatter.
+  auto reseeded = [&](const std::string& name) {
+    std::vector<Scene> scenes = base;
+    for (Scene& s : scenes) {
+      apply_fidelity(s, name);
+      s.solver.seed += 1;
+    }
+    const std::string seed = std::to_string(scenes.front().solver.seed);
+    ladder.settings.push_back({name + " seed=" + seed, "seed", seed, std::move(scenes)});
+  };
+  if (!o.quick) {
+    reseeded("reference");
+    reseeded("standard");
+  }
+  auto keep_only = [&o](TradeoffLadder& l) {
+    if (o.only.empty()) return;
+    for (const std::string& want : o.only) {
+      const bool known = std::any_of(l.settings.begin(), l.settings.end(),
+                                     [&want](const TradeoffSetting& t) { return t.label == want; });
+      if (!known) {
+        std::string labels;
+        for (const auto& t : l.settings) labels += (labels.empty() ? "" : ", ") + t.label;
+        throw InputError("", "--only", "labels of this ladder (\"" + want + "\" is not one): " + labels);
+      }
+    }
+    std::vector<TradeoffSetting> kept{l.settings.front()};  // the reference always runs
+    for (std::size_t k = 1; k < l.settings.size(); ++k)
+      if (std::find(o.only.begin(), o.only.end(), l.settings[k].label) != o.only.end())
+        kept.push_back(std::move(l.settings[k]));
+    l.settings = std::move(kept);
+  };
+  if (o.quick) { keep_only(ladder); return ladder; }
 
   std::vector<Scene> std_scenes = base;
   for (Scene& s : std_scenes) apply_fidelity(s, "standard");
@@ -186,6 +219,7 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     }
     knob("smoothing", {"wear.smoothing_radius"}, values);
   }
+  keep_only(ladder);
   return ladder;
 }
 

@@ -3,7 +3,9 @@
 // comparison, over a ladder of numerical settings, each measured against the reference run.
 //
 // The ladder starts from the `standard` preset and moves one knob at a time to the values
-// the other presets use (and a few beyond), then adds the three presets themselves:
+// the other presets use (and a few beyond), then adds the three presets themselves and two
+// reseeded runs (reference and standard with seed + 1: the noise floor and standard's own
+// scatter):
 //   backend            solver.backend            the other backend (box2d or soft)
 //   time_step          solver.time_step          1/200, draft, reference
 //   substeps           solver.substeps           half and twice standard's (soft backend)
@@ -44,7 +46,7 @@ namespace millwear {
 
 struct TradeoffSetting {
   std::string label;          // "reference", "time_step=1/300", ...
-  std::string knob;           // "preset" or the knob name above
+  std::string knob;           // "preset", "seed" or the knob name above
   std::string value;          // the knob's value as text, in file units
   std::vector<Scene> scenes;  // one per design, in the designs' order
 };
@@ -53,6 +55,7 @@ struct TradeoffOptions {
   bool quick = false;        // the three presets only
   int stages = 0;            // > 0: override wear.stages (a shorter history)
   double stage_hours = 0.0;  // > 0: override wear.stage_hours
+  std::vector<std::string> only;  // non-empty: these labels only (and the reference)
 };
 
 struct TradeoffLadder {
