@@ -202,6 +202,26 @@ TEST(WearLoop, AReverseMillWearsTheMirrorImageOfAForwardOne) {
   EXPECT_GT(lead_r, 1.2 * trail_r);
 }
 
+TEST(WearLoop, LaterStagesCarryTheChargeOverAndTurnItRoundAtAReversal) {
+  // lab-mill reverses every 100 h, at each stage boundary.
+  const WearHistory& h = lab_history(Direction::Bidirectional);
+  ASSERT_GE(h.stages.size(), 3u);
+  EXPECT_EQ(h.stages[0].start_charge.size(), 0u);  // stage 0 settles a fresh fill
+  for (std::size_t k = 1; k < h.stages.size(); ++k) {
+    const ChargeState& start = h.stages[k].start_charge;
+    const ChargeState& prev = h.stages[k - 1].snapshot;
+    ASSERT_EQ(start.size(), prev.size()) << "stage " << k;
+    // Time runs on from the previous stage's measuring window (its wear came after it).
+    EXPECT_GT(start.time_s, prev.time_s) << "stage " << k;
+    // The charge ended turning the previous stage's way; the stage measured the other way.
+    EXPECT_GT(start.mill_speed_rad_s * prev.mill_speed_rad_s, 0.0) << "stage " << k;
+    EXPECT_LT(h.stages[k].snapshot.mill_speed_rad_s * start.mill_speed_rad_s, 0.0) << "stage " << k;
+    int moving = 0;
+    for (const Vec2& v : start.velocity_m_s) moving += length(v) > 0.05;
+    EXPECT_GT(moving, static_cast<int>(start.size()) / 4) << "a charge in motion, not a settled pile";
+  }
+}
+
 TEST(WearLoop, ExtremeFactorEndsWithAClearReportAndNoNaN) {
   Scene s = testing::lab_mill();
   s.wear.mode = WearMode::Continuous;

@@ -535,6 +535,7 @@ void on_stage_done(RunContext& ctx, std::size_t i, const StageRecord& rec) {
   }
   StageRecord light = rec;
   light.snapshot = ChargeState{};
+  light.start_charge = ChargeState{};
   light.edge_wear_rate_m_per_h.clear();
   std::lock_guard<std::mutex> lock(ctx.mutex);
   st.stages[rec.stage] = std::move(light);
@@ -609,6 +610,7 @@ void run_design(RunContext& ctx, std::size_t i, const std::vector<StageRecord>& 
       if (!st.stages.count(r.stage)) {
         StageRecord light = r;
         light.snapshot = ChargeState{};
+        light.start_charge = ChargeState{};
         light.edge_wear_rate_m_per_h.clear();
         st.stages[r.stage] = std::move(light);
       }

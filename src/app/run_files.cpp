@@ -98,6 +98,35 @@ struct Reader {
   }
 };
 
+// A charge state as exact CSV (one row per disk); the mill's angle, speed and time go in the
+// record's key-values.
+void write_charge_csv(const ChargeState& st, const std::string& path) {
+  io::CsvTable charge({"x_m", "y_m", "vx_m_s", "vy_m_s", "angle_rad", "spin_rad_s", "radius_m",
+                       "mass_kg", "species", "active"},
+                      kExact);
+  for (std::size_t i = 0; i < st.size(); ++i)
+    charge.add_row({st.position_m[i].x, st.position_m[i].y, st.velocity_m_s[i].x,
+                    st.velocity_m_s[i].y, st.angle_rad[i], st.spin_rad_s[i], st.radius_m[i],
+                    st.mass_kg[i], static_cast<int>(st.species[i]), static_cast<int>(st.active[i])});
+  charge.write(path);
+}
+
+void read_charge_csv(const std::string& path, ChargeState& st) {
+  io::CsvData ch = io::read_csv(path);
+  const auto x = ch.numbers("x_m"), y = ch.numbers("y_m"), vx = ch.numbers("vx_m_s"),
+             vy = ch.numbers("vy_m_s"), sp = ch.numbers("species"), ac = ch.numbers("active");
+  st.angle_rad = ch.numbers("angle_rad");
+  st.spin_rad_s = ch.numbers("spin_rad_s");
+  st.radius_m = ch.numbers("radius_m");
+  st.mass_kg = ch.numbers("mass_kg");
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    st.position_m.push_back({x[i], y[i]});
+    st.velocity_m_s.push_back({vx[i], vy[i]});
+    st.species.push_back(static_cast<std::uint8_t>(sp[i]));
+    st.active.push_back(static_cast<std::uint8_t>(ac[i]));
+  }
+}
+
 }  // namespace
 
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec_in) {
@@ -122,15 +151,9 @@ void write_stage_state(const std::string& out, const std::string& design, const 
     edges.add_row({e, rec.edge_wear_rate_m_per_h[e]});
   edges.write(base + ".edges.csv");
 
-  const ChargeState& st = rec.snapshot;
-  io::CsvTable charge({"x_m", "y_m", "vx_m_s", "vy_m_s", "angle_rad", "spin_rad_s", "radius_m",
-                       "mass_kg", "species", "active"},
-                      kExact);
-  for (std::size_t i = 0; i < st.size(); ++i)
-    charge.add_row({st.position_m[i].x, st.position_m[i].y, st.velocity_m_s[i].x,
-                    st.velocity_m_s[i].y, st.angle_rad[i], st.spin_rad_s[i], st.radius_m[i],
-                    st.mass_kg[i], static_cast<int>(st.species[i]), static_cast<int>(st.active[i])});
-  charge.write(base + ".charge.csv");
+  write_charge_csv(rec.snapshot, base + ".charge.csv");
+  const bool carried = rec.start_charge.size() > 0;
+  if (carried) write_charge_csv(rec.start_charge, base + ".start.csv");
 
   io::KeyValues kv;
   kv.emplace_back("stage", std::to_string(rec.stage));
@@ -141,6 +164,11 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, io::format_exact(*p));
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
+  if (carried) {
+    kv.emplace_back("start.mill_angle_rad", io::format_exact(rec.start_charge.mill_angle_rad));
+    kv.emplace_back("start.mill_speed_rad_s", io::format_exact(rec.start_charge.mill_speed_rad_s));
+    kv.emplace_back("start.time_s", io::format_exact(rec.start_charge.time_s));
+  }
   io::write_file_atomic(base + ".record", io::format_key_values(kv, "millwear stage record (exact)"));
 
   // Last: the marker says every file above is complete.
@@ -148,7 +176,8 @@ void write_stage_state(const std::string& out, const std::string& design, const 
                        {{"hours", io::format_number(rec.hours)},
                         {"wall_s", io::format_number(rec.wall_s, 6)},
                         {"files", design + "_stage" + std::to_string(rec.stage) +
-                                      ".{record,units.csv,spectrum.csv,edges.csv,charge.csv}"}});
+                                      ".{record,units.csv,spectrum.csv,edges.csv,charge.csv" +
+                                      (carried ? ",start.csv}" : "}")}});
 }
 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
@@ -183,19 +212,13 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   rec.spectrum_energy_W = spec.numbers("energy_W");
   rec.edge_wear_rate_m_per_h = io::read_csv(base + ".edges.csv").numbers("wear_rate_m_per_h");
 
-  io::CsvData ch = io::read_csv(base + ".charge.csv");
-  ChargeState& st = rec.snapshot;
-  const auto x = ch.numbers("x_m"), y = ch.numbers("y_m"), vx = ch.numbers("vx_m_s"),
-             vy = ch.numbers("vy_m_s"), sp = ch.numbers("species"), ac = ch.numbers("active");
-  st.angle_rad = ch.numbers("angle_rad");
-  st.spin_rad_s = ch.numbers("spin_rad_s");
-  st.radius_m = ch.numbers("radius_m");
-  st.mass_kg = ch.numbers("mass_kg");
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    st.position_m.push_back({x[i], y[i]});
-    st.velocity_m_s.push_back({vx[i], vy[i]});
-    st.species.push_back(static_cast<std::uint8_t>(sp[i]));
-    st.active.push_back(static_cast<std::uint8_t>(ac[i]));
+  read_charge_csv(base + ".charge.csv", rec.snapshot);
+  // A stage that started from the previous stage's charge has it in .start.csv.
+  if (io::file_exists(base + ".start.csv")) {
+    read_charge_csv(base + ".start.csv", rec.start_charge);
+    rec.start_charge.mill_angle_rad = r.number("start.mill_angle_rad");
+    rec.start_charge.mill_speed_rad_s = r.number("start.mill_speed_rad_s");
+    rec.start_charge.time_s = r.number("start.time_s");
   }
   return rec;
 }

@@ -9,9 +9,9 @@
 // simulated time the accumulated work wears the liner with C_model = factor * C, so one
 // simulated second stands for `factor` seconds of operation.
 //
-// Every stage starts from a fresh, settled charge on that stage's starting geometry, so a
-// stage depends only on the geometry it starts from: resuming from a saved stage gives the
-// same results as an uninterrupted run.
+// Stage 0 settles a fresh charge; every later stage starts a fresh engine from the charge
+// as the previous stage's wear ended (kept in its record), so a stage depends only on its
+// record: resuming from a saved stage gives the same results as an uninterrupted run.
 #include "wear/wear.hpp"
 
 #include <algorithm>
@@ -444,15 +444,31 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     cb.on_progress(p);
   };
 
+  // The charge carries over from stage to stage: a stage starts a fresh engine from the
+  // charge as the previous stage's wear ended (stored in its record), so a resumed stage
+  // starts exactly where the uninterrupted run did, without settling and spinning up again.
+  ChargeState carry = resume_from.empty() ? ChargeState{} : resume_from.back().start_charge;
   for (int k = first_stage; k <= scene.wear.stages; ++k) {
     const auto t0 = Clock::now();
     double hours = k * stage_h;
     MillGeometry mill = build_mill(R, rows, units);
-    // Each stage: a fresh charge, settled on this stage's geometry, same seed.
     check_stop();
-    auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
     double dir = direction_at(scene, hours);
-    settle_and_spin_up(*engine, scene, dir);
+    const ChargeState start = std::move(carry);
+    carry = ChargeState{};
+    std::unique_ptr<Engine> engine;
+    if (start.size() == 0) {
+      // The first stage: a fresh charge, settled on the new liner.
+      engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
+      settle_and_spin_up(*engine, scene, dir);
+    } else {
+      engine = make_engine(scene, mill, start, accounting_options_for(scene));
+      const bool reversed = start.mill_speed_rad_s * dir < 0.0;
+      engine->set_mill_speed(dir * scene.angular_speed_rad_s());
+      // A reversal at the stage boundary: let the charge turn round, as within a stage.
+      if (reversed) engine->step(steps_for(0.5 * scene.revolution_time_s(), engine->time_step_s()));
+      engine->reset_window();
+    }
     WindowResult w = simulate_window(*engine, scene, mill, check_stop);
     double simulated = w.simulated_s;
     std::int64_t disk_steps = w.accounting.steps * static_cast<std::int64_t>(engine->state().size());
@@ -488,6 +504,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       }
       rec.snapshot = engine->state();
       rec.mill_angle_rad = engine->state().mill_angle_rad;
+      rec.start_charge = start;
       rec.worn_out = lifter_worn_out(rec.lifter, new_metrics);
       for (const auto& e : engine->events())
         history.events.push_back("stage " + std::to_string(k) + ": " + e.what);
@@ -606,6 +623,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       }
       report_progress(k + 1, hours, simulated, disk_steps, t0);
     }
+    if (!worn_out) carry = engine->state();
     if (!resumed_stage && !history.stages.empty() && history.stages.back().stage == k) {
       history.stages.back().wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
       history.stages.back().simulated_s = simulated;

@@ -91,6 +91,9 @@ struct StageRecord {
   std::vector<double> edge_wear_rate_m_per_h;
   ChargeState snapshot;
   double mill_angle_rad = 0.0;    // mill rotation at the snapshot
+  // The charge this stage started from: the previous stage's charge as its wear ended
+  // (empty for a fresh, settled fill). A resumed stage restarts from it exactly.
+  ChargeState start_charge;
   double wall_s = 0.0;
   double simulated_s = 0.0;
   std::int64_t disk_steps = 0;

@@ -137,6 +137,9 @@ Box2DEngine::Box2DEngine(const Scene& scene, const MillGeometry& mill, const Cha
   b2BodyDef mill_def;
   mill_def.type = b2_kinematicBody;
   mill_def.userData.pointer = 0;
+  // A charge carried over from an earlier engine keeps its mill angle and speed.
+  mill_def.angle = static_cast<float>(std::remainder(state_.mill_angle_rad, 2.0 * kPi));
+  mill_def.angularVelocity = static_cast<float>(state_.mill_speed_rad_s);
   mill_body_ = world_->CreateBody(&mill_def);
 
   for (const auto& sp : scene.charge.species) {
