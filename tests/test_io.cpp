@@ -167,6 +167,15 @@ TEST(IoCsv, NonNumericFieldErrorNamesLineAndColumn) {
 TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
   io::CsvData d = io::parse_csv("a,b\n1,2\n", "t.csv");
   EXPECT_THROW(d.column("c"), InputError);
+  // A missing column names the header's own line, after blank (or stripped comment) lines.
+  io::CsvData late = io::parse_csv("\n\na,b\n1,2\n", "t.csv");
+  EXPECT_EQ(late.header_line, 3u);
+  try {
+    late.column("c");
+    ADD_FAILURE() << "no error for a missing column";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "line 3");
+  }
   EXPECT_THROW(io::read_csv("/nonexistent/millwear/x.csv"), InputError);
   EXPECT_THROW(io::parse_csv("", "empty.csv"), InputError);
 }

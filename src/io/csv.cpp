@@ -87,7 +87,7 @@ bool CsvData::has_column(const std::string& name) const {
 std::size_t CsvData::column(const std::string& name) const {
   for (std::size_t i = 0; i < header.size(); ++i)
     if (header[i] == name) return i;
-  throw InputError(path, "line 1", "a column named " + name);
+  throw InputError(path, "line " + std::to_string(header_line), "a column named " + name);
 }
 
 const std::string& CsvData::text(std::size_t row, std::size_t col) const {
@@ -192,6 +192,7 @@ CsvData parse_csv(const std::string& text, const std::string& name) {
   std::vector<Record> records = split_records(text, name);
   if (records.empty()) throw InputError(name, "line 1", "a header row");
   data.header = std::move(records[0].fields);
+  data.header_line = records[0].line;
   for (std::size_t r = 1; r < records.size(); ++r) {
     if (records[r].fields.size() != data.header.size())
       throw InputError(name, "line " + std::to_string(records[r].line),

@@ -73,10 +73,12 @@ struct CsvData {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> row_line;    // 1-based line number of each row in the file
+  std::size_t header_line = 1;          // 1-based line number of the header (after blank lines)
 
   std::size_t row_count() const { return rows.size(); }
   bool has_column(const std::string& name) const;
-  // Index of a header column. Throws InputError(path, "line 1", "a column named NAME").
+  // Index of a header column. Throws InputError(path, "line H", "a column named NAME"), H the
+  // header's line.
   std::size_t column(const std::string& name) const;
   const std::string& text(std::size_t row, std::size_t col) const;
   // The field as a double (strtod, whole field, surrounding spaces allowed; nan/inf

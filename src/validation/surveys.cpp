@@ -43,17 +43,10 @@ std::string strip_comment_lines(const std::string& text) {
 
 SurveyCsv parse_survey_csv(const std::string& text, const std::string& name) {
   const std::string stripped = strip_comment_lines(text);
+  // Comment lines become blank lines, so parse_csv's line numbers are the file's.
   SurveyCsv csv{io::parse_csv(stripped, name), 1};
+  csv.header_line = csv.data.header_line;
   for (auto& h : csv.data.header) h = trim(h);
-  // The header is the first line with anything on it (parse_csv skips blank lines).
-  std::size_t pos = 0;
-  while (pos < stripped.size()) {
-    std::size_t end = stripped.find('\n', pos);
-    if (end == std::string::npos) end = stripped.size();
-    if (stripped.find_first_not_of(" \t\r", pos) < end) break;
-    ++csv.header_line;
-    pos = end + 1;
-  }
   return csv;
 }
 
