@@ -1,8 +1,10 @@
 #pragma once
-// Uniform grid broad phase for the soft backend: cells at least as wide as the largest
-// disk plus twice the largest speculative margin, so every candidate pair sits in the 3x3
-// block of cells around a disk. Built from scratch each step by counting sort (two passes
-// over the disks, no allocation once the arrays reached their size).
+// Uniform grid for the soft backend, built from scratch by counting sort (two passes over
+// the disks, no allocation once the arrays reached their size). Two uses: the reordering
+// of the disks for locality (square cells over the whole mill, at least the interaction
+// range wide, so the order depends only on positions), and the pair search (cells over the
+// disks' bounding box, finer than the range, each disk scanning only the cells its own
+// reach can touch).
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -10,31 +12,35 @@
 namespace millwear::soft {
 
 struct Grid {
-  double origin = 0.0;   // the grid covers [origin, origin + side]^2
-  double side = 0.0;
+  double ox = 0.0, oy = 0.0;  // lower left corner of the grid
   double cell = 1.0;
-  int dim = 1;
+  int nx = 1, ny = 1;         // columns, rows
   std::vector<int> cell_of;   // per disk (-1: not in the grid)
   std::vector<int> start;     // per cell + 1: first index into order
   std::vector<int> order;     // disks sorted by cell, stable (by index within a cell)
 
-  int coord(double v) const {
-    const int c = static_cast<int>((v - origin) / cell);
-    return std::clamp(c, 0, dim - 1);
-  }
-
-  // x, y, active: disk arrays of length n; cell_m at least the interaction range.
-  void build(const double* x, const double* y, const unsigned char* active, int n, double cell_m) {
+  // Covers [x0, x0 + w] x [y0, y0 + h] with cells of side cell_m; a point outside falls
+  // into the nearest edge cell.
+  void fit(double x0, double y0, double w, double h, double cell_m) {
+    ox = x0;
+    oy = y0;
     cell = cell_m;
-    dim = std::max(1, static_cast<int>(std::ceil(side / cell)));
-    const std::size_t cells = static_cast<std::size_t>(dim) * static_cast<std::size_t>(dim);
+    nx = std::max(1, static_cast<int>(std::ceil(w / cell)));
+    ny = std::max(1, static_cast<int>(std::ceil(h / cell)));
+  }
+  int col(double x) const { return std::clamp(static_cast<int>((x - ox) / cell), 0, nx - 1); }
+  int row(double y) const { return std::clamp(static_cast<int>((y - oy) / cell), 0, ny - 1); }
+
+  // x, y, active: disk arrays of length n.
+  void build(const double* x, const double* y, const unsigned char* active, int n) {
+    const std::size_t cells = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
     if (start.size() < cells + 1) start.resize(cells + 1);
     std::fill(start.begin(), start.begin() + static_cast<std::ptrdiff_t>(cells) + 1, 0);
     cell_of.resize(static_cast<std::size_t>(n));
     order.resize(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
       if (!active[i]) { cell_of[static_cast<std::size_t>(i)] = -1; continue; }
-      const int c = coord(y[i]) * dim + coord(x[i]);
+      const int c = row(y[i]) * nx + col(x[i]);
       cell_of[static_cast<std::size_t>(i)] = c;
       start[static_cast<std::size_t>(c) + 1] += 1;
     }
@@ -49,7 +55,7 @@ struct Grid {
     for (std::size_t c = cells; c > 0; --c) start[c] = start[c - 1];
     start[0] = 0;
   }
-  int cells() const { return dim * dim; }
+  int cells() const { return nx * ny; }
   int placed() const { return start[static_cast<std::size_t>(cells())]; }
 };
 

@@ -4,9 +4,11 @@
 //
 // One step (step_once) reads top to bottom:
 //   1. margins     every disk gets a speculative margin that grows with its speed * dt;
-//   2. broad phase a uniform grid built by counting sort; disks reordered by cell every
-//                  kReorderInterval steps (deterministic), for cache locality;
-//   3. narrow      disk pairs from the 3x3 cells, disk-liner contacts from the angle-bin
+//   2. broad phase uniform grids built by counting sort: disks reordered by cell every
+//                  kReorderInterval steps (deterministic), for cache locality; a finer grid
+//                  over the disks for the pair search;
+//   3. narrow      disk pairs, each found once from the cells a disk's reach can touch
+//                  (half of them), bucketed into key order; disk-liner contacts from the angle-bin
 //                  lookup in the mill frame; both lists come out sorted by pair key and are
 //                  matched against last step's to warm start;
 //   4. solve       n substeps of {gravity, warm start, soft solve, integrate positions,
@@ -19,9 +21,9 @@
 // Data. The substep passes touch a disk's velocity, displacement and inverse mass and
 // inertia: one 64-byte Body per disk. A contact is a gap (what every pass reads to decide
 // whether the row acts), a row (anchors, masses, impulses; built lazily, the first time the
-// row acts), a state byte, its step sums (relax) and its cold info (matching, restitution,
-// accounting): flat arrays in key order kept at their high-water mark, no allocation per
-// step once warm. The warm start walks a list of the live rows only.
+// row acts), a state byte, its step sums (relax), its key (matching) and its cold info
+// (restitution, accounting; built with the row): flat arrays in key order kept at their
+// high-water mark, no allocation per step once warm. The warm start walks a list of the live rows only.
 //
 // Contacts. A contact's normal, anchors and liner velocity are fixed for the step (computed
 // once, as Box2D does); substeps update only the separation, s = s0 + n . (dp_a - dp_b),
@@ -75,6 +77,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kReorderInterval = 64;     // steps between reorderings of the disks by cell
 constexpr int kMaxLinerHits = 8;         // liner contacts of one disk in one step
+constexpr double kPairCellReaches = 1.0; // pair-search cell side / largest reach
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
@@ -134,20 +137,24 @@ std::uint8_t has_impulse(const Row& c) {
 struct StepSum {
   double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
 };
-struct ContactInfo {
+// What every contact carries from one step to the next, apart from the cold info: the
+// matching reads it for every contact, most of which never get an info.
+struct ContactKey {
   std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
+  double event_J = 0;      // energy dissipated since this collision began (spectrum)
+};
+struct ContactInfo {
   int edge = -1;           // liner edge the contact's work goes to
   int owner = -1;          // liner edge that found it (its key)
   double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
   double e = 0;            // restitution
   double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
-  double event_J = 0;      // energy dissipated since this collision began (spectrum)
 };
 
-// A disk as the pair search sees it, stored in grid order so that the 3x3 cells' candidates
+// A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
 // are read from contiguous memory.
 struct Candidate {
-  double x, y, r, marg;
+  double x, y, r, marg, reach;  // reach = r + marg
   int j;
 };
 
@@ -159,6 +166,7 @@ struct ContactSet {
   std::vector<Row> row;
   std::vector<std::uint8_t> state;  // kLive | kBuilt
   std::vector<StepSum> sum;
+  std::vector<ContactKey> key;
   std::vector<ContactInfo> info;
   std::size_t n = 0;
   std::size_t size() const { return n; }
@@ -169,6 +177,7 @@ struct ContactSet {
     row.resize(m);
     state.resize(m);
     sum.resize(m);
+    key.resize(m);
     info.resize(m);
   }
   void resize(std::size_t m) {
@@ -180,6 +189,7 @@ struct ContactSet {
     row.swap(o.row);
     state.swap(o.state);
     sum.swap(o.sum);
+    key.swap(o.key);
     info.swap(o.info);
     std::swap(n, o.n);
   }
@@ -188,10 +198,11 @@ struct ContactSet {
     row[to] = o.row[from];
     state[to] = o.state[from];
     sum[to] = o.sum[from];
+    key[to] = o.key[from];
     info[to] = o.info[from];
   }
-  // Append a contact with zero step sums; the caller writes gap, state and info (and row
-  // when it builds it).
+  // Append a contact with zero step sums; the caller writes gap, state and key (and row and
+  // info when it builds them).
   std::size_t add() {
     if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
     sum[n] = StepSum{};
@@ -283,11 +294,14 @@ class SoftEngine final : public Engine {
   std::vector<int> warm_rows_;
   std::size_t warm_n_ = 0;
   std::vector<Candidate> cand_;   // grid order
+  std::vector<std::uint64_t> pair_keys_;  // pairs as found (key: lower << 32 | upper)
+  std::vector<int> pair_first_, pair_upper_;  // the pairs bucketed by lower index
 
   // Contacts: current and last step's, each sorted by key.
   ContactSet<PairGap, PairRow> pp_, pp_old_;
   ContactSet<LinerGap, LinerRow> pl_, pl_old_;
-  soft::Grid grid_;
+  soft::Grid grid_;        // whole mill, for the reordering
+  soft::Grid pair_grid_;   // the disks' bounding box, for the pair search
   soft::LinerLookup liner_;
   MillGeometry mill_;
   std::vector<std::uint8_t> edge_is_shell_;
@@ -403,9 +417,6 @@ void SoftEngine::set_liner(const MillGeometry& mill) {
   edge_is_shell_.resize(n);
   for (std::size_t e = 0; e < n; ++e)
     edge_is_shell_[e] = mill.edges[e].owner == EdgeOwner::Shell ? 1 : 0;
-  // The grid covers the whole mill: a disk outside it has escaped (and is removed).
-  grid_.side = 2.0 * (max_r_m_ + 2.0 * r_max_);
-  grid_.origin = -0.5 * grid_.side;
   edge_count_ = n;
   reset_accounting(accounting_, n);
   // Edge ids changed: liner contacts start cold.
@@ -431,7 +442,7 @@ template <class Set>
 void SoftEngine::sort_by_key(Set& set, Set& spare) {
   const std::size_t m = set.size();
   scratch_keys_.clear();
-  for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.info[k].key, static_cast<int>(k));
+  for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.key[k].key, static_cast<int>(k));
   std::sort(scratch_keys_.begin(), scratch_keys_.end());
   spare.resize(m);
   for (std::size_t t = 0; t < m; ++t) {
@@ -475,17 +486,16 @@ void SoftEngine::reorder_by_cell() {
     }
     c.a = a;
     c.b = b;
-    pp_.info[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+    pp_.key[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
   }
   for (std::size_t q = 0; q < pl_.size(); ++q) {
     LinerGap& c = pl_.gap[q];
     c.a = inverse_[static_cast<std::size_t>(c.a)];
-    pl_.info[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
+    pl_.key[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
   }
   // The old sets hold the step before last: dead, so they serve as sort buffers.
   sort_by_key(pp_, pp_old_);
   sort_by_key(pl_, pl_old_);
-  grid_.build(x_.data(), y_.data(), act_.data(), n_, grid_.cell);
 }
 
 // ---- 3. narrow phase --------------------------------------------------------------------
@@ -496,12 +506,12 @@ void SoftEngine::add_pair_contact(int i, int j) {
   const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
   const std::size_t q = pp_.add();
   PairGap& g = pp_.gap[q];
-  ContactInfo& info = pp_.info[q];
+  ContactKey& key = pp_.key[q];
   g.a = i;
   g.b = j;
   pp_.state[q] = 0;
-  info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
-  info.event_J = 0.0;
+  key.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+  key.event_J = 0.0;
   const double dx = x_[a] - x_[b], dy = y_[a] - y_[b];
   const double dist = std::sqrt(dx * dx + dy * dy);
   if (dist > 0.0) {
@@ -547,51 +557,81 @@ void SoftEngine::build_pair_row(std::size_t q) {
   info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
 }
 
-// Pairs from the 3x3 cells around each disk, j > i only, in (i, j) order: sorted by key.
+// Pairs within the sum of their reaches (radius + margin), each found once: a disk scans
+// only the cells after its own in grid order (the rest of its own cell and row, the rows
+// above) within its reach plus the largest reach, which holds every partner it can have.
+// The pairs are then bucketed by their lower index and each bucket sorted, so the list
+// comes out in key order. The test is the same expression whichever disk scans, so the
+// pair set does not depend on the grid.
 void SoftEngine::find_pairs() {
   pp_.clear();
-  const int dim = grid_.dim;
-  const int* start = grid_.start.data();
+  const soft::Grid& grid = pair_grid_;
+  const int nx = grid.nx;
+  const int* start = grid.start.data();
   const double* x = x_.data();
   const double* y = y_.data();
   const double* r = r_.data();
   const double* marg = marg_.data();
-  const int placed = grid_.placed();
+  const int placed = grid.placed();
   cand_.resize(static_cast<std::size_t>(placed));
   for (int k = 0; k < placed; ++k) {
-    const int j = grid_.order[static_cast<std::size_t>(k)];
-    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j], marg[j], j};
+    const int j = grid.order[static_cast<std::size_t>(k)];
+    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j], marg[j], r[j] + marg[j], j};
   }
-  const Candidate* grid_disks = cand_.data();
-  constexpr int kMaxCand = 64;
-  int cand[kMaxCand + 1];  // one spare slot: the scan below stores before it counts
-  for (int i = 0; i < n_; ++i) {
-    const int cell = grid_.cell_of[static_cast<std::size_t>(i)];
-    if (cell < 0) continue;
-    const int cx = cell % dim, cy = cell / dim;
-    const double xi = x[i], yi = y[i];
-    const double reach_i = r[i] + marg[i];
-    int count = 0;
-    const int x_lo = std::max(cx - 1, 0), x_hi = std::min(cx + 1, dim - 1);
-    for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, dim - 1); ++gy) {
-      const int row = gy * dim;
-      const int k0 = start[row + x_lo];
-      const int k1 = start[row + x_hi + 1];
-      // Branch-free: whether a neighbour is a candidate follows no pattern a predictor can
-      // learn, so every one is tested and stored, and only counted if it passes.
-      for (int k = k0; k < k1; ++k) {
-        const Candidate& d = grid_disks[k];
-        const double dx = xi - d.x, dy = yi - d.y;
-        const double reach = reach_i + d.r + d.marg;
-        const bool take = (d.j > i) & (dx * dx + dy * dy < reach * reach) & (count < kMaxCand);
-        cand[count] = d.j;
-        count += take ? 1 : 0;
-      }
+  const Candidate* cd = cand_.data();
+  // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
+  // the edge of the box from being lost to the rounding of the box.
+  const double reach_max = r_max_ + margin_max_ + 1e-6 * r_min_;
+  std::size_t found = 0;
+  // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
+  // every one is tested and stored, and only counted if it passes (room for a whole range
+  // is made first).
+  auto scan = [&](const Candidate& p, int k0, int k1) {
+    if (pair_keys_.size() < found + static_cast<std::size_t>(k1 - k0))
+      pair_keys_.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
+    std::uint64_t* out = pair_keys_.data();
+    for (int k = k0; k < k1; ++k) {
+      const Candidate& q = cd[k];
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      // As tested from the lower index i: (r_i + marg_i + r_j) + marg_j.
+      const bool p_low = p.j < q.j;
+      const double reach = p_low ? p.reach + q.r + q.marg : q.reach + p.r + p.marg;
+      const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
+      const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
+      out[found] = (lo << 32) | hi;
+      found += dx * dx + dy * dy < reach * reach ? 1 : 0;
     }
-    // A handful of candidates: insertion sort keeps the list in key order.
-    for (int p = 1; p < count; ++p)
-      for (int q = p; q > 0 && cand[q - 1] > cand[q]; --q) std::swap(cand[q - 1], cand[q]);
-    for (int p = 0; p < count; ++p) add_pair_contact(i, cand[p]);
+  };
+  for (int k = 0; k < placed; ++k) {
+    const Candidate& p = cd[k];
+    const double box = p.reach + reach_max;
+    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
+    const int row = grid.row(p.y);
+    // The rest of this row: the disks after p in its own cell, then the cells to its right.
+    scan(p, k + 1, start[row * nx + x_hi + 1]);
+    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
+      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
+  }
+  // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
+  const auto n = static_cast<std::size_t>(n_);
+  pair_first_.assign(n + 1, 0);
+  for (std::size_t t = 0; t < found; ++t) pair_first_[(pair_keys_[t] >> 32) + 1] += 1;
+  for (std::size_t i = 0; i < n; ++i) pair_first_[i + 1] += pair_first_[i];
+  if (pair_upper_.size() < found) pair_upper_.resize(pair_keys_.size());
+  for (std::size_t t = 0; t < found; ++t) {
+    const std::uint64_t key = pair_keys_[t];
+    pair_upper_[static_cast<std::size_t>(pair_first_[key >> 32]++)] = static_cast<int>(key & 0xffffffffu);
+  }
+  // pair_first_[i] is now the end of bucket i, and the start of bucket i + 1.
+  int* upper = pair_upper_.data();
+  int b0 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b1 = pair_first_[i];
+    // A handful per disk: insertion sort.
+    for (int p = b0 + 1; p < b1; ++p)
+      for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
+    for (int p = b0; p < b1; ++p) add_pair_contact(static_cast<int>(i), upper[p]);
+    b0 = b1;
   }
 }
 
@@ -621,10 +661,9 @@ void SoftEngine::find_liner_contacts() {
       g.a = i;
       c.ln = c.lt = c.lr = 0.0;
       pl_.state[q] = kBuilt;
-      info.event_J = 0.0;
+      pl_.key[q] = {(static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner), 0.0};
       info.edge = hit.edge;
       info.owner = hit.owner;
-      info.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner);
       g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
       g.ny = sn * hit.normal.x + cs * hit.normal.y;
       g.s0 = hit.gap;
@@ -653,12 +692,12 @@ void SoftEngine::warm_start_match() {
     std::size_t p = 0;
     const std::size_t m = old.size();
     for (std::size_t q = 0; q < now.size(); ++q) {
-      ContactInfo& c = now.info[q];
-      while (p < m && old.info[p].key < c.key) {
-        if (events && old.info[p].event_J > 0.0) account_collision_event(accounting_, old.info[p].event_J);
+      ContactKey& c = now.key[q];
+      while (p < m && old.key[p].key < c.key) {
+        if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
         ++p;
       }
-      if (p < m && old.info[p].key == c.key) {
+      if (p < m && old.key[p].key == c.key) {
         // Only a live row carries impulses (an unbuilt one stores none).
         if (old.state[p] & kLive) {
           auto& row = now.row[q];
@@ -668,12 +707,12 @@ void SoftEngine::warm_start_match() {
           row.lr = prev.lr;
           now.state[q] |= kLive;
         }
-        c.event_J = old.info[p].event_J;
+        c.event_J = old.key[p].event_J;
         ++p;
       }
     }
     for (; p < m; ++p)
-      if (events && old.info[p].event_J > 0.0) account_collision_event(accounting_, old.info[p].event_J);
+      if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
   };
   merge(pp_, pp_old_, spectrum);
   merge(pl_, pl_old_, false);
@@ -869,9 +908,11 @@ void SoftEngine::restitution() {
   const double thr = -restitution_threshold_m_s_;
   Body* body = body_.data();
   for (std::size_t q = 0; q < pp_.size(); ++q) {
+    // An unbuilt row never acted (its sums are zero): one byte tells, not the sums.
+    if (!(pp_.state[q] & kBuilt)) continue;
     const ContactInfo& info = pp_.info[q];
     StepSum& sum = pp_.sum[q];
-    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
+    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;
     const PairGap& g = pp_.gap[q];
     PairRow& c = pp_.row[q];
     Body& A = body[g.a];
@@ -939,13 +980,15 @@ void SoftEngine::account_contacts() {
   ContactRecord rec;
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     const StepSum& sum = pp_.sum[q];
-    ContactInfo& info = pp_.info[q];
-    if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) {
+    ContactKey& key = pp_.key[q];
+    // An unbuilt row never acted: its sums are zero.
+    if (!(pp_.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
       // Apart all step: a collision that was going on has ended.
-      if (spectrum && info.event_J > 0.0) account_collision_event(accounting_, info.event_J);
-      info.event_J = 0.0;
+      if (spectrum && key.event_J > 0.0) account_collision_event(accounting_, key.event_J);
+      key.event_J = 0.0;
       continue;
     }
+    const ContactInfo& info = pp_.info[q];
     const PairGap& g = pp_.gap[q];
     const PairRow& c = pp_.row[q];
     const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
@@ -972,7 +1015,7 @@ void SoftEngine::account_contacts() {
     const double rolling_loss = -sum.pr * 0.5 * ((wb_[a] - wb_[b]) + (body[a].w - body[b].w));
     accounting_.pp_tangent_J += rolling_loss;
     if (spectrum) {
-      info.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
+      key.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
                       sum.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
     }
   }
@@ -1071,6 +1114,7 @@ void SoftEngine::step_once() {
   const double g = kGravity;
   // 1. Margins, and what the step starts from.
   margin_max_ = 0.0;
+  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
   for (int i = 0; i < n_; ++i) {
     const auto k = static_cast<std::size_t>(i);
     x0_[k] = x_[k];
@@ -1085,10 +1129,19 @@ void SoftEngine::step_once() {
     const double speed = std::sqrt(body_[k].vx * body_[k].vx + body_[k].vy * body_[k].vy);
     marg_[k] = margin_base_m_ + 1.5 * (speed + g * dt_) * dt_;
     margin_max_ = std::max(margin_max_, marg_[k]);
+    bx0 = std::min(bx0, x_[k]);
+    bx1 = std::max(bx1, x_[k]);
+    by0 = std::min(by0, y_[k]);
+    by1 = std::max(by1, y_[k]);
   }
+  if (bx0 > bx1) bx0 = bx1 = by0 = by1 = 0.0;  // no active disk
   // 2. Broad phase: every candidate pair lies within the 3x3 cells.
-  grid_.build(x_.data(), y_.data(), act_.data(), n_, 2.0 * (r_max_ + margin_max_));
   if (accounting_.steps % kReorderInterval == 0 && n_ > 0) {
+    // Cells over the whole mill, two reaches wide: the order depends on the positions (and
+    // this width) only.
+    const double side = 2.0 * (max_r_m_ + 2.0 * r_max_);
+    grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (r_max_ + margin_max_));
+    grid_.build(x_.data(), y_.data(), act_.data(), n_);
     reorder_by_cell();
     // Reordering moved the before-step copies too: rebuild them.
     for (int i = 0; i < n_; ++i) {
@@ -1101,6 +1154,10 @@ void SoftEngine::step_once() {
       wb_[k] = body_[k].w;
     }
   }
+  // Pair cells one largest reach wide over the disks' bounding box: a disk's box (its reach
+  // plus the largest) spans at most 5 x 5 of them, of which it scans the half after it.
+  pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (r_max_ + margin_max_));
+  pair_grid_.build(x_.data(), y_.data(), act_.data(), n_);
   const auto t_broad = Clock::now();
   timing_.broad_s += std::chrono::duration<double>(t_broad - t_start).count();
 
