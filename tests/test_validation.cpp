@@ -455,6 +455,47 @@ TEST(ValidationCalibration, AreasOnAnExactlyScalingHistoryGiveCBackAndTheFitErro
   EXPECT_EQ(r.survey_c.size(), 9u);
 }
 
+TEST(ValidationCalibration, HistoriesAfterTheFirstAreAveragedAndTheirSpreadIsTheModelError) {
+  // Each "history" wears 6% more or less than the last, as independent runs of a noisy
+  // simulation do, while claiming no statistical error of its own (rel_sem = 0).
+  const double c_true = 1e-10;
+  Scene guess = quick_lab();
+  guess.wear.wear_rate_m3_per_J = 1.5 * c_true;
+  guess.wear.stage_hours = 100.0;
+  guess.wear.stages = 2;
+  Scene truth_scene = guess;
+  truth_scene.wear.wear_rate_m3_per_J = c_true;
+  const WearHistory truth = synthetic_area_history(truth_scene);
+  AreaSurveys surveys;
+  for (const auto& st : truth.stages) surveys.surveys.push_back({st.hours, st.lifter.area_m2, 0});
+  const double noise[] = {0.0, 0.06, -0.06, 0.06, -0.06};
+  int call = 0;
+  auto noisy = [&](const Scene& s) {
+    WearHistory h = synthetic_area_history(s);
+    const double f = 1.0 + noise[call++ % 5];
+    for (auto& st : h.stages) st.lifter.area_m2 = 400e-6 - f * (400e-6 - st.lifter.area_m2);
+    return h;
+  };
+  validation::CalibrationOptions opt;
+  opt.rel_tol = 1e-6;  // never met: all five histories run
+  const auto r = validation::calibrate_wear_rate(guess, surveys, opt, {}, noisy);
+  ASSERT_EQ(r.runs.size(), 5u);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.histories_averaged, 4);
+  double mean = 0.0;
+  for (std::size_t k = 1; k < 5; ++k) mean += r.runs[k].c_estimate / 4.0;
+  EXPECT_NEAR(r.c_m3_per_J, mean, 1e-9 * c_true);
+  // The histories claim no error; their spread (+-6%) is the model error of the mean.
+  double var = 0.0;
+  for (std::size_t k = 1; k < 5; ++k) var += (r.runs[k].c_estimate - mean) * (r.runs[k].c_estimate - mean) / 3.0;
+  EXPECT_NEAR(r.sigma_model_m3_per_J, std::sqrt(var) / 2.0, 1e-6 * c_true);
+  EXPECT_GT(r.sigma_model_m3_per_J, 0.02 * c_true);
+  // The last history alone is a few % off; the mean of the +-6% draws lands nearer the truth.
+  EXPECT_GT(std::fabs(r.runs.back().c_estimate - c_true), 3.0 * std::fabs(r.c_m3_per_J - c_true));
+  EXPECT_NEAR(r.c_m3_per_J, c_true, r.expanded_m3_per_J);
+  EXPECT_LT(std::fabs(r.c_m3_per_J - c_true), 0.01 * c_true);
+}
+
 TEST(ValidationCalibration, RecoversAKnownWearRateFromAreasAloneWithinItsUncertainty) {
   const Scene truth_scene = load_scene(testing::source_path("tests/data/lab-quick.toml"));
   const WearHistory truth = run_wear_history(truth_scene);

@@ -39,6 +39,7 @@ namespace {
 struct CalibrateArgs {
   std::string scene, measured, out, fidelity;
   int max_runs = 5;
+  int min_runs = 2;
   double tolerance_pct = 1.0;
 };
 
@@ -136,6 +137,7 @@ int run_calibrate(const CalibrateArgs& a) {
 
   validation::CalibrationOptions opt;
   opt.max_runs = a.max_runs;
+  opt.min_runs = std::min(a.min_runs, a.max_runs);
   opt.rel_tol = a.tolerance_pct / 100.0;
   std::printf("calibrate %s against %zu %s in %s (least squares on %s; fidelity %s, up to %d wear histories)\n",
               scene.name.c_str(), measured.count(), areas ? "lifter area(s)" : "profile survey(s)", a.measured.c_str(),
@@ -160,6 +162,9 @@ int run_calibrate(const CalibrateArgs& a) {
               "simulation statistics %.2g)%s\n",
               res.c_m3_per_J, res.expanded_m3_per_J, res.sigma_m3_per_J, fit_sigma, res.sigma_model_m3_per_J,
               res.converged ? "" : "  NOT CONVERGED");
+  if (res.histories_averaged > 1)
+    std::printf("  the mean of the last %d histories' estimates; their spread sets the simulation statistics "
+                "when it is the larger\n", res.histories_averaged);
   if (!res.fit_error_known)
     std::printf("  one worn area survey: the fit's own error is unknown, U counts the simulation statistics only "
                 "(two or more areas after 0 h give it)\n");
@@ -190,9 +195,9 @@ int run_calibrate(const CalibrateArgs& a) {
     for (std::size_t j = 0; j < res.survey_c.size(); ++j) per.add_row({res.survey_hours[j], res.survey_c[j]});
     per.write(io::join_path(a.out, "calibration_surveys.csv"));
     io::CsvTable sum({"c_m3_per_J", "sigma_m3_per_J", "sigma_fit_m3_per_J", "sigma_simulation_m3_per_J",
-                      "expanded_m3_per_J", "converged", "runs", "fit_on", "fit_error_known"});
+                      "expanded_m3_per_J", "converged", "runs", "histories_averaged", "fit_on", "fit_error_known"});
     sum.add_row({res.c_m3_per_J, res.sigma_m3_per_J, res.sigma_fit_m3_per_J, res.sigma_model_m3_per_J,
-                 res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size()),
+                 res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size()), res.histories_averaged,
                  areas ? "area_loss" : "profiles", res.fit_error_known});
     sum.write(io::join_path(a.out, "calibration_result.csv"));
   }
@@ -220,6 +225,10 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder (default: the calibrated scene goes next to SCENE)");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--max-runs", args->max_runs, "wear histories at most (default 5)")->check(CLI::PositiveNumber);
+  cmd->add_option("--min-runs", args->min_runs,
+                  "wear histories at least (default 2); every history after the first is an estimate, and C is "
+                  "their mean")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (default 1)")
       ->check(CLI::PositiveNumber);
   cmd->footer(std::string(kMeasuredFileHelp) +

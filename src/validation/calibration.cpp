@@ -183,21 +183,38 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     double hmax = 0.0;
     for (double sh : survey_hours) hmax = std::max(hmax, sh);
     const double own_error = history_relative_error(s, result.last_history.stages, std::min(hmax, r.reached_hours));
-    if (std::fabs(r.fit.scale - 1.0) <= std::max(opt.rel_tol, own_error) && !r.fit.at_bound) {
+    if (run >= opt.min_runs && std::fabs(r.fit.scale - 1.0) <= std::max(opt.rel_tol, own_error) &&
+        !r.fit.at_bound) {
       result.converged = true;
       break;
     }
   }
   const CalibrationRun& last = result.runs.back();
-  result.c_m3_per_J = last.c_estimate;
+  // Every history after the first ran near the answer and gives its own estimate, with its
+  // own draw of the charge's noise: their mean is the estimate, and their spread measures
+  // that noise directly (rule 2's batch means within a window understate it when the
+  // batches are correlated, see the README).
+  std::vector<double> estimates;
+  for (std::size_t k = result.runs.size() > 1 ? 1 : 0; k < result.runs.size(); ++k)
+    estimates.push_back(result.runs[k].c_estimate);
+  const double m = static_cast<double>(estimates.size());
+  result.c_m3_per_J = std::accumulate(estimates.begin(), estimates.end(), 0.0) / m;
+  double spread = 0.0;  // standard deviation of one history's estimate
+  if (estimates.size() >= 2) {
+    for (double c_k : estimates) spread += (c_k - result.c_m3_per_J) * (c_k - result.c_m3_per_J);
+    spread = std::sqrt(spread / (m - 1.0));
+  }
+  result.histories_averaged = static_cast<int>(estimates.size());
   double hmax = 0.0;
   for (double h : survey_hours) hmax = std::max(hmax, h);
   const Scene s = scene_for_survey_hours(scene, survey_hours, last.c_m3_per_J, 1.0);
   result.fit_error_known = last.fit.error_known();
+  // The surveys are the same for every history: the fit's error does not average out.
   result.sigma_fit_m3_per_J =
       result.fit_error_known ? last.c_m3_per_J * std::max(last.fit.sigma_curvature, last.fit.sigma_spread) : 0.0;
-  result.sigma_model_m3_per_J =
+  const double batch_means =
       result.c_m3_per_J * history_relative_error(s, result.last_history.stages, std::min(hmax, last.reached_hours));
+  result.sigma_model_m3_per_J = std::max(batch_means, spread) / std::sqrt(m);
   result.sigma_m3_per_J = std::hypot(result.sigma_fit_m3_per_J, result.sigma_model_m3_per_J);
   result.expanded_m3_per_J = 2.0 * result.sigma_m3_per_J;
   result.survey_hours = last.fit.survey_hours;

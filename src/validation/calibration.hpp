@@ -8,7 +8,9 @@
 // history run with C_run predicts the lifter for C = s C_run at hours h as its own lifter at
 // s h. A 1D search on s (a log-spaced scan, then golden section) over one history gives the
 // least-squares s; a new history at C = s C_run removes what the time-scaling misses
-// (reversal times, stage restarts), and the loop stops when s is 1 within a tolerance.
+// (reversal times, stage restarts), and the loop stops when s is 1 within a tolerance (or
+// within the history's own statistical error). Every history after the first ran near the
+// answer and is an independent estimate: C is their mean.
 //
 // Uncertainty: the larger of (a) the Gauss-Newton standard error from the curvature of the
 // misfit, sigma_s^2 = (RSS / (n - 1)) / sum (d r_i / d s)^2, and (b) the standard error of the
@@ -17,7 +19,9 @@
 // error of the simulation itself: the wear up to the last survey is a sum over N measuring
 // windows whose rates carry the batch-means relative error of rule 2
 // (StageRecord::area_loss_rate_rel_sem, about 7-10% per lab-mill window), so one history's
-// cumulative wear, and hence C, is uncertain by sqrt(sum n_k sem_k^2) / N. With a single
+// cumulative wear, and hence C, is uncertain by sqrt(sum n_k sem_k^2) / N; with two or more
+// histories averaged, by the larger of that and their estimates' standard deviation (the
+// batch means understate it when batches are correlated), over sqrt(histories). With a single
 // residual (one worn area survey) neither (a) nor (b) exists: the fit is exact, its error is
 // not known, and only (c) is counted (CalibrationResult::fit_error_known = false). It is
 // reported as an expanded uncertainty U = 2 sigma (about 95%). A round trip on simulated
@@ -76,6 +80,7 @@ ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hour
 
 struct CalibrationOptions {
   int max_runs = 5;
+  int min_runs = 2;             // histories at least (the first guess, then one per estimate to average)
   double rel_tol = 0.01;        // stop when the run's own C fits within this, or within the
                                 // run's own statistical error if that is larger
   double first_reach = 1.6;     // first history runs to this x the last survey's hours
@@ -100,6 +105,7 @@ struct CalibrationResult {
   double expanded_m3_per_J = 0.0; // U = 2 sigma (about 95%)
   bool fit_error_known = true;    // false: one residual only, (a) and (b) do not exist
   bool converged = false;
+  int histories_averaged = 1;     // the estimate is the mean over the histories after the first
   std::vector<CalibrationRun> runs;
   std::vector<double> survey_hours, survey_c;  // per-survey estimates (last run)
   WearHistory last_history;                    // of the last run
