@@ -49,6 +49,14 @@ double direction_at(const Scene& scene, double hours) {
   return 1.0;
 }
 
+// Turns the mill at the direction's speed; after a reversal the charge turns round for half
+// a revolution before anything is measured.
+void set_direction(Engine& engine, const Scene& scene, double dir, bool reversed) {
+  engine.set_mill_speed(dir * scene.angular_speed_rad_s());
+  if (reversed) engine.step(steps_for(0.5 * scene.revolution_time_s(), engine.time_step_s()));
+  engine.reset_window();
+}
+
 // Operating hours of the next reversal after `hours` (infinity for one-way mills).
 double next_reversal(const Scene& scene, double hours) {
   if (scene.mill.direction != Direction::Bidirectional) return INFINITY;
@@ -444,9 +452,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     cb.on_progress(p);
   };
 
-  // The charge carries over from stage to stage: a stage starts a fresh engine from the
-  // charge as the previous stage's wear ended (stored in its record), so a resumed stage
-  // starts exactly where the uninterrupted run did, without settling and spinning up again.
+  // The charge as the last stage's wear ended (a resumed run: the one its stage started from).
   ChargeState carry = resume_from.empty() ? ChargeState{} : resume_from.back().start_charge;
   for (int k = first_stage; k <= scene.wear.stages; ++k) {
     const auto t0 = Clock::now();
@@ -463,11 +469,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       settle_and_spin_up(*engine, scene, dir);
     } else {
       engine = make_engine(scene, mill, start, accounting_options_for(scene));
-      const bool reversed = start.mill_speed_rad_s * dir < 0.0;
-      engine->set_mill_speed(dir * scene.angular_speed_rad_s());
-      // A reversal at the stage boundary: let the charge turn round, as within a stage.
-      if (reversed) engine->step(steps_for(0.5 * scene.revolution_time_s(), engine->time_step_s()));
-      engine->reset_window();
+      set_direction(*engine, scene, dir, start.mill_speed_rad_s * dir < 0.0);
     }
     WindowResult w = simulate_window(*engine, scene, mill, check_stop);
     double simulated = w.simulated_s;
@@ -611,10 +613,7 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       const double new_dir = direction_at(scene, hours);
       if (new_dir != dir) {
         dir = new_dir;
-        engine->set_mill_speed(dir * scene.angular_speed_rad_s());
-        // Let the charge turn round before measuring: half a revolution.
-        engine->step(steps_for(0.5 * scene.revolution_time_s(), engine->time_step_s()));
-        engine->reset_window();
+        set_direction(*engine, scene, dir, true);
       }
       if (staged) {
         w = simulate_window(*engine, scene, mill, check_stop);
