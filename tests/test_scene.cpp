@@ -390,8 +390,8 @@ TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
   const FidelityDef& d = fidelity_preset("draft");
   const FidelityDef& s = fidelity_preset("standard");
   const FidelityDef& r = fidelity_preset("reference");
-  EXPECT_DOUBLE_EQ(d.time_step_s, 1.0 / 300.0);
-  EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 400.0);
+  EXPECT_DOUBLE_EQ(d.time_step_s, 1.0 / 200.0);
+  EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 200.0);
   EXPECT_DOUBLE_EQ(r.time_step_s, 1.0 / 1000.0);
   EXPECT_EQ(d.velocity_iterations, 6);
   EXPECT_EQ(r.position_iterations, 4);
@@ -414,7 +414,8 @@ TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
   const auto& p = fidelity_presets();
   ASSERT_EQ(p.size(), 3u);
   for (std::size_t i = 1; i < p.size(); ++i) {
-    EXPECT_LT(p[i].time_step_s, p[i - 1].time_step_s) << p[i].name;
+    // Draft and standard share the step the ladder found harmless on the soft backend.
+    EXPECT_LE(p[i].time_step_s, p[i - 1].time_step_s) << p[i].name;
     EXPECT_GE(p[i].substeps, p[i - 1].substeps) << p[i].name;
     EXPECT_GT(p[i].velocity_iterations, p[i - 1].velocity_iterations) << p[i].name;
     EXPECT_GT(p[i].position_iterations, p[i - 1].position_iterations) << p[i].name;

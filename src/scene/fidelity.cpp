@@ -10,8 +10,8 @@ const std::vector<FidelityDef>& fidelity_presets() {
     std::vector<FidelityDef> p(3);
     // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter
     // edge, backend, substeps
-    p[0] = {"draft", 1.0 / 300.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4};
-    p[1] = {"standard", 1.0 / 400.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.020, 0.010, Backend::Soft, 4};
+    p[0] = {"draft", 1.0 / 200.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4};
+    p[1] = {"standard", 1.0 / 200.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.020, 0.010, Backend::Soft, 4};
     p[2] = {"reference", 1.0 / 1000.0, 10, 4, 4.0, 0.002, 5e5, 0.0, 0.020, 0.010, Backend::Soft, 4};
     return p;
   }();

@@ -11,7 +11,7 @@
 // |                                        |         |          |           | library, converged    |
 // |                                        |         |          |           | friction (README)     |
 // | substeps (solver.substeps, soft only)  | 4       | 4        | 4         | contact stiffness     |
-// | time_step_s (solver.time_step, s)      | 1/300   | 1/400    | 1/1000    | contact resolution;   |
+// | time_step_s (solver.time_step, s)      | 1/200   | 1/200    | 1/1000    | contact resolution;   |
 // |                                        |         |          |           | escapes at large dt   |
 // | velocity_iterations (box2d only)       | 6       | 8        | 10        | contact force accuracy|
 // | position_iterations (box2d only)       | 2       | 3        | 4         | overlap removal       |
@@ -28,9 +28,16 @@
 // - time step: the Box2D probe (shared/notes/box2d-mill-probe.md) lost 0 of 3,000 disks at
 //   1/600 s and 7 of 3,000 at 1/240 s. The stability sweep (docs/stability.md) puts the edge
 //   at dt <= 1.6 r_min / (omega R + sqrt(2 g D)) per (sub)step and the run refuses a larger
-//   one (scene/limits.hpp): on the SAG scenes draft's 1/300 s moves 1.28 smallest radii a
-//   step (0.32 a substep), standard's 1/400 s 0.96. A scene with much smaller particles
-//   must set solver.time_step itself.
+//   one (scene/limits.hpp): on the SAG scenes the 1/200 s of draft and standard moves 1.93
+//   smallest radii a step (0.48 a substep). The soft backend is checked per substep; the
+//   library backend has no substeps, so draft or standard with
+//   solver.backend = "box2d" is refused there and needs a solver.time_step of about 1/245 s
+//   or less (the message gives the largest). A scene
+//   with much smaller particles must set solver.time_step itself.
+// - standard's time step: on the default comparison's ladder (session 3) 1/200 s was on the
+//   front and 1/400 s was not (30% more CPU, no closer to the reference: both within the
+//   reference's own seed-to-seed scatter); it brings the comparison to about 30 s on 2 cores.
+//   Draft takes the same step (its error is its mesh's).
 // - mesh: on the default comparison (README "Speed against accuracy") the lifter mesh is the
 //   one knob that moves the result: 20 mm lifter edges lose 25-30% more area over 3000 h
 //   than 10 mm edges, 5 mm edges another 2% less. Standard therefore shares the reference's

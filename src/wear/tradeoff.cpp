@@ -140,8 +140,13 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
   auto dt_value = [](double dt) {
     return std::pair{time_step_text(dt), Setter([dt](Scene& s) { s.solver.time_step_s = dt; })};
   };
-  knob("time_step", {"solver.time_step", "solver.steps_per_second"},
-       {dt_value(1.0 / 200.0), dt_value(draft.time_step_s), dt_value(reference.time_step_s)});
+  {
+    // Draft's, reference's and half standard's step, leaving out any that is standard's own.
+    std::vector<std::pair<std::string, Setter>> values;
+    for (double dt : {0.5 * standard.time_step_s, draft.time_step_s, reference.time_step_s})
+      if (std::fabs(dt - standard.time_step_s) > 1e-9 * standard.time_step_s) values.push_back(dt_value(dt));
+    knob("time_step", {"solver.time_step", "solver.steps_per_second"}, values);
+  }
   if (soft) {
     auto sub_value = [](int n) {
       return std::pair{std::to_string(n), Setter([n](Scene& s) { s.solver.substeps = n; })};

@@ -7,7 +7,7 @@
 // reseeded runs (reference and standard with seed + 1: the noise floor and standard's own
 // scatter):
 //   backend            solver.backend            the other backend (box2d or soft)
-//   time_step          solver.time_step          1/200, draft, reference
+//   time_step          solver.time_step          half standard's, draft's, reference's
 //   substeps           solver.substeps           half and twice standard's (soft backend)
 //   iterations         solver.*_iterations       draft's, reference's (box2d backend)
 //   window             wear.window_revolutions   draft's, reference's
