@@ -74,6 +74,13 @@ TEST(StabilityTimeStep, ShippedScenesAtEveryPresetAreInsideTheLimit) {
       const int substeps = s.solver.backend == Backend::Soft ? s.solver.substeps : 1;
       EXPECT_LE(step_travel_radii(s) / substeps, kMaxStepTravelRadii) << f << " at " << p;
       EXPECT_NO_THROW(check_numerical_limits(s, f)) << f << " at " << p;
+      // A scene that names the library backend gets that backend's step from the preset.
+      Scene lib = load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/" + f);
+      lib.solver.backend = Backend::Box2D;
+      lib.explicit_keys.insert("solver.backend");
+      apply_fidelity(lib, p);
+      EXPECT_LE(step_travel_radii(lib), kMaxStepTravelRadii) << f << " at " << p << " on box2d";
+      EXPECT_NO_THROW(check_numerical_limits(lib, f)) << f << " at " << p << " on box2d";
     }
 }
 

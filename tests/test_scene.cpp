@@ -393,6 +393,9 @@ TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
   EXPECT_DOUBLE_EQ(d.time_step_s, 1.0 / 200.0);
   EXPECT_DOUBLE_EQ(s.time_step_s, 1.0 / 200.0);
   EXPECT_DOUBLE_EQ(r.time_step_s, 1.0 / 1000.0);
+  EXPECT_DOUBLE_EQ(d.box2d_time_step_s, 1.0 / 300.0);
+  EXPECT_DOUBLE_EQ(s.box2d_time_step_s, 1.0 / 400.0);
+  EXPECT_DOUBLE_EQ(r.box2d_time_step_s, 1.0 / 1000.0);
   EXPECT_EQ(d.velocity_iterations, 6);
   EXPECT_EQ(r.position_iterations, 4);
   EXPECT_DOUBLE_EQ(d.window_revolutions, 1.0);

@@ -9,10 +9,10 @@ const std::vector<FidelityDef>& fidelity_presets() {
   static const std::vector<FidelityDef> presets = [] {
     std::vector<FidelityDef> p(3);
     // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter
-    // edge, backend, substeps
-    p[0] = {"draft", 1.0 / 200.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4};
-    p[1] = {"standard", 1.0 / 200.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.020, 0.010, Backend::Soft, 4};
-    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 4.0, 0.002, 5e5, 0.0, 0.020, 0.010, Backend::Soft, 4};
+    // edge, backend, substeps, dt on the box2d backend
+    p[0] = {"draft", 1.0 / 200.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4, 1.0 / 300.0};
+    p[1] = {"standard", 1.0 / 200.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.020, 0.010, Backend::Soft, 4, 1.0 / 400.0};
+    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 4.0, 0.002, 5e5, 0.0, 0.020, 0.010, Backend::Soft, 4, 1.0 / 1000.0};
     return p;
   }();
   return presets;
@@ -27,10 +27,10 @@ const FidelityDef& fidelity_preset(const std::string& name) {
 
 void apply_fidelity(Scene& scene, const std::string& name) {
   const FidelityDef& p = fidelity_preset(name);
+  if (!scene.file_sets("solver.backend")) scene.solver.backend = p.backend;
   // The file may give the time step either way; both mean it chose one.
   if (!scene.file_sets("solver.time_step") && !scene.file_sets("solver.steps_per_second"))
-    scene.solver.time_step_s = p.time_step_s;
-  if (!scene.file_sets("solver.backend")) scene.solver.backend = p.backend;
+    scene.solver.time_step_s = scene.solver.backend == Backend::Box2D ? p.box2d_time_step_s : p.time_step_s;
   if (!scene.file_sets("solver.substeps")) scene.solver.substeps = p.substeps;
   if (!scene.file_sets("solver.velocity_iterations"))
     scene.solver.velocity_iterations = p.velocity_iterations;

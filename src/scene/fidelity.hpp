@@ -12,6 +12,7 @@
 // |                                        |         |          |           | friction (README)     |
 // | substeps (solver.substeps, soft only)  | 4       | 4        | 4         | contact stiffness     |
 // | time_step_s (solver.time_step, s)      | 1/200   | 1/200    | 1/1000    | contact resolution;   |
+// |   ... on the box2d backend             | 1/300   | 1/400    | 1/1000    | (no substeps)         |
 // |                                        |         |          |           | escapes at large dt   |
 // | velocity_iterations (box2d only)       | 6       | 8        | 10        | contact force accuracy|
 // | position_iterations (box2d only)       | 2       | 3        | 4         | overlap removal       |
@@ -30,9 +31,8 @@
 //   at dt <= 1.6 r_min / (omega R + sqrt(2 g D)) per (sub)step and the run refuses a larger
 //   one (scene/limits.hpp): on the SAG scenes the 1/200 s of draft and standard moves 1.93
 //   smallest radii a step (0.48 a substep). The soft backend is checked per substep; the
-//   library backend has no substeps, so draft or standard with
-//   solver.backend = "box2d" is refused there and needs a solver.time_step of about 1/245 s
-//   or less (the message gives the largest). A scene
+//   library backend has no substeps (1/200 s would be refused there: at most about 1/245 s),
+//   so a scene on it gets the preset's box2d_time_step_s, the steps the presets had before. A scene
 //   with much smaller particles must set solver.time_step itself.
 // - standard's time step: on the default comparison's ladder (session 3) 1/200 s was on the
 //   front and 1/400 s was not (30% more CPU, no closer to the reference: both within the
@@ -73,6 +73,9 @@ struct FidelityDef {
   double lifter_edge_m = 0.020;
   Backend backend = Backend::Soft;  // solver.backend
   int substeps = 4;                 // solver.substeps (soft backend only)
+  // solver.time_step when the scene runs the library backend, which has no substeps and
+  // needs a smaller step than the soft backend's (scene/limits.hpp).
+  double box2d_time_step_s = 1.0 / 500.0;
 };
 
 // The three presets, fastest first: draft, standard, reference.

@@ -135,8 +135,14 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     }
   };
   const bool soft = std_scene.solver.backend == Backend::Soft;
+  // The other backend at its own standard step (the library has no substeps), unless a file
+  // sets the step.
   knob("backend", {"solver.backend"},
-       {{soft ? "box2d" : "soft", [soft](Scene& s) { s.solver.backend = soft ? Backend::Box2D : Backend::Soft; }}});
+       {{soft ? "box2d" : "soft", [soft, &standard](Scene& s) {
+           s.solver.backend = soft ? Backend::Box2D : Backend::Soft;
+           if (!s.file_sets("solver.time_step") && !s.file_sets("solver.steps_per_second"))
+             s.solver.time_step_s = soft ? standard.box2d_time_step_s : standard.time_step_s;
+         }}});
   auto dt_value = [](double dt) {
     return std::pair{time_step_text(dt), Setter([dt](Scene& s) { s.solver.time_step_s = dt; })};
   };
