@@ -162,6 +162,8 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
                                           const std::function<WearHistory(const Scene&)>& run_history) {
   CalibrationResult result;
   double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+  double hmax = 0.0;  // the last survey's hours
+  for (double h : survey_hours) hmax = std::max(hmax, h);
   for (int run = 1; run <= opt.max_runs; ++run) {
     const auto t0 = std::chrono::steady_clock::now();
     const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
@@ -180,8 +182,6 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     c = r.c_estimate;
     // A scale change inside this history's own statistical error cannot be resolved by
     // another history (it would only draw new noise): that is converged too.
-    double hmax = 0.0;
-    for (double sh : survey_hours) hmax = std::max(hmax, sh);
     const double own_error = history_relative_error(s, result.last_history.stages, std::min(hmax, r.reached_hours));
     if (run >= opt.min_runs && std::fabs(r.fit.scale - 1.0) <= std::max(opt.rel_tol, own_error) &&
         !r.fit.at_bound) {
@@ -205,8 +205,6 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     spread = std::sqrt(spread / (m - 1.0));
   }
   result.histories_averaged = static_cast<int>(estimates.size());
-  double hmax = 0.0;
-  for (double h : survey_hours) hmax = std::max(hmax, h);
   const Scene s = scene_for_survey_hours(scene, survey_hours, last.c_m3_per_J, 1.0);
   result.fit_error_known = last.fit.error_known();
   // The surveys are the same for every history: the fit's error does not average out.
