@@ -11,19 +11,31 @@
 //                  (half of them), bucketed into key order; disk-liner contacts from the angle-bin
 //                  lookup in the mill frame; both lists come out sorted by pair key and are
 //                  matched against last step's to warm start;
-//   4. solve       n substeps of {gravity, warm start, soft solve, integrate positions,
-//                  relax}, then restitution once;
+//   4. solve       the disk pairs that carry load coloured into lanes; n substeps of
+//                  {gravity, warm start, soft solve, integrate positions, relax}, then
+//                  restitution once;
 //   5. finish      write the state back, catch NaN and escaped disks, feed every contact to
 //                  the shared accounting once with its impulses summed over the substeps.
 //
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
 //
 // Data. The substep passes touch a disk's velocity, displacement and inverse mass and
-// inertia: one 64-byte Body per disk. A contact is a gap (what every pass reads to decide
+// inertia: one 64-byte Body per disk (body.hpp), plus a dummy after the last disk for the
+// padding lanes of the wide solve. A contact is a gap (what every pass reads to decide
 // whether the row acts), a row (anchors, masses, impulses; built lazily, the first time the
 // row acts), a state byte, its step sums (relax), its key (matching) and its cold info
 // (restitution, accounting; built with the row): flat arrays in key order kept at their
 // high-water mark, no allocation per step once warm. The warm start walks a list of the live rows only.
+//
+// Colours and lanes (colour_solve.hpp, after Box2D v3's graph colouring and wide solver).
+// The disk-pair rows live at the start of a step (they carried an impulse out of the last
+// one: a third of the pairs, and nearly all that act in a pass) are coloured greedily in
+// key order so that no two rows of a colour share a disk, and are solved four at a time in
+// vector lanes; the serial pass keeps the rest, with its skip of inert rows and lazy
+// building. In each pass the serial rows go first, then the colours in order, then the
+// liner contacts (last, so that they win). Gauss-Seidel order is therefore not key order;
+// it is still fixed by the contact list, so results are bit-identical run to run, and the
+// same with four (AVX2) or two (SSE2) lanes per register.
 //
 // Contacts. A contact's normal, anchors and liner velocity are fixed for the step (computed
 // once, as Box2D does); substeps update only the separation, s = s0 + n . (dp_a - dp_b),
@@ -67,6 +79,8 @@
 #include <cstdint>
 #include <string>
 
+#include "engine/soft/body.hpp"
+#include "engine/soft/colour_solve.hpp"
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
 
@@ -84,13 +98,7 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Solver state of one disk: everything a contact row reads or writes during the substeps,
-// in one 64-byte cache line (a pair row touches two lines, not fourteen scattered arrays).
-struct alignas(64) Body {
-  double vx = 0, vy = 0, w = 0;   // velocity
-  double dpx = 0, dpy = 0;        // displacement since the step began
-  double im = 0, ii = 0;          // inverse mass and inertia (0: inactive)
-};
+using soft::Body;
 
 // Contacts are split by how often they are touched. Most disk-pair contacts are
 // speculative margins that never carry an impulse: every solve and relax pass (2 x 4 a
@@ -249,6 +257,9 @@ class SoftEngine final : public Engine {
   void find_pairs();
   void find_liner_contacts();
   void warm_start_match();
+  void colour_live_rows();
+  void load_lanes();
+  void store_lanes();
   void solve();
   template <bool kBias>
   void solve_pass(double elapsed_s);
@@ -289,8 +300,13 @@ class SoftEngine final : public Engine {
   std::vector<int> scratch_i_, scratch_ids_, inverse_;
   std::vector<unsigned char> scratch_u_;
   std::vector<std::pair<std::uint64_t, int>> scratch_keys_;
-  // The live disk-pair rows (some impulse not zero) in key order, for the warm start: set by
-  // the match for the first substep and by each relax pass for the next.
+  // The disk-pair rows that carry an impulse into the step are solved coloured, in lanes
+  // (colour_solve.hpp); the others (rest_, key order) serially. The live rows among the
+  // serial ones (some impulse not zero) in key order, for the warm start: set by the
+  // colouring for the first substep and by each relax pass for the next.
+  soft::ColouredRows coloured_;
+  std::vector<int> rest_;
+  std::size_t rest_n_ = 0;
   std::vector<int> warm_rows_;
   std::size_t warm_n_ = 0;
   std::vector<Candidate> cand_;   // grid order
@@ -368,7 +384,7 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
 
   const auto n = static_cast<std::size_t>(n_);
   id_.resize(n);
-  body_.resize(n);
+  body_.resize(n + 1);  // body n: the dummy the padding lanes of the wide solve use
   x_.resize(n); y_.resize(n); ang_.resize(n);
   r_.resize(n); mass_.resize(n); act_.resize(n); sp_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -389,7 +405,7 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
     b.ii = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
   }
   for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &vy0_, &marg_, &scratch_d_}) v->assign(n, 0.0);
-  scratch_body_.resize(n);
+  scratch_body_.resize(n + 1);  // its last body (a dummy) is never written by the reordering
   scratch_i_.assign(n, 0);
   scratch_ids_.assign(n, 0);
   inverse_.assign(n, 0);
@@ -716,25 +732,91 @@ void SoftEngine::warm_start_match() {
   };
   merge(pp_, pp_old_, spectrum);
   merge(pl_, pl_old_, false);
-  // The warm start applies the live rows: build them now, and list them.
-  if (warm_rows_.size() < pp_.size()) warm_rows_.resize(pp_.row.size());
-  warm_n_ = 0;
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    if (!(pp_.state[q] & kLive)) continue;
-    build_pair_row(q);
-    warm_rows_[warm_n_++] = static_cast<int>(q);
-  }
 }
 
 // ---- 4. solve ---------------------------------------------------------------------------
+
+// Which disk-pair rows are solved in lanes: the live ones (an impulse carried over from the
+// last step). They act in nearly every pass of the step, where most of the others are
+// margins that never act and that the serial pass skips after reading their gap; a lane
+// has no skip, so colouring every contact would solve three times as many rows. The live
+// rows are built now (the warm start applies them); a live row that finds no free colour
+// stays serial and goes into the serial warm-start list.
+void SoftEngine::colour_live_rows() {
+  const std::size_t m = pp_.size();
+  if (rest_.size() < m) rest_.resize(pp_.row.size());
+  if (warm_rows_.size() < m) warm_rows_.resize(pp_.row.size());
+  coloured_.begin(n_, m);
+  rest_n_ = 0;
+  warm_n_ = 0;
+  for (std::size_t q = 0; q < m; ++q) {
+    const auto qi = static_cast<int>(q);
+    if (pp_.state[q] & kLive) {
+      build_pair_row(q);
+      if (coloured_.add(qi, pp_.gap[q].a, pp_.gap[q].b)) continue;
+      warm_rows_[warm_n_++] = qi;
+    }
+    rest_[rest_n_++] = qi;
+  }
+  coloured_.layout();
+  load_lanes();
+}
+
+// The coloured rows into their lanes (the padding lanes are filled by the layout), with
+// zero step sums.
+void SoftEngine::load_lanes() {
+  for (std::size_t slot = 0; slot < coloured_.slots(); ++slot) {
+    const int q = coloured_.contact(slot);
+    if (q < 0) continue;
+    const PairGap& g = pp_.gap[static_cast<std::size_t>(q)];
+    const PairRow& c = pp_.row[static_cast<std::size_t>(q)];
+    soft::WideRows& w = coloured_.chunk_of(slot);
+    const std::size_t l = slot % soft::kLanes;
+    w.a[l] = g.a;
+    w.b[l] = g.b;
+    w.nx[l] = g.nx;
+    w.ny[l] = g.ny;
+    w.s0[l] = g.s0;
+    w.alpha[l] = c.alpha;
+    w.beta[l] = c.beta;
+    w.mn[l] = c.mn;
+    w.mt[l] = c.mt;
+    w.mr[l] = c.mr;
+    w.mu[l] = c.mu;
+    w.lever[l] = c.lever;
+    w.ln[l] = c.ln;
+    w.lt[l] = c.lt;
+    w.lr[l] = c.lr;
+    w.pn[l] = w.pt[l] = w.pr[l] = 0.0;
+  }
+}
+
+// The lanes' impulses, step sums and live bits back to the contact arrays, for the
+// restitution, the accounting and the next step's warm start.
+void SoftEngine::store_lanes() {
+  for (std::size_t slot = 0; slot < coloured_.slots(); ++slot) {
+    const int q = coloured_.contact(slot);
+    if (q < 0) continue;
+    const auto k = static_cast<std::size_t>(q);
+    const soft::WideRows& w = coloured_.chunk_of(slot);
+    const std::size_t l = slot % soft::kLanes;
+    PairRow& c = pp_.row[k];
+    c.ln = w.ln[l];
+    c.lt = w.lt[l];
+    c.lr = w.lr[l];
+    pp_.sum[k] = {w.pn[l], w.pt[l], w.pr[l]};
+    pp_.state[k] = kBuilt | has_impulse(c);
+  }
+}
 
 // Every pass below loads the two bodies of a row into locals, applies the row, and stores
 // them back once: the same arithmetic in the same order as updating the arrays in place,
 // without the reloads that possible aliasing would force.
 void SoftEngine::warm_start() {
   Body* body = body_.data();
-  // Only the live rows: a row without impulse applies nothing (adding its zero impulses
-  // would leave every velocity as it was), and most rows are such margins.
+  soft::wide_warm_start(body, coloured_.rows(), coloured_.chunks());
+  // Of the serial rows only the live ones: a row without impulse applies nothing (adding its
+  // zero impulses would leave every velocity as it was), and most rows are such margins.
   for (std::size_t t = 0; t < warm_n_; ++t) {
     const auto q = static_cast<std::size_t>(warm_rows_[t]);
     const PairGap& g = pp_.gap[q];
@@ -760,8 +842,9 @@ void SoftEngine::warm_start() {
   }
 }
 
-// One Gauss-Seidel pass over the disk pairs, then the liner contacts (solved last, so they
-// win: the liner must not be pushed through). kBias: the soft solve; otherwise the relax,
+// One Gauss-Seidel pass over the serial disk pairs (key order), the coloured ones (colour
+// order, in lanes), then the liner contacts (solved last, so they win: the liner must not
+// be pushed through). kBias: the soft solve; otherwise the relax,
 // which also adds the substep's impulses to the step sums.
 // Friction is bounded by mu times the normal impulse, rolling resistance by its lever times
 // it (the tangent of a contact is left_perp(n); r_a = -alpha n gives r_a x t = -alpha).
@@ -790,14 +873,16 @@ void SoftEngine::solve_pass(double elapsed_s) {
     return d;
   };
 
-  const std::size_t npp = pp_.size();
+  const std::size_t nrest = rest_n_;
+  const int* rest = rest_.data();
   const PairGap* gaps = pp_.gap.data();
   PairRow* rows = pp_.row.data();
   std::uint8_t* state = pp_.state.data();
   StepSum* sums = pp_.sum.data();
   int* warm = warm_rows_.data();
   std::size_t warm_n = 0;
-  for (std::size_t q = 0; q < npp; ++q) {
+  for (std::size_t t = 0; t < nrest; ++t) {
+    const auto q = static_cast<std::size_t>(rest[t]);
     const PairGap& g = gaps[q];
     Body& A = body[g.a];
     Body& B = body[g.b];
@@ -857,6 +942,18 @@ void SoftEngine::solve_pass(double elapsed_s) {
     }
   }
   if (!kBias) warm_n_ = warm_n;
+  // The coloured rows, after the serial ones.
+  if (kBias) {
+    soft::WideSoftness wide;
+    wide.inv_h = inv_h;
+    wide.bias_rate = soft.bias_rate;
+    wide.mass_scale = soft.mass_scale;
+    wide.impulse_scale = soft.impulse_scale;
+    wide.push = push;
+    soft::wide_solve(body, coloured_.rows(), coloured_.chunks(), wide);
+  } else {
+    soft::wide_relax(body, coloured_.rows(), coloured_.chunks(), inv_h);
+  }
   const double omega = state_.mill_speed_rad_s;
   const std::size_t npl = pl_.size();
   const LinerGap* lgaps = pl_.gap.data();
@@ -950,6 +1047,7 @@ void SoftEngine::solve() {
   const double h = dt_ / substeps_;
   const double gh = kGravity * h;
   Body* body = body_.data();
+  colour_live_rows();
   for (int sub = 0; sub < substeps_; ++sub) {
     for (int i = 0; i < n_; ++i)
       if (body[i].im > 0.0) body[i].vy -= gh;
@@ -968,6 +1066,7 @@ void SoftEngine::solve() {
     }
     solve_pass<false>((sub + 1) * h);
   }
+  store_lanes();
   restitution();
 }
 

@@ -1,0 +1,108 @@
+#pragma once
+// Coloured, lane-wide solve of the soft backend's load-carrying disk-pair contacts, after
+// the method of Box2D v3 (graph colouring, contacts solved several at a time in SIMD
+// lanes), written for disks. No Box2D code is used.
+//
+// Why. The pair contacts are in key order, so consecutive rows share their first disk and
+// the serial Gauss-Seidel pass is one long dependency chain through that disk's velocity:
+// each row waits for the one before. Contacts of one colour share no disk, so kLanes of
+// them are solved at once (one vector operation per formula), and the chunks of a colour
+// do not wait for each other either.
+//
+// What is coloured is the engine's choice (soft_engine.cpp colours the rows that carry an
+// impulse into the step); everything else stays in its serial pass. A contact that finds
+// no free colour among kMaxColours stays serial too. The disk-liner contacts are not
+// coloured: the liner is one body of infinite mass, so they conflict only through their
+// disk, but they are few (about 7% of the acting rows at 3k disks) and stay in the serial
+// pass after the colours, which gives them the last word against the wall.
+//
+// Determinism. The colouring is greedy in the order the contacts are added (the first
+// colour free at both disks), so it depends on the contact list only. A lane computes what
+// the serial row computes, operation for operation (no contraction: -ffp-contract=off), so
+// the results do not depend on the vector width: four doubles per register where the CPU
+// has AVX2, two (SSE2, the x86-64 baseline) otherwise, chosen at run time.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "engine/soft/body.hpp"
+
+namespace millwear::soft {
+
+constexpr int kLanes = 4;
+
+// kLanes contacts' rows, structure of arrays. The names are those of the engine's PairGap,
+// PairRow and StepSum: unit normal from b toward a, start separation, anchors r_a = -alpha
+// n and r_b = +beta n, effective masses (normal, tangent, rolling), friction coefficient,
+// rolling lever, the substep's impulses, the step's impulse sums.
+struct alignas(64) WideRows {
+  int a[kLanes], b[kLanes];
+  double nx[kLanes], ny[kLanes], s0[kLanes];
+  double alpha[kLanes], beta[kLanes];
+  double mn[kLanes], mt[kLanes], mr[kLanes];
+  double mu[kLanes], lever[kLanes];
+  double ln[kLanes], lt[kLanes], lr[kLanes];
+  double pn[kLanes], pt[kLanes], pr[kLanes];
+};
+
+// The solve pass's constants (the relax uses inv_h only).
+struct WideSoftness {
+  double inv_h = 0, bias_rate = 0, mass_scale = 1, impulse_scale = 0, push = 0;
+};
+
+// The passes over all chunks in order (colour after colour): the same rows as the engine's
+// serial warm start, soft solve and relax. The relax also adds the impulses to the sums.
+void wide_warm_start(Body* body, WideRows* rows, std::size_t chunks);
+void wide_solve(Body* body, WideRows* rows, std::size_t chunks, const WideSoftness& soft);
+void wide_relax(Body* body, WideRows* rows, std::size_t chunks, double inv_h);
+
+// The colouring and the chunks. Per step: begin, add the contacts, layout, fill the lanes
+// (slot s holds contact(s); -1 is a padding lane, already filled with an inert row between
+// two dummy bodies), solve, read the lanes back. Arrays keep their high-water size: no
+// allocation per step once warm.
+class ColouredRows {
+ public:
+  static constexpr int kMaxColours = 24;
+
+  // Starts a step over bodies 0 .. bodies - 1, with room for up to `contacts` adds. Body
+  // index `bodies` is the dummy that padding lanes read and write (the caller's body array
+  // must have it, with zero inverse masses).
+  void begin(int bodies, std::size_t contacts);
+  // Gives contact q between bodies a and b the first colour free at both; false when none is.
+  bool add(int q, int a, int b) {
+    const std::uint32_t free = ~(mask_[a] | mask_[b]) & kAllColours;
+    if (free == 0) return false;
+    const int c = __builtin_ctz(free);
+    mask_[a] |= 1u << c;
+    mask_[b] |= 1u << c;
+    added_[added_n_++] = {q, c};
+    count_[c] += 1;
+    return true;
+  }
+  // Colour after colour, each padded to whole chunks.
+  void layout();
+
+  std::size_t slots() const { return chunks_ * kLanes; }
+  std::size_t chunks() const { return chunks_; }
+  int colours() const { return colours_; }
+  int contact(std::size_t slot) const { return slot_q_[slot]; }
+  WideRows* rows() { return wide_.data(); }
+  WideRows& chunk_of(std::size_t slot) { return wide_[slot / kLanes]; }
+
+ private:
+  static constexpr std::uint32_t kAllColours = (1u << kMaxColours) - 1;
+  struct Added {
+    int q, colour;
+  };
+  int dummy_ = 0;
+  std::vector<std::uint32_t> mask_;  // per body: the colours it already has
+  std::vector<Added> added_;
+  std::size_t added_n_ = 0;
+  int count_[kMaxColours] = {};
+  std::size_t chunks_ = 0;
+  int colours_ = 0;
+  std::vector<WideRows> wide_;
+  std::vector<int> slot_q_;
+};
+
+}  // namespace millwear::soft
