@@ -109,6 +109,42 @@ bool is_simple_open(const Polyline& line) {
   return true;
 }
 
+Polyline without_loops(const Polyline& line) {
+  Polyline out;
+  out.reserve(line.size());
+  const std::size_t n = line.size();
+  std::size_t i = 0;
+  while (i < n) {
+    out.push_back(line[i]);
+    if (i + 1 >= n) break;
+    // The last edge j > i + 1 that crosses edge i: the loop between them goes.
+    std::size_t cut = n;
+    Vec2 at;
+    for (std::size_t j = n - 2; j > i + 1; --j) {
+      const Vec2 a = line[i], b = line[i + 1], c = line[j], d = line[j + 1];
+      const Vec2 r = b - a, q = d - c;
+      const double den = cross(r, q);
+      if (den == 0.0) continue;
+      const double t = cross(c - a, q) / den, u = cross(c - a, r) / den;
+      if (t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0) {
+        cut = j;
+        at = a + t * r;
+        break;
+      }
+    }
+    if (cut == n) {
+      ++i;
+      continue;
+    }
+    if (!(at == out.back())) out.push_back(at);
+    // Continue from the crossing along edge `cut`.
+    i = cut + 1;
+    if (!(line[i] == out.back())) continue;
+    ++i;
+  }
+  return out;
+}
+
 double polyline_length(const Polyline& line) {
   double s = 0.0;
   for (std::size_t i = 0; i + 1 < line.size(); ++i) s += length(line[i + 1] - line[i]);

@@ -1,6 +1,6 @@
 #pragma once
 // Polylines and polygons as plain vectors of points, and the tools the wear loop needs:
-// area, orientation, simplicity, resampling, and re-smoothing by polygon offsets (CGAL stays
+// area, orientation, simplicity, resampling, and re-smoothing by opening and closing with a disk (CGAL stays
 // inside polyline.cpp and offset.cpp).
 #include <vector>
 
@@ -22,6 +22,11 @@ bool is_simple(const Polygon& ring);
 // An open polyline does not cross itself.
 bool is_simple_open(const Polyline& line);
 
+// The polyline with every loop cut out: where an edge crosses a later one, the part between
+// the two goes and the line runs on from the crossing. What moving a surface into the metal
+// by more than a convex corner's radius leaves (a swallowtail) is such a loop.
+Polyline without_loops(const Polyline& line);
+
 double polyline_length(const Polyline& line);
 // Cumulative arc length at each vertex (first is 0).
 std::vector<double> cumulative_length(const Polyline& line);
@@ -36,17 +41,19 @@ Vec2 point_at_length(const Polyline& line, double s);
 // Shortest distance from p to the polyline (any segment).
 double distance_to_polyline(Vec2 p, const Polyline& line);
 
-// Morphological smoothing of a simple polygon by straight-skeleton offsets with radius r:
-// an opening (inset r, outset r) removes spikes and ridges narrower than 2r, then a closing
-// (outset r, inset r) fills notches narrower than 2r. Straight-skeleton offsets are mitred,
-// so a convex polygon (or any polygon without features narrower than 2r) comes back
-// unchanged up to rounding, and the result is again a simple polygon with straight edges
-// (combinatorics from exact predicates, vertices in double): repeated calls in a wear loop
-// do not creep. Returns the largest piece if the opening splits the polygon; cavities
-// enclosed by the closing's outset are filled; returns an empty polygon if nothing
-// survives. Input orientation is kept; r <= 0 returns the input. Throws RunError if the
-// input is not simple. Cost grows about as n^2 (some 2 s for a 1800-vertex mill ring), so
-// smooth the part that wore rather than the whole ring when that matters.
+// Morphological smoothing of a simple polygon with a disk of radius r (a regular 32-gon,
+// exact Minkowski sums): an opening (erode r, dilate r) rounds convex corners to radius r and
+// removes ridges narrower than 2r, never adding metal; then a closing (dilate r, erode r)
+// rounds concave corners and fills notches narrower than 2r. Both are idempotent: a polygon
+// smoothed once comes back unchanged (up to the removal of collinear vertices). Returns the
+// largest piece if the opening splits the polygon; cavities enclosed by the closing are
+// filled; returns an empty polygon if nothing survives. Input orientation is kept; r <= 0
+// returns the input. Throws RunError if the input is not simple.
 Polygon smooth_by_offsets(const Polygon& ring, double r);
+
+// The largest piece of the intersection of two simple polygons (exact Boolean operation), in
+// the first one's orientation; empty if they do not overlap. Throws RunError if either is not
+// simple.
+Polygon intersect_largest(const Polygon& a, const Polygon& b);
 
 }  // namespace millwear

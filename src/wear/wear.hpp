@@ -31,8 +31,10 @@ std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
                                                 bool average_rows);
 
 // Move every edge of a unit into the metal by its depth (edge depths become vertex
-// displacements along the vertex normals), re-smooth by polygon offsets with radius
-// smoothing_m, resample to the mesh and check the result is simple. Throws RunError if
+// displacements along the vertex normals), re-smooth (open and close with a disk of radius
+// smoothing_m, with the neighbouring units either side), resample to the mesh, cut back
+// whatever lies outside the unit before the update (wear never adds metal) and check the
+// result is simple. Throws RunError if
 // the worn surface is not a valid liner any more.
 LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_depth_m,
                      double radius_m, double smoothing_m, const MillMeshDef& mesh);
@@ -50,6 +52,9 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m);
 // it away without any shear work.
 constexpr double kMaxSmoothingAreaLoss = 0.05;
 constexpr double kMaxSmoothingHeightLoss = 0.05;
+// apply_wear merges points closer than this fraction of the lifter edge (mesh.lifter_edge_m):
+// the bound on how far a worn surface can stand outside the one before (rounding aside).
+constexpr double kSliverEdgeFraction = 0.01;
 
 // Throw InputError(file, "wear.smoothing_radius", ...) if re-smoothing the new lifter at the
 // scene's radius removes more than the bounds above; the message gives the largest radius
@@ -57,12 +62,12 @@ constexpr double kMaxSmoothingHeightLoss = 0.05;
 void check_smoothing_radius(const Scene& scene, const std::string& file);
 
 // Lifter area one wear update removed beyond its Archard depths (m^2): the area the
-// re-smoothing took (negative: added). Near zero while the radius is under half the
-// lifter's narrowest part; large when a worn lifter has grown a feature the smoothing cuts
-// away (a thin top) or fills (a mitred closing of an acute notch adds metal, even height).
-// `before` is the unit the depths were applied to, `after` apply_wear's result. The wear
-// loop stops when it removes over kMaxSmoothingAreaLoss of the new area, or when an update
-// raises the lifter by over kMaxSmoothingHeightLoss of its new height.
+// re-smoothing took (the corners it rounded; negative: Archard's edge strips overstate what
+// the vertex moves remove on a strongly curved lifter). Near zero while the radius is under
+// half the lifter's narrowest part; large when a worn lifter has grown a feature the
+// smoothing cuts away (a thin ridge). `before` is the unit the depths were applied to,
+// `after` apply_wear's result. The wear loop stops when it removes over
+// kMaxSmoothingAreaLoss of the new area.
 double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
                            double radius_m);
 
