@@ -59,7 +59,7 @@ TEST(Rule1, ScalingCModelAndTimeInverselyGivesTheSameProfileWithoutFeedback) {
   for (double n : {2.0, 10.0}) {
     const LinerUnit b = wear_under_load_field(unit, s.radius_m(), field, n * c, 40.0 / n, 8, 0.002, s.mill.mesh);
     ASSERT_EQ(a.surface.size(), b.surface.size());
-    // Round-off only: C*n*(t/n) differs from C*t in the last bits, and the straight-skeleton
+    // Round-off only: C*n*(t/n) differs from C*t in the last bits, and the smoothing
     // constructions (double) carry that along; 10 nm is 5e-7 of the lifter height.
     EXPECT_LT(max_distance(a.surface, b.surface), 1e-8) << "n = " << n;
   }

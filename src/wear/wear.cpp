@@ -242,12 +242,24 @@ double real_wear_rate(const Scene& scene, const MillGeometry& mill,
   return target_m_per_s / (sum / count);
 }
 
-// The unit's surface with `copies` neighbouring units either side (the liner repeats every
-// pitch; the ends are at one height, so the copies join without a step).
-Polyline periodic_surface(const Polyline& unit, double pitch, int copies) {
-  Polyline out;
+// The unit's surface continued by its neighbours' copies (the liner repeats every pitch; the
+// ends are at one height, so the copies join without a step) to `margin` beyond each end.
+Polyline periodic_surface(const Polyline& unit, double pitch, double margin) {
+  const int copies = static_cast<int>(std::ceil(margin / pitch));
+  Polyline chain;
   for (int k = -copies; k <= copies; ++k)
-    for (std::size_t i = (k == -copies ? 0 : 1); i < unit.size(); ++i) out.push_back(unit[i] + Vec2{k * pitch, 0.0});
+    for (std::size_t i = (k == -copies ? 0 : 1); i < unit.size(); ++i) chain.push_back(unit[i] + Vec2{k * pitch, 0.0});
+  // Cut where the chain first (last) crosses x_left (x_right), from the outside in.
+  const double x_left = unit.front().x - margin, x_right = unit.back().x + margin;
+  std::size_t first = 0, last = chain.size() - 1;
+  while (first + 1 < chain.size() && chain[first + 1].x <= x_left) ++first;
+  while (last > first + 1 && chain[last - 1].x >= x_right) --last;
+  auto at_x = [](Vec2 a, Vec2 b, double x) {
+    return a.x == b.x ? a : Vec2{x, a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x)};
+  };
+  Polyline out{at_x(chain[first], chain[first + 1], x_left)};
+  for (std::size_t i = first + 1; i < last; ++i) out.push_back(chain[i]);
+  out.push_back(at_x(chain[last - 1], chain[last], x_right));
   return out;
 }
 
@@ -327,12 +339,13 @@ LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_dept
   // The liner repeats every pitch, so the unit is smoothed and cut with its neighbours'
   // copies either side: its ends then see the same metal as its middle does.
   const double pitch = 2.0 * half_pitch;
-  const int copies = std::max(1, static_cast<int>(std::ceil(3.0 * smoothing_m / pitch)));
+  // The opening and closing reach 2r: 3r of the neighbours (and a bit, for r = 0) is plenty.
+  const double margin = 3.0 * smoothing_m + 0.1 * pitch;
   double y_min = y_end;
   for (const Vec2& p : moved) y_min = std::min(y_min, p.y);
   for (const Vec2& p : s) y_min = std::min(y_min, p.y);
   const double y_floor = y_min - 4.0 * smoothing_m - 0.05 * half_pitch;
-  auto metal_of = [&](const Polyline& surface) { return metal_below(periodic_surface(surface, pitch, copies), y_floor); };
+  auto metal_of = [&](const Polyline& surface) { return metal_below(periodic_surface(surface, pitch, margin), y_floor); };
   // The unit's top between its ends. Cutting leaves slivers where a chord crosses the old
   // surface near one of its vertices: clusters of points micrometres apart, edges with no
   // direction to wear along and a depth that is all noise. Points closer than a hundredth of
