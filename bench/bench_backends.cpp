@@ -7,6 +7,9 @@
 //     disk-steps per CPU second (and per wall second), simulated seconds per CPU second, the
 //     time share of broad phase, narrow phase, solve and accounting, escapes beside every
 //     figure.
+//   build/bench_backends --equal-size [seconds_measured]
+//     The soft backend with the 1k probe's disks in mills widened to hold about 1k, 3k and
+//     10k of them: cost per disk-step at equal disk size (linearity in the count).
 //   build/bench_backends --compare scene.toml [revolutions] [batches] [box2d|soft]
 //     Runs a scene on both backends and prints power, torque arm, toe and shoulder, energy
 //     shares and the lifter shear work, each with its batch-means standard error.
@@ -115,6 +118,32 @@ int speed_table(double seconds) {
       std::printf("\n");
       std::fflush(stdout);
     }
+  }
+  return 0;
+}
+
+// Linearity at equal physics per disk: the 1k probe's disks (r_min 28.7 mm) in mills 1,
+// sqrt 3 and sqrt 10 times as wide (rows in proportion, so the lifter pitch stays), about
+// 1k, 3k and 10k disks, soft backend. The fixed probe shrinks its disks to fit more, which
+// raises the speculative pairs per disk (a margin of 1.5 |v| dt against a smaller radius);
+// here each disk meets about the same neighbourhood, so the cost per disk-step shows what
+// the algorithm itself does with the count. (The shell runs faster in a wider mill at the
+// same fraction of critical: the impact speed grows as sqrt(D), which this table also shows.)
+int equal_size_table(double seconds) {
+  std::printf("Equal disk size (r_min 28.7 mm), mill 5 m x {1, sqrt 3, sqrt 10}, 75%% critical, dt 1/600 s, soft, "
+              "%.2f s measured\n", seconds);
+  std::printf("%8s %8s %14s %14s %8s %8s %8s %8s %8s\n", "mill_m", "disks", "disk-steps/s", "ns/disk-step",
+              "broad", "narrow", "solve", "account", "lost");
+  for (double k : {1.0, std::sqrt(3.0), std::sqrt(10.0)}) {
+    Scene scene = probe_scene(0.0287);
+    scene.mill.diameter_m *= k;
+    scene.mill.rows = static_cast<int>(std::lround(24 * k));
+    scene.solver.backend = Backend::Soft;
+    const Row row = measure(scene, seconds);
+    std::printf("%8.2f %8zu %14.3g %14.0f %7.0f%% %7.0f%% %7.0f%% %7.0f%% %8lld\n", scene.mill.diameter_m, row.disks,
+                row.cpu_rate, 1e9 / row.cpu_rate, 100 * row.broad, 100 * row.narrow, 100 * row.solve,
+                100 * row.account, row.escaped);
+    std::fflush(stdout);
   }
   return 0;
 }
@@ -313,5 +342,6 @@ int main(int argc, char** argv) {
   if (argc > 2 && std::strcmp(argv[1], "--compare") == 0)
     return compare(argv[2], argc > 3 ? std::atof(argv[3]) : 6.0, argc > 4 ? std::atoi(argv[4]) : 6,
                    argc > 5 ? argv[5] : nullptr);
+  if (argc > 1 && std::strcmp(argv[1], "--equal-size") == 0) return equal_size_table(argc > 2 ? std::atof(argv[2]) : 1.0);
   return speed_table(argc > 1 ? std::atof(argv[1]) : 1.0);
 }
