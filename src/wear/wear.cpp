@@ -160,18 +160,35 @@ std::vector<double> unit_edge_lengths(const LinerUnit& u, double radius_m) {
 }
 
 // archard_depths: depth rate (m per operating second) per unit edge for real C.
+// Archard's depth per unit edge, read at the mesh's resolution: an edge shorter than
+// min_length_m (a cut's sliver, a step of a rounded corner) takes the depth of the run of
+// edges around it that is min_length_m long, as one contact's work divided by a sliver's
+// length would be all noise. Longer edges keep their own. Shell edges are zero unless the
+// shell wears.
+std::vector<double> unit_depths(const LinerUnit& unit, const std::vector<double>& work_J,
+                                const std::vector<double>& len_m, double min_length_m, double thickness_m,
+                                double rate_m3_per_J, bool shell_wear) {
+  const std::size_t n = len_m.size();
+  std::vector<double> depth(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!shell_wear && !is_lifter_edge(unit, static_cast<int>(j))) continue;
+    double work = work_J[j], len = len_m[j];
+    for (std::size_t a = j, b = j; len < min_length_m && (a > 0 || b + 1 < n);) {
+      if (a > 0) { --a; work += work_J[a]; len += len_m[a]; }
+      if (len < min_length_m && b + 1 < n) { ++b; work += work_J[b]; len += len_m[b]; }
+    }
+    depth[j] = archard_depth_m(work, len, thickness_m, rate_m3_per_J);
+  }
+  return depth;
+}
+
 std::vector<std::vector<double>> depth_rates(const Scene& scene, const MillGeometry& mill,
                                              const WindowResult& w, double c_real) {
   std::vector<std::vector<double>> rates(w.unit_power_W.size());
   const double t = scene.slice_thickness();
   for (std::size_t u = 0; u < rates.size(); ++u) {
-    const auto len = unit_edge_lengths(mill.units[u], mill.radius_m);
-    rates[u].resize(len.size());
-    for (std::size_t j = 0; j < len.size(); ++j) {
-      const bool shell = !is_lifter_edge(mill.units[u], static_cast<int>(j));
-      rates[u][j] = (shell && !scene.wear.shell_wear) ? 0.0
-                    : archard_depth_m(w.unit_power_W[u][j], len[j], t, c_real);
-    }
+    rates[u] = unit_depths(mill.units[u], w.unit_power_W[u], unit_edge_lengths(mill.units[u], mill.radius_m),
+                           0.5 * scene.mill.mesh.lifter_edge_m, t, c_real, scene.wear.shell_wear);
   }
   return rates;
 }
@@ -634,14 +651,9 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
         const auto work = unit_edge_work(mill, engine->accounting().shear_work_J, scene.wear.average_rows);
         const double t = scene.slice_thickness();
         const double c_model = scene.wear.factor * c_real;
-        for (std::size_t u = 0; u < work.size(); ++u) {
-          const auto len = unit_edge_lengths(units[u], R);
-          depths[u].resize(len.size());
-          for (std::size_t j = 0; j < len.size(); ++j) {
-            const bool shell = !is_lifter_edge(units[u], static_cast<int>(j));
-            depths[u][j] = (shell && !scene.wear.shell_wear) ? 0.0 : archard_depth_m(work[u][j], len[j], t, c_model);
-          }
-        }
+        for (std::size_t u = 0; u < work.size(); ++u)
+          depths[u] = unit_depths(units[u], work[u], unit_edge_lengths(units[u], R), 0.5 * scene.mill.mesh.lifter_edge_m,
+                                  t, c_model, scene.wear.shell_wear);
         const double worst = max_of(depths);
         if (worst > 0.25 * new_metrics.height_m) {
           history.events.push_back("stage " + std::to_string(k + 1) + ": wear.factor " +
