@@ -137,10 +137,9 @@ Polyline without_loops(const Polyline& line) {
       continue;
     }
     if (!(at == out.back())) out.push_back(at);
-    // Continue from the crossing along edge `cut`.
+    // Continue from the crossing along edge `cut` (past its end if the crossing is it).
     i = cut + 1;
-    if (!(line[i] == out.back())) continue;
-    ++i;
+    if (line[i] == out.back()) ++i;
   }
   return out;
 }

@@ -34,8 +34,7 @@ std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
 // displacements along the vertex normals), re-smooth (open and close with a disk of radius
 // smoothing_m, with the neighbouring units either side), resample to the mesh, cut back
 // whatever lies outside the unit before the update (wear never adds metal) and check the
-// result is simple. Throws RunError if
-// the worn surface is not a valid liner any more.
+// result is simple. Throws RunError if the worn surface is not a valid liner any more.
 LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_depth_m,
                      double radius_m, double smoothing_m, const MillMeshDef& mesh);
 
