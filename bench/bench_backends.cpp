@@ -13,9 +13,10 @@
 //   build/bench_backends --compare scene.toml [revolutions] [batches] [box2d|soft]
 //     Runs a scene on both backends and prints power, torque arm, toe and shoulder, energy
 //     shares and the lifter shear work, each with its batch-means standard error.
-//   build/bench_backends --snapshot 1k|3k|10k FILE
+//   build/bench_backends --snapshot 1k|3k|10k|eq1k|eq3k|eq10k FILE
 //     Settles and spins up the probe scene on the soft backend and writes the charge state
-//     (exact bits) to FILE, so a profiler can start from a running mill.
+//     (exact bits) to FILE, so a profiler can start from a running mill; eq*: the
+//     --equal-size mills.
 //   build/bench_backends --run FILE steps [box2d|soft]
 //     Loads a snapshot, runs that many steps and prints a fingerprint (a hash of the final
 //     state and of the accounting sums; equal fingerprints = bit-identical results) and the
@@ -60,7 +61,17 @@ struct Row {
   std::size_t disks;
   double rate, cpu_rate, sim_per_cpu, broad, narrow, solve, account;
   long long escaped;
+  double pairs, live, liner;  // contact rows per disk-step (soft backend)
 };
+
+// Contact rows per disk-step since the timing was last reset.
+struct RowsPerDisk {
+  double pairs = 0, live = 0, liner = 0;
+};
+RowsPerDisk rows_per_disk(const Engine::Timing& tm) {
+  const double n = tm.disk_steps > 0 ? static_cast<double>(tm.disk_steps) : 1.0;
+  return {tm.pair_rows / n, tm.live_pair_rows / n, tm.liner_rows / n};
+}
 
 // settle_and_spin_up without its numerical-limit check: the 10k probe (9 mm disks at
 // 1/600 s) is past scene/limits' leak bound at the SAG impact speed, but the benchmark runs
@@ -91,9 +102,10 @@ Row measure(const Scene& scene, double seconds) {
   long long lost = 0;
   for (auto a : engine->state().active) lost += a ? 0 : 1;
   (void)escaped_before;
+  const RowsPerDisk rows = rows_per_disk(tm);
   return {engine->state().size(), tm.disk_steps / wall, tm.disk_steps / cpu,
           steps * engine->time_step_s() / cpu, tm.broad_s / wall, tm.collide_s / wall,
-          tm.solve_s / wall, tm.account_s / wall, lost};
+          tm.solve_s / wall, tm.account_s / wall, lost, rows.pairs, rows.live, rows.liner};
 }
 
 int speed_table(double seconds) {
@@ -129,21 +141,35 @@ int speed_table(double seconds) {
 // here each disk meets about the same neighbourhood, so the cost per disk-step shows what
 // the algorithm itself does with the count. (The shell runs faster in a wider mill at the
 // same fraction of critical: the impact speed grows as sqrt(D), which this table also shows.)
+Scene equal_size_scene(double k) {
+  Scene scene = probe_scene(0.0287);
+  scene.mill.diameter_m *= k;
+  scene.mill.rows = static_cast<int>(std::lround(24 * k));
+  scene.solver.backend = Backend::Soft;
+  return scene;
+}
+
 int equal_size_table(double seconds) {
   std::printf("Equal disk size (r_min 28.7 mm), mill 5 m x {1, sqrt 3, sqrt 10}, 75%% critical, dt 1/600 s, soft, "
               "%.2f s measured\n", seconds);
-  std::printf("%8s %8s %14s %14s %8s %8s %8s %8s %8s\n", "mill_m", "disks", "disk-steps/s", "ns/disk-step",
-              "broad", "narrow", "solve", "account", "lost");
-  for (double k : {1.0, std::sqrt(3.0), std::sqrt(10.0)}) {
-    Scene scene = probe_scene(0.0287);
-    scene.mill.diameter_m *= k;
-    scene.mill.rows = static_cast<int>(std::lround(24 * k));
-    scene.solver.backend = Backend::Soft;
-    const Row row = measure(scene, seconds);
-    std::printf("%8.2f %8zu %14.3g %14.0f %7.0f%% %7.0f%% %7.0f%% %7.0f%% %8lld\n", scene.mill.diameter_m, row.disks,
-                row.cpu_rate, 1e9 / row.cpu_rate, 100 * row.broad, 100 * row.narrow, 100 * row.solve,
-                100 * row.account, row.escaped);
-    std::fflush(stdout);
+  std::printf("rows per disk-step: candidate pairs, pairs carrying an impulse (live), liner rows\n");
+  std::printf("%8s %8s %14s %14s %8s %8s %8s %8s %8s %7s %7s %7s\n", "mill_m", "disks", "disk-steps/s",
+              "ns/disk-step", "broad", "narrow", "solve", "account", "lost", "pairs", "live", "liner");
+  // Turning, the wider mill's charge has more disks in the bed and fewer in flight, so more
+  // contacts per disk; at rest every disk is in the bed and the contacts per disk barely
+  // change with the count: the algorithm's own scaling.
+  for (const bool turning : {true, false}) {
+    std::printf("%s\n", turning ? "turning at 75% critical:" : "at rest (speed 0, the settled bed):");
+    for (double k : {1.0, std::sqrt(3.0), std::sqrt(10.0)}) {
+      Scene scene = equal_size_scene(k);
+      if (!turning) scene.mill.speed_fraction_critical = 0.0;
+      const Row row = measure(scene, seconds);
+      std::printf("%8.2f %8zu %14.3g %14.0f %7.0f%% %7.0f%% %7.0f%% %7.0f%% %8lld %7.2f %7.2f %7.2f\n",
+                  scene.mill.diameter_m, row.disks, row.cpu_rate, 1e9 / row.cpu_rate, 100 * row.broad,
+                  100 * row.narrow, 100 * row.solve, 100 * row.account, row.escaped, row.pairs, row.live,
+                  row.liner);
+      std::fflush(stdout);
+    }
   }
   return 0;
 }
@@ -234,12 +260,25 @@ int compare(const std::string& path, double revolutions, int batches, const char
   return 0;
 }
 
-double probe_radius(const std::string& size) {
-  if (size == "1k") return 0.0287;
-  if (size == "3k") return 0.0166;
-  if (size == "10k") return 0.0091;
-  std::fprintf(stderr, "size must be 1k, 3k or 10k\n");
+// A snapshot's scene: the probe at one of its sizes, or (eq*) the 1k probe's disks in a mill
+// widened by mill_scale (equal_size_scene). Both numbers are stored in the snapshot.
+struct SnapshotScene {
+  double radius_m = 0.0287, mill_scale = 1.0;
+};
+SnapshotScene snapshot_scene(const std::string& size) {
+  if (size == "1k") return {0.0287, 1.0};
+  if (size == "3k") return {0.0166, 1.0};
+  if (size == "10k") return {0.0091, 1.0};
+  if (size == "eq1k") return {0.0287, 1.0};
+  if (size == "eq3k") return {0.0287, std::sqrt(3.0)};
+  if (size == "eq10k") return {0.0287, std::sqrt(10.0)};
+  std::fprintf(stderr, "size must be 1k, 3k, 10k, eq1k, eq3k or eq10k\n");
   std::exit(2);
+}
+Scene scene_of(const SnapshotScene& at) {
+  Scene scene = at.mill_scale == 1.0 ? probe_scene(at.radius_m) : equal_size_scene(at.mill_scale);
+  scene.solver.backend = Backend::Soft;
+  return scene;
 }
 
 template <class T>
@@ -257,16 +296,16 @@ bool get(std::FILE* f, std::vector<T>& v) {
 }
 
 int snapshot(const std::string& size, const std::string& path) {
-  const double r = probe_radius(size);
-  Scene scene = probe_scene(r);
-  scene.solver.backend = Backend::Soft;
+  const SnapshotScene at = snapshot_scene(size);
+  const Scene scene = scene_of(at);
   const MillGeometry mill = build_scene_mill(scene);
   auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
   settle_unchecked(*engine, scene);
   const ChargeState& s = engine->state();
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) { std::perror(path.c_str()); return 1; }
-  std::fwrite(&r, sizeof r, 1, f);
+  std::fwrite(&at.radius_m, sizeof(double), 1, f);
+  std::fwrite(&at.mill_scale, sizeof(double), 1, f);
   std::fwrite(&s.mill_angle_rad, sizeof(double), 1, f);
   std::fwrite(&s.mill_speed_rad_s, sizeof(double), 1, f);
   std::fwrite(&s.time_s, sizeof(double), 1, f);
@@ -292,16 +331,17 @@ struct Fnv {
 int run_snapshot(const std::string& path, int steps, const char* backend) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) { std::perror(path.c_str()); return 1; }
-  double r = 0;
+  SnapshotScene at;
   ChargeState s;
-  bool ok = std::fread(&r, sizeof r, 1, f) == 1 && std::fread(&s.mill_angle_rad, sizeof(double), 1, f) == 1 &&
+  bool ok = std::fread(&at.radius_m, sizeof(double), 1, f) == 1 &&
+            std::fread(&at.mill_scale, sizeof(double), 1, f) == 1 && std::fread(&s.mill_angle_rad, sizeof(double), 1, f) == 1 &&
             std::fread(&s.mill_speed_rad_s, sizeof(double), 1, f) == 1 &&
             std::fread(&s.time_s, sizeof(double), 1, f) == 1;
   ok = ok && get(f, s.position_m) && get(f, s.velocity_m_s) && get(f, s.angle_rad) && get(f, s.spin_rad_s) &&
        get(f, s.radius_m) && get(f, s.mass_kg) && get(f, s.species) && get(f, s.active);
   std::fclose(f);
   if (!ok) { std::fprintf(stderr, "%s: not a snapshot\n", path.c_str()); return 1; }
-  Scene scene = probe_scene(r);
+  Scene scene = scene_of(at);
   scene.solver.backend = backend && std::strcmp(backend, "box2d") == 0 ? Backend::Box2D : Backend::Soft;
   const MillGeometry mill = build_scene_mill(scene);
   auto engine = make_engine(scene, mill, s, accounting_options_for(scene));
@@ -330,6 +370,9 @@ int run_snapshot(const std::string& path, int steps, const char* backend) {
               static_cast<unsigned long long>(ha.h), tm.disk_steps / cpu, tm.disk_steps / wall,
               100 * tm.broad_s / wall,
               100 * tm.collide_s / wall, 100 * tm.solve_s / wall, 100 * tm.account_s / wall);
+  const RowsPerDisk rows = rows_per_disk(tm);
+  std::printf("  rows per disk-step: %.2f candidate pairs, %.2f live pairs, %.2f liner\n", rows.pairs, rows.live,
+              rows.liner);
   return 0;
 }
 

@@ -46,6 +46,10 @@ class Engine {
     double collide_s = 0, solve_s = 0, account_s = 0;
     std::int64_t disk_steps = 0;
     double broad_s = 0;
+    // Contact rows summed over steps (soft backend; the library leaves them 0): every
+    // candidate disk pair, the pairs carrying an impulse into the step, the liner rows.
+    // Per disk-step they tell whether a cost per disk-step grows with the work or without it.
+    std::int64_t pair_rows = 0, live_pair_rows = 0, liner_rows = 0;
   };
   const Timing& timing() const { return timing_; }
 

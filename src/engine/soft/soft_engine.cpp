@@ -309,6 +309,7 @@ class SoftEngine final : public Engine {
   std::size_t rest_n_ = 0;
   std::vector<int> warm_rows_;
   std::size_t warm_n_ = 0;
+  std::size_t live_rows_ = 0;  // pair rows carrying an impulse into this step (timing only)
   std::vector<Candidate> cand_;   // grid order
   std::vector<std::uint64_t> pair_keys_;  // pairs as found (key: lower << 32 | upper)
   std::vector<int> pair_first_, pair_upper_;  // the pairs bucketed by lower index
@@ -758,6 +759,7 @@ void SoftEngine::colour_live_rows() {
     }
     rest_[rest_n_++] = qi;
   }
+  live_rows_ = m - rest_n_ + warm_n_;  // coloured + live ones left serial
   coloured_.layout();
   load_lanes();
 }
@@ -1279,6 +1281,9 @@ void SoftEngine::step_once() {
   const auto t_solve = Clock::now();
   timing_.solve_s += std::chrono::duration<double>(t_solve - t_narrow).count();
   timing_.disk_steps += n_;
+  timing_.pair_rows += static_cast<std::int64_t>(pp_.size());
+  timing_.live_pair_rows += static_cast<std::int64_t>(live_rows_);
+  timing_.liner_rows += static_cast<std::int64_t>(pl_.size());
 
   // 5. Finish.
   finish();
