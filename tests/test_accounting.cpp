@@ -41,6 +41,57 @@ TEST(Accounting, LinerContactGivesShearWorkImpactEnergyAndTorque) {
   EXPECT_EQ(acc.contacts[2], 1u);
 }
 
+// One step of a 1 rad/s mill (a revolution is 2 pi s) in steps of 0.1 s, with disk 0 on
+// the liner when `touching`.
+void liner_step(Accounting& acc, bool touching, double omega = 1.0) {
+  if (touching) account_contact(acc, liner_contact(), omega, false);
+  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1, 9.81);
+}
+
+TEST(Accounting, ADiskOnTheLinerForOverARevolutionIsPackedAndItsShearWorkIsCounted) {
+  Accounting acc;
+  acc.options.charge_shape = false;
+  reset_accounting(acc, 4);
+  // Steps 0..62 end at 6.3 s, but the run began at step 0: 6.2 s of contact < 2 pi.
+  for (int k = 0; k < 63; ++k) liner_step(acc, true);
+  EXPECT_EQ(acc.packed_shear_work_J, 0.0);
+  EXPECT_EQ(acc.packed_disk_steps, 0);
+  // Step 63: 6.3 s > 2 pi since its run began. The disk touches two edges in it: both
+  // contacts' work counts, the disk-step once.
+  account_contact(acc, liner_contact(), 1.0, false);
+  EXPECT_DOUBLE_EQ(acc.packed_shear_work_J, 0.1);
+  account_contact(acc, liner_contact(), 1.0, false);
+  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1, 9.81);
+  EXPECT_DOUBLE_EQ(acc.packed_shear_work_J, 0.2);
+  EXPECT_EQ(acc.packed_disk_steps, 1);
+  const ChargeSummary s = summarize(acc, 1.0, 9.81);
+  EXPECT_NEAR(s.packed_shear_share, 0.2 / (0.1 * 65), 1e-12);
+  EXPECT_DOUBLE_EQ(s.mean_packed_disks, 1.0 / 64);
+}
+
+TEST(Accounting, APackedRunSurvivesTheWindowResetAndEndsWhenTheDiskLeavesTheLiner) {
+  Accounting acc;
+  acc.options.charge_shape = false;
+  reset_accounting(acc, 4);
+  for (int k = 0; k < 40; ++k) liner_step(acc, true);
+  reset_accounting(acc, 4);  // a new window: the disk's run of contact goes on
+  for (int k = 0; k < 24; ++k) liner_step(acc, true);
+  EXPECT_GT(acc.packed_shear_work_J, 0.0);
+  liner_step(acc, false);  // one step off the liner ends the run
+  const double before = acc.packed_shear_work_J;
+  for (int k = 0; k < 60; ++k) liner_step(acc, true);
+  EXPECT_EQ(acc.packed_shear_work_J, before);
+}
+
+TEST(Accounting, NothingIsPackedInAMillAtRest) {
+  Accounting acc;
+  acc.options.charge_shape = false;
+  reset_accounting(acc, 4);
+  for (int k = 0; k < 200; ++k) liner_step(acc, true, 0.0);
+  EXPECT_EQ(acc.packed_shear_work_J, 0.0);
+  EXPECT_EQ(acc.packed_disk_steps, 0);
+}
+
 TEST(Accounting, ShellWorkIsSkippedWhenNotAskedFor) {
   Accounting acc;
   acc.options.shell_work = false;

@@ -42,7 +42,7 @@ bool has_magic(const fs::path& p, const std::string& magic) {
 const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct",
                                 "height_mm", "power_kw", "power_norm", "collision_kw",
                                 "collision_norm", "utilization", "utilization_norm", "life_h",
-                                "life_extrapolated"};
+                                "life_extrapolated", "packed_shear_pct"};
 
 }  // namespace
 
@@ -119,6 +119,10 @@ TEST_F(AppRun, SummaryParsesWithTheNamedColumns) {
   // utilization = collision / power (both kW per mill); 10 significant digits written.
   const auto u = s.numbers("utilization"), c = s.numbers("collision_kw"), p = s.numbers("power_kw");
   for (std::size_t r = 0; r < s.row_count(); ++r) EXPECT_NEAR(u[r], c[r] / p[r], 1e-8 * std::fabs(u[r]));
+  for (double pct : s.numbers("packed_shear_pct")) {
+    EXPECT_GE(pct, 0.0);
+    EXPECT_LE(pct, 100.0);
+  }
 }
 
 TEST_F(AppRun, ReferenceNewStageNormalisedValuesAreOne) {

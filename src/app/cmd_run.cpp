@@ -347,7 +347,7 @@ void write_summary(RunContext& ctx) {
   const auto& designs = ctx.plan.designs;
   io::CsvTable t({"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
                   "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
-                  "utilization_norm", "life_h", "life_extrapolated"});
+                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct"});
   // The reference design's new stage normalises every *_norm column.
   double ref_area = std::nan(""), ref_power = std::nan(""), ref_coll = std::nan(""), ref_util = std::nan("");
   for (std::size_t i = 0; i < designs.size(); ++i) {
@@ -376,7 +376,7 @@ void write_summary(RunContext& ctx) {
       const double util = power != 0.0 ? coll / power : std::nan("");
       t.add_row({designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
                  r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
-                 util / ref_util, life_h, extrapolated});
+                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share});
     }
   }
   t.write(io::summary_path(ctx.args.out));

@@ -55,6 +55,8 @@ std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
       {"summary.toe_deg", &s.toe_deg},
       {"summary.shoulder_deg", &s.shoulder_deg},
       {"summary.shear_work_rate_W", &s.shear_work_rate_W},
+      {"summary.packed_shear_share", &s.packed_shear_share},
+      {"summary.mean_packed_disks", &s.mean_packed_disks},
       {"area_loss_rate_mm2_per_h", &r.area_loss_rate_mm2_per_h},
       {"area_loss_rate_rel_sem", &r.area_loss_rate_rel_sem},
       {"mill_angle_rad", &r.mill_angle_rad},

@@ -12,8 +12,10 @@ namespace millwear {
 void reset_accounting(Accounting& acc, std::size_t edge_count) {
   AccountingOptions opts = acc.options;
   std::vector<ContactRecord> log = std::move(acc.contact_log);
+  LinerStreaks streaks = std::move(acc.streaks);
   acc = Accounting{};
   acc.options = opts;
+  acc.streaks = std::move(streaks);
   if (opts.contact_log) {
     log.clear();
     log.reserve(opts.contact_log_limit);
@@ -25,6 +27,33 @@ void reset_accounting(Accounting& acc, std::size_t edge_count) {
     acc.contacts.assign(edge_count, 0u);
   }
 }
+
+namespace {
+
+// Books disk id's liner contact in this step into its streak; true when the disk has been
+// in liner contact at every step for more than one revolution. A disk's first liner
+// contact of a step counts one packed disk-step. The arrays grow only when a larger id
+// first touches the liner.
+bool liner_contact_packed(LinerStreaks& st, int id, double mill_speed_rad_s, std::int64_t& packed_disk_steps) {
+  if (id < 0) return false;
+  const auto k = static_cast<std::size_t>(id);
+  if (k >= st.last_step.size()) {
+    st.last_step.resize(k + 1, -2);
+    st.since_s.resize(k + 1, 0.0);
+  }
+  const bool first_this_step = st.last_step[k] != st.step;
+  if (first_this_step) {
+    if (st.last_step[k] != st.step - 1) st.since_s[k] = st.clock_s;
+    st.last_step[k] = st.step;
+  }
+  constexpr double kTwoPi = 6.28318530717958647692;
+  const double omega = std::fabs(mill_speed_rad_s);
+  const bool packed = omega > 0.0 && (st.clock_s - st.since_s[k]) * omega > kTwoPi;
+  if (packed && first_this_step) packed_disk_steps += 1;
+  return packed;
+}
+
+}  // namespace
 
 void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_rad_s,
                      bool edge_is_shell) {
@@ -39,6 +68,7 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
   }
   acc.pl_normal_J += normal_loss;
   acc.pl_tangent_J += tangent_loss;
+  const bool packed = liner_contact_packed(acc.streaks, c.a, mill_speed_rad_s, acc.packed_disk_steps);
   if (acc.options.contact_log) {
     if (acc.contact_log.size() < acc.options.contact_log_limit) {
       acc.contact_log.push_back(c);
@@ -58,7 +88,9 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
     // Archard's dw: friction force times slip distance. Positions advance with the
     // post-solve velocity, so the distance slid in the step is vt_after * dt; a sticking
     // contact (vt_after = 0) does no shear work even though gravity moved it in between.
-    acc.shear_work_J[e] += std::fabs(c.tangent_impulse * c.vt_after);
+    const double shear = std::fabs(c.tangent_impulse * c.vt_after);
+    if (packed) acc.packed_shear_work_J += shear;
+    if (!packed || acc.options.packed_wear) acc.shear_work_J[e] += shear;
     acc.impact_energy_J[e] += normal_loss;
     acc.contacts[e] += 1u;
   }
@@ -85,6 +117,8 @@ void account_step(Accounting& acc, const ChargeState& s, double dt_s, double rad
                   double band_m, double gravity_m_s2) {
   acc.time_s += dt_s;
   acc.steps += 1;
+  acc.streaks.step += 1;
+  acc.streaks.clock_s += dt_s;
   if (!acc.options.charge_shape) return;
   double mass = 0.0;
   Vec2 moment;
@@ -149,7 +183,10 @@ ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double g
   s.kinetic_change_W = ((acc.kinetic_J_end - acc.kinetic_J_start) +
                         (acc.potential_J_end - acc.potential_J_start)) / t;
   for (double w : acc.shear_work_J) s.shear_work_rate_W += w;
+  const double slip_J = s.shear_work_rate_W + (acc.options.packed_wear ? 0.0 : acc.packed_shear_work_J);
+  if (slip_J > 0.0) s.packed_shear_share = acc.packed_shear_work_J / slip_J;
   s.shear_work_rate_W /= t;
+  if (acc.steps > 0) s.mean_packed_disks = static_cast<double>(acc.packed_disk_steps) / acc.steps;
   if (acc.mass_time_kg_s > 0.0) {
     s.mass_kg = acc.mass_time_kg_s / acc.shape_samples;
     s.centre_of_mass_m = acc.moment_time_kg_m_s / acc.mass_time_kg_s;

@@ -32,6 +32,7 @@ struct AccountingOptions {
   bool collision_spectrum = false;  // log-binned energy per collision event
   bool charge_shape = true;         // centre of mass, toe and shoulder
   bool contact_log = false;         // keep every liner contact record (bounded, see below)
+  bool packed_wear = false;         // packed disks' slip goes into shear_work_J too
   std::size_t contact_log_limit = 200000;  // records kept per window at most
 };
 
@@ -40,12 +41,23 @@ constexpr double kSpectrumMinJ = 1e-8;
 constexpr double kSpectrumBinsPerDecade = 3.33333333333333;
 constexpr int kShapeAngleBins = 72;        // 5 deg bins around the mill for toe/shoulder
 
+// Unbroken runs of liner contact per disk id, kept across windows: a disk that touches the
+// liner at every step for more than one revolution rides round with the mill (packed
+// between lifters, or centrifuged), which no disk of a cascading or cataracting charge does.
+struct LinerStreaks {
+  std::vector<std::int64_t> last_step;  // global step of the disk's last liner contact
+  std::vector<double> since_s;          // global time its present run of contact began
+  std::int64_t step = 0;                // global step and time (not reset with the window)
+  double clock_s = 0.0;
+};
+
 struct Accounting {
   AccountingOptions options;
   double time_s = 0.0;       // simulated time accumulated
   std::int64_t steps = 0;
   // Liner, per mill boundary edge.
   std::vector<double> shear_work_J;      // sum |Pt * vt_after| (friction times slip): the Archard dw
+                                         // (without packed disks' unless options.packed_wear)
   std::vector<double> impact_energy_J;   // normal energy dissipated at the edge
   std::vector<std::uint32_t> contacts;   // contact-steps
   // Mill drive.
@@ -70,6 +82,12 @@ struct Accounting {
   // logging does not allocate per contact).
   std::vector<ContactRecord> contact_log;
   double contact_log_time_s = 0.0;     // window time when the log filled up (0: not full)
+  // Packing: liner shear work booked by disks in liner contact for over a revolution (a
+  // jam's work, whose size follows the contact stiffness: docs/tradeoff-default-comparison.md),
+  // and disk-steps spent so.
+  LinerStreaks streaks;
+  double packed_shear_work_J = 0.0;
+  std::int64_t packed_disk_steps = 0;
   std::int64_t escaped = 0;            // disks lost through the liner (reported, never silent)
   std::int64_t non_finite = 0;         // disks whose state went NaN/inf
 };
@@ -105,6 +123,8 @@ struct ChargeSummary {
   double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side
   double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
   double shear_work_rate_W = 0.0;       // total on the liner
+  double packed_shear_share = 0.0;      // of all liner slip work (packed included), packed disks'
+  double mean_packed_disks = 0.0;       // disks riding the liner for over a revolution
   std::int64_t escaped = 0;
   std::int64_t non_finite = 0;
 };

@@ -21,6 +21,7 @@ AccountingOptions accounting_options_for(const Scene& scene) {
   o.collision_spectrum = scene.outputs.collision_spectrum;
   o.charge_shape = true;
   o.contact_log = scene.outputs.contact_log;
+  o.packed_wear = scene.wear.packed_wear;
   return o;
 }
 

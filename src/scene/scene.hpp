@@ -95,6 +95,11 @@ struct WearDef {
   double smoothing_radius_m = 0.0;        // 0: smallest particle radius
   bool average_rows = true;
   bool shell_wear = true;
+  // Slip of disks packed against the liner (in contact for over a revolution) counts as
+  // Archard shear work. Off: packed material rides with the liner and shields it, and the
+  // disk's slip in a jam is its spin in place, whose size follows the soft contacts'
+  // stiffness (README "Numerical limits").
+  bool packed_wear = false;
   double replacement_height_m = 0.05;     // lifter life ends below this height
   double target_rel_uncertainty = 0.0;    // rule 2: extend window until under (0: off)
 };

@@ -109,6 +109,8 @@ void add_into(Accounting& total, const Accounting& part) {
   total.moment_time_kg_m_s += part.moment_time_kg_m_s;
   for (int k = 0; k < kShapeAngleBins; ++k) total.shell_band_occupancy[k] += part.shell_band_occupancy[k];
   total.shape_samples += part.shape_samples;
+  total.packed_shear_work_J += part.packed_shear_work_J;
+  total.packed_disk_steps += part.packed_disk_steps;
   total.escaped += part.escaped;
   total.non_finite += part.non_finite;
 }
