@@ -156,6 +156,32 @@ TEST_P(EngineTest, PowerInEqualsEnergyDissipated) {
   EXPECT_LT(std::fabs(s.solver_dissipation_W), 0.05 * s.power_W);
 }
 
+// Packing (README "Numerical limits"): past critical speed the outer layer rides round with
+// the shell, every disk of it in liner contact for over a revolution; at 75% of critical the
+// charge cascades and cataracts and no disk stays. A packed disk's slip is kept out of the
+// Archard shear work unless wear.packed_wear asks for it: the same run with it on books
+// exactly the packed slip more.
+TEST_P(EngineTest, ACentrifugingMillPacksItsOuterLayerAndItsSlipIsNotWear) {
+  Scene scene = with_backend(testing::lab_mill());
+  scene.mill.speed_fraction_critical = 1.6;
+  scene.run.revolutions = 2.0;
+  const ChargeRunResult off = run_charge_only(scene);
+  scene.wear.packed_wear = true;
+  const ChargeRunResult on = run_charge_only(scene);
+  const ChargeSummary& s = off.figures.summary;
+  EXPECT_GT(s.mean_packed_disks, 0.1 * static_cast<double>(off.disks)) << off.disks << " disks";
+  EXPECT_GT(s.packed_shear_share, 0.0);
+  EXPECT_EQ(s.mean_packed_disks, on.figures.summary.mean_packed_disks);  // same run
+  double sum_off = 0.0, sum_on = 0.0;
+  for (double w : off.accounting.shear_work_J) sum_off += w;
+  for (double w : on.accounting.shear_work_J) sum_on += w;
+  EXPECT_NEAR(sum_on, sum_off + off.accounting.packed_shear_work_J, 1e-9 * sum_on);
+
+  const ChargeSummary& cascading = lab_run(backend()).figures.summary;
+  EXPECT_LT(cascading.mean_packed_disks, 0.01 * static_cast<double>(off.disks));
+  EXPECT_LT(cascading.packed_shear_share, 0.01);
+}
+
 TEST_P(EngineTest, SameSceneAndSeedGiveBitIdenticalResults) {
   Scene scene = with_backend(testing::lab_mill());
   scene.run.revolutions = 0.5;
