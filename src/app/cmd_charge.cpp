@@ -54,7 +54,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "shoulder_angle," << fmt(s.shoulder_deg) << ",deg from 6 o'clock (+ rising side)\n"
       << "charge_mass_per_m," << fmt(s.mass_kg / t) << ",kg/m\n"
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
-      << "packed_shear_share," << fmt(s.packed_shear_share) << ",of the liner shear work\n"
+      << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
       << "escaped_disks," << s.escaped << ",\n"
       << "disk_steps_per_s," << fmt(r.window_wall_s > 0 ? r.disk_steps / r.window_wall_s : 0.0) << ",1/s\n"
       << "time_collide," << fmt(r.timing.collide_s) << ",s\n"
@@ -133,9 +133,9 @@ int run_charge(const ChargeArgs& args) {
   std::printf("  toe %.0f deg, shoulder %.0f deg (from 6 o'clock, + on the rising side)\n",
               f.summary.toe_deg, f.summary.shoulder_deg);
   if (f.summary.mean_packed_disks > 0.0)
-    std::printf("  packed: %.1f disks on average rode the liner for over a revolution and booked %.1f%% of\n"
-                "          the liner shear work (jams between lifters; their work follows the contact\n"
-                "          stiffness, README \"Speed against accuracy\")\n",
+    std::printf("  packed: %.1f disks on average rode the liner for over a revolution; their slip, %.1f%%\n"
+                "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"
+                "          (README \"Numerical limits\")\n",
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
   std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
               args.out.c_str());

@@ -34,14 +34,13 @@
 //   library backend has no substeps (1/200 s would be refused there: at most about 1/245 s),
 //   so a scene on it gets the preset's box2d_time_step_s, the steps the presets had before. A scene
 //   with much smaller particles must set solver.time_step itself.
-// - standard's time step: on the default comparison's ladder (session 3) 1/200 s was on the
-//   front and 1/400 s was not (30% more CPU, no closer to the reference: both within the
-//   reference's own seed-to-seed scatter); it brings the comparison to about 30 s on 2 cores.
-//   Draft takes the same step (its error is its mesh's).
-// - mesh: on the default comparison (README "Speed against accuracy") the lifter mesh is the
-//   one knob that moves the result: 20 mm lifter edges lose 25-30% more area over 3000 h
-//   than 10 mm edges, 5 mm edges another 2% less. Standard therefore shares the reference's
-//   mesh; every other knob changed the profile by no more than the run-to-run scatter.
+// - standard's time step: on the default comparison's ladder (session 5, README "Speed
+//   against accuracy") standard is 1.5% of the lifter height from the reference (noise floor
+//   0.5%) at 17x its speed; 1/400 s is 1.2% at 11x, 1/1000 s 1.2% at 5x. 1/200 s keeps the
+//   comparison within the 30 s budget on 2 cores. Draft takes the same step (2.1% at 35x).
+// - mesh: 60/30 mm edges are 1.7% from the reference, 10/5 mm 3.1% (finer edges follow
+//   more of the noise of one window, not investigated further); standard shares the
+//   reference's 20/10 mm.
 // - backend: the soft solver is the default of every preset since issue 11 measured it
 //   (README "Soft backend"); a scene that names solver.backend keeps it.
 // - measured: `millwear tradeoff` runs every preset and one knob at a time against
