@@ -42,7 +42,8 @@ TEST(Accounting, LinerContactGivesShearWorkImpactEnergyAndTorque) {
 }
 
 // One step of a 1 rad/s mill (a revolution is 2 pi s) in steps of 0.1 s, with disk 0 on
-// the liner when `touching`.
+// the liner when `touching`. The state's mill angle stays 0, so the contact point stays put
+// in the mill frame: the disk rides with the liner.
 void liner_step(Accounting& acc, bool touching, double omega = 1.0) {
   if (touching) account_contact(acc, liner_contact(), omega, false);
   account_step(acc, ChargeState{}, 0.1, 1.0, 0.1, 9.81);
@@ -81,6 +82,24 @@ TEST(Accounting, APackedRunSurvivesTheWindowResetAndEndsWhenTheDiskLeavesTheLine
   const double before = acc.packed_shear_work_J;
   for (int k = 0; k < 60; ++k) liner_step(acc, true);
   EXPECT_EQ(acc.packed_shear_work_J, before);
+}
+
+TEST(Accounting, ADiskSlidingOnTheTurningShellIsNotPacked) {
+  // The contact stays at the bottom of the world while the mill turns under it (a slumping
+  // charge's bottom layer): in the mill frame it sweeps round, so its run of contact keeps
+  // starting again, and its slip is wear.
+  Accounting acc;
+  acc.options.charge_shape = false;
+  reset_accounting(acc, 4);
+  ChargeState turning;
+  for (int k = 0; k < 200; ++k) {  // 20 s: over three revolutions
+    account_contact(acc, liner_contact(), 1.0, false);
+    turning.mill_angle_rad += 0.1;
+    account_step(acc, turning, 0.1, 1.0, 0.1, 9.81);
+  }
+  EXPECT_EQ(acc.packed_shear_work_J, 0.0);
+  EXPECT_EQ(acc.packed_disk_steps, 0);
+  EXPECT_DOUBLE_EQ(acc.shear_work_J[2], 200 * 0.1);
 }
 
 TEST(Accounting, NothingIsPackedInAMillAtRest) {

@@ -30,20 +30,32 @@ void reset_accounting(Accounting& acc, std::size_t edge_count) {
 
 namespace {
 
-// Books disk id's liner contact in this step into its streak; true when the disk has been
-// in liner contact at every step for more than one revolution. A disk's first liner
+// Books disk id's liner contact at point_m (world) in this step into its streak; true when
+// the disk has been in liner contact at every step for more than one revolution with the
+// contact within 45 deg of where the run began, in the mill frame. A disk's first liner
 // contact of a step counts one packed disk-step. The arrays grow only when a larger id
 // first touches the liner.
-bool liner_contact_packed(LinerStreaks& st, int id, double mill_speed_rad_s, std::int64_t& packed_disk_steps) {
+bool liner_contact_packed(LinerStreaks& st, int id, Vec2 point_m, double mill_speed_rad_s,
+                          std::int64_t& packed_disk_steps) {
   if (id < 0) return false;
   const auto k = static_cast<std::size_t>(id);
   if (k >= st.last_step.size()) {
     st.last_step.resize(k + 1, -2);
     st.since_s.resize(k + 1, 0.0);
+    st.since_dir.resize(k + 1, Vec2{});
   }
   const bool first_this_step = st.last_step[k] != st.step;
   if (first_this_step) {
-    if (st.last_step[k] != st.step - 1) st.since_s[k] = st.clock_s;
+    // The contact's direction from the axis in the mill frame.
+    const double len = length(point_m);
+    const Vec2 dir = len > 0.0 ? Vec2{(st.cos_mill * point_m.x + st.sin_mill * point_m.y) / len,
+                                      (-st.sin_mill * point_m.x + st.cos_mill * point_m.y) / len}
+                               : Vec2{};
+    constexpr double kCos45 = 0.70710678118654752;
+    if (st.last_step[k] != st.step - 1 || dot(dir, st.since_dir[k]) < kCos45) {
+      st.since_s[k] = st.clock_s;
+      st.since_dir[k] = dir;
+    }
     st.last_step[k] = st.step;
   }
   constexpr double kTwoPi = 6.28318530717958647692;
@@ -68,7 +80,7 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
   }
   acc.pl_normal_J += normal_loss;
   acc.pl_tangent_J += tangent_loss;
-  const bool packed = liner_contact_packed(acc.streaks, c.a, mill_speed_rad_s, acc.packed_disk_steps);
+  const bool packed = liner_contact_packed(acc.streaks, c.a, c.point_m, mill_speed_rad_s, acc.packed_disk_steps);
   if (acc.options.contact_log) {
     if (acc.contact_log.size() < acc.options.contact_log_limit) {
       acc.contact_log.push_back(c);
@@ -119,6 +131,9 @@ void account_step(Accounting& acc, const ChargeState& s, double dt_s, double rad
   acc.steps += 1;
   acc.streaks.step += 1;
   acc.streaks.clock_s += dt_s;
+  // The engine has turned the mill for this step: the next step's contacts start here.
+  acc.streaks.cos_mill = std::cos(s.mill_angle_rad);
+  acc.streaks.sin_mill = std::sin(s.mill_angle_rad);
   if (!acc.options.charge_shape) return;
   double mass = 0.0;
   Vec2 moment;

@@ -42,13 +42,18 @@ constexpr double kSpectrumBinsPerDecade = 3.33333333333333;
 constexpr int kShapeAngleBins = 72;        // 5 deg bins around the mill for toe/shoulder
 
 // Unbroken runs of liner contact per disk id, kept across windows: a disk that touches the
-// liner at every step for more than one revolution rides round with the mill (packed
-// between lifters, or centrifuged), which no disk of a cascading or cataracting charge does.
+// liner at every step for more than one revolution, its contact staying within 45 deg of
+// where the run began in the mill frame, rides round with the mill (packed between lifters,
+// or centrifuged), which no disk of a cascading or cataracting charge does. (A disk that
+// slides on the shell under a slumping charge touches it all along too, but the shell moves
+// under it: its contact sweeps round the mill frame and its run starts again.)
 struct LinerStreaks {
   std::vector<std::int64_t> last_step;  // global step of the disk's last liner contact
   std::vector<double> since_s;          // global time its present run of contact began
+  std::vector<Vec2> since_dir;          // mill-frame direction of its contact then (unit)
   std::int64_t step = 0;                // global step and time (not reset with the window)
   double clock_s = 0.0;
+  double cos_mill = 1.0, sin_mill = 0.0;  // mill angle at the step's start (world -> mill)
 };
 
 struct Accounting {
