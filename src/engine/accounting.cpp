@@ -46,11 +46,9 @@ bool liner_contact_packed(LinerStreaks& st, int id, Vec2 point_m, double mill_sp
   }
   const bool first_this_step = st.last_step[k] != st.step;
   if (first_this_step) {
-    // The contact's direction from the axis in the mill frame.
-    const double len = length(point_m);
-    const Vec2 dir = len > 0.0 ? Vec2{(st.cos_mill * point_m.x + st.sin_mill * point_m.y) / len,
-                                      (-st.sin_mill * point_m.x + st.cos_mill * point_m.y) / len}
-                               : Vec2{};
+    // The contact's direction from the axis in the mill frame (cos/sin kept per step).
+    const Vec2 dir = normalized({st.cos_mill * point_m.x + st.sin_mill * point_m.y,
+                                 -st.sin_mill * point_m.x + st.cos_mill * point_m.y});
     constexpr double kCos45 = 0.70710678118654752;
     if (st.last_step[k] != st.step - 1 || dot(dir, st.since_dir[k]) < kCos45) {
       st.since_s[k] = st.clock_s;
