@@ -13,10 +13,10 @@
 //   build/bench_backends --compare scene.toml [revolutions] [batches] [box2d|soft]
 //     Runs a scene on both backends and prints power, torque arm, toe and shoulder, energy
 //     shares and the lifter shear work, each with its batch-means standard error.
-//   build/bench_backends --snapshot 1k|3k|10k|eq1k|eq3k|eq10k FILE
+//   build/bench_backends --snapshot [rest-]1k|3k|10k|eq1k|eq3k|eq10k FILE
 //     Settles and spins up the probe scene on the soft backend and writes the charge state
 //     (exact bits) to FILE, so a profiler can start from a running mill; eq*: the
-//     --equal-size mills.
+//     --equal-size mills; rest-: the mill at rest (the settled bed).
 //   build/bench_backends --run FILE steps [box2d|soft]
 //     Loads a snapshot, runs that many steps and prints a fingerprint (a hash of the final
 //     state and of the accounting sums; equal fingerprints = bit-identical results) and the
@@ -296,8 +296,11 @@ bool get(std::FILE* f, std::vector<T>& v) {
 }
 
 int snapshot(const std::string& size, const std::string& path) {
-  const SnapshotScene at = snapshot_scene(size);
-  const Scene scene = scene_of(at);
+  // "rest-" before a size: the mill stands still (the settled bed; --run keeps it still).
+  const bool rest = size.rfind("rest-", 0) == 0;
+  const SnapshotScene at = snapshot_scene(rest ? size.substr(5) : size);
+  Scene scene = scene_of(at);
+  if (rest) scene.mill.speed_fraction_critical = 0.0, scene.solver.settle_time_s = 4.0;
   const MillGeometry mill = build_scene_mill(scene);
   auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
   settle_unchecked(*engine, scene);

@@ -156,7 +156,7 @@ MW_INLINE void warm_start_lanes(Body* body, const WideRows& c, int l0) {
 // resistance bounded by its lever times it. kBias: the soft solve; otherwise the relax,
 // which also sums.
 template <bool kBias, class V>
-MW_INLINE void solve_lanes(Body* body, WideRows& c, int l0, const WideSoftness& sf) {
+MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const WideSoftness& sf) {
   Side<V> A, B;
   gather(body, c.a + l0, A);
   gather(body, c.b + l0, B);
@@ -214,9 +214,9 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, int l0, const WideSoftness& 
   store(c.lt + l0, lt);
   store(c.lr + l0, lr);
   if (!kBias) {
-    store(c.pn + l0, load<V>(c.pn + l0) + ln);
-    store(c.pt + l0, load<V>(c.pt + l0) + lt);
-    store(c.pr + l0, load<V>(c.pr + l0) + lr);
+    store(p->pn + l0, load<V>(p->pn + l0) + ln);
+    store(p->pt + l0, load<V>(p->pt + l0) + lt);
+    store(p->pr + l0, load<V>(p->pr + l0) + lr);
   }
   scatter(body, c.a + l0, A);
   scatter(body, c.b + l0, B);
@@ -229,25 +229,27 @@ MW_INLINE void warm_start_all(Body* body, WideRows* rows, std::size_t chunks) {
     for (int l0 = 0; l0 < kLanes; l0 += width<V>()) warm_start_lanes<V>(body, rows[k], l0);
 }
 template <bool kBias, class V>
-MW_INLINE void solve_all(Body* body, WideRows* rows, std::size_t chunks, const WideSoftness& sf) {
+MW_INLINE void solve_all(Body* body, WideRows* rows, WideSums* sums, std::size_t chunks,
+                         const WideSoftness& sf) {
   for (std::size_t k = 0; k < chunks; ++k)
-    for (int l0 = 0; l0 < kLanes; l0 += width<V>()) solve_lanes<kBias, V>(body, rows[k], l0, sf);
+    for (int l0 = 0; l0 < kLanes; l0 += width<V>())
+      solve_lanes<kBias, V>(body, rows[k], kBias ? nullptr : sums + k, l0, sf);
 }
 
 struct Kernels {
   void (*warm_start)(Body*, WideRows*, std::size_t);
   void (*solve)(Body*, WideRows*, std::size_t, const WideSoftness&);
-  void (*relax)(Body*, WideRows*, std::size_t, const WideSoftness&);
+  void (*relax)(Body*, WideRows*, WideSums*, std::size_t, const WideSoftness&);
 };
 
 // The x86-64 baseline: two lanes per SSE2 register (a generic four-lane vector would be
 // split by the compiler into scalar shuffles through the stack).
 void warm_start_sse2(Body* body, WideRows* rows, std::size_t n) { warm_start_all<f64x2>(body, rows, n); }
 void solve_sse2(Body* body, WideRows* rows, std::size_t n, const WideSoftness& sf) {
-  solve_all<true, f64x2>(body, rows, n, sf);
+  solve_all<true, f64x2>(body, rows, nullptr, n, sf);
 }
-void relax_sse2(Body* body, WideRows* rows, std::size_t n, const WideSoftness& sf) {
-  solve_all<false, f64x2>(body, rows, n, sf);
+void relax_sse2(Body* body, WideRows* rows, WideSums* sums, std::size_t n, const WideSoftness& sf) {
+  solve_all<false, f64x2>(body, rows, sums, n, sf);
 }
 
 #if defined(MILLWEAR_HAVE_AVX2_TARGET)
@@ -255,10 +257,10 @@ void relax_sse2(Body* body, WideRows* rows, std::size_t n, const WideSoftness& s
 #define MW_AVX2 __attribute__((target("avx2")))
 MW_AVX2 void warm_start_avx2(Body* body, WideRows* rows, std::size_t n) { warm_start_all<f64x4>(body, rows, n); }
 MW_AVX2 void solve_avx2(Body* body, WideRows* rows, std::size_t n, const WideSoftness& sf) {
-  solve_all<true, f64x4>(body, rows, n, sf);
+  solve_all<true, f64x4>(body, rows, nullptr, n, sf);
 }
-MW_AVX2 void relax_avx2(Body* body, WideRows* rows, std::size_t n, const WideSoftness& sf) {
-  solve_all<false, f64x4>(body, rows, n, sf);
+MW_AVX2 void relax_avx2(Body* body, WideRows* rows, WideSums* sums, std::size_t n, const WideSoftness& sf) {
+  solve_all<false, f64x4>(body, rows, sums, n, sf);
 }
 #endif
 
@@ -280,10 +282,10 @@ void wide_solve(Body* body, WideRows* rows, std::size_t chunks, const WideSoftne
   kernels().solve(body, rows, chunks, soft);
 }
 
-void wide_relax(Body* body, WideRows* rows, std::size_t chunks, double inv_h) {
+void wide_relax(Body* body, WideRows* rows, WideSums* sums, std::size_t chunks, double inv_h) {
   WideSoftness soft;
   soft.inv_h = inv_h;
-  kernels().relax(body, rows, chunks, soft);
+  kernels().relax(body, rows, sums, chunks, soft);
 }
 
 void ColouredRows::begin(int bodies, std::size_t contacts) {
@@ -308,12 +310,17 @@ void ColouredRows::layout() {
   chunks_ = chunk;
   if (wide_.size() < chunks_) {
     wide_.resize(chunks_);
+    sums_.resize(chunks_);
     slot_q_.resize(chunks_ * kLanes);
   }
   // Contacts in the order added within each colour.
   std::size_t next[kMaxColours];
   for (int c = 0; c < kMaxColours; ++c) next[c] = first[c] * kLanes;
-  for (std::size_t t = 0; t < added_n_; ++t) slot_q_[next[added_[t].colour]++] = added_[t].q;
+  for (std::size_t t = 0; t < added_n_; ++t) {
+    const std::size_t slot = next[added_[t].colour]++;
+    added_[t].slot = slot;
+    slot_q_[slot] = added_[t].q;
+  }
   // Padding: an inert row between two dummy bodies (apart, not closing: zero impulses).
   for (int c = 0; c < kMaxColours; ++c) {
     for (std::size_t s = next[c]; s < first[c + 1] * kLanes; ++s) {
@@ -324,7 +331,9 @@ void ColouredRows::layout() {
       w.nx[l] = w.ny[l] = 0.0;
       w.s0[l] = 1.0;
       w.alpha[l] = w.beta[l] = w.mn[l] = w.mt[l] = w.mr[l] = w.mu[l] = w.lever[l] = 0.0;
-      w.ln[l] = w.lt[l] = w.lr[l] = w.pn[l] = w.pt[l] = w.pr[l] = 0.0;
+      w.ln[l] = w.lt[l] = w.lr[l] = 0.0;
+      WideSums& p = sums_[s / kLanes];
+      p.pn[l] = p.pt[l] = p.pr[l] = 0.0;
     }
   }
 }

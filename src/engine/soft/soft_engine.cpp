@@ -136,8 +136,10 @@ struct LinerRow {
 // info's point, restitution and start velocity) have been computed. A disk-pair row is built
 // lazily, the first time a pass does not skip it: most are margins that never carry load,
 // and for them the narrow phase computes only the gap. An unbuilt row's impulses are zero
-// (not stored: kLive is clear).
-constexpr std::uint8_t kLive = 1, kBuilt = 2;
+// (not stored: kLive is clear). kBounce: a built disk-pair row whose contact closed faster than
+// the restitution threshold with a restitution above zero (set with its info): the once-a-step
+// restitution pass reads this byte and touches the cold info and sums of these rows only.
+constexpr std::uint8_t kLive = 1, kBuilt = 2, kBounce = 4;
 template <class Row>
 std::uint8_t has_impulse(const Row& c) {
   return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
@@ -572,6 +574,7 @@ void SoftEngine::build_pair_row(std::size_t q) {
   // convention; a disk on a flat liner gets its own radius).
   c.lever = rr_pair_[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
   info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
+  if (info.e != 0.0 && !(info.vn0 > -restitution_threshold_m_s_)) pp_.state[q] |= kBounce;
 }
 
 // Pairs within the sum of their reaches (radius + margin), each found once: a disk scans
@@ -764,12 +767,12 @@ void SoftEngine::colour_live_rows() {
   load_lanes();
 }
 
-// The coloured rows into their lanes (the padding lanes are filled by the layout), with
-// zero step sums.
+// The coloured rows into their lanes in key order (the padding lanes are filled by the
+// layout), with zero step sums.
 void SoftEngine::load_lanes() {
-  for (std::size_t slot = 0; slot < coloured_.slots(); ++slot) {
-    const int q = coloured_.contact(slot);
-    if (q < 0) continue;
+  for (std::size_t t = 0; t < coloured_.coloured(); ++t) {
+    const int q = coloured_.coloured_contact(t);
+    const std::size_t slot = coloured_.coloured_slot(t);
     const PairGap& g = pp_.gap[static_cast<std::size_t>(q)];
     const PairRow& c = pp_.row[static_cast<std::size_t>(q)];
     soft::WideRows& w = coloured_.chunk_of(slot);
@@ -789,16 +792,17 @@ void SoftEngine::load_lanes() {
     w.ln[l] = c.ln;
     w.lt[l] = c.lt;
     w.lr[l] = c.lr;
-    w.pn[l] = w.pt[l] = w.pr[l] = 0.0;
+    soft::WideSums& p = coloured_.sums_of(slot);
+    p.pn[l] = p.pt[l] = p.pr[l] = 0.0;
   }
 }
 
 // The lanes' impulses, step sums and live bits back to the contact arrays, for the
 // restitution, the accounting and the next step's warm start.
 void SoftEngine::store_lanes() {
-  for (std::size_t slot = 0; slot < coloured_.slots(); ++slot) {
-    const int q = coloured_.contact(slot);
-    if (q < 0) continue;
+  for (std::size_t t = 0; t < coloured_.coloured(); ++t) {
+    const int q = coloured_.coloured_contact(t);
+    const std::size_t slot = coloured_.coloured_slot(t);
     const auto k = static_cast<std::size_t>(q);
     const soft::WideRows& w = coloured_.chunk_of(slot);
     const std::size_t l = slot % soft::kLanes;
@@ -806,8 +810,9 @@ void SoftEngine::store_lanes() {
     c.ln = w.ln[l];
     c.lt = w.lt[l];
     c.lr = w.lr[l];
-    pp_.sum[k] = {w.pn[l], w.pt[l], w.pr[l]};
-    pp_.state[k] = kBuilt | has_impulse(c);
+    const soft::WideSums& p = coloured_.sums_of(slot);
+    pp_.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
+    pp_.state[k] = (pp_.state[k] & kBounce) | kBuilt | has_impulse(c);
   }
 }
 
@@ -933,7 +938,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
     B.vy = vby;
     B.w = wb;
     const std::uint8_t live = has_impulse(c);
-    state[q] = kBuilt | live;
+    state[q] = (state[q] & kBounce) | kBuilt | live;
     if (!kBias) {
       // The next warm start applies the rows left live (a skipped row stays inert).
       warm[warm_n] = static_cast<int>(q);
@@ -954,7 +959,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
     wide.push = push;
     soft::wide_solve(body, coloured_.rows(), coloured_.chunks(), wide);
   } else {
-    soft::wide_relax(body, coloured_.rows(), coloured_.chunks(), inv_h);
+    soft::wide_relax(body, coloured_.rows(), coloured_.sums(), coloured_.chunks(), inv_h);
   }
   const double omega = state_.mill_speed_rad_s;
   const std::size_t npl = pl_.size();
@@ -1007,11 +1012,12 @@ void SoftEngine::restitution() {
   const double thr = -restitution_threshold_m_s_;
   Body* body = body_.data();
   for (std::size_t q = 0; q < pp_.size(); ++q) {
-    // An unbuilt row never acted (its sums are zero): one byte tells, not the sums.
-    if (!(pp_.state[q] & kBuilt)) continue;
+    // Only a row that closed fast enough with some restitution bounces: one byte tells
+    // (kBounce), and the cold info and sums of the others stay untouched.
+    if (!(pp_.state[q] & kBounce)) continue;
     const ContactInfo& info = pp_.info[q];
     StepSum& sum = pp_.sum[q];
-    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;
+    if (sum.pn == 0.0) continue;
     const PairGap& g = pp_.gap[q];
     PairRow& c = pp_.row[q];
     Body& A = body[g.a];
@@ -1020,7 +1026,7 @@ void SoftEngine::restitution() {
     const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
-    pp_.state[q] = kBuilt | has_impulse(c);
+    pp_.state[q] = kBounce | kBuilt | has_impulse(c);
     sum.pn += d;
     A.vx += A.im * d * g.nx;
     A.vy += A.im * d * g.ny;
