@@ -8,6 +8,7 @@
 
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
+#include "engine/soft/colour_solve.hpp"
 #include "engine_fixtures.hpp"
 #include "metrics/power_models.hpp"
 #include "scene/fidelity.hpp"
@@ -384,6 +385,33 @@ TEST(SoftEngine, FastDiskNeverPassesThroughAThinLifterOrTheShell) {
 // A settled bed in a mill at rest stays put: after 1 s of settling, half a second more
 // moves no disk by more than 1% of the smallest radius, and the kinetic energy left in the
 // bed (jitter) is below 1e-6 of its potential energy above the mill's bottom.
+// The coloured rows are solved four lanes at a time where the CPU has AVX2 and two (SSE2)
+// otherwise; a lane computes what the serial row computes, so a scene gives the same bits
+// on either machine. Checked by forcing the two-lane kernels on this one.
+TEST(SoftEngine, TwoAndFourLaneSolvesGiveTheSameBits) {
+  if (soft::lane_width() != 4) GTEST_SKIP() << "this CPU has no AVX2: only the two-lane kernels run here";
+  Scene scene = testing::lab_mill();
+  scene.solver.backend = Backend::Soft;
+  scene.run.revolutions = 0.5;
+  scene.solver.spinup_revolutions = 0.2;
+  const ChargeRunResult four = run_charge_only(scene);
+  soft::force_baseline_lanes(true);
+  const int forced_width = soft::lane_width();
+  const ChargeRunResult two = run_charge_only(scene);
+  soft::force_baseline_lanes(false);
+  ASSERT_EQ(forced_width, 2);
+  ASSERT_EQ(four.final_state.size(), two.final_state.size());
+  for (std::size_t i = 0; i < four.final_state.size(); ++i) {
+    ASSERT_EQ(four.final_state.position_m[i].x, two.final_state.position_m[i].x) << "disk " << i;
+    ASSERT_EQ(four.final_state.position_m[i].y, two.final_state.position_m[i].y) << "disk " << i;
+    ASSERT_EQ(four.final_state.spin_rad_s[i], two.final_state.spin_rad_s[i]) << "disk " << i;
+  }
+  for (std::size_t e = 0; e < four.accounting.shear_work_J.size(); ++e)
+    ASSERT_EQ(four.accounting.shear_work_J[e], two.accounting.shear_work_J[e]) << "edge " << e;
+  EXPECT_EQ(four.accounting.drive_work_J, two.accounting.drive_work_J);
+  EXPECT_GT(four.accounting.drive_work_J, 0.0);
+}
+
 TEST(SoftEngine, DensePileAtRestStaysAtRest) {
   Scene scene = testing::lab_mill();
   scene.solver.backend = Backend::Soft;

@@ -5,6 +5,7 @@
 #include "engine/soft/colour_solve.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstring>
 
@@ -264,17 +265,23 @@ MW_AVX2 void relax_avx2(Body* body, WideRows* rows, WideSums* sums, std::size_t 
 }
 #endif
 
+const Kernels kBaseline{warm_start_sse2, solve_sse2, relax_sse2};
+std::atomic<bool> force_baseline{false};
+
 const Kernels& kernels() {
   static const Kernels k = [] {
 #if defined(MILLWEAR_HAVE_AVX2_TARGET)
     if (__builtin_cpu_supports("avx2")) return Kernels{warm_start_avx2, solve_avx2, relax_avx2};
 #endif
-    return Kernels{warm_start_sse2, solve_sse2, relax_sse2};
+    return kBaseline;
   }();
-  return k;
+  return force_baseline.load(std::memory_order_relaxed) ? kBaseline : k;
 }
 
 }  // namespace
+
+int lane_width() { return kernels().warm_start == kBaseline.warm_start ? 2 : 4; }
+void force_baseline_lanes(bool on) { force_baseline.store(on, std::memory_order_relaxed); }
 
 void wide_warm_start(Body* body, WideRows* rows, std::size_t chunks) { kernels().warm_start(body, rows, chunks); }
 
@@ -311,20 +318,14 @@ void ColouredRows::layout() {
   if (wide_.size() < chunks_) {
     wide_.resize(chunks_);
     sums_.resize(chunks_);
-    slot_q_.resize(chunks_ * kLanes);
   }
   // Contacts in the order added within each colour.
   std::size_t next[kMaxColours];
   for (int c = 0; c < kMaxColours; ++c) next[c] = first[c] * kLanes;
-  for (std::size_t t = 0; t < added_n_; ++t) {
-    const std::size_t slot = next[added_[t].colour]++;
-    added_[t].slot = slot;
-    slot_q_[slot] = added_[t].q;
-  }
+  for (std::size_t t = 0; t < added_n_; ++t) added_[t].slot = next[added_[t].colour]++;
   // Padding: an inert row between two dummy bodies (apart, not closing: zero impulses).
   for (int c = 0; c < kMaxColours; ++c) {
     for (std::size_t s = next[c]; s < first[c + 1] * kLanes; ++s) {
-      slot_q_[s] = -1;
       WideRows& w = wide_[s / kLanes];
       const std::size_t l = s % kLanes;
       w.a[l] = w.b[l] = dummy_;

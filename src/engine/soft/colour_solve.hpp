@@ -62,9 +62,15 @@ void wide_warm_start(Body* body, WideRows* rows, std::size_t chunks);
 void wide_solve(Body* body, WideRows* rows, std::size_t chunks, const WideSoftness& soft);
 void wide_relax(Body* body, WideRows* rows, WideSums* sums, std::size_t chunks, double inv_h);
 
+// The lane width in use: 4 (AVX2) or 2 (the SSE2 baseline). Forcing the baseline on a CPU
+// with AVX2 is how a test checks that both widths give the same bits (set it before any
+// engine steps; it is a process-wide switch, not meant to change mid-run).
+int lane_width();
+void force_baseline_lanes(bool on);
+
 // The colouring and the chunks. Per step: begin, add the contacts, layout, fill the lanes
-// (slot s holds contact(s); -1 is a padding lane, already filled with an inert row between
-// two dummy bodies), solve, read the lanes back. Arrays keep their high-water size: no
+// (the coloured contacts' slots; the other slots are padding lanes, already filled with an
+// inert row between two dummy bodies), solve, read the lanes back. Arrays keep their high-water size: no
 // allocation per step once warm.
 class ColouredRows {
  public:
@@ -88,7 +94,6 @@ class ColouredRows {
   // Colour after colour, each padded to whole chunks.
   void layout();
 
-  std::size_t slots() const { return chunks_ * kLanes; }
   // The coloured contacts in the order added, with their slots (after layout): filling and
   // reading the lanes in this order sweeps the contact arrays once, where slot order sweeps
   // them once per colour.
@@ -97,7 +102,6 @@ class ColouredRows {
   std::size_t coloured_slot(std::size_t t) const { return added_[t].slot; }
   std::size_t chunks() const { return chunks_; }
   int colours() const { return colours_; }
-  int contact(std::size_t slot) const { return slot_q_[slot]; }
   WideRows* rows() { return wide_.data(); }
   WideSums* sums() { return sums_.data(); }
   WideRows& chunk_of(std::size_t slot) { return wide_[slot / kLanes]; }
@@ -118,7 +122,6 @@ class ColouredRows {
   int colours_ = 0;
   std::vector<WideRows> wide_;
   std::vector<WideSums> sums_;
-  std::vector<int> slot_q_;
 };
 
 }  // namespace millwear::soft
