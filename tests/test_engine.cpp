@@ -395,10 +395,18 @@ TEST(SoftEngine, TwoAndFourLaneSolvesGiveTheSameBits) {
   scene.run.revolutions = 0.5;
   scene.solver.spinup_revolutions = 0.2;
   const ChargeRunResult four = run_charge_only(scene);
-  soft::force_baseline_lanes(true);
-  const int forced_width = soft::lane_width();
-  const ChargeRunResult two = run_charge_only(scene);
-  soft::force_baseline_lanes(false);
+  int forced_width = 0;
+  ChargeRunResult two;
+  {
+    // Switched back however the run ends (the switch is process-wide: later tests run on).
+    struct Baseline {
+      Baseline() { soft::force_baseline_lanes(true); }
+      ~Baseline() { soft::force_baseline_lanes(false); }
+    } baseline;
+    forced_width = soft::lane_width();
+    two = run_charge_only(scene);
+  }
+  ASSERT_EQ(soft::lane_width(), 4);
   ASSERT_EQ(forced_width, 2);
   ASSERT_EQ(four.final_state.size(), two.final_state.size());
   for (std::size_t i = 0; i < four.final_state.size(); ++i) {
