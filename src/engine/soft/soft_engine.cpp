@@ -164,7 +164,7 @@ struct ContactInfo {
 // A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
 // are read from contiguous memory.
 struct Candidate {
-  double x, y, r, marg, reach;  // reach = r + marg
+  double x, y, reach;  // reach = r + marg
   int j;
 };
 
@@ -593,10 +593,11 @@ void SoftEngine::find_pairs() {
   const double* r = r_.data();
   const double* marg = marg_.data();
   const int placed = grid.placed();
+  // A candidate is 32 bytes (position, reach, index): two to a cache line.
   cand_.resize(static_cast<std::size_t>(placed));
   for (int k = 0; k < placed; ++k) {
     const int j = grid.order[static_cast<std::size_t>(k)];
-    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j], marg[j], r[j] + marg[j], j};
+    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j] + marg[j], j};
   }
   const Candidate* cd = cand_.data();
   // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
@@ -613,9 +614,10 @@ void SoftEngine::find_pairs() {
     for (int k = k0; k < k1; ++k) {
       const Candidate& q = cd[k];
       const double dx = p.x - q.x, dy = p.y - q.y;
-      // As tested from the lower index i: (r_i + marg_i + r_j) + marg_j.
+      // (r_p + marg_p) + (r_q + marg_q): a sum of two terms is the same whichever disk
+      // scans, so the pair set does not depend on the grid.
+      const double reach = p.reach + q.reach;
       const bool p_low = p.j < q.j;
-      const double reach = p_low ? p.reach + q.r + q.marg : q.reach + p.r + p.marg;
       const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
       const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
       out[found] = (lo << 32) | hi;
