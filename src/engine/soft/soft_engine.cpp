@@ -211,11 +211,11 @@ struct ContactSet {
     key[to] = o.key[from];
     info[to] = o.info[from];
   }
-  // Append a contact with zero step sums; the caller writes gap, state and key (and row and
-  // info when it builds them).
+  // Append a contact; the caller writes gap, state and key, and row, info and zero step
+  // sums when it builds the row (only a built row's sums are ever read: most disk-pair rows
+  // are margins that are never built, and their sums are not written at all).
   std::size_t add() {
     if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
-    sum[n] = StepSum{};
     return n++;
   }
 };
@@ -553,6 +553,7 @@ void SoftEngine::build_pair_row(std::size_t q) {
   const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
   if (!(pp_.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
   pp_.state[q] |= kBuilt;
+  pp_.sum[q] = StepSum{};
   info.edge = info.owner = -1;
   // The contact point is midway between the two surfaces.
   c.alpha = r_[a] + 0.5 * g.s0;
@@ -683,6 +684,7 @@ void SoftEngine::find_liner_contacts() {
       g.a = i;
       c.ln = c.lt = c.lr = 0.0;
       pl_.state[q] = kBuilt;
+      pl_.sum[q] = StepSum{};
       pl_.key[q] = {(static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner), 0.0};
       info.edge = hit.edge;
       info.owner = hit.owner;
