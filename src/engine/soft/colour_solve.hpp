@@ -36,8 +36,8 @@ constexpr int kLanes = 4;
 // n and r_b = +beta n, effective masses (normal, tangent, rolling), friction coefficient,
 // rolling lever, the substep's impulses: seven cache lines. The step's impulse sums are a
 // chunk array of their own (WideSums), written by the relax only: the warm start and the
-// solve, twice as many passes, stream 448 bytes a chunk instead of 576 (past the L2 cache,
-// at 10k disks, the passes are bound by that stream).
+// solve, twice as many passes, stream 448 bytes a chunk instead of 576 (at 10k disks the
+// rows no longer fit the L2 cache; README, "Benchmarks").
 struct alignas(64) WideRows {
   int a[kLanes], b[kLanes];
   double nx[kLanes], ny[kLanes], s0[kLanes];
@@ -70,8 +70,8 @@ void force_baseline_lanes(bool on);
 
 // The colouring and the chunks. Per step: begin, add the contacts, layout, fill the lanes
 // (the coloured contacts' slots; the other slots are padding lanes, already filled with an
-// inert row between two dummy bodies), solve, read the lanes back. Arrays keep their high-water size: no
-// allocation per step once warm.
+// inert row between two dummy bodies), solve, read the lanes back. Arrays keep their
+// high-water size: no allocation per step once warm.
 class ColouredRows {
  public:
   static constexpr int kMaxColours = 24;
