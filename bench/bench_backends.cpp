@@ -1,7 +1,7 @@
-// Backend benchmark and comparison (issue 11).
+// Backend benchmark and comparison.
 //
 //   build/bench_backends [seconds_measured]
-//     Both backends on the probe scene of shared/notes/box2d-mill-probe.md (5 m mill, 24
+//     Both backends on the probe scene of probe_scene.hpp (5 m mill, 24
 //     lifters, 75% critical) at about 1k, 3k and 10k disks, at equal time step (1/600 s) and
 //     substeps (4; Box2D 2.4 has none: 8 velocity / 3 position iterations), one thread:
 //     disk-steps per CPU second (and per wall second), simulated seconds per CPU second, the

@@ -1,5 +1,5 @@
 // Engine benchmark: disk-steps per second of the charge on a 5 m mill slice (the probe
-// scene of shared/notes/box2d-mill-probe.md) at about 1k, 3k and 10k disks, the share of
+// scene of probe_scene.hpp) at about 1k, 3k and 10k disks, the share of
 // time in collision, solve and our accounting, and the cost of the optional accounting.
 // Prints a table; asserts nothing (speed is measured here, never in tests).
 //   build/bench_engine [seconds_measured]

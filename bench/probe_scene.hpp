@@ -1,5 +1,5 @@
 #pragma once
-// The probe scene of shared/notes/box2d-mill-probe.md, shared by the engine benchmarks: a
+// The probe scene, shared by the engine benchmarks: a
 // 5 m mill, 24 trapezoid lifters (150 mm high, 100 mm top, 30 deg faces), 75% of critical,
 // disks of radius r_min to 1.67 r_min at 30% filling, dt 1/600 s.
 #include "profiles/profile.hpp"

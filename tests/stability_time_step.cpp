@@ -9,7 +9,7 @@
 
 namespace millwear::stability {
 
-// The sweep of the issue, 1/5000 s to 1/60 s, at two disk sizes. Every case is either
+// The time-step sweep, 1/5000 s to 1/60 s, at two disk sizes. Every case is either
 // sound or stopped naming solver.time_step; the large steps must be the stopped ones.
 TEST(StabilityTimeStep, SweepIsSoundOrStopsNamingTheTimeStep) {
   for (double d_mm : {15.0, 40.0})

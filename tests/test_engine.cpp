@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "common/units.hpp"
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/colour_solve.hpp"
@@ -16,7 +17,6 @@
 namespace millwear {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Every physics check runs on both backends (the Box2D library and our soft solver).
 class EngineTest : public ::testing::TestWithParam<Backend> {
@@ -288,7 +288,7 @@ TEST_P(EngineTest, SagPowerIsWithinThirtyPercentOfMorrell) {
   in.speed_fraction = scene.mill.speed_fraction_critical;
   in.charge_density_t_m3 = mass_per_m / (scene.charge.filling * area) / 1000.0;
   const MorrellResult m = morrell_power(in);
-  // Issue 3's bound is 30%. The library passes at about 1.28x. The soft backend draws about
+  // The bound is 30%. The library passes at about 1.28x. The soft backend draws about
   // 6% more (1850 against 1750 kW/m at draft: 2% from rolling resistance, which the library
   // lacks, and 2-4% from friction that has converged; the library itself at 30 velocity
   // iterations gives 1.30x), so it misses the bound: the dry 2D slice draws 30-36% more than
@@ -508,7 +508,7 @@ INSTANTIATE_TEST_SUITE_P(Engine, EngineTest, ::testing::Values(Backend::Box2D, B
                          backend_label);
 
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {
-  // Check value from shared/notes/power-models.md: 5 m x 8 m dry grate mill.
+  // Check value worked by hand from Morrell's published equations: 5 m x 8 m dry grate mill.
   const MorrellResult m = morrell_power({5.0, 8.0, 0.30, 0.75, 4.68});
   EXPECT_NEAR(m.net_power_kW, 2416.7, 0.1);
   EXPECT_NEAR(m.toe_rad * 180.0 / kPi, 231.77, 0.01);

@@ -4,13 +4,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/units.hpp"
 #include "geometry/polyline.hpp"
 
 using namespace millwear;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Polygon regular_polygon(int n, double radius) {
   Polygon p;

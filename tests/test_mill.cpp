@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "common/units.hpp"
 #include "common/errors.hpp"
 #include "mill/mill.hpp"
 #include "profiles/profile.hpp"
@@ -11,7 +12,6 @@ using namespace millwear;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kR = 5.0;   // 10 m mill
 constexpr int kRows = 48;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
@@ -37,7 +38,6 @@ struct TempDir {
   }
 };
 
-const double kPi = 3.14159265358979323846;
 
 // Writes a run folder in the app's formats: summary.csv, profiles/, spectrum.csv,
 // snapshot_DESIGN.csv and liner_DESIGN.csv. The 1x30 design wears faster (as in the

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include "common/units.hpp"
 #include "common/errors.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
@@ -19,7 +20,6 @@ using namespace millwear;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string shipped(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
 
@@ -177,7 +177,7 @@ TEST(SceneFiles, LabMillHasTheStatedMillAndCharge) {
 
 TEST(SceneFiles, LabMillChargeIsAFewHundredDisks) {
   // Disk count from areas: filling * mill area * packing / mean disk area; for diameters
-  // uniform in [a, b], E[d^2] = (a^2 + ab + b^2) / 3. The brief asks for 200-400 disks.
+  // uniform in [a, b], E[d^2] = (a^2 + ab + b^2) / 3. The scene is meant to hold 200-400 disks.
   const Scene s = load_scene(shipped("scenarios/lab-mill.toml"));
   const SpeciesDef& b = s.charge.species[0];
   const double mean_d2 = (b.d_min_m * b.d_min_m + b.d_min_m * b.d_max_m + b.d_max_m * b.d_max_m) / 3.0;

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "common/units.hpp"
 #include "app/commands.hpp"
 #include "app/run_files.hpp"
 #include "common/errors.hpp"
@@ -33,7 +34,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct AnimateArgs {
   std::string scene;

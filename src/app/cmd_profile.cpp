@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
 #include "app/commands.hpp"
 #include "common/errors.hpp"
 #include "profiles/profile.hpp"
@@ -19,7 +20,6 @@ namespace millwear::app {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadToDeg = 180.0 / kPi;
 
 struct ProfileArgs {

@@ -2,6 +2,7 @@
 // for the velocity solve of one step, sum over contacts of P . (v_before + v_after)/2 is
 // exactly the kinetic-energy change the impulses cause, so -P . v_rel_mean is the energy a
 // contact dissipates, and P . v_liner is the work the drive does through it.
+#include "common/units.hpp"
 #include "engine/accounting.hpp"
 
 #include <algorithm>
@@ -137,7 +138,6 @@ void account_step(Accounting& acc, const ChargeState& s, double dt_s, double rad
   Vec2 moment;
   const double band_inner = radius_m - band_m;
   const double band_inner_sq = band_inner * band_inner;
-  constexpr double kPi = 3.14159265358979323846;
   const double bins_per_rad = kShapeAngleBins / (2.0 * kPi);
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (!s.active[i]) continue;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "common/units.hpp"
 #include "common/errors.hpp"
 #include "engine/engine.hpp"
 
@@ -12,7 +13,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct DiskDraw {
   double diameter_m;

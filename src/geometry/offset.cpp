@@ -16,6 +16,7 @@
 // a regular kDiskSides-gon of circumradius r (symmetric, so erosion and dilation are dual),
 // and the sums are CGAL's Minkowski sums in exact arithmetic (Epeck): the erosion is the
 // hole left in a frame around the polygon when the frame's inside is dilated.
+#include "common/units.hpp"
 #include "geometry/polyline.hpp"
 
 #include <CGAL/Boolean_set_operations_2.h>
@@ -44,7 +45,6 @@ using CgalPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 // below a wear step; each side turns 11.25 deg, under resample()'s corner threshold, so a
 // rounded corner resamples as a curve.
 constexpr int kDiskSides = 32;
-constexpr double kPi = 3.14159265358979323846;
 
 CgalPolygon to_cgal(const Polygon& ring) {
   CgalPolygon p;

@@ -1,6 +1,7 @@
 // Plain polyline and polygon tools: shoelace moments, lengths, resampling, distances.
 // The only CGAL use here is the simplicity test (exact predicates, so a ring that touches
 // itself by rounding is caught); offsets live in offset.cpp to keep this unit small.
+#include "common/units.hpp"
 #include "geometry/polyline.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -17,7 +18,6 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using KPoint = Kernel::Point_2;
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Segments [a,b] and [c,d] share a point (exact orientation predicates on double input).
 bool segments_touch(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {

@@ -1,3 +1,4 @@
+#include "common/units.hpp"
 #include "metrics/power_models.hpp"
 
 #include <algorithm>
@@ -6,7 +7,6 @@
 namespace millwear {
 
 MorrellResult morrell_power(const MorrellInput& in) {
-  constexpr double kPi = 3.14159265358979323846;
   constexpr double g = 9.81;
   const double J = in.filling, phi = in.speed_fraction;
   const double rm = 0.5 * in.diameter_m, L = in.length_m, rho_c = in.charge_density_t_m3;

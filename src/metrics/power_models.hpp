@@ -2,9 +2,10 @@
 // Analytic mill power and charge-shape models, for checking the engine.
 namespace millwear {
 
-// Morrell's C-model (continuum) for the cylindrical section, as collected in
-// shared/notes/power-models.md: empirical toe and shoulder angles, then net charge-motion
-// power. Dry charge: the slurry term is dropped (rho_p = 0).
+// Morrell's C-model (continuum) for the cylindrical section (Morrell, "Power draw of wet
+// tumbling mills and its relationship to charge dynamics", Parts 1 and 2, Trans. Instn Min.
+// Metall. C 105, 1996): empirical toe and shoulder angles, then net charge-motion power.
+// Dry charge: the slurry term is dropped (rho_p = 0).
 struct MorrellInput {
   double diameter_m = 0.0;        // inside liners
   double length_m = 0.0;          // belly length

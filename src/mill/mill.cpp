@@ -1,4 +1,5 @@
 // The mill's inner boundary from liner units, and lifter metrics against the shell circle.
+#include "common/units.hpp"
 #include "mill/mill.hpp"
 
 #include <algorithm>
@@ -14,7 +15,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Edge-ownership slack: a vertical lifter face has its edge midpoints exactly at the foot
 // x; 1 nm is far below any mesh edge and far above rounding of metre-scale coordinates.
 constexpr double kOwnerTolM = 1e-9;

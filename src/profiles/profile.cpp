@@ -1,5 +1,6 @@
 // Lifter profile files (TOML, mm and degrees) -> lifter polylines (m, rad), and the profile
 // metrics printed by `millwear profile`. toml++ stays inside this file.
+#include "common/units.hpp"
 #include "profiles/profile.hpp"
 
 #include <toml++/toml.h>
@@ -19,7 +20,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMmToM = 1e-3;
 constexpr double kDegToRad = kPi / 180.0;
 // Feet must lie on the shell line; file values are in mm, so 1 nm is "exactly zero" for

@@ -1,5 +1,5 @@
 #pragma once
-// Fidelity presets: the speed-against-accuracy knobs in one place (issue 6).
+// Fidelity presets: the speed-against-accuracy knobs in one place.
 //
 // A preset fills the numerical settings of a scene; the physics (mill, charge, wear rate)
 // is never touched. A key the scene file sets itself beats the preset: apply_fidelity
@@ -26,25 +26,24 @@
 // | lifter_edge_m (lifters.lifter_edge)    | 30 mm   | 10 mm    | 10 mm     | the knob that matters |
 //
 // Notes.
-// - time step: the Box2D probe (shared/notes/box2d-mill-probe.md) lost 0 of 3,000 disks at
-//   1/600 s and 7 of 3,000 at 1/240 s. The stability sweep (docs/stability.md) puts the edge
+// - time step: the Box2D library on the probe mill (bench/probe_scene.hpp) lost 0 of 3,000
+//   disks at 1/600 s and 7 of 3,000 at 1/240 s. The stability sweep (docs/stability.md) puts the edge
 //   at dt <= 1.6 r_min / (omega R + sqrt(2 g D)) per (sub)step and the run refuses a larger
 //   one (scene/limits.hpp): on the SAG scenes the 1/200 s of draft and standard moves 1.93
 //   smallest radii a step (0.48 a substep). The soft backend is checked per substep; the
 //   library backend has no substeps (1/200 s would be refused there: at most about 1/245 s),
 //   so a scene on it gets the preset's box2d_time_step_s, the steps the presets had before. A scene
 //   with much smaller particles must set solver.time_step itself.
-// - standard's time step: on the default comparison's ladder (session 5, README "Speed
-//   against accuracy") standard is 1.5% of the lifter height from the reference (noise floor
+// - standard's time step: on the default comparison's ladder (docs/fidelity.md) standard is 1.5% of the lifter height from the reference (noise floor
 //   0.5%) at 17x its speed; 1/400 s is 1.2% at 11x, 1/1000 s 1.2% at 5x. 1/200 s keeps the
 //   comparison within the 30 s budget on 2 cores. Draft takes the same step (2.1% at 35x).
 // - mesh: 60/30 mm edges are 1.7% from the reference, 10/5 mm 3.1% (finer edges follow
 //   more of the noise of one window, not investigated further); standard shares the
 //   reference's 20/10 mm.
-// - backend: the soft solver is the default of every preset since issue 11 measured it
-//   (README "Soft backend"); a scene that names solver.backend keeps it.
+// - backend: the soft solver is the default of every preset (docs/soft-solver.md: faster
+//   than the library at better accuracy); a scene that names solver.backend keeps it.
 // - measured: `millwear tradeoff` runs every preset and one knob at a time against
-//   reference; README "Speed against accuracy" has the table the presets were checked on.
+//   reference; docs/fidelity.md has the table the presets were checked on.
 // - factor: the paper saw 5e5 and 1e6 give the same profile and 1e7 deviate (rule 1).
 //   It only matters in continuous mode; staged mode advances by the depth bound.
 // - size cut-off: an absolute size (m) means something different in every scene (a 100 mm

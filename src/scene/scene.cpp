@@ -5,6 +5,7 @@
 // ("charge.species[1].density"), the expectation in the file's units and the line. Units are
 // converted in exactly one place each: mm -> m, hours stay hours (named *_hours), rpm ->
 // fraction of critical speed. Nothing outside this file sees a toml++ type.
+#include "common/units.hpp"
 #include "scene/scene.hpp"
 
 #include <algorithm>
@@ -24,7 +25,6 @@ namespace millwear {
 
 namespace fs = std::filesystem;
 
-constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------------------
 // Derived quantities

@@ -3,6 +3,7 @@
 // Candidates are checked by the code that will run them: each candidate's scene file is
 // written and read back with load_scene and build_scene_mill, so a candidate is accepted
 // exactly when `millwear run` would accept it (one code path, not a second set of rules).
+#include "common/units.hpp"
 #include "screen/screen.hpp"
 
 #include <algorithm>
@@ -30,7 +31,6 @@ namespace tr = toml_reader;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 // A family parameter: a number, a list of numbers, or {min, max[, steps]}.

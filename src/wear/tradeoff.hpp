@@ -1,5 +1,5 @@
 #pragma once
-// Speed against accuracy (issue 6): the wear history of one design, or of every design of a
+// Speed against accuracy: the wear history of one design, or of every design of a
 // comparison, over a ladder of numerical settings, each measured against the reference run.
 //
 // The ladder starts from the `standard` preset and moves one knob at a time to the values

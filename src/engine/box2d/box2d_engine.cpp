@@ -11,6 +11,7 @@
 // Continuous collision is off: against a kinematic mill it sends every wall contact through
 // the time-of-impact pass (seconds per step at 10k disks). Without it disks can tunnel at
 // large time steps, so every step checks for escaped disks and reports them.
+#include "common/units.hpp"
 #include "engine/box2d/box2d_engine.hpp"
 
 #include <box2d/box2d.h>
@@ -28,7 +29,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {

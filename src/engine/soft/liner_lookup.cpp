@@ -1,4 +1,5 @@
 // Angle-bin lookup of liner edges in the mill frame, and the disk-liner contact test.
+#include "common/units.hpp"
 #include "engine/soft/liner_lookup.hpp"
 
 #include <algorithm>
@@ -7,7 +8,6 @@
 namespace millwear::soft {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 // A stand-in for the polar angle that increases with it, in [0, 4) (the "diamond angle":
 // position along the unit L1 circle). One division instead of an atan2. d/dtheta lies in

@@ -71,6 +71,7 @@
 // the kinetic energy the impulses change: dissipation is split per contact without residue.
 // Rolling resistance couples are accounted in the same way (added to the tangential
 // dissipation, and through the liner to the drive torque).
+#include "common/units.hpp"
 #include "engine/soft/soft_engine.hpp"
 
 #include <algorithm>
@@ -88,7 +89,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kReorderInterval = 64;     // steps between reorderings of the disks by cell
 constexpr int kMaxLinerHits = 8;         // liner contacts of one disk in one step
 constexpr double kPairCellReaches = 1.0; // pair-search cell side / largest reach
