@@ -1,4 +1,4 @@
-// The speed-against-accuracy runner (wear/tradeoff.hpp): the ladder it builds, the
+// The speed-against-accuracy runner (study/tradeoff.hpp): the ladder it builds, the
 // profile deviation it measures, the Pareto front it marks. The runs themselves are
 // measured by `millwear tradeoff` (README "Speed against accuracy"), not here.
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 #include "engine_fixtures.hpp"
 #include "scene/fidelity.hpp"
 #include "common/errors.hpp"
-#include "wear/tradeoff.hpp"
+#include "study/tradeoff.hpp"
 
 namespace millwear {
 namespace {

@@ -5,6 +5,7 @@
 
 #include "app/commands.hpp"
 #include "scene/fidelity.hpp"
+#include "study/rule1.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::app {

@@ -1,6 +1,6 @@
 // `millwear tradeoff SCENE -o OUT [--quick] [--only LABELS] [--stages N] [--stage-hours H] [--jobs J]`:
 // the wear history of one design, or of every design of a comparison file, over the
-// fidelity ladder (wear/tradeoff.hpp), each run measured against the reference run.
+// fidelity ladder (study/tradeoff.hpp), each run measured against the reference run.
 //
 // Writes, atomically:
 //   OUT/tradeoff.csv          one row per setting: costs (summed over the designs), errors
@@ -25,7 +25,7 @@
 #include "app/run_command.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/tradeoff.hpp"
+#include "study/tradeoff.hpp"
 
 namespace millwear::app {
 

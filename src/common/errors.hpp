@@ -29,4 +29,10 @@ struct RunError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A run stopped by numerical trouble (a state or a liner update that is no longer valid):
+// the stages finished before it are kept, and it is never booked as a result.
+struct NumericalError : RunError {
+  using RunError::RunError;
+};
+
 }  // namespace millwear

@@ -5,5 +5,6 @@
 namespace millwear {
 
 inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kSecondsPerHour = 3600.0;
 
 }  // namespace millwear

@@ -100,16 +100,18 @@ double Scene::largest_particle_radius_m() const {
   return 0.5 * d;
 }
 
-MillGeometry build_scene_mill(const Scene& scene) {
+LinerUnit new_liner_unit(const Scene& scene) {
   try {
-    LinerUnit unit =
-        make_liner_unit(scene.mill.lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
-    return build_mill(scene.radius_m(), scene.mill.rows, {std::move(unit)});
+    return make_liner_unit(scene.mill.lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
   } catch (const InputError& e) {
     // The mill module does not know which file asked for this lifter; say it.
     if (!e.file.empty()) throw;
     throw InputError(scene.source_file, e.where.empty() ? "lifters" : e.where, e.expected);
   }
+}
+
+MillGeometry build_scene_mill(const Scene& scene) {
+  return build_mill(scene.radius_m(), scene.mill.rows, {new_liner_unit(scene)});
 }
 
 // ---------------------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 // Speed against accuracy: the fidelity ladder, its runs and their errors (see tradeoff.hpp).
-#include "wear/tradeoff.hpp"
+#include "study/tradeoff.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -361,8 +361,7 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
     report.design_names.push_back(s.name);
     // The scales: the new lifter (the mesh does not change its area or height beyond
     // rounding; take the reference's).
-    const LifterMetrics m = measure_lifter(
-        make_liner_unit(s.mill.lifter.points, s.radius_m(), s.mill.rows, s.mill.mesh), s.radius_m());
+    const LifterMetrics m = measure_lifter(new_liner_unit(s), s.radius_m());
     report.lifter_height_m.push_back(m.height_m);
     report.lifter_area_m2.push_back(m.area_m2);
   }

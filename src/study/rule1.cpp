@@ -1,0 +1,54 @@
+// Rule 1: the wear history at several C_model factors, and how far their profiles part.
+#include "study/rule1.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "wear/history.hpp"
+
+namespace millwear {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+}  // namespace
+
+Rule1Report rule1_check(const Scene& scene, std::vector<double> factors, double tolerance_pct_height) {
+  std::sort(factors.begin(), factors.end());
+  Rule1Report report;
+  report.tolerance_pct_height = tolerance_pct_height;
+  const MillGeometry new_mill = build_scene_mill(scene);
+  const double height = measure_lifter(new_mill.units[0], new_mill.radius_m).height_m;
+  for (double f : factors) {
+    Scene s = scene;
+    s.wear.mode = WearMode::Continuous;
+    s.wear.factor = f;
+    const auto t0 = Clock::now();
+    const WearHistory h = run_wear_history(s);
+    Rule1Row row;
+    row.factor = f;
+    row.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    for (const auto& st : h.stages) row.simulated_s += st.simulated_s;
+    row.profile = h.stages.back().units[0].surface;
+    row.events = h.events;
+    if (!report.rows.empty()) {
+      const Polyline& prev = report.rows.back().profile;
+      double d = 0.0;
+      for (const Vec2& p : row.profile) d = std::max(d, distance_to_polyline(p, prev));
+      for (const Vec2& p : prev) d = std::max(d, distance_to_polyline(p, row.profile));
+      row.deviation_m = d;
+      row.deviation_pct_height = 100.0 * d / height;
+    }
+    report.rows.push_back(row);
+  }
+  // Largest factor that agrees with every smaller one within tolerance (a run that hit the
+  // rule-1 bound or another event never qualifies).
+  if (!report.rows.empty() && report.rows.front().events.empty())
+    report.recommended_factor = report.rows.front().factor;
+  for (std::size_t k = 1; k < report.rows.size(); ++k) {
+    if (report.rows[k].deviation_pct_height > tolerance_pct_height || !report.rows[k].events.empty()) break;
+    report.recommended_factor = report.rows[k].factor;
+  }
+  return report;
+}
+
+}  // namespace millwear

@@ -1,0 +1,41 @@
+// Continuous wear (the paper's): the mill keeps turning and every update_interval of
+// simulated time the accumulated work wears the liner with C_model = factor * C, so one
+// simulated second stands for `factor` seconds of operation (rule 1: C_model * n and time
+// / n give the same profiles while one update stays a small change of the geometry).
+#include <algorithm>
+#include <string>
+
+#include "common/units.hpp"
+#include "wear/archard.hpp"
+#include "wear/wear_step.hpp"
+
+namespace millwear {
+
+// The largest share of the new lifter's height one update may wear before C_model counts as
+// too large for rule 1 (the geometry would change within one update).
+constexpr double kMaxUpdateHeightFraction = 0.25;
+
+WearStep continuous_step(const Scene& scene, const MillGeometry& mill, Engine& engine, double rate_m3_per_J,
+                         double max_hours, double new_height_m, int stage) {
+  const WearDef& w = scene.wear;
+  const double sim_s = std::min(w.update_interval_s, max_hours * kSecondsPerHour / w.factor);
+  engine.reset_window();
+  engine.step(std::max(1, steps_for(sim_s, engine.time_step_s())));
+  const Accounting& acc = engine.accounting();
+  WearStep step;
+  step.simulated_s = acc.time_s;
+  step.disk_steps = acc.steps * static_cast<std::int64_t>(engine.state().size());
+  step.hours = acc.time_s * w.factor / kSecondsPerHour;
+  const auto work = unit_edge_work(mill, acc.shear_work_J, w.average_rows);
+  step.depths = archard_depths(scene, mill, work, w.factor * rate_m3_per_J);
+  const double worst = deepest(step.depths);
+  if (worst > kMaxUpdateHeightFraction * new_height_m) {
+    step.stop_event = "stage " + std::to_string(stage) + ": wear.factor " + std::to_string(w.factor) + " wore " +
+                      std::to_string(worst * 1e3) + " mm in one update (over a quarter of the lifter): "
+                      "C_model is too large for rule 1; lower wear.factor";
+    step.depths.clear();
+  }
+  return step;
+}
+
+}  // namespace millwear

@@ -1,0 +1,266 @@
+// The wear history of one design, stage by stage. Stage 0 settles a fresh charge on the new
+// liner; every later stage starts a fresh engine from the charge as the previous stage's
+// wear ended (kept in its record), so a stage depends only on its record: resuming from a
+// saved stage gives the same results as an uninterrupted run.
+//
+// Per stage: start_stage (geometry, engine, first window) -> stage_record -> wear_through_stage
+// (wear step -> reshape -> next window, until the stage's hours) -> finish_stage.
+#include "wear/history.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "wear/archard.hpp"
+#include "wear/life.hpp"
+#include "wear/reshape.hpp"
+#include "wear/wear_step.hpp"
+#include "wear/window.hpp"
+
+namespace millwear {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// What every stage compares against: the new liner, derived once from the scene.
+struct NewLiner {
+  MillGeometry mill;        // every row new
+  LifterMetrics lifter;
+  double smoothing_m = 0.0;
+};
+
+NewLiner new_liner(const Scene& scene) {
+  NewLiner n;
+  const MillGeometry one = build_scene_mill(scene);
+  n.lifter = measure_lifter(one.units[0], one.radius_m);
+  n.smoothing_m = smoothing_radius(scene);
+  n.mill = scene.wear.average_rows
+               ? one
+               : build_mill(one.radius_m, one.rows, std::vector<LinerUnit>(static_cast<std::size_t>(one.rows),
+                                                                           one.units[0]));
+  return n;
+}
+
+// One stage being worn: the geometry the charge turns in, its engine, the window measured on
+// the stage's starting geometry, and the stage's counters.
+struct StageRun {
+  int stage = 0;
+  double hours = 0.0;
+  double direction = 1.0;
+  MillGeometry mill;
+  std::unique_ptr<Engine> engine;
+  WindowWork window;
+  ChargeState start;        // the charge the stage started from (empty: a fresh fill)
+  double simulated_s = 0.0;
+  std::int64_t disk_steps = 0;
+  Clock::time_point started;
+};
+
+void check_stop(const WearCallbacks& cb) {
+  if (cb.should_stop && cb.should_stop()) throw RunError("interrupted");
+}
+
+void report_progress(const WearCallbacks& cb, const StageRun& run) {
+  if (!cb.on_progress) return;
+  WearProgress p;
+  p.stage = run.stage + 1;
+  p.hours = run.hours;
+  p.simulated_s = run.simulated_s;
+  const double wall = std::chrono::duration<double>(Clock::now() - run.started).count();
+  p.disk_steps_per_s = wall > 0 ? run.disk_steps / wall : 0.0;
+  cb.on_progress(p);
+}
+
+std::int64_t disk_steps_of(const Accounting& acc, const Engine& engine) {
+  return acc.steps * static_cast<std::int64_t>(engine.state().size());
+}
+
+// The engine for stage k on `mill`: a fresh charge settled on the new liner (stage 0), or the
+// charge the previous stage ended with; then the first window on this geometry.
+StageRun start_stage(const Scene& scene, int k, MillGeometry mill, ChargeState start, const WearCallbacks& cb) {
+  StageRun run;
+  run.started = Clock::now();
+  run.stage = k;
+  run.hours = k * scene.wear.stage_hours;
+  run.mill = std::move(mill);
+  check_stop(cb);
+  run.direction = direction_at(scene, run.hours);
+  run.start = std::move(start);
+  if (run.start.size() == 0) {
+    run.engine = make_engine(scene, run.mill, fill_charge(scene, run.mill), accounting_options_for(scene));
+    settle_and_spin_up(*run.engine, scene, run.direction);
+  } else {
+    run.engine = make_engine(scene, run.mill, run.start, accounting_options_for(scene));
+    turn_mill(*run.engine, scene, run.direction, run.start.mill_speed_rad_s * run.direction < 0.0);
+  }
+  run.window = simulate_window(*run.engine, scene, run.mill, [&cb] { check_stop(cb); });
+  run.simulated_s = run.window.simulated_s;
+  run.disk_steps = disk_steps_of(run.window.accounting, *run.engine);
+  return run;
+}
+
+// The stage's record: the liner it started on and what the charge did with it.
+StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageRun& run, double c_real) {
+  const WindowWork& w = run.window;
+  const MillGeometry& mill = run.mill;
+  StageRecord rec;
+  rec.stage = run.stage;
+  rec.hours = run.hours;
+  rec.units = mill.units;
+  rec.lifter = measure_lifter(mill.units[0], mill.radius_m);
+  rec.charge = charge_figures(w.accounting, scene, run.direction * scene.angular_speed_rad_s());
+  const double t = scene.slice_thickness();
+  rec.area_loss_rate_mm2_per_h = c_real * w.lifter_power_mean_W / t * kSecondsPerHour * 1e6;
+  rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
+  rec.spectrum_count_per_s.resize(kSpectrumBins);
+  rec.spectrum_energy_W.resize(kSpectrumBins);
+  for (int b = 0; b < kSpectrumBins; ++b) {
+    rec.spectrum_count_per_s[b] = w.accounting.spectrum_count[b] / w.accounting.time_s;
+    rec.spectrum_energy_W[b] = w.accounting.spectrum_energy_J[b] / w.accounting.time_s;
+  }
+  rec.edge_wear_rate_m_per_h.resize(mill.boundary.size());
+  for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
+    const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
+    rec.edge_wear_rate_m_per_h[e] = (shell && !scene.wear.shell_wear) ? 0.0
+        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real) * kSecondsPerHour;
+  }
+  rec.snapshot = run.engine->state();
+  rec.mill_angle_rad = run.engine->state().mill_angle_rad;
+  rec.start_charge = run.start;
+  rec.worn_out = lifter_worn_out(rec.lifter, liner.lifter);
+  return rec;
+}
+
+// The stage's timings, then the caller hears of it (and persists it).
+void finish_stage(WearHistory& history, const StageRun& run, const WearCallbacks& cb) {
+  StageRecord& rec = history.stages.back();
+  rec.wall_s = std::chrono::duration<double>(Clock::now() - run.started).count();
+  rec.simulated_s = run.simulated_s;
+  rec.disk_steps = run.disk_steps;
+  if (cb.on_stage) cb.on_stage(rec);
+}
+
+enum class StageEnd { Finished, WornOut, StoppedByRule };
+
+// Wear the liner from the stage's start to its end: wear step -> reshape -> (the mill turns
+// on) -> the next window, until the stage's hours or the shell.
+StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun& run, double c_real,
+                            WearHistory& history, const WearCallbacks& cb) {
+  const bool staged = scene.wear.mode == WearMode::Staged;
+  const double target_h = (run.stage + 1) * scene.wear.stage_hours;
+  while (run.hours < target_h - 1e-9) {
+    check_stop(cb);
+    const double max_hours = std::min(target_h, next_reversal(scene, run.hours)) - run.hours;
+    const WearStep step =
+        staged ? staged_step(scene, run.mill, run.window, c_real, max_hours)
+               : continuous_step(scene, run.mill, *run.engine, c_real, max_hours, liner.lifter.height_m, run.stage + 1);
+    run.simulated_s += step.simulated_s;
+    run.disk_steps += step.disk_steps;
+    if (!step.stop_event.empty()) {
+      history.events.push_back(step.stop_event);
+      return StageEnd::StoppedByRule;
+    }
+    run.mill = build_mill(run.mill.radius_m, run.mill.rows,
+                          reshape(run.mill.units, step.depths, run.mill.radius_m, liner.smoothing_m,
+                                  scene.mill.mesh, liner.lifter.area_m2, run.stage + 1));
+    run.hours += step.hours;
+    if (lifter_worn_out(measure_lifter(run.mill.units[0], run.mill.radius_m), liner.lifter)) return StageEnd::WornOut;
+    if (run.hours >= target_h - 1e-9) return StageEnd::Finished;
+    run.engine->set_liner(run.mill);
+    const double direction = direction_at(scene, run.hours);
+    if (direction != run.direction) {
+      run.direction = direction;
+      turn_mill(*run.engine, scene, run.direction, true);
+    }
+    if (staged) {
+      run.window = simulate_window(*run.engine, scene, run.mill, [&cb] { check_stop(cb); });
+      run.simulated_s += run.window.simulated_s;
+      run.disk_steps += disk_steps_of(run.window.accounting, *run.engine);
+    }
+    report_progress(cb, run);
+  }
+  return StageEnd::Finished;
+}
+
+// The worn-out geometry as the history's last stage.
+void record_worn_out(WearHistory& history, const StageRun& run, const WearCallbacks& cb) {
+  StageRecord rec;
+  rec.stage = run.stage + 1;
+  rec.hours = run.hours;
+  rec.units = run.mill.units;
+  rec.lifter = measure_lifter(run.mill.units[0], run.mill.radius_m);
+  rec.worn_out = true;
+  rec.charge = history.stages.empty() ? ChargeFigures{} : history.stages.back().charge;
+  history.stages.push_back(rec);
+  history.events.push_back("stage " + std::to_string(rec.stage) + ": the lifter is worn to the shell at " +
+                           std::to_string(run.hours) + " h");
+  if (cb.on_stage) cb.on_stage(history.stages.back());
+}
+
+// The real wear rate: given, or calibrated on the new liner's first window.
+double wear_rate_for(const Scene& scene, const NewLiner& liner, const StageRun& run, bool resumed) {
+  if (scene.wear.rate_source == WearRateSource::Given) return scene.wear.wear_rate_m3_per_J;
+  if (run.stage != 0 && !resumed) throw RunError("wear-rate calibration needs stage 0");
+  return real_wear_rate(scene, run.stage == 0 ? run.mill : build_mill(liner.mill.radius_m, liner.mill.rows,
+                                                                      {liner.mill.units[0]}),
+                        run.window.edge_power_W);
+}
+
+}  // namespace
+
+WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
+                             const std::vector<StageRecord>& resume_from) {
+  check_smoothing_radius(scene, scene.source_file);
+  const NewLiner liner = new_liner(scene);
+  const bool resumed = !resume_from.empty();
+  WearHistory history;
+  history.stages = resume_from;
+  MillGeometry mill = resumed ? build_mill(liner.mill.radius_m, liner.mill.rows, resume_from.back().units) : liner.mill;
+  // The charge as the last stage's wear ended (a resumed run: the one its stage started from).
+  ChargeState carry = resumed ? resume_from.back().start_charge : ChargeState{};
+  const int first_stage = resumed ? resume_from.back().stage : 0;
+  double c_real = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+  history.wear_rate_m3_per_J = c_real;
+  const bool all_done = resumed && (first_stage >= scene.wear.stages || resume_from.back().worn_out);
+  for (int k = first_stage; k <= scene.wear.stages && !all_done; ++k) {
+    StageRun run = start_stage(scene, k, std::move(mill), std::move(carry), cb);
+    if (c_real <= 0.0) c_real = wear_rate_for(scene, liner, run, resumed);
+    history.wear_rate_m3_per_J = c_real;
+    // A resumed run's first stage is on disk already: it is re-simulated only to wear on.
+    const bool on_record = !(k == first_stage && resumed);
+    if (on_record) {
+      history.stages.push_back(stage_record(scene, liner, run, c_real));
+      for (const auto& e : run.engine->events())
+        history.events.push_back("stage " + std::to_string(k) + ": " + e.what);
+      const bool worn_out = history.stages.back().worn_out;
+      if (k == scene.wear.stages || worn_out) {
+        finish_stage(history, run, cb);
+        if (worn_out) history.events.push_back("stage " + std::to_string(k) + ": the lifter is worn to the shell");
+        break;
+      }
+    }
+    StageEnd end = StageEnd::Finished;
+    try {
+      end = wear_through_stage(scene, liner, run, c_real, history, cb);
+    } catch (const NumericalError&) {
+      if (on_record) finish_stage(history, run, cb);  // measured on a valid liner: keep it
+      throw;
+    }
+    if (end == StageEnd::StoppedByRule) break;
+    if (on_record) finish_stage(history, run, cb);
+    report_progress(cb, run);
+    if (end == StageEnd::WornOut) {
+      record_worn_out(history, run, cb);
+      break;
+    }
+    carry = run.engine->state();
+    mill = std::move(run.mill);
+  }
+  compute_life(history, scene.wear.replacement_height_m);
+  return history;
+}
+
+}  // namespace millwear

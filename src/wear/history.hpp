@@ -1,0 +1,73 @@
+#pragma once
+// A wear history: the liner of a design stage by stage, from new to its last stage or the
+// shell. Each stage measures the charge on a frozen geometry (wear/window.hpp), then wears
+// the liner through the stage in updates (wear/wear_step.hpp: staged or continuous),
+// reshaping it after each (wear/reshape.hpp), and hands the finished record to the caller.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/charge_run.hpp"
+#include "mill/mill.hpp"
+#include "scene/scene.hpp"
+
+namespace millwear {
+
+// One finished stage: the liner at `hours` and what the charge does with it.
+struct StageRecord {
+  int stage = 0;                  // 0 = new
+  double hours = 0.0;
+  std::vector<LinerUnit> units;   // exact geometry (resume restarts from it)
+  LifterMetrics lifter;           // of row 0 (or the shared unit)
+  ChargeFigures charge;           // measured on this geometry
+  double area_loss_rate_mm2_per_h = 0.0;      // of the lifter, at this geometry
+  double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
+  // Collision spectrum measured on this geometry (per log bin, see engine/accounting.hpp).
+  std::vector<double> spectrum_count_per_s, spectrum_energy_W;
+  // Wear rate of every mill boundary edge at this geometry (m per operating hour), and the
+  // charge at the end of the measuring window (for snapshot figures).
+  std::vector<double> edge_wear_rate_m_per_h;
+  ChargeState snapshot;
+  double mill_angle_rad = 0.0;    // mill rotation at the snapshot
+  // The charge this stage started from: the previous stage's charge as its wear ended
+  // (empty for a fresh, settled fill). A resumed stage restarts from it exactly.
+  ChargeState start_charge;
+  double wall_s = 0.0;
+  double simulated_s = 0.0;
+  std::int64_t disk_steps = 0;
+  bool worn_out = false;          // the lifter reached the shell in this stage
+};
+
+struct WearHistory {
+  std::vector<StageRecord> stages;
+  double life_h = 0.0;            // hours to the replacement height
+  bool life_extrapolated = false;
+  double wear_rate_m3_per_J = 0.0;   // real C used
+  std::vector<std::string> events;   // worn flat, escaped disks, NaN, rule-1 bound
+};
+
+struct WearProgress {
+  int stage = 0;
+  double hours = 0.0;             // operating hours reached
+  double simulated_s = 0.0;
+  double disk_steps_per_s = 0.0;
+};
+
+struct WearCallbacks {
+  // Called after each stage record is complete (stage 0 first). Persist it here.
+  std::function<void(const StageRecord&)> on_stage;
+  std::function<void(const WearProgress&)> on_progress;
+  // Cancellation hook (Ctrl-C, SIGTERM, `run --stop-after-stage`): polled before each
+  // simulated window; when it returns true the loop stops and throws
+  // RunError("interrupted"). Stages already passed to on_stage stay valid for resume_from.
+  std::function<bool()> should_stop;
+};
+
+// Run a scene's wear history (scene.wear.mode: staged or continuous). `resume_from` holds
+// the stages already finished by an earlier run (stage 0..K, exact geometry); the loop
+// continues from K and gives the same results as an uninterrupted run.
+WearHistory run_wear_history(const Scene& scene, const WearCallbacks& callbacks = {},
+                             const std::vector<StageRecord>& resume_from = {});
+
+}  // namespace millwear

@@ -1,0 +1,16 @@
+#pragma once
+// Lifter life: when the worn lifter reaches the replacement height, or the shell.
+#include "mill/mill.hpp"
+#include "wear/history.hpp"
+
+namespace millwear {
+
+// Worn to the shell: under kWornOutFraction of the new lifter's height or area left.
+constexpr double kWornOutFraction = 0.01;
+bool lifter_worn_out(const LifterMetrics& worn, const LifterMetrics& new_lifter);
+
+// Lifter life from stage heights: interpolated where the height crosses the replacement
+// height, otherwise extrapolated from the last stages' trend (infinite without a trend).
+void compute_life(WearHistory& history, double replacement_height_m);
+
+}  // namespace millwear

@@ -1,0 +1,77 @@
+#pragma once
+// Reshape: the worn liner surface from Archard's depths. Apply the depths as vertex moves,
+// cut folds, re-smooth with a disk (open and close, CGAL offsets in geometry/), resample to
+// the mesh, cut back to the surface before the update (wear never adds metal) and check
+// what the smoothing took. A surface that stops being a valid liner is a numerical failure
+// (RunError), never wear.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mill/mill.hpp"
+#include "scene/scene.hpp"
+
+namespace millwear {
+
+// Move every edge of a unit into the metal by its depth (edge depths become vertex
+// displacements along the vertex normals), re-smooth (open and close with a disk of radius
+// smoothing_m, with the neighbouring units either side), resample to the mesh, cut back
+// whatever lies outside the unit before the update (wear never adds metal) and check the
+// result is simple. Throws RunError if the worn surface is not a valid liner any more.
+LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_depth_m,
+                     double radius_m, double smoothing_m, const MillMeshDef& mesh);
+
+// The smoothing radius a scene uses: wear.smoothing_radius, else the smallest particle
+// radius (a disk cannot reach into a hollow narrower than itself).
+double smoothing_radius(const Scene& scene);
+
+// What one re-smoothing at smoothing_m does to the new lifter (apply_wear with no wear):
+// the share of its area and of its height it removes. Corners round off a little; a
+// feature narrower than 2 x smoothing_m goes entirely.
+struct SmoothingLoss {
+  double area_fraction = 0.0, height_fraction = 0.0;
+};
+SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m);
+
+// The largest share of the new lifter one re-smoothing may remove before the scene is
+// refused: more means the radius is wider than the lifter's narrowest part and would wear
+// it away without any shear work.
+constexpr double kMaxSmoothingAreaLoss = 0.05;
+constexpr double kMaxSmoothingHeightLoss = 0.05;
+// apply_wear merges points closer than this fraction of the lifter edge (mesh.lifter_edge_m):
+// the bound on how far a worn surface can stand outside the one before (rounding aside).
+constexpr double kSliverEdgeFraction = 0.01;
+
+// Throw InputError(file, "wear.smoothing_radius", ...) if re-smoothing the new lifter at the
+// scene's radius removes more than the bounds above; the message gives the largest radius
+// that keeps within them.
+void check_smoothing_radius(const Scene& scene, const std::string& file);
+
+// Lifter area one wear update removed beyond its Archard depths (m^2): the area the
+// re-smoothing took (the corners it rounded; negative: Archard's edge strips overstate what
+// the vertex moves remove on a strongly curved lifter). Near zero while the radius is under
+// half the lifter's narrowest part; large when a worn lifter has grown a feature the
+// smoothing cuts away (a thin ridge). `before` is the unit the depths were applied to,
+// `after` apply_wear's result. The wear loop stops when it removes over
+// kMaxSmoothingAreaLoss of the new area.
+double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, const std::vector<double>& edge_depth_m,
+                           double radius_m);
+
+// One wear update of every unit: apply_wear, then the re-smoothing check against the new
+// lifter's area. Throws NumericalError naming `stage` and what failed: non-finite depths, a
+// surface that is no valid liner any more, or a smoothing that took more than
+// kMaxSmoothingAreaLoss of new_area_m2 beyond the wear.
+std::vector<LinerUnit> reshape(const std::vector<LinerUnit>& units, const std::vector<std::vector<double>>& depths,
+                               double radius_m, double smoothing_m, const MillMeshDef& mesh, double new_area_m2,
+                               int stage);
+
+// Wear a unit under a synthetic load field in place of the engine: `shear_power_W_per_m2`
+// gives the shear power per unit area at a lifter-local point. The unit wears for
+// sim_time_s of simulated time with C_model, in `updates` equal geometry updates.
+// Without feedback from a real charge rule 1 is exact: C_model * n and time / n agree.
+LinerUnit wear_under_load_field(const LinerUnit& unit, double radius_m,
+                                const std::function<double(Vec2)>& shear_power_W_per_m2,
+                                double c_model_m3_per_J, double sim_time_s, int updates,
+                                double smoothing_m, const MillMeshDef& mesh);
+
+}  // namespace millwear

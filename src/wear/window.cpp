@@ -1,0 +1,102 @@
+// A measuring window and the mill's operating schedule.
+#include "wear/window.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "wear/archard.hpp"
+
+namespace millwear {
+
+double direction_at(const Scene& scene, double hours) {
+  switch (scene.mill.direction) {
+    case Direction::Forward: return 1.0;
+    case Direction::Reverse: return -1.0;
+    case Direction::Bidirectional: {
+      const long period = static_cast<long>(std::floor(hours / scene.mill.reverse_every_hours + 1e-9));
+      return period % 2 == 0 ? 1.0 : -1.0;
+    }
+  }
+  return 1.0;
+}
+
+void turn_mill(Engine& engine, const Scene& scene, double dir, bool reversed) {
+  engine.set_mill_speed(dir * scene.angular_speed_rad_s());
+  if (reversed) engine.step(steps_for(0.5 * scene.revolution_time_s(), engine.time_step_s()));
+  engine.reset_window();
+}
+
+double next_reversal(const Scene& scene, double hours) {
+  if (scene.mill.direction != Direction::Bidirectional) return INFINITY;
+  const double p = scene.mill.reverse_every_hours;
+  return (std::floor(hours / p + 1e-9) + 1.0) * p;
+}
+
+void accumulate_work(Accounting& total, const Accounting& part) {
+  if (total.shear_work_J.empty()) { total = part; return; }
+  for (std::size_t e = 0; e < total.shear_work_J.size(); ++e) {
+    total.shear_work_J[e] += part.shear_work_J[e];
+    total.impact_energy_J[e] += part.impact_energy_J[e];
+    total.contacts[e] += part.contacts[e];
+  }
+  total.time_s += part.time_s;
+  total.steps += part.steps;
+  total.drive_work_J += part.drive_work_J;
+  total.torque_impulse_Nms += part.torque_impulse_Nms;
+  total.pp_normal_J += part.pp_normal_J;
+  total.pp_tangent_J += part.pp_tangent_J;
+  total.pl_normal_J += part.pl_normal_J;
+  total.pl_tangent_J += part.pl_tangent_J;
+  total.solver_position_J += part.solver_position_J;
+  total.kinetic_J_end = part.kinetic_J_end;
+  total.potential_J_end = part.potential_J_end;
+  for (int k = 0; k < kSpectrumBins; ++k) {
+    total.spectrum_count[k] += part.spectrum_count[k];
+    total.spectrum_energy_J[k] += part.spectrum_energy_J[k];
+  }
+  total.mass_time_kg_s += part.mass_time_kg_s;
+  total.moment_time_kg_m_s += part.moment_time_kg_m_s;
+  for (int k = 0; k < kShapeAngleBins; ++k) total.shell_band_occupancy[k] += part.shell_band_occupancy[k];
+  total.shape_samples += part.shape_samples;
+  total.packed_shear_work_J += part.packed_shear_work_J;
+  total.packed_disk_steps += part.packed_disk_steps;
+  total.escaped += part.escaped;
+  total.non_finite += part.non_finite;
+}
+
+WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill,
+                           const std::function<void()>& check_stop) {
+  const double batch_s = scene.wear.window_revolutions * scene.revolution_time_s() / kWindowBatches;
+  const int batch_steps = std::max(1, steps_for(batch_s, engine.time_step_s()));
+  WindowWork w;
+  std::vector<double> batch_power;
+  for (int b = 0; b < kMaxWindowBatches; ++b) {
+    check_stop();
+    engine.reset_window();
+    engine.step(batch_steps);
+    const Accounting& acc = engine.accounting();
+    std::vector<double> p(acc.shear_work_J.size());
+    for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;
+    batch_power.push_back(lifter_power_W(mill, unit_edge_work(mill, p, scene.wear.average_rows)));
+    accumulate_work(w.accounting, acc);
+    const int n = static_cast<int>(batch_power.size());
+    if (n < kWindowBatches) continue;
+    const double mean = std::accumulate(batch_power.begin(), batch_power.end(), 0.0) / n;
+    double var = 0.0;
+    for (double x : batch_power) var += (x - mean) * (x - mean);
+    var /= (n - 1);
+    w.lifter_power_rel_sem = mean > 0.0 ? std::sqrt(var / n) / mean : 0.0;
+    if (scene.wear.target_rel_uncertainty <= 0.0 || w.lifter_power_rel_sem <= scene.wear.target_rel_uncertainty)
+      break;
+  }
+  w.simulated_s = w.accounting.time_s;
+  w.edge_power_W.resize(w.accounting.shear_work_J.size());
+  for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)
+    w.edge_power_W[e] = w.accounting.shear_work_J[e] / w.accounting.time_s;
+  w.unit_power_W = unit_edge_work(mill, w.edge_power_W, scene.wear.average_rows);
+  w.lifter_power_mean_W = lifter_power_W(mill, w.unit_power_W);
+  return w;
+}
+
+}  // namespace millwear
