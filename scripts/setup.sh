@@ -9,8 +9,11 @@ MILLWEAR_PACKAGES=(
   libbox2d-dev libeigen3-dev libcgal-dev libgtest-dev
   libgnuplot-iostream-dev gnuplot-nox
   libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev
-  libtomlplusplus-dev libcli11-dev
+  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
+  help2man dpkg-dev file
 )
+# help2man writes the man page from the built program; dpkg-dev (dpkg-shlibdeps) and file let
+# `cpack -G DEB` compute the package's library dependencies.
 # Extra packages the caller may add (test.sh adds GNU parallel, Slurm, munge).
 MILLWEAR_PACKAGES+=(${MILLWEAR_EXTRA_PACKAGES:-})
 

@@ -6,11 +6,13 @@
 
 #include "app/commands.hpp"
 #include "common/errors.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 
 int main(int argc, char** argv) {
   CLI::App app{"millwear: lifter wear in grinding mills by DEM and Archard's law (2D slice)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("millwear ") + MILLWEAR_VERSION);
+  app.set_version_flag("--version", std::string("millwear ") + MILLWEAR_VERSION +
+                                        " (commit " + MILLWEAR_COMMIT + ")");
   millwear::app::Action action;
   millwear::app::register_profile(app, &action);
   millwear::app::register_charge(app, &action);

@@ -143,23 +143,28 @@ std::string now_text() {
 
 std::string plots_dir() {
   const char* env = std::getenv("MILLWEAR_PLOTS_DIR");
-  std::string dir;
   if (env && env[0]) {
-    dir = env;
+    const std::string dir = env;
     if (!fs::is_directory(dir))
       throw RunError("MILLWEAR_PLOTS_DIR=" + dir + " is not a folder (it should hold the " +
                      "figure scripts, fig7_area.gp and the others)");
     return dir;
   }
-#ifdef MILLWEAR_SOURCE_DIR
-  dir = std::string(MILLWEAR_SOURCE_DIR) + "/plots";
-#else
-  dir = "plots";
-#endif
-  if (!fs::is_directory(dir))
-    throw RunError("figure scripts not found in " + dir +
-                   "; set MILLWEAR_PLOTS_DIR to the folder holding fig7_area.gp and the others");
-  return dir;
+  // Relative to the running executable: an installed one is PREFIX/bin/millwear with the
+  // scripts in PREFIX/share/millwear/plots; a built one has share/millwear/plots beside it.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec || exe.empty())
+    throw RunError("figure scripts not found: cannot read /proc/self/exe to locate them; "
+                   "set MILLWEAR_PLOTS_DIR to the folder holding fig7_area.gp and the others");
+  const fs::path bin = exe.parent_path();
+  const std::string candidates[] = {(bin.parent_path() / "share/millwear/plots").string(),
+                                    (bin / "share/millwear/plots").string()};
+  for (const auto& dir : candidates)
+    if (fs::is_directory(dir, ec)) return dir;
+  throw RunError("figure scripts not found in " + candidates[0] + " or " + candidates[1] +
+                 " (looked relative to " + exe.string() +
+                 "); set MILLWEAR_PLOTS_DIR to the folder holding fig7_area.gp and the others");
 }
 
 std::string script_path(const std::string& figure) {

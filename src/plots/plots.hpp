@@ -1,21 +1,24 @@
 #pragma once
 // Figures from a run folder, drawn by gnuplot through gnuplot-iostream.
 //
-// The figure scripts live in the repository's plots/ folder (one .gp per figure, inputs
-// documented at the top of each) so users can restyle them and rerun them by hand. This
-// module only prepares per-design data files, passes variables, runs gnuplot, checks the
-// images exist, and moves them into place atomically (gnuplot draws to a temporary name,
-// then we rename). It never prints: gnuplot's messages go to OUT/plots/gnuplot.log and
-// failures come back as millwear::RunError.
+// The figure scripts live in the repository's plots/ folder, installed to
+// PREFIX/share/millwear/plots (one .gp per figure, inputs documented at the top of each), so
+// users can restyle them and rerun them by hand. This module only prepares per-design data
+// files, passes variables, runs gnuplot, checks the images exist, and moves them into place
+// atomically (gnuplot draws to a temporary name, then we rename). It never prints: gnuplot's
+// messages go to OUT/plots/gnuplot.log and failures come back as millwear::RunError.
 #include <map>
 #include <string>
 #include <vector>
 
 namespace millwear::plots {
 
-// The folder with the figure scripts: $MILLWEAR_PLOTS_DIR if set and non-empty, else
-// MILLWEAR_SOURCE_DIR/plots (the repository the program was built from).
-// Throws RunError if that folder does not exist.
+// The folder with the figure scripts, found relative to the running executable (no path is
+// compiled in), the first of:
+//   $MILLWEAR_PLOTS_DIR             if set and non-empty (RunError if it is not a folder);
+//   EXEDIR/../share/millwear/plots  an installed program, PREFIX/bin/millwear;
+//   EXEDIR/share/millwear/plots     the build tree, where CMake links plots/ beside the binaries.
+// Throws RunError naming the folders it looked in if none exists.
 std::string plots_dir();
 
 // Path of a script in plots_dir(), e.g. script_path("fig7_area") -> ".../plots/fig7_area.gp".
