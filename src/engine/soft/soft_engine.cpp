@@ -82,6 +82,7 @@
 
 #include "engine/soft/body.hpp"
 #include "engine/soft/colour_solve.hpp"
+#include "engine/soft/contact_set.hpp"
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
 
@@ -99,67 +100,18 @@ double seconds_since(Clock::time_point t0) {
 }
 
 using soft::Body;
-
-// Contacts are split by how often they are touched. Most disk-pair contacts are
-// speculative margins that never carry an impulse: every solve and relax pass (2 x 4 a
-// step) reads their gap (bodies, normal, start separation: 32 bytes, two to a cache line)
-// and the state byte, finds the row inert and goes on. The row proper (anchors, masses,
-// impulses) is read only for rows that act; the step sums are written once per substep
-// (relax); the info is cold (matching, restitution, accounting). All are flat arrays in the
-// same (key) order. The kLive bit (below) is exactly "some impulse of the row is not zero",
-// so testing it is testing the impulses.
-struct PairGap {
-  int a = 0, b = 0;            // internal disk indices, a < b
-  double nx = 0, ny = 0;       // unit normal from b toward a
-  double s0 = 0;               // separation at the start of the step
-};
-struct PairRow {
-  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
-  double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
-  double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
-  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
-};
-struct LinerGap {
-  int a = 0;
-  double nx = 0, ny = 0;       // unit normal from the liner toward a
-  double s0 = 0;
-  double vlx = 0, vly = 0;     // liner velocity at the contact point
-};
-struct LinerRow {
-  double alpha = 0;            // anchor r_a = -alpha n
-  double mn = 0, mt = 0, mr = 0;
-  double mu = 0, lever = 0;
-  double ln = 0, lt = 0, lr = 0;
-};
-// Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
-// wherever an impulse is written). kBuilt: the row's anchors, masses and material (and the
-// info's point, restitution and start velocity) have been computed. A disk-pair row is built
-// lazily, the first time a pass does not skip it: most are margins that never carry load,
-// and for them the narrow phase computes only the gap. An unbuilt row's impulses are zero
-// (not stored: kLive is clear). kBounce: a built disk-pair row whose contact closed faster than
-// the restitution threshold with a restitution above zero (set with its info): the once-a-step
-// restitution pass reads this byte and touches the cold info and sums of these rows only.
-constexpr std::uint8_t kLive = 1, kBuilt = 2, kBounce = 4;
-template <class Row>
-std::uint8_t has_impulse(const Row& c) {
-  return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
-}
-struct StepSum {
-  double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
-};
-// What every contact carries from one step to the next, apart from the cold info: the
-// matching reads it for every contact, most of which never get an info.
-struct ContactKey {
-  std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
-  double event_J = 0;      // energy dissipated since this collision began (spectrum)
-};
-struct ContactInfo {
-  int edge = -1;           // liner edge the contact's work goes to
-  int owner = -1;          // liner edge that found it (its key)
-  double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
-  double e = 0;            // restitution
-  double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
-};
+using soft::ContactInfo;
+using soft::ContactKey;
+using soft::ContactSet;
+using soft::has_impulse;
+using soft::kBounce;
+using soft::kBuilt;
+using soft::kLive;
+using soft::LinerGap;
+using soft::LinerRow;
+using soft::PairGap;
+using soft::PairRow;
+using soft::StepSum;
 
 // A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
 // are read from contiguous memory.
@@ -168,57 +120,6 @@ struct Candidate {
   int j;
 };
 
-// The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
-// use, so adding a contact is a bounds check and plain stores, no construction.
-template <class Gap, class Row>
-struct ContactSet {
-  std::vector<Gap> gap;
-  std::vector<Row> row;
-  std::vector<std::uint8_t> state;  // kLive | kBuilt
-  std::vector<StepSum> sum;
-  std::vector<ContactKey> key;
-  std::vector<ContactInfo> info;
-  std::size_t n = 0;
-  std::size_t size() const { return n; }
-  void clear() { n = 0; }
-  void reserve(std::size_t m) {
-    if (row.size() >= m) return;
-    gap.resize(m);
-    row.resize(m);
-    state.resize(m);
-    sum.resize(m);
-    key.resize(m);
-    info.resize(m);
-  }
-  void resize(std::size_t m) {
-    reserve(m);
-    n = m;
-  }
-  void swap(ContactSet& o) {
-    gap.swap(o.gap);
-    row.swap(o.row);
-    state.swap(o.state);
-    sum.swap(o.sum);
-    key.swap(o.key);
-    info.swap(o.info);
-    std::swap(n, o.n);
-  }
-  void copy(std::size_t to, const ContactSet& o, std::size_t from) {
-    gap[to] = o.gap[from];
-    row[to] = o.row[from];
-    state[to] = o.state[from];
-    sum[to] = o.sum[from];
-    key[to] = o.key[from];
-    info[to] = o.info[from];
-  }
-  // Append a contact; the caller writes gap, state and key, and row, info and zero step
-  // sums when it builds the row (only a built row's sums are ever read: most disk-pair rows
-  // are margins that are never built, and their sums are not written at all).
-  std::size_t add() {
-    if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
-    return n++;
-  }
-};
 
 struct Softness {
   double bias_rate = 0, mass_scale = 1, impulse_scale = 0;
@@ -273,8 +174,6 @@ class SoftEngine final : public Engine {
   void remove_disk(int i, const std::string& why);
   void add_pair_contact(int i, int j);
   void build_pair_row(std::size_t q);
-  template <class Set>
-  void sort_by_key(Set& set, Set& spare);
 
   // Description (fixed).
   double dt_ = 1.0 / 600.0;
@@ -454,23 +353,6 @@ void SoftEngine::remove_disk(int i, const std::string& why) {
 
 // ---- 2. broad phase helpers -------------------------------------------------------------
 
-// Sort a contact set by key (keys are unique, so any sort gives the same order), through
-// the spare set (whose contents are dead at this point) and scratch memory sized at
-// warm-up: no allocation.
-template <class Set>
-void SoftEngine::sort_by_key(Set& set, Set& spare) {
-  const std::size_t m = set.size();
-  scratch_keys_.clear();
-  for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.key[k].key, static_cast<int>(k));
-  std::sort(scratch_keys_.begin(), scratch_keys_.end());
-  spare.resize(m);
-  for (std::size_t t = 0; t < m; ++t) {
-    const auto k = static_cast<std::size_t>(scratch_keys_[t].second);
-    spare.copy(t, set, k);
-  }
-  set.swap(spare);
-}
-
 // Permute every per-disk array into grid order (active disks by cell, then the inactive),
 // and carry the contacts over to the new indices. Deterministic: the grid order is.
 void SoftEngine::reorder_by_cell() {
@@ -513,8 +395,8 @@ void SoftEngine::reorder_by_cell() {
     pl_.key[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
   }
   // The old sets hold the step before last: dead, so they serve as sort buffers.
-  sort_by_key(pp_, pp_old_);
-  sort_by_key(pl_, pl_old_);
+  soft::sort_by_key(pp_, pp_old_, scratch_keys_);
+  soft::sort_by_key(pl_, pl_old_, scratch_keys_);
 }
 
 // ---- 3. narrow phase --------------------------------------------------------------------
