@@ -85,6 +85,7 @@
 #include "engine/soft/contact_set.hpp"
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
+#include "engine/soft/model.hpp"
 
 namespace millwear {
 
@@ -111,6 +112,7 @@ using soft::LinerGap;
 using soft::LinerRow;
 using soft::PairGap;
 using soft::PairRow;
+using soft::Softness;
 using soft::StepSum;
 
 // A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
@@ -120,18 +122,6 @@ struct Candidate {
   int j;
 };
 
-
-struct Softness {
-  double bias_rate = 0, mass_scale = 1, impulse_scale = 0;
-};
-
-Softness make_softness(double hertz, double zeta, double h) {
-  const double w = 2.0 * kPi * hertz;
-  const double a1 = 2.0 * zeta + h * w;
-  const double a2 = h * w * a1;
-  const double a3 = 1.0 / (1.0 + a2);
-  return {w / a1, a2 * a3, a3};
-}
 
 class SoftEngine final : public Engine {
  public:
@@ -151,7 +141,7 @@ class SoftEngine final : public Engine {
     timing_.account_s += seconds_since(t0);
   }
   const ChargeState& state() const override { return state_; }
-  double time_step_s() const override { return dt_; }
+  double time_step_s() const override { return model_.dt_s; }
   const char* backend_name() const override { return "soft"; }
 
  private:
@@ -175,17 +165,9 @@ class SoftEngine final : public Engine {
   void add_pair_contact(int i, int j);
   void build_pair_row(std::size_t q);
 
-  // Description (fixed).
-  double dt_ = 1.0 / 600.0;
-  int substeps_ = 4;
-  double hertz_ = 0.0, zeta_ = 10.0, push_out_m_s_ = 1.0;
-  double restitution_threshold_m_s_ = 0.1;
-  double margin_base_m_ = 0.0;
-  double r_min_ = 0.0, r_max_ = 0.0;
-  double radius_m_ = 0.0, band_m_ = 0.0, shape_band_m_ = 0.0, max_r_m_ = 0.0;
-  int species_count_ = 1;
-  std::vector<double> mu_pair_, e_pair_, rr_pair_;   // species x species
-  std::vector<double> mu_liner_, e_liner_, rr_;      // per species
+  // The model: the constants from the scene, the mill and the charge's sizes, and the liner.
+  const soft::Model model_;
+  soft::LinerModel liner_;
 
   // Disk state in internal (cell) order; id_ maps to the caller's. The solver's part is an
   // array of Body (one cache line each); the rest is structure of arrays.
@@ -220,9 +202,7 @@ class SoftEngine final : public Engine {
   ContactSet<LinerGap, LinerRow> pl_, pl_old_;
   soft::Grid grid_;        // whole mill, for the reordering
   soft::Grid pair_grid_;   // the disks' bounding box, for the pair search
-  soft::LinerLookup liner_;
-  MillGeometry mill_;
-  std::vector<std::uint8_t> edge_is_shell_;
+  soft::LinerLookup liner_lookup_;
   double liner_reach_need_ = 0.0;
   double margin_max_ = 0.0;
 
@@ -231,59 +211,9 @@ class SoftEngine final : public Engine {
 
 SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const ChargeState& initial,
                        const AccountingOptions& opts)
-    : state_(initial) {
+    : model_(soft::build_model(scene, mill, initial)), state_(initial) {
   accounting_.options = opts;
-  dt_ = scene.solver.time_step_s;
-  substeps_ = scene.solver.substeps;
-  const double h = dt_ / substeps_;
-  // Box2D v3 caps the contact frequency at an eighth of the substep rate; higher is not
-  // resolved by one soft iteration per substep. Liner contacts get twice it (as static
-  // contacts do in Box2D) and a quarter is the most we allow for them.
-  hertz_ = scene.solver.contact_hertz > 0.0 ? std::min(scene.solver.contact_hertz, 0.125 / h)
-                                            : 0.125 / h;
-  zeta_ = scene.solver.damping_ratio;
-  radius_m_ = mill.radius_m;
-
   n_ = static_cast<int>(state_.size());
-  r_min_ = 0.0;
-  r_max_ = 0.0;
-  double mean_d = 0.0;
-  for (int i = 0; i < n_; ++i) {
-    const double r = state_.radius_m[static_cast<std::size_t>(i)];
-    r_min_ = i == 0 ? r : std::min(r_min_, r);
-    r_max_ = std::max(r_max_, r);
-    mean_d += 2.0 * r / n_;
-  }
-  if (n_ == 0) r_min_ = r_max_ = 0.01 * radius_m_, mean_d = 2.0 * r_min_;
-  push_out_m_s_ = scene.solver.push_out_radii_per_s * r_min_;
-  // Restitution only for impacts faster than 1.67 mean diameters per second: the same
-  // threshold as the Box2D backend (1 unit/s at its scaling), so both bounce alike.
-  restitution_threshold_m_s_ = mean_d / 0.6;
-  margin_base_m_ = 0.1 * r_min_;
-  shape_band_m_ = 2.0 * r_max_;
-
-  const auto& species = scene.charge.species;
-  species_count_ = static_cast<int>(std::max<std::size_t>(species.size(), 1));
-  mu_pair_.assign(static_cast<std::size_t>(species_count_ * species_count_), 0.5);
-  e_pair_ = mu_pair_;
-  rr_pair_.assign(mu_pair_.size(), 0.0);
-  mu_liner_.assign(static_cast<std::size_t>(species_count_), 0.5);
-  e_liner_.assign(mu_liner_.size(), 0.0);
-  rr_.assign(mu_liner_.size(), 0.0);
-  for (std::size_t a = 0; a < species.size(); ++a) {
-    mu_liner_[a] = species[a].friction_liner;
-    e_liner_[a] = species[a].restitution_liner;
-    rr_[a] = species[a].rolling_resistance;
-    for (std::size_t b = 0; b < species.size(); ++b) {
-      const std::size_t k = a * species.size() + b;
-      // Mixing as in Box2D: friction geometric mean, restitution the larger; rolling
-      // resistance the larger coefficient (times the pair's reduced radius, below).
-      mu_pair_[k] = std::sqrt(species[a].friction * species[b].friction);
-      e_pair_[k] = std::max(species[a].restitution, species[b].restitution);
-      rr_pair_[k] = std::max(species[a].rolling_resistance, species[b].rolling_resistance);
-    }
-  }
-
   const auto n = static_cast<std::size_t>(n_);
   id_.resize(n);
   body_.resize(n + 1);  // body n: the dummy the padding lanes of the wide solve use
@@ -322,19 +252,9 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
 }
 
 void SoftEngine::set_liner(const MillGeometry& mill) {
-  mill_ = mill;
-  max_r_m_ = 0.0;
-  double min_r = 1e300;
-  for (const Vec2& p : mill.boundary) {
-    max_r_m_ = std::max(max_r_m_, length(p));
-    min_r = std::min(min_r, length(p));
-  }
-  band_m_ = max_r_m_ - min_r;
-  liner_.build(mill, std::max(liner_reach_need_, 1.5 * (r_max_ + 2.0 * margin_base_m_)));
+  liner_ = soft::build_liner_model(mill);
+  liner_lookup_.build(mill, std::max(liner_reach_need_, 1.5 * (model_.r_max_m + 2.0 * model_.margin_base_m)));
   const std::size_t n = mill.boundary.size();
-  edge_is_shell_.resize(n);
-  for (std::size_t e = 0; e < n; ++e)
-    edge_is_shell_[e] = mill.edges[e].owner == EdgeOwner::Shell ? 1 : 0;
   edge_count_ = n;
   reset_accounting(accounting_, n);
   // Edge ids changed: liner contacts start cold.
@@ -450,14 +370,15 @@ void SoftEngine::build_pair_row(std::size_t q) {
   c.mt = it > 0.0 ? 1.0 / it : 0.0;
   const double ir = A.ii + B.ii;
   c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
-  const std::size_t pair = static_cast<std::size_t>(sp_[a]) * static_cast<std::size_t>(species_count_) + sp_[b];
-  c.mu = mu_pair_[pair];
-  info.e = e_pair_[pair];
+  const soft::Materials& mat = model_.materials;
+  const std::size_t pair = mat.pair(sp_[a], sp_[b]);
+  c.mu = mat.pair_friction[pair];
+  info.e = mat.pair_restitution[pair];
   // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
   // convention; a disk on a flat liner gets its own radius).
-  c.lever = rr_pair_[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
+  c.lever = mat.pair_rolling[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
   info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
-  if (info.e != 0.0 && !(info.vn0 > -restitution_threshold_m_s_)) pp_.state[q] |= kBounce;
+  if (info.e != 0.0 && !(info.vn0 > -model_.restitution_threshold_m_s)) pp_.state[q] |= kBounce;
 }
 
 // Pairs within the sum of their reaches (radius + margin), each found once: a disk scans
@@ -485,7 +406,7 @@ void SoftEngine::find_pairs() {
   const Candidate* cd = cand_.data();
   // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
   // the edge of the box from being lost to the rounding of the box.
-  const double reach_max = r_max_ + margin_max_ + 1e-6 * r_min_;
+  const double reach_max = model_.r_max_m + margin_max_ + 1e-6 * model_.r_min_m;
   std::size_t found = 0;
   // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
   // every one is tested and stored, and only counted if it passes (room for a whole range
@@ -546,7 +467,7 @@ void SoftEngine::find_liner_contacts() {
   pl_.clear();
   const double omega = state_.mill_speed_rad_s;
   const double cs = std::cos(state_.mill_angle_rad), sn = std::sin(state_.mill_angle_rad);
-  const double liner_travel = std::fabs(omega) * max_r_m_ * dt_;
+  const double liner_travel = std::fabs(omega) * liner_.max_r_m * model_.dt_s;
   soft::LinerHit hits[kMaxLinerHits];
   for (int i = 0; i < n_; ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -554,8 +475,8 @@ void SoftEngine::find_liner_contacts() {
     const double margin = marg_[k] + liner_travel;
     // Into the mill frame (rotate by -theta).
     const Vec2 pm{cs * x_[k] + sn * y_[k], -sn * x_[k] + cs * y_[k]};
-    if (!liner_.may_touch(pm, r_[k] + margin)) continue;
-    const int count = liner_.query(pm, r_[k], margin, hits, kMaxLinerHits);
+    if (!liner_lookup_.may_touch(pm, r_[k] + margin)) continue;
+    const int count = liner_lookup_.query(pm, r_[k], margin, hits, kMaxLinerHits);
     const Body& A = body_[k];
     for (int h = 0; h < count; ++h) {
       const soft::LinerHit& hit = hits[h];
@@ -582,9 +503,9 @@ void SoftEngine::find_liner_contacts() {
       const double it = A.im + A.ii * c.alpha * c.alpha;
       c.mt = it > 0.0 ? 1.0 / it : 0.0;
       c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
-      c.mu = mu_liner_[sp_[k]];
-      info.e = e_liner_[sp_[k]];
-      c.lever = rr_[sp_[k]] * r_[k];
+      c.mu = model_.materials.liner_friction[sp_[k]];
+      info.e = model_.materials.liner_restitution[sp_[k]];
+      c.lever = model_.materials.rolling[sp_[k]] * r_[k];
       info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
     }
   }
@@ -743,11 +664,11 @@ void SoftEngine::warm_start() {
 // it (the tangent of a contact is left_perp(n); r_a = -alpha n gives r_a x t = -alpha).
 template <bool kBias>
 void SoftEngine::solve_pass(double elapsed_s) {
-  const double h = dt_ / substeps_;
+  const double h = model_.dt_s / model_.substeps;
   const double inv_h = 1.0 / h;
-  const Softness soft = make_softness(hertz_, zeta_, h);
-  const Softness soft_liner = make_softness(2.0 * hertz_, zeta_, h);
-  const double push = push_out_m_s_;
+  const Softness& soft = model_.pair_softness;
+  const Softness& soft_liner = model_.liner_softness;
+  const double push = model_.push_out_m_s;
   Body* body = body_.data();
 
   auto normal_row = [&](auto& c, double s, double vn, const Softness& sf) {
@@ -895,7 +816,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
 // Once per step, after the substeps: contacts that closed faster than the threshold and
 // carried load get the restitution impulse that sends them apart at e times that speed.
 void SoftEngine::restitution() {
-  const double thr = -restitution_threshold_m_s_;
+  const double thr = -model_.restitution_threshold_m_s;
   Body* body = body_.data();
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     // Only a row that closed fast enough with some restitution bounces: one byte tells
@@ -938,11 +859,11 @@ void SoftEngine::restitution() {
 }
 
 void SoftEngine::solve() {
-  const double h = dt_ / substeps_;
+  const double h = model_.dt_s / model_.substeps;
   const double gh = kGravity * h;
   Body* body = body_.data();
   colour_live_rows();
-  for (int sub = 0; sub < substeps_; ++sub) {
+  for (int sub = 0; sub < model_.substeps; ++sub) {
     for (int i = 0; i < n_; ++i)
       if (body[i].im > 0.0) body[i].vy -= gh;
     warm_start();
@@ -1035,7 +956,7 @@ void SoftEngine::account_contacts() {
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a];
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
     rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(info.edge);
-    account_contact(accounting_, rec, omega, edge_is_shell_[static_cast<std::size_t>(info.edge)] != 0);
+    account_contact(accounting_, rec, omega, liner_.edge_is_shell[static_cast<std::size_t>(info.edge)] != 0);
     // Rolling couple against the liner: the drive supplies it at the mill's speed.
     accounting_.pl_tangent_J += -sum.pr * (0.5 * (wb_[a] + body[a].w) - omega);
     accounting_.torque_impulse_Nms += sum.pr;
@@ -1046,10 +967,10 @@ void SoftEngine::account_contacts() {
 void SoftEngine::check_inside_liner() {
   // A disk whose centre got deeper into the lifter metal than the liner contact reaches
   // (half a radius) has leaked through.
-  const int rows = mill_.rows;
-  if (rows <= 0 || mill_.units.empty()) return;
+  const int rows = liner_.mill.rows;
+  if (rows <= 0 || liner_.mill.units.empty()) return;
   const double pitch_angle = 2.0 * kPi / rows;
-  const double inner_sq = (radius_m_ - band_m_) * (radius_m_ - band_m_);
+  const double inner_sq = (model_.mill_radius_m - liner_.band_m) * (model_.mill_radius_m - liner_.band_m);
   for (int i = 0; i < n_; ++i) {
     const auto k = static_cast<std::size_t>(i);
     if (!act_[k]) continue;
@@ -1059,8 +980,8 @@ void SoftEngine::check_inside_liner() {
     const double theta = std::atan2(pm.y, pm.x);
     int row = static_cast<int>(std::lround(theta / pitch_angle));
     row = ((row % rows) + rows) % rows;
-    const Vec2 local = mill_to_local(pm, row, rows, radius_m_);
-    const Polyline& surf = mill_.units[mill_.units.size() == 1 ? 0 : static_cast<std::size_t>(row)].surface;
+    const Vec2 local = mill_to_local(pm, row, rows, model_.mill_radius_m);
+    const Polyline& surf = liner_.mill.units[liner_.mill.units.size() == 1 ? 0 : static_cast<std::size_t>(row)].surface;
     for (std::size_t e = 0; e + 1 < surf.size(); ++e) {
       const Vec2 a = surf[e], b = surf[e + 1];
       if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
@@ -1088,13 +1009,13 @@ void SoftEngine::finish() {
     }
     // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the final
     // velocity): its potential energy is the solver's share of the energy balance.
-    const double corr_y = (y_[k] - y0_[k]) - dt_ * body_[k].vy;
+    const double corr_y = (y_[k] - y0_[k]) - model_.dt_s * body_[k].vy;
     accounting_.solver_position_J -= mass_[k] * g * corr_y;
     state_.position_m[id] = {x_[k], y_[k]};
     state_.velocity_m_s[id] = {body_[k].vx, body_[k].vy};
     state_.angle_rad[id] = ang_[k];
     state_.spin_rad_s[id] = body_[k].w;
-    const double escape_r = max_r_m_ + 0.5 * r_[k];
+    const double escape_r = liner_.max_r_m + 0.5 * r_[k];
     if (x_[k] * x_[k] + y_[k] * y_[k] > escape_r * escape_r) {
       accounting_.escaped += 1;
       remove_disk(i, "escaped through the shell");
@@ -1113,14 +1034,14 @@ void SoftEngine::step_once() {
     x0_[k] = x_[k];
     y0_[k] = y_[k];
     vbx_[k] = body_[k].vx;
-    vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+    vby_[k] = act_[k] ? body_[k].vy - g * model_.dt_s : body_[k].vy;
     vy0_[k] = body_[k].vy;
     wb_[k] = body_[k].w;
     body_[k].dpx = 0.0;
     body_[k].dpy = 0.0;
     if (!act_[k]) continue;
     const double speed = std::sqrt(body_[k].vx * body_[k].vx + body_[k].vy * body_[k].vy);
-    marg_[k] = margin_base_m_ + 1.5 * (speed + g * dt_) * dt_;
+    marg_[k] = model_.margin_base_m + 1.5 * (speed + g * model_.dt_s) * model_.dt_s;
     margin_max_ = std::max(margin_max_, marg_[k]);
     bx0 = std::min(bx0, x_[k]);
     bx1 = std::max(bx1, x_[k]);
@@ -1132,8 +1053,8 @@ void SoftEngine::step_once() {
   if (accounting_.steps % kReorderInterval == 0 && n_ > 0) {
     // Cells over the whole mill, two reaches wide: the order depends on the positions (and
     // this width) only.
-    const double side = 2.0 * (max_r_m_ + 2.0 * r_max_);
-    grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (r_max_ + margin_max_));
+    const double side = 2.0 * (liner_.max_r_m + 2.0 * model_.r_max_m);
+    grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (model_.r_max_m + margin_max_));
     grid_.build(x_.data(), y_.data(), act_.data(), n_);
     reorder_by_cell();
     // Reordering moved the before-step copies too: rebuild them.
@@ -1142,23 +1063,23 @@ void SoftEngine::step_once() {
       x0_[k] = x_[k];
       y0_[k] = y_[k];
       vbx_[k] = body_[k].vx;
-      vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
+      vby_[k] = act_[k] ? body_[k].vy - g * model_.dt_s : body_[k].vy;
       vy0_[k] = body_[k].vy;
       wb_[k] = body_[k].w;
     }
   }
   // Pair cells one largest reach wide over the disks' bounding box: a disk's box (its reach
   // plus the largest) spans at most 5 x 5 of them, of which it scans the half after it.
-  pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (r_max_ + margin_max_));
+  pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (model_.r_max_m + margin_max_));
   pair_grid_.build(x_.data(), y_.data(), act_.data(), n_);
   const auto t_broad = Clock::now();
   timing_.broad_s += std::chrono::duration<double>(t_broad - t_start).count();
 
   // 3. Narrow phase. The liner lookup is rebuilt (rarely) when a fast disk needs more reach.
-  const double reach = r_max_ + margin_max_ + std::fabs(state_.mill_speed_rad_s) * max_r_m_ * dt_;
-  if (reach > liner_.reach_m()) {
+  const double reach = model_.r_max_m + margin_max_ + std::fabs(state_.mill_speed_rad_s) * liner_.max_r_m * model_.dt_s;
+  if (reach > liner_lookup_.reach_m()) {
     liner_reach_need_ = 1.5 * reach;
-    liner_.build(mill_, liner_reach_need_);
+    liner_lookup_.build(liner_.mill, liner_reach_need_);
   }
   pp_old_.swap(pp_);
   pl_old_.swap(pl_);
@@ -1180,10 +1101,10 @@ void SoftEngine::step_once() {
   // 5. Finish.
   finish();
   account_contacts();
-  state_.time_s += dt_;
-  state_.mill_angle_rad += state_.mill_speed_rad_s * dt_;
+  state_.time_s += model_.dt_s;
+  state_.mill_angle_rad += state_.mill_speed_rad_s * model_.dt_s;
   if (accounting_.steps % 16 == 0) check_inside_liner();
-  account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_, kGravity);
+  account_step(accounting_, state_, model_.dt_s, model_.mill_radius_m, model_.shape_band_m + liner_.band_m, kGravity);
   timing_.account_s += seconds_since(t_solve);
 }
 
