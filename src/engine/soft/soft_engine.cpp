@@ -83,6 +83,7 @@
 #include "engine/soft/body.hpp"
 #include "engine/soft/colour_solve.hpp"
 #include "engine/soft/contact_set.hpp"
+#include "engine/soft/disks.hpp"
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
 #include "engine/soft/model.hpp"
@@ -169,15 +170,9 @@ class SoftEngine final : public Engine {
   const soft::Model model_;
   soft::LinerModel liner_;
 
-  // Disk state in internal (cell) order; id_ maps to the caller's. The solver's part is an
-  // array of Body (one cache line each); the rest is structure of arrays.
-  int n_ = 0;
-  std::vector<int> id_;
-  std::vector<Body> body_;
-  std::vector<double> x_, y_, ang_, r_, mass_;
-  std::vector<unsigned char> act_;
-  std::vector<std::uint8_t> sp_;
-  std::vector<double> x0_, y0_, vbx_, vby_, wb_, vy0_, marg_;
+  // The disks in the solver's (cell) order, and what the step started from (disks.hpp).
+  soft::Disks disks_;
+  soft::StepStart start_;
   std::vector<double> scratch_d_;
   std::vector<Body> scratch_body_;
   std::vector<int> scratch_i_, scratch_ids_, inverse_;
@@ -211,32 +206,13 @@ class SoftEngine final : public Engine {
 
 SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const ChargeState& initial,
                        const AccountingOptions& opts)
-    : model_(soft::build_model(scene, mill, initial)), state_(initial) {
+    : model_(soft::build_model(scene, mill, initial)),
+      disks_(soft::load_disks(initial)),
+      start_(soft::make_step_start(disks_.n)),
+      state_(initial) {
   accounting_.options = opts;
-  n_ = static_cast<int>(state_.size());
-  const auto n = static_cast<std::size_t>(n_);
-  id_.resize(n);
-  body_.resize(n + 1);  // body n: the dummy the padding lanes of the wide solve use
-  x_.resize(n); y_.resize(n); ang_.resize(n);
-  r_.resize(n); mass_.resize(n); act_.resize(n); sp_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    id_[i] = static_cast<int>(i);
-    x_[i] = state_.position_m[i].x;
-    y_[i] = state_.position_m[i].y;
-    Body& b = body_[i];
-    b.vx = state_.velocity_m_s[i].x;
-    b.vy = state_.velocity_m_s[i].y;
-    b.w = state_.spin_rad_s[i];
-    ang_[i] = state_.angle_rad[i];
-    r_[i] = state_.radius_m[i];
-    mass_[i] = state_.mass_kg[i];
-    sp_[i] = state_.species[i];
-    act_[i] = state_.active[i];
-    // A disk's moment of inertia is m r^2 / 2.
-    b.im = act_[i] ? 1.0 / mass_[i] : 0.0;
-    b.ii = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
-  }
-  for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &vy0_, &marg_, &scratch_d_}) v->assign(n, 0.0);
+  const auto n = static_cast<std::size_t>(disks_.n);
+  scratch_d_.assign(n, 0.0);
   scratch_body_.resize(n + 1);  // its last body (a dummy) is never written by the reordering
   scratch_i_.assign(n, 0);
   scratch_ids_.assign(n, 0);
@@ -264,11 +240,11 @@ void SoftEngine::set_liner(const MillGeometry& mill) {
 
 void SoftEngine::remove_disk(int i, const std::string& why) {
   const auto k = static_cast<std::size_t>(i);
-  act_[k] = 0;
-  body_[k].im = 0.0;
-  body_[k].ii = 0.0;
-  state_.active[static_cast<std::size_t>(id_[k])] = 0;
-  events_.push_back({state_.time_s, "disk " + std::to_string(id_[k]) + " " + why});
+  disks_.active[k] = 0;
+  disks_.body[k].im = 0.0;
+  disks_.body[k].ii = 0.0;
+  state_.active[static_cast<std::size_t>(disks_.id[k])] = 0;
+  events_.push_back({state_.time_s, "disk " + std::to_string(disks_.id[k]) + " " + why});
 }
 
 // ---- 2. broad phase helpers -------------------------------------------------------------
@@ -276,7 +252,7 @@ void SoftEngine::remove_disk(int i, const std::string& why) {
 // Permute every per-disk array into grid order (active disks by cell, then the inactive),
 // and carry the contacts over to the new indices. Deterministic: the grid order is.
 void SoftEngine::reorder_by_cell() {
-  const auto n = static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(disks_.n);
   std::size_t k = 0;
   for (int c = 0; c < grid_.placed(); ++c) scratch_i_[k++] = grid_.order[static_cast<std::size_t>(c)];
   for (std::size_t i = 0; i < n; ++i)
@@ -287,15 +263,15 @@ void SoftEngine::reorder_by_cell() {
     for (std::size_t i = 0; i < n; ++i) scratch_d_[i] = v[static_cast<std::size_t>(perm[i])];
     v.swap(scratch_d_);
   };
-  for (auto* v : {&x_, &y_, &ang_, &r_, &mass_, &marg_}) permute_d(*v);
-  for (std::size_t i = 0; i < n; ++i) scratch_body_[i] = body_[static_cast<std::size_t>(perm[i])];
-  body_.swap(scratch_body_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = act_[static_cast<std::size_t>(perm[i])];
-  act_.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = sp_[static_cast<std::size_t>(perm[i])];
-  sp_.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = id_[static_cast<std::size_t>(perm[i])];
-  id_.swap(scratch_ids_);
+  for (auto* v : {&disks_.x, &disks_.y, &disks_.angle, &disks_.radius, &disks_.mass, &disks_.margin}) permute_d(*v);
+  for (std::size_t i = 0; i < n; ++i) scratch_body_[i] = disks_.body[static_cast<std::size_t>(perm[i])];
+  disks_.body.swap(scratch_body_);
+  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = disks_.active[static_cast<std::size_t>(perm[i])];
+  disks_.active.swap(scratch_u_);
+  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = disks_.species[static_cast<std::size_t>(perm[i])];
+  disks_.species.swap(scratch_u_);
+  for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = disks_.id[static_cast<std::size_t>(perm[i])];
+  disks_.id.swap(scratch_ids_);
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     PairGap& c = pp_.gap[q];
     int a = inverse_[static_cast<std::size_t>(c.a)], b = inverse_[static_cast<std::size_t>(c.b)];
@@ -333,7 +309,7 @@ void SoftEngine::add_pair_contact(int i, int j) {
   pp_.state[q] = 0;
   key.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
   key.event_J = 0.0;
-  const double dx = x_[a] - x_[b], dy = y_[a] - y_[b];
+  const double dx = disks_.x[a] - disks_.x[b], dy = disks_.y[a] - disks_.y[b];
   const double dist = std::sqrt(dx * dx + dy * dy);
   if (dist > 0.0) {
     g.nx = dx / dist;
@@ -342,7 +318,7 @@ void SoftEngine::add_pair_contact(int i, int j) {
     g.nx = 0.0;
     g.ny = 1.0;
   }
-  g.s0 = dist - r_[a] - r_[b];
+  g.s0 = dist - disks_.radius[a] - disks_.radius[b];
 }
 
 // Everything else of a disk-pair row, from the state at the start of the step (x0, the
@@ -358,12 +334,12 @@ void SoftEngine::build_pair_row(std::size_t q) {
   pp_.sum[q] = StepSum{};
   info.edge = info.owner = -1;
   // The contact point is midway between the two surfaces.
-  c.alpha = r_[a] + 0.5 * g.s0;
-  c.beta = r_[b] + 0.5 * g.s0;
-  info.px = x0_[a] - c.alpha * g.nx;
-  info.py = y0_[a] - c.alpha * g.ny;
-  const Body& A = body_[a];
-  const Body& B = body_[b];
+  c.alpha = disks_.radius[a] + 0.5 * g.s0;
+  c.beta = disks_.radius[b] + 0.5 * g.s0;
+  info.px = start_.x[a] - c.alpha * g.nx;
+  info.py = start_.y[a] - c.alpha * g.ny;
+  const Body& A = disks_.body[a];
+  const Body& B = disks_.body[b];
   const double im = A.im + B.im;
   c.mn = im > 0.0 ? 1.0 / im : 0.0;
   const double it = im + A.ii * c.alpha * c.alpha + B.ii * c.beta * c.beta;
@@ -371,13 +347,13 @@ void SoftEngine::build_pair_row(std::size_t q) {
   const double ir = A.ii + B.ii;
   c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
   const soft::Materials& mat = model_.materials;
-  const std::size_t pair = mat.pair(sp_[a], sp_[b]);
+  const std::size_t pair = mat.pair(disks_.species[a], disks_.species[b]);
   c.mu = mat.pair_friction[pair];
   info.e = mat.pair_restitution[pair];
   // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
   // convention; a disk on a flat liner gets its own radius).
-  c.lever = mat.pair_rolling[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
-  info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
+  c.lever = mat.pair_rolling[pair] * disks_.radius[a] * disks_.radius[b] / (disks_.radius[a] + disks_.radius[b]);
+  info.vn0 = (start_.vx[a] - start_.vx[b]) * g.nx + (start_.vy[a] - start_.vy[b]) * g.ny;
   if (info.e != 0.0 && !(info.vn0 > -model_.restitution_threshold_m_s)) pp_.state[q] |= kBounce;
 }
 
@@ -392,10 +368,10 @@ void SoftEngine::find_pairs() {
   const soft::Grid& grid = pair_grid_;
   const int nx = grid.nx;
   const int* start = grid.start.data();
-  const double* x = x_.data();
-  const double* y = y_.data();
-  const double* r = r_.data();
-  const double* marg = marg_.data();
+  const double* x = disks_.x.data();
+  const double* y = disks_.y.data();
+  const double* r = disks_.radius.data();
+  const double* marg = disks_.margin.data();
   const int placed = grid.placed();
   // A candidate is 32 bytes (position, reach, index): two to a cache line.
   cand_.resize(static_cast<std::size_t>(placed));
@@ -439,7 +415,7 @@ void SoftEngine::find_pairs() {
       scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
   }
   // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
-  const auto n = static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(disks_.n);
   pair_first_.assign(n + 1, 0);
   for (std::size_t t = 0; t < found; ++t) pair_first_[(pair_keys_[t] >> 32) + 1] += 1;
   for (std::size_t i = 0; i < n; ++i) pair_first_[i + 1] += pair_first_[i];
@@ -469,15 +445,15 @@ void SoftEngine::find_liner_contacts() {
   const double cs = std::cos(state_.mill_angle_rad), sn = std::sin(state_.mill_angle_rad);
   const double liner_travel = std::fabs(omega) * liner_.max_r_m * model_.dt_s;
   soft::LinerHit hits[kMaxLinerHits];
-  for (int i = 0; i < n_; ++i) {
+  for (int i = 0; i < disks_.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const double margin = marg_[k] + liner_travel;
+    if (!disks_.active[k]) continue;
+    const double margin = disks_.margin[k] + liner_travel;
     // Into the mill frame (rotate by -theta).
-    const Vec2 pm{cs * x_[k] + sn * y_[k], -sn * x_[k] + cs * y_[k]};
-    if (!liner_lookup_.may_touch(pm, r_[k] + margin)) continue;
-    const int count = liner_lookup_.query(pm, r_[k], margin, hits, kMaxLinerHits);
-    const Body& A = body_[k];
+    const Vec2 pm{cs * disks_.x[k] + sn * disks_.y[k], -sn * disks_.x[k] + cs * disks_.y[k]};
+    if (!liner_lookup_.may_touch(pm, disks_.radius[k] + margin)) continue;
+    const int count = liner_lookup_.query(pm, disks_.radius[k], margin, hits, kMaxLinerHits);
+    const Body& A = disks_.body[k];
     for (int h = 0; h < count; ++h) {
       const soft::LinerHit& hit = hits[h];
       const std::size_t q = pl_.add();
@@ -494,18 +470,18 @@ void SoftEngine::find_liner_contacts() {
       g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
       g.ny = sn * hit.normal.x + cs * hit.normal.y;
       g.s0 = hit.gap;
-      c.alpha = r_[k] + 0.5 * g.s0;
-      info.px = x_[k] - c.alpha * g.nx;
-      info.py = y_[k] - c.alpha * g.ny;
+      c.alpha = disks_.radius[k] + 0.5 * g.s0;
+      info.px = disks_.x[k] - c.alpha * g.nx;
+      info.py = disks_.y[k] - c.alpha * g.ny;
       g.vlx = -omega * info.py;
       g.vly = omega * info.px;
       c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
       const double it = A.im + A.ii * c.alpha * c.alpha;
       c.mt = it > 0.0 ? 1.0 / it : 0.0;
       c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
-      c.mu = model_.materials.liner_friction[sp_[k]];
-      info.e = model_.materials.liner_restitution[sp_[k]];
-      c.lever = model_.materials.rolling[sp_[k]] * r_[k];
+      c.mu = model_.materials.liner_friction[disks_.species[k]];
+      info.e = model_.materials.liner_restitution[disks_.species[k]];
+      c.lever = model_.materials.rolling[disks_.species[k]] * disks_.radius[k];
       info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
     }
   }
@@ -557,7 +533,7 @@ void SoftEngine::colour_live_rows() {
   const std::size_t m = pp_.size();
   if (rest_.size() < m) rest_.resize(pp_.row.size());
   if (warm_rows_.size() < m) warm_rows_.resize(pp_.row.size());
-  coloured_.begin(n_, m);
+  coloured_.begin(disks_.n, m);
   rest_n_ = 0;
   warm_n_ = 0;
   for (std::size_t q = 0; q < m; ++q) {
@@ -627,7 +603,7 @@ void SoftEngine::store_lanes() {
 // them back once: the same arithmetic in the same order as updating the arrays in place,
 // without the reloads that possible aliasing would force.
 void SoftEngine::warm_start() {
-  Body* body = body_.data();
+  Body* body = disks_.body.data();
   soft::wide_warm_start(body, coloured_.rows(), coloured_.chunks());
   // Of the serial rows only the live ones: a row without impulse applies nothing (adding its
   // zero impulses would leave every velocity as it was), and most rows are such margins.
@@ -669,7 +645,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
   const Softness& soft = model_.pair_softness;
   const Softness& soft_liner = model_.liner_softness;
   const double push = model_.push_out_m_s;
-  Body* body = body_.data();
+  Body* body = disks_.body.data();
 
   auto normal_row = [&](auto& c, double s, double vn, const Softness& sf) {
     double mass_scale = 1.0, impulse_scale = 0.0, bias = 0.0;
@@ -817,7 +793,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
 // carried load get the restitution impulse that sends them apart at e times that speed.
 void SoftEngine::restitution() {
   const double thr = -model_.restitution_threshold_m_s;
-  Body* body = body_.data();
+  Body* body = disks_.body.data();
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     // Only a row that closed fast enough with some restitution bounces: one byte tells
     // (kBounce), and the cold info and sums of the others stay untouched.
@@ -861,23 +837,23 @@ void SoftEngine::restitution() {
 void SoftEngine::solve() {
   const double h = model_.dt_s / model_.substeps;
   const double gh = kGravity * h;
-  Body* body = body_.data();
+  Body* body = disks_.body.data();
   colour_live_rows();
   for (int sub = 0; sub < model_.substeps; ++sub) {
-    for (int i = 0; i < n_; ++i)
+    for (int i = 0; i < disks_.n; ++i)
       if (body[i].im > 0.0) body[i].vy -= gh;
     warm_start();
     solve_pass<true>(sub * h);
-    for (int i = 0; i < n_; ++i) {
+    for (int i = 0; i < disks_.n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      if (!act_[k]) continue;
+      if (!disks_.active[k]) continue;
       Body& b = body[i];
       const double ddx = h * b.vx, ddy = h * b.vy;
-      x_[k] += ddx;
-      y_[k] += ddy;
+      disks_.x[k] += ddx;
+      disks_.y[k] += ddy;
       b.dpx += ddx;
       b.dpy += ddy;
-      ang_[k] += h * b.w;
+      disks_.angle[k] += h * b.w;
     }
     solve_pass<false>((sub + 1) * h);
   }
@@ -890,7 +866,7 @@ void SoftEngine::solve() {
 void SoftEngine::account_contacts() {
   const double omega = state_.mill_speed_rad_s;
   const bool spectrum = accounting_.options.collision_spectrum;
-  const Body* body = body_.data();
+  const Body* body = disks_.body.data();
   ContactRecord rec;
   for (std::size_t q = 0; q < pp_.size(); ++q) {
     const StepSum& sum = pp_.sum[q];
@@ -906,12 +882,12 @@ void SoftEngine::account_contacts() {
     const PairGap& g = pp_.gap[q];
     const PairRow& c = pp_.row[q];
     const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-    if (!act_[a] || !act_[b]) continue;
+    if (!disks_.active[a] || !disks_.active[b]) continue;
     const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vbx_[a] - vbx_[b], dy0 = vby_[a] - vby_[b];
+    const double dx0 = start_.vx[a] - start_.vx[b], dy0 = start_.vy_before[a] - start_.vy_before[b];
     const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
-    rec.a = id_[a];
-    rec.b = id_[b];
+    rec.a = disks_.id[a];
+    rec.b = disks_.id[b];
     rec.edge = -1;
     rec.point_m = {info.px, info.py};
     rec.normal = {g.nx, g.ny};
@@ -919,14 +895,14 @@ void SoftEngine::account_contacts() {
     rec.tangent_impulse = sum.pt;
     rec.vn_before = g.nx * dx0 + g.ny * dy0;
     rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a] - c.beta * wb_[b];
+    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * start_.w[a] - c.beta * start_.w[b];
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
     const auto lo = static_cast<std::uint64_t>(std::min(rec.a, rec.b));
     const auto hi = static_cast<std::uint64_t>(std::max(rec.a, rec.b));
     rec.key = (lo << 32) | hi;
     account_contact(accounting_, rec, omega, false);
     // The rolling couple's dissipation (no field of its own in the record).
-    const double rolling_loss = -sum.pr * 0.5 * ((wb_[a] - wb_[b]) + (body[a].w - body[b].w));
+    const double rolling_loss = -sum.pr * 0.5 * ((start_.w[a] - start_.w[b]) + (body[a].w - body[b].w));
     accounting_.pp_tangent_J += rolling_loss;
     if (spectrum) {
       key.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
@@ -940,11 +916,11 @@ void SoftEngine::account_contacts() {
     const LinerRow& c = pl_.row[q];
     const ContactInfo& info = pl_.info[q];
     const auto a = static_cast<std::size_t>(g.a);
-    if (!act_[a]) continue;
+    if (!disks_.active[a]) continue;
     const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vbx_[a] - g.vlx, dy0 = vby_[a] - g.vly;
+    const double dx0 = start_.vx[a] - g.vlx, dy0 = start_.vy_before[a] - g.vly;
     const double dx1 = body[a].vx - g.vlx, dy1 = body[a].vy - g.vly;
-    rec.a = id_[a];
+    rec.a = disks_.id[a];
     rec.b = -1;
     rec.edge = info.edge;
     rec.point_m = {info.px, info.py};
@@ -953,12 +929,12 @@ void SoftEngine::account_contacts() {
     rec.tangent_impulse = sum.pt;
     rec.vn_before = g.nx * dx0 + g.ny * dy0;
     rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a];
+    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * start_.w[a];
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
     rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(info.edge);
     account_contact(accounting_, rec, omega, liner_.edge_is_shell[static_cast<std::size_t>(info.edge)] != 0);
     // Rolling couple against the liner: the drive supplies it at the mill's speed.
-    accounting_.pl_tangent_J += -sum.pr * (0.5 * (wb_[a] + body[a].w) - omega);
+    accounting_.pl_tangent_J += -sum.pr * (0.5 * (start_.w[a] + body[a].w) - omega);
     accounting_.torque_impulse_Nms += sum.pr;
     accounting_.drive_work_J += omega * sum.pr;
   }
@@ -971,10 +947,10 @@ void SoftEngine::check_inside_liner() {
   if (rows <= 0 || liner_.mill.units.empty()) return;
   const double pitch_angle = 2.0 * kPi / rows;
   const double inner_sq = (model_.mill_radius_m - liner_.band_m) * (model_.mill_radius_m - liner_.band_m);
-  for (int i = 0; i < n_; ++i) {
+  for (int i = 0; i < disks_.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const Vec2 p{x_[k], y_[k]};
+    if (!disks_.active[k]) continue;
+    const Vec2 p{disks_.x[k], disks_.y[k]};
     if (length_sq(p) < inner_sq) continue;
     const Vec2 pm = rotated(p, -state_.mill_angle_rad);
     const double theta = std::atan2(pm.y, pm.x);
@@ -986,7 +962,7 @@ void SoftEngine::check_inside_liner() {
       const Vec2 a = surf[e], b = surf[e + 1];
       if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
       const double y_surface = a.y + (b.y - a.y) * (local.x - a.x) / (b.x - a.x);
-      if (local.y < y_surface - 0.5 * r_[k]) {
+      if (local.y < y_surface - 0.5 * disks_.radius[k]) {
         accounting_.escaped += 1;
         remove_disk(i, "leaked into the liner");
       }
@@ -997,26 +973,26 @@ void SoftEngine::check_inside_liner() {
 
 void SoftEngine::finish() {
   const double g = kGravity;
-  for (int i = 0; i < n_; ++i) {
+  for (int i = 0; i < disks_.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const auto id = static_cast<std::size_t>(id_[k]);
-    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]) || !std::isfinite(body_[k].vx) ||
-        !std::isfinite(body_[k].vy) || !std::isfinite(body_[k].w)) {
+    if (!disks_.active[k]) continue;
+    const auto id = static_cast<std::size_t>(disks_.id[k]);
+    if (!std::isfinite(disks_.x[k]) || !std::isfinite(disks_.y[k]) || !std::isfinite(disks_.body[k].vx) ||
+        !std::isfinite(disks_.body[k].vy) || !std::isfinite(disks_.body[k].w)) {
       accounting_.non_finite += 1;
       remove_disk(i, "went non-finite");
       continue;
     }
     // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the final
     // velocity): its potential energy is the solver's share of the energy balance.
-    const double corr_y = (y_[k] - y0_[k]) - model_.dt_s * body_[k].vy;
-    accounting_.solver_position_J -= mass_[k] * g * corr_y;
-    state_.position_m[id] = {x_[k], y_[k]};
-    state_.velocity_m_s[id] = {body_[k].vx, body_[k].vy};
-    state_.angle_rad[id] = ang_[k];
-    state_.spin_rad_s[id] = body_[k].w;
-    const double escape_r = liner_.max_r_m + 0.5 * r_[k];
-    if (x_[k] * x_[k] + y_[k] * y_[k] > escape_r * escape_r) {
+    const double corr_y = (disks_.y[k] - start_.y[k]) - model_.dt_s * disks_.body[k].vy;
+    accounting_.solver_position_J -= disks_.mass[k] * g * corr_y;
+    state_.position_m[id] = {disks_.x[k], disks_.y[k]};
+    state_.velocity_m_s[id] = {disks_.body[k].vx, disks_.body[k].vy};
+    state_.angle_rad[id] = disks_.angle[k];
+    state_.spin_rad_s[id] = disks_.body[k].w;
+    const double escape_r = liner_.max_r_m + 0.5 * disks_.radius[k];
+    if (disks_.x[k] * disks_.x[k] + disks_.y[k] * disks_.y[k] > escape_r * escape_r) {
       accounting_.escaped += 1;
       remove_disk(i, "escaped through the shell");
     }
@@ -1026,52 +1002,35 @@ void SoftEngine::finish() {
 void SoftEngine::step_once() {
   const auto t_start = Clock::now();
   const double g = kGravity;
-  // 1. Margins, and what the step starts from.
+  // 1. Margins.
   margin_max_ = 0.0;
   double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
-  for (int i = 0; i < n_; ++i) {
+  for (int i = 0; i < disks_.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    x0_[k] = x_[k];
-    y0_[k] = y_[k];
-    vbx_[k] = body_[k].vx;
-    vby_[k] = act_[k] ? body_[k].vy - g * model_.dt_s : body_[k].vy;
-    vy0_[k] = body_[k].vy;
-    wb_[k] = body_[k].w;
-    body_[k].dpx = 0.0;
-    body_[k].dpy = 0.0;
-    if (!act_[k]) continue;
-    const double speed = std::sqrt(body_[k].vx * body_[k].vx + body_[k].vy * body_[k].vy);
-    marg_[k] = model_.margin_base_m + 1.5 * (speed + g * model_.dt_s) * model_.dt_s;
-    margin_max_ = std::max(margin_max_, marg_[k]);
-    bx0 = std::min(bx0, x_[k]);
-    bx1 = std::max(bx1, x_[k]);
-    by0 = std::min(by0, y_[k]);
-    by1 = std::max(by1, y_[k]);
+    if (!disks_.active[k]) continue;
+    const double speed = std::sqrt(disks_.body[k].vx * disks_.body[k].vx + disks_.body[k].vy * disks_.body[k].vy);
+    disks_.margin[k] = model_.margin_base_m + 1.5 * (speed + g * model_.dt_s) * model_.dt_s;
+    margin_max_ = std::max(margin_max_, disks_.margin[k]);
+    bx0 = std::min(bx0, disks_.x[k]);
+    bx1 = std::max(bx1, disks_.x[k]);
+    by0 = std::min(by0, disks_.y[k]);
+    by1 = std::max(by1, disks_.y[k]);
   }
   if (bx0 > bx1) bx0 = bx1 = by0 = by1 = 0.0;  // no active disk
   // 2. Broad phase: every candidate pair lies within the 3x3 cells.
-  if (accounting_.steps % kReorderInterval == 0 && n_ > 0) {
+  if (accounting_.steps % kReorderInterval == 0 && disks_.n > 0) {
     // Cells over the whole mill, two reaches wide: the order depends on the positions (and
     // this width) only.
     const double side = 2.0 * (liner_.max_r_m + 2.0 * model_.r_max_m);
     grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (model_.r_max_m + margin_max_));
-    grid_.build(x_.data(), y_.data(), act_.data(), n_);
+    grid_.build(disks_.x.data(), disks_.y.data(), disks_.active.data(), disks_.n);
     reorder_by_cell();
-    // Reordering moved the before-step copies too: rebuild them.
-    for (int i = 0; i < n_; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      x0_[k] = x_[k];
-      y0_[k] = y_[k];
-      vbx_[k] = body_[k].vx;
-      vby_[k] = act_[k] ? body_[k].vy - g * model_.dt_s : body_[k].vy;
-      vy0_[k] = body_[k].vy;
-      wb_[k] = body_[k].w;
-    }
   }
+  soft::record_step_start(model_, disks_, start_);
   // Pair cells one largest reach wide over the disks' bounding box: a disk's box (its reach
   // plus the largest) spans at most 5 x 5 of them, of which it scans the half after it.
   pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (model_.r_max_m + margin_max_));
-  pair_grid_.build(x_.data(), y_.data(), act_.data(), n_);
+  pair_grid_.build(disks_.x.data(), disks_.y.data(), disks_.active.data(), disks_.n);
   const auto t_broad = Clock::now();
   timing_.broad_s += std::chrono::duration<double>(t_broad - t_start).count();
 
@@ -1093,7 +1052,7 @@ void SoftEngine::step_once() {
   solve();
   const auto t_solve = Clock::now();
   timing_.solve_s += std::chrono::duration<double>(t_solve - t_narrow).count();
-  timing_.disk_steps += n_;
+  timing_.disk_steps += disks_.n;
   timing_.pair_rows += static_cast<std::int64_t>(pp_.size());
   timing_.live_pair_rows += static_cast<std::int64_t>(live_rows_);
   timing_.liner_rows += static_cast<std::int64_t>(pl_.size());
