@@ -138,6 +138,29 @@ struct ContactSet {
 using PairSet = ContactSet<PairGap, PairRow>;
 using LinerSet = ContactSet<LinerGap, LinerRow>;
 
+// This step's contacts and last step's (for the warm start), each sorted by key.
+struct Contacts {
+  PairSet pairs, pairs_old;
+  LinerSet liner, liner_old;
+  // Scratch of sort_by_key, sized at warm-up.
+  std::vector<std::pair<std::uint64_t, int>> sort_keys;
+
+  void reserve(int disks) {
+    const auto n = static_cast<std::size_t>(disks);
+    const std::size_t expected_pairs = 4 * n + 16;
+    pairs.reserve(expected_pairs);
+    pairs_old.reserve(expected_pairs);
+    liner.reserve(n + 16);
+    liner_old.reserve(n + 16);
+    sort_keys.reserve(expected_pairs);
+  }
+  // This step's contacts become last step's; the step before last's buffers are reused.
+  void begin_step() {
+    pairs_old.swap(pairs);
+    liner_old.swap(liner);
+  }
+};
+
 // Sort a contact set by key (keys are unique, so any sort gives the same order), through
 // the spare set (whose contents are dead at this point) and scratch sized at warm-up: no
 // allocation.

@@ -81,20 +81,17 @@
 #include <string>
 
 #include "engine/soft/body.hpp"
+#include "engine/soft/broad_phase.hpp"
 #include "engine/soft/colour_solve.hpp"
 #include "engine/soft/contact_set.hpp"
 #include "engine/soft/disks.hpp"
-#include "engine/soft/grid.hpp"
-#include "engine/soft/liner_lookup.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/narrow_phase.hpp"
 
 namespace millwear {
 
 namespace {
 
-constexpr int kReorderInterval = 64;     // steps between reorderings of the disks by cell
-constexpr int kMaxLinerHits = 8;         // liner contacts of one disk in one step
-constexpr double kPairCellReaches = 1.0; // pair-search cell side / largest reach
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
@@ -115,14 +112,6 @@ using soft::PairGap;
 using soft::PairRow;
 using soft::Softness;
 using soft::StepSum;
-
-// A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
-// are read from contiguous memory.
-struct Candidate {
-  double x, y, reach;  // reach = r + marg
-  int j;
-};
-
 
 class SoftEngine final : public Engine {
  public:
@@ -147,10 +136,6 @@ class SoftEngine final : public Engine {
 
  private:
   void step_once();
-  void reorder_by_cell();
-  void find_pairs();
-  void find_liner_contacts();
-  void warm_start_match();
   void colour_live_rows();
   void load_lanes();
   void store_lanes();
@@ -163,8 +148,6 @@ class SoftEngine final : public Engine {
   void account_contacts();
   void check_inside_liner();
   void remove_disk(int i, const std::string& why);
-  void add_pair_contact(int i, int j);
-  void build_pair_row(std::size_t q);
 
   // The model: the constants from the scene, the mill and the charge's sizes, and the liner.
   const soft::Model model_;
@@ -173,11 +156,6 @@ class SoftEngine final : public Engine {
   // The disks in the solver's (cell) order, and what the step started from (disks.hpp).
   soft::Disks disks_;
   soft::StepStart start_;
-  std::vector<double> scratch_d_;
-  std::vector<Body> scratch_body_;
-  std::vector<int> scratch_i_, scratch_ids_, inverse_;
-  std::vector<unsigned char> scratch_u_;
-  std::vector<std::pair<std::uint64_t, int>> scratch_keys_;
   // The disk-pair rows that carry an impulse into the step are solved coloured, in lanes
   // (colour_solve.hpp); the others (rest_, key order) serially. The live rows among the
   // serial ones (some impulse not zero) in key order, for the warm start: set by the
@@ -188,18 +166,11 @@ class SoftEngine final : public Engine {
   std::vector<int> warm_rows_;
   std::size_t warm_n_ = 0;
   std::size_t live_rows_ = 0;  // pair rows carrying an impulse into this step (timing only)
-  std::vector<Candidate> cand_;   // grid order
-  std::vector<std::uint64_t> pair_keys_;  // pairs as found (key: lower << 32 | upper)
-  std::vector<int> pair_first_, pair_upper_;  // the pairs bucketed by lower index
-
-  // Contacts: current and last step's, each sorted by key.
-  ContactSet<PairGap, PairRow> pp_, pp_old_;
-  ContactSet<LinerGap, LinerRow> pl_, pl_old_;
-  soft::Grid grid_;        // whole mill, for the reordering
-  soft::Grid pair_grid_;   // the disks' bounding box, for the pair search
-  soft::LinerLookup liner_lookup_;
-  double liner_reach_need_ = 0.0;
-  double margin_max_ = 0.0;
+  soft::Contacts contacts_;
+  // Scratch of the broad and narrow phases.
+  soft::BroadPhase broad_;
+  soft::PairSearch pair_search_;
+  soft::LinerSearch liner_search_;
 
   ChargeState state_;
 };
@@ -211,31 +182,22 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
       start_(soft::make_step_start(disks_.n)),
       state_(initial) {
   accounting_.options = opts;
-  const auto n = static_cast<std::size_t>(disks_.n);
-  scratch_d_.assign(n, 0.0);
-  scratch_body_.resize(n + 1);  // its last body (a dummy) is never written by the reordering
-  scratch_i_.assign(n, 0);
-  scratch_ids_.assign(n, 0);
-  inverse_.assign(n, 0);
-  scratch_u_.assign(n, 0);
-  const std::size_t expected_contacts = 4 * n + 16;
-  for (auto* v : {&pp_, &pp_old_}) v->reserve(expected_contacts);
-  for (auto* v : {&pl_, &pl_old_}) v->reserve(n + 16);
-  scratch_keys_.reserve(expected_contacts);
-  cand_.reserve(n);
+  broad_.reserve(disks_.n);
+  contacts_.reserve(disks_.n);
+  pair_search_.reserve(disks_.n);
   set_liner(mill);
   reset_window();
 }
 
 void SoftEngine::set_liner(const MillGeometry& mill) {
   liner_ = soft::build_liner_model(mill);
-  liner_lookup_.build(mill, std::max(liner_reach_need_, 1.5 * (model_.r_max_m + 2.0 * model_.margin_base_m)));
+  soft::build_liner_search(model_, liner_, liner_search_);
   const std::size_t n = mill.boundary.size();
   edge_count_ = n;
   reset_accounting(accounting_, n);
   // Edge ids changed: liner contacts start cold.
-  pl_.clear();
-  pl_old_.clear();
+  contacts_.liner.clear();
+  contacts_.liner_old.clear();
 }
 
 void SoftEngine::remove_disk(int i, const std::string& why) {
@@ -247,280 +209,6 @@ void SoftEngine::remove_disk(int i, const std::string& why) {
   events_.push_back({state_.time_s, "disk " + std::to_string(disks_.id[k]) + " " + why});
 }
 
-// ---- 2. broad phase helpers -------------------------------------------------------------
-
-// Permute every per-disk array into grid order (active disks by cell, then the inactive),
-// and carry the contacts over to the new indices. Deterministic: the grid order is.
-void SoftEngine::reorder_by_cell() {
-  const auto n = static_cast<std::size_t>(disks_.n);
-  std::size_t k = 0;
-  for (int c = 0; c < grid_.placed(); ++c) scratch_i_[k++] = grid_.order[static_cast<std::size_t>(c)];
-  for (std::size_t i = 0; i < n; ++i)
-    if (grid_.cell_of[i] < 0) scratch_i_[k++] = static_cast<int>(i);
-  const std::vector<int>& perm = scratch_i_;  // new -> old
-  for (std::size_t i = 0; i < n; ++i) inverse_[static_cast<std::size_t>(perm[i])] = static_cast<int>(i);
-  auto permute_d = [&](std::vector<double>& v) {
-    for (std::size_t i = 0; i < n; ++i) scratch_d_[i] = v[static_cast<std::size_t>(perm[i])];
-    v.swap(scratch_d_);
-  };
-  for (auto* v : {&disks_.x, &disks_.y, &disks_.angle, &disks_.radius, &disks_.mass, &disks_.margin}) permute_d(*v);
-  for (std::size_t i = 0; i < n; ++i) scratch_body_[i] = disks_.body[static_cast<std::size_t>(perm[i])];
-  disks_.body.swap(scratch_body_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = disks_.active[static_cast<std::size_t>(perm[i])];
-  disks_.active.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = disks_.species[static_cast<std::size_t>(perm[i])];
-  disks_.species.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = disks_.id[static_cast<std::size_t>(perm[i])];
-  disks_.id.swap(scratch_ids_);
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    PairGap& c = pp_.gap[q];
-    int a = inverse_[static_cast<std::size_t>(c.a)], b = inverse_[static_cast<std::size_t>(c.b)];
-    if (a > b) {
-      // Swapping the roles flips the normal and tangent: the tangent impulse on the new a
-      // keeps its sign, the rolling couple on it changes sign.
-      std::swap(a, b);
-      pp_.row[q].lr = -pp_.row[q].lr;
-    }
-    c.a = a;
-    c.b = b;
-    pp_.key[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-  }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    LinerGap& c = pl_.gap[q];
-    c.a = inverse_[static_cast<std::size_t>(c.a)];
-    pl_.key[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
-  }
-  // The old sets hold the step before last: dead, so they serve as sort buffers.
-  soft::sort_by_key(pp_, pp_old_, scratch_keys_);
-  soft::sort_by_key(pl_, pl_old_, scratch_keys_);
-}
-
-// ---- 3. narrow phase --------------------------------------------------------------------
-
-// The gap of a new disk-pair contact (all that the skip test of the passes reads); the row
-// is built by build_pair_row when first needed.
-void SoftEngine::add_pair_contact(int i, int j) {
-  const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
-  const std::size_t q = pp_.add();
-  PairGap& g = pp_.gap[q];
-  ContactKey& key = pp_.key[q];
-  g.a = i;
-  g.b = j;
-  pp_.state[q] = 0;
-  key.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
-  key.event_J = 0.0;
-  const double dx = disks_.x[a] - disks_.x[b], dy = disks_.y[a] - disks_.y[b];
-  const double dist = std::sqrt(dx * dx + dy * dy);
-  if (dist > 0.0) {
-    g.nx = dx / dist;
-    g.ny = dy / dist;
-  } else {
-    g.nx = 0.0;
-    g.ny = 1.0;
-  }
-  g.s0 = dist - disks_.radius[a] - disks_.radius[b];
-}
-
-// Everything else of a disk-pair row, from the state at the start of the step (x0, the
-// start velocities; masses and materials do not change within a step), so that building it
-// in the middle of the solve gives the same bits as building it in the narrow phase.
-void SoftEngine::build_pair_row(std::size_t q) {
-  const PairGap& g = pp_.gap[q];
-  PairRow& c = pp_.row[q];
-  ContactInfo& info = pp_.info[q];
-  const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-  if (!(pp_.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
-  pp_.state[q] |= kBuilt;
-  pp_.sum[q] = StepSum{};
-  info.edge = info.owner = -1;
-  // The contact point is midway between the two surfaces.
-  c.alpha = disks_.radius[a] + 0.5 * g.s0;
-  c.beta = disks_.radius[b] + 0.5 * g.s0;
-  info.px = start_.x[a] - c.alpha * g.nx;
-  info.py = start_.y[a] - c.alpha * g.ny;
-  const Body& A = disks_.body[a];
-  const Body& B = disks_.body[b];
-  const double im = A.im + B.im;
-  c.mn = im > 0.0 ? 1.0 / im : 0.0;
-  const double it = im + A.ii * c.alpha * c.alpha + B.ii * c.beta * c.beta;
-  c.mt = it > 0.0 ? 1.0 / it : 0.0;
-  const double ir = A.ii + B.ii;
-  c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
-  const soft::Materials& mat = model_.materials;
-  const std::size_t pair = mat.pair(disks_.species[a], disks_.species[b]);
-  c.mu = mat.pair_friction[pair];
-  info.e = mat.pair_restitution[pair];
-  // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
-  // convention; a disk on a flat liner gets its own radius).
-  c.lever = mat.pair_rolling[pair] * disks_.radius[a] * disks_.radius[b] / (disks_.radius[a] + disks_.radius[b]);
-  info.vn0 = (start_.vx[a] - start_.vx[b]) * g.nx + (start_.vy[a] - start_.vy[b]) * g.ny;
-  if (info.e != 0.0 && !(info.vn0 > -model_.restitution_threshold_m_s)) pp_.state[q] |= kBounce;
-}
-
-// Pairs within the sum of their reaches (radius + margin), each found once: a disk scans
-// only the cells after its own in grid order (the rest of its own cell and row, the rows
-// above) within its reach plus the largest reach, which holds every partner it can have.
-// The pairs are then bucketed by their lower index and each bucket sorted, so the list
-// comes out in key order. The test is the same expression whichever disk scans, so the
-// pair set does not depend on the grid.
-void SoftEngine::find_pairs() {
-  pp_.clear();
-  const soft::Grid& grid = pair_grid_;
-  const int nx = grid.nx;
-  const int* start = grid.start.data();
-  const double* x = disks_.x.data();
-  const double* y = disks_.y.data();
-  const double* r = disks_.radius.data();
-  const double* marg = disks_.margin.data();
-  const int placed = grid.placed();
-  // A candidate is 32 bytes (position, reach, index): two to a cache line.
-  cand_.resize(static_cast<std::size_t>(placed));
-  for (int k = 0; k < placed; ++k) {
-    const int j = grid.order[static_cast<std::size_t>(k)];
-    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j] + marg[j], j};
-  }
-  const Candidate* cd = cand_.data();
-  // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
-  // the edge of the box from being lost to the rounding of the box.
-  const double reach_max = model_.r_max_m + margin_max_ + 1e-6 * model_.r_min_m;
-  std::size_t found = 0;
-  // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
-  // every one is tested and stored, and only counted if it passes (room for a whole range
-  // is made first).
-  auto scan = [&](const Candidate& p, int k0, int k1) {
-    if (pair_keys_.size() < found + static_cast<std::size_t>(k1 - k0))
-      pair_keys_.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
-    std::uint64_t* out = pair_keys_.data();
-    for (int k = k0; k < k1; ++k) {
-      const Candidate& q = cd[k];
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      // (r_p + marg_p) + (r_q + marg_q): a sum of two terms is the same whichever disk
-      // scans, so the pair set does not depend on the grid.
-      const double reach = p.reach + q.reach;
-      const bool p_low = p.j < q.j;
-      const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
-      const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
-      out[found] = (lo << 32) | hi;
-      found += dx * dx + dy * dy < reach * reach ? 1 : 0;
-    }
-  };
-  for (int k = 0; k < placed; ++k) {
-    const Candidate& p = cd[k];
-    const double box = p.reach + reach_max;
-    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
-    const int row = grid.row(p.y);
-    // The rest of this row: the disks after p in its own cell, then the cells to its right.
-    scan(p, k + 1, start[row * nx + x_hi + 1]);
-    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
-      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
-  }
-  // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
-  const auto n = static_cast<std::size_t>(disks_.n);
-  pair_first_.assign(n + 1, 0);
-  for (std::size_t t = 0; t < found; ++t) pair_first_[(pair_keys_[t] >> 32) + 1] += 1;
-  for (std::size_t i = 0; i < n; ++i) pair_first_[i + 1] += pair_first_[i];
-  if (pair_upper_.size() < found) pair_upper_.resize(pair_keys_.size());
-  for (std::size_t t = 0; t < found; ++t) {
-    const std::uint64_t key = pair_keys_[t];
-    pair_upper_[static_cast<std::size_t>(pair_first_[key >> 32]++)] = static_cast<int>(key & 0xffffffffu);
-  }
-  // pair_first_[i] is now the end of bucket i, and the start of bucket i + 1.
-  int* upper = pair_upper_.data();
-  int b0 = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int b1 = pair_first_[i];
-    // A handful per disk: insertion sort.
-    for (int p = b0 + 1; p < b1; ++p)
-      for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
-    for (int p = b0; p < b1; ++p) add_pair_contact(static_cast<int>(i), upper[p]);
-    b0 = b1;
-  }
-}
-
-// Disk-liner contacts through the mill-frame lookup; the liner's velocity at a contact is
-// omega x r.
-void SoftEngine::find_liner_contacts() {
-  pl_.clear();
-  const double omega = state_.mill_speed_rad_s;
-  const double cs = std::cos(state_.mill_angle_rad), sn = std::sin(state_.mill_angle_rad);
-  const double liner_travel = std::fabs(omega) * liner_.max_r_m * model_.dt_s;
-  soft::LinerHit hits[kMaxLinerHits];
-  for (int i = 0; i < disks_.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks_.active[k]) continue;
-    const double margin = disks_.margin[k] + liner_travel;
-    // Into the mill frame (rotate by -theta).
-    const Vec2 pm{cs * disks_.x[k] + sn * disks_.y[k], -sn * disks_.x[k] + cs * disks_.y[k]};
-    if (!liner_lookup_.may_touch(pm, disks_.radius[k] + margin)) continue;
-    const int count = liner_lookup_.query(pm, disks_.radius[k], margin, hits, kMaxLinerHits);
-    const Body& A = disks_.body[k];
-    for (int h = 0; h < count; ++h) {
-      const soft::LinerHit& hit = hits[h];
-      const std::size_t q = pl_.add();
-      LinerGap& g = pl_.gap[q];
-      LinerRow& c = pl_.row[q];
-      ContactInfo& info = pl_.info[q];
-      g.a = i;
-      c.ln = c.lt = c.lr = 0.0;
-      pl_.state[q] = kBuilt;
-      pl_.sum[q] = StepSum{};
-      pl_.key[q] = {(static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner), 0.0};
-      info.edge = hit.edge;
-      info.owner = hit.owner;
-      g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
-      g.ny = sn * hit.normal.x + cs * hit.normal.y;
-      g.s0 = hit.gap;
-      c.alpha = disks_.radius[k] + 0.5 * g.s0;
-      info.px = disks_.x[k] - c.alpha * g.nx;
-      info.py = disks_.y[k] - c.alpha * g.ny;
-      g.vlx = -omega * info.py;
-      g.vly = omega * info.px;
-      c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
-      const double it = A.im + A.ii * c.alpha * c.alpha;
-      c.mt = it > 0.0 ? 1.0 / it : 0.0;
-      c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
-      c.mu = model_.materials.liner_friction[disks_.species[k]];
-      info.e = model_.materials.liner_restitution[disks_.species[k]];
-      c.lever = model_.materials.rolling[disks_.species[k]] * disks_.radius[k];
-      info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
-    }
-  }
-}
-
-// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists).
-// A disk-pair contact that ended closes its collision event for the spectrum.
-void SoftEngine::warm_start_match() {
-  const bool spectrum = accounting_.options.collision_spectrum;
-  auto merge = [&](auto& now, const auto& old, bool events) {
-    std::size_t p = 0;
-    const std::size_t m = old.size();
-    for (std::size_t q = 0; q < now.size(); ++q) {
-      ContactKey& c = now.key[q];
-      while (p < m && old.key[p].key < c.key) {
-        if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
-        ++p;
-      }
-      if (p < m && old.key[p].key == c.key) {
-        // Only a live row carries impulses (an unbuilt one stores none).
-        if (old.state[p] & kLive) {
-          auto& row = now.row[q];
-          const auto& prev = old.row[p];
-          row.ln = prev.ln;
-          row.lt = prev.lt;
-          row.lr = prev.lr;
-          now.state[q] |= kLive;
-        }
-        c.event_J = old.key[p].event_J;
-        ++p;
-      }
-    }
-    for (; p < m; ++p)
-      if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
-  };
-  merge(pp_, pp_old_, spectrum);
-  merge(pl_, pl_old_, false);
-}
-
 // ---- 4. solve ---------------------------------------------------------------------------
 
 // Which disk-pair rows are solved in lanes: the live ones (an impulse carried over from the
@@ -530,17 +218,17 @@ void SoftEngine::warm_start_match() {
 // rows are built now (the warm start applies them); a live row that finds no free colour
 // stays serial and goes into the serial warm-start list.
 void SoftEngine::colour_live_rows() {
-  const std::size_t m = pp_.size();
-  if (rest_.size() < m) rest_.resize(pp_.row.size());
-  if (warm_rows_.size() < m) warm_rows_.resize(pp_.row.size());
+  const std::size_t m = contacts_.pairs.size();
+  if (rest_.size() < m) rest_.resize(contacts_.pairs.row.size());
+  if (warm_rows_.size() < m) warm_rows_.resize(contacts_.pairs.row.size());
   coloured_.begin(disks_.n, m);
   rest_n_ = 0;
   warm_n_ = 0;
   for (std::size_t q = 0; q < m; ++q) {
     const auto qi = static_cast<int>(q);
-    if (pp_.state[q] & kLive) {
-      build_pair_row(q);
-      if (coloured_.add(qi, pp_.gap[q].a, pp_.gap[q].b)) continue;
+    if (contacts_.pairs.state[q] & kLive) {
+      soft::build_pair_row(model_, disks_, start_, contacts_.pairs, q);
+      if (coloured_.add(qi, contacts_.pairs.gap[q].a, contacts_.pairs.gap[q].b)) continue;
       warm_rows_[warm_n_++] = qi;
     }
     rest_[rest_n_++] = qi;
@@ -556,8 +244,8 @@ void SoftEngine::load_lanes() {
   for (std::size_t t = 0; t < coloured_.coloured(); ++t) {
     const int q = coloured_.coloured_contact(t);
     const std::size_t slot = coloured_.coloured_slot(t);
-    const PairGap& g = pp_.gap[static_cast<std::size_t>(q)];
-    const PairRow& c = pp_.row[static_cast<std::size_t>(q)];
+    const PairGap& g = contacts_.pairs.gap[static_cast<std::size_t>(q)];
+    const PairRow& c = contacts_.pairs.row[static_cast<std::size_t>(q)];
     soft::WideRows& w = coloured_.chunk_of(slot);
     const std::size_t l = slot % soft::kLanes;
     w.a[l] = g.a;
@@ -589,13 +277,13 @@ void SoftEngine::store_lanes() {
     const auto k = static_cast<std::size_t>(q);
     const soft::WideRows& w = coloured_.chunk_of(slot);
     const std::size_t l = slot % soft::kLanes;
-    PairRow& c = pp_.row[k];
+    PairRow& c = contacts_.pairs.row[k];
     c.ln = w.ln[l];
     c.lt = w.lt[l];
     c.lr = w.lr[l];
     const soft::WideSums& p = coloured_.sums_of(slot);
-    pp_.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
-    pp_.state[k] = (pp_.state[k] & kBounce) | kBuilt | has_impulse(c);
+    contacts_.pairs.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
+    contacts_.pairs.state[k] = (contacts_.pairs.state[k] & kBounce) | kBuilt | has_impulse(c);
   }
 }
 
@@ -609,8 +297,8 @@ void SoftEngine::warm_start() {
   // zero impulses would leave every velocity as it was), and most rows are such margins.
   for (std::size_t t = 0; t < warm_n_; ++t) {
     const auto q = static_cast<std::size_t>(warm_rows_[t]);
-    const PairGap& g = pp_.gap[q];
-    const PairRow& c = pp_.row[q];
+    const PairGap& g = contacts_.pairs.gap[q];
+    const PairRow& c = contacts_.pairs.row[q];
     Body& A = body[g.a];
     Body& B = body[g.b];
     const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
@@ -621,9 +309,9 @@ void SoftEngine::warm_start() {
     B.vy -= B.im * py;
     B.w += B.ii * (-c.lr - c.beta * c.lt);
   }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const LinerGap& g = pl_.gap[q];
-    const LinerRow& c = pl_.row[q];
+  for (std::size_t q = 0; q < contacts_.liner.size(); ++q) {
+    const LinerGap& g = contacts_.liner.gap[q];
+    const LinerRow& c = contacts_.liner.row[q];
     Body& A = body[g.a];
     const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
     A.vx += A.im * px;
@@ -665,10 +353,10 @@ void SoftEngine::solve_pass(double elapsed_s) {
 
   const std::size_t nrest = rest_n_;
   const int* rest = rest_.data();
-  const PairGap* gaps = pp_.gap.data();
-  PairRow* rows = pp_.row.data();
-  std::uint8_t* state = pp_.state.data();
-  StepSum* sums = pp_.sum.data();
+  const PairGap* gaps = contacts_.pairs.gap.data();
+  PairRow* rows = contacts_.pairs.row.data();
+  std::uint8_t* state = contacts_.pairs.state.data();
+  StepSum* sums = contacts_.pairs.sum.data();
   int* warm = warm_rows_.data();
   std::size_t warm_n = 0;
   for (std::size_t t = 0; t < nrest; ++t) {
@@ -682,7 +370,7 @@ void SoftEngine::solve_pass(double elapsed_s) {
     // nothing (normal impulse max(0 - m (vn + s/h), 0) = 0, friction and rolling bounded by
     // it): skip it. Many rows are such margins kept against tunnelling.
     if (s > 0.0 && vn + s * inv_h >= 0.0 && !(state[q] & kLive)) continue;
-    if (!(state[q] & kBuilt)) build_pair_row(q);
+    if (!(state[q] & kBuilt)) soft::build_pair_row(model_, disks_, start_, contacts_.pairs, q);
     PairRow& c = rows[q];
     double vax = A.vx, vay = A.vy, wa = A.w;
     double vbx = B.vx, vby = B.vy, wb = B.w;
@@ -745,11 +433,11 @@ void SoftEngine::solve_pass(double elapsed_s) {
     soft::wide_relax(body, coloured_.rows(), coloured_.sums(), coloured_.chunks(), inv_h);
   }
   const double omega = state_.mill_speed_rad_s;
-  const std::size_t npl = pl_.size();
-  const LinerGap* lgaps = pl_.gap.data();
-  LinerRow* lrows = pl_.row.data();
-  std::uint8_t* lstate = pl_.state.data();
-  StepSum* lsums = pl_.sum.data();
+  const std::size_t npl = contacts_.liner.size();
+  const LinerGap* lgaps = contacts_.liner.gap.data();
+  LinerRow* lrows = contacts_.liner.row.data();
+  std::uint8_t* lstate = contacts_.liner.state.data();
+  StepSum* lsums = contacts_.liner.sum.data();
   for (std::size_t q = 0; q < npl; ++q) {
     const LinerGap& g = lgaps[q];
     Body& A = body[g.a];
@@ -794,40 +482,40 @@ void SoftEngine::solve_pass(double elapsed_s) {
 void SoftEngine::restitution() {
   const double thr = -model_.restitution_threshold_m_s;
   Body* body = disks_.body.data();
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
+  for (std::size_t q = 0; q < contacts_.pairs.size(); ++q) {
     // Only a row that closed fast enough with some restitution bounces: one byte tells
     // (kBounce), and the cold info and sums of the others stay untouched.
-    if (!(pp_.state[q] & kBounce)) continue;
-    const ContactInfo& info = pp_.info[q];
-    StepSum& sum = pp_.sum[q];
+    if (!(contacts_.pairs.state[q] & kBounce)) continue;
+    const ContactInfo& info = contacts_.pairs.info[q];
+    StepSum& sum = contacts_.pairs.sum[q];
     if (sum.pn == 0.0) continue;
-    const PairGap& g = pp_.gap[q];
-    PairRow& c = pp_.row[q];
+    const PairGap& g = contacts_.pairs.gap[q];
+    PairRow& c = contacts_.pairs.row[q];
     Body& A = body[g.a];
     Body& B = body[g.b];
     const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
     const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
-    pp_.state[q] = kBounce | kBuilt | has_impulse(c);
+    contacts_.pairs.state[q] = kBounce | kBuilt | has_impulse(c);
     sum.pn += d;
     A.vx += A.im * d * g.nx;
     A.vy += A.im * d * g.ny;
     B.vx -= B.im * d * g.nx;
     B.vy -= B.im * d * g.ny;
   }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const ContactInfo& info = pl_.info[q];
-    StepSum& sum = pl_.sum[q];
+  for (std::size_t q = 0; q < contacts_.liner.size(); ++q) {
+    const ContactInfo& info = contacts_.liner.info[q];
+    StepSum& sum = contacts_.liner.sum[q];
     if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
-    const LinerGap& g = pl_.gap[q];
-    LinerRow& c = pl_.row[q];
+    const LinerGap& g = contacts_.liner.gap[q];
+    LinerRow& c = contacts_.liner.row[q];
     Body& A = body[g.a];
     const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
     const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
-    pl_.state[q] = kBuilt | has_impulse(c);
+    contacts_.liner.state[q] = kBuilt | has_impulse(c);
     sum.pn += d;
     A.vx += A.im * d * g.nx;
     A.vy += A.im * d * g.ny;
@@ -868,19 +556,19 @@ void SoftEngine::account_contacts() {
   const bool spectrum = accounting_.options.collision_spectrum;
   const Body* body = disks_.body.data();
   ContactRecord rec;
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    const StepSum& sum = pp_.sum[q];
-    ContactKey& key = pp_.key[q];
+  for (std::size_t q = 0; q < contacts_.pairs.size(); ++q) {
+    const StepSum& sum = contacts_.pairs.sum[q];
+    ContactKey& key = contacts_.pairs.key[q];
     // An unbuilt row never acted: its sums are zero.
-    if (!(pp_.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
+    if (!(contacts_.pairs.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
       // Apart all step: a collision that was going on has ended.
       if (spectrum && key.event_J > 0.0) account_collision_event(accounting_, key.event_J);
       key.event_J = 0.0;
       continue;
     }
-    const ContactInfo& info = pp_.info[q];
-    const PairGap& g = pp_.gap[q];
-    const PairRow& c = pp_.row[q];
+    const ContactInfo& info = contacts_.pairs.info[q];
+    const PairGap& g = contacts_.pairs.gap[q];
+    const PairRow& c = contacts_.pairs.row[q];
     const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
     if (!disks_.active[a] || !disks_.active[b]) continue;
     const double tx = -g.ny, ty = g.nx;
@@ -909,12 +597,12 @@ void SoftEngine::account_contacts() {
                       sum.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
     }
   }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const StepSum& sum = pl_.sum[q];
+  for (std::size_t q = 0; q < contacts_.liner.size(); ++q) {
+    const StepSum& sum = contacts_.liner.sum[q];
     if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) continue;
-    const LinerGap& g = pl_.gap[q];
-    const LinerRow& c = pl_.row[q];
-    const ContactInfo& info = pl_.info[q];
+    const LinerGap& g = contacts_.liner.gap[q];
+    const LinerRow& c = contacts_.liner.row[q];
+    const ContactInfo& info = contacts_.liner.info[q];
     const auto a = static_cast<std::size_t>(g.a);
     if (!disks_.active[a]) continue;
     const double tx = -g.ny, ty = g.nx;
@@ -1001,50 +689,23 @@ void SoftEngine::finish() {
 
 void SoftEngine::step_once() {
   const auto t_start = Clock::now();
-  const double g = kGravity;
-  // 1. Margins.
-  margin_max_ = 0.0;
-  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
-  for (int i = 0; i < disks_.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks_.active[k]) continue;
-    const double speed = std::sqrt(disks_.body[k].vx * disks_.body[k].vx + disks_.body[k].vy * disks_.body[k].vy);
-    disks_.margin[k] = model_.margin_base_m + 1.5 * (speed + g * model_.dt_s) * model_.dt_s;
-    margin_max_ = std::max(margin_max_, disks_.margin[k]);
-    bx0 = std::min(bx0, disks_.x[k]);
-    bx1 = std::max(bx1, disks_.x[k]);
-    by0 = std::min(by0, disks_.y[k]);
-    by1 = std::max(by1, disks_.y[k]);
-  }
-  if (bx0 > bx1) bx0 = bx1 = by0 = by1 = 0.0;  // no active disk
-  // 2. Broad phase: every candidate pair lies within the 3x3 cells.
-  if (accounting_.steps % kReorderInterval == 0 && disks_.n > 0) {
-    // Cells over the whole mill, two reaches wide: the order depends on the positions (and
-    // this width) only.
-    const double side = 2.0 * (liner_.max_r_m + 2.0 * model_.r_max_m);
-    grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (model_.r_max_m + margin_max_));
-    grid_.build(disks_.x.data(), disks_.y.data(), disks_.active.data(), disks_.n);
-    reorder_by_cell();
-  }
+
+  contacts_.begin_step();
+  const soft::StepBounds bounds = soft::update_margins(model_, disks_);
+  if (soft::reorder_due(accounting_.steps, disks_))
+    soft::reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
   soft::record_step_start(model_, disks_, start_);
-  // Pair cells one largest reach wide over the disks' bounding box: a disk's box (its reach
-  // plus the largest) spans at most 5 x 5 of them, of which it scans the half after it.
-  pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (model_.r_max_m + margin_max_));
-  pair_grid_.build(disks_.x.data(), disks_.y.data(), disks_.active.data(), disks_.n);
+  soft::build_pair_grid(model_, bounds, disks_, broad_);
   const auto t_broad = Clock::now();
   timing_.broad_s += std::chrono::duration<double>(t_broad - t_start).count();
 
-  // 3. Narrow phase. The liner lookup is rebuilt (rarely) when a fast disk needs more reach.
-  const double reach = model_.r_max_m + margin_max_ + std::fabs(state_.mill_speed_rad_s) * liner_.max_r_m * model_.dt_s;
-  if (reach > liner_lookup_.reach_m()) {
-    liner_reach_need_ = 1.5 * reach;
-    liner_lookup_.build(liner_.mill, liner_reach_need_);
-  }
-  pp_old_.swap(pp_);
-  pl_old_.swap(pl_);
-  find_pairs();
-  find_liner_contacts();
-  warm_start_match();
+  // 3. Narrow phase.
+  const double omega = state_.mill_speed_rad_s;
+  soft::fit_liner_search(model_, liner_, bounds, omega, liner_search_);
+  soft::find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs);
+  soft::find_liner_contacts(model_, liner_, liner_search_, disks_, state_.mill_angle_rad, omega,
+                            contacts_.liner);
+  soft::match_warm_start(contacts_, accounting_);
   const auto t_narrow = Clock::now();
   timing_.collide_s += std::chrono::duration<double>(t_narrow - t_broad).count();
 
@@ -1053,9 +714,9 @@ void SoftEngine::step_once() {
   const auto t_solve = Clock::now();
   timing_.solve_s += std::chrono::duration<double>(t_solve - t_narrow).count();
   timing_.disk_steps += disks_.n;
-  timing_.pair_rows += static_cast<std::int64_t>(pp_.size());
+  timing_.pair_rows += static_cast<std::int64_t>(contacts_.pairs.size());
   timing_.live_pair_rows += static_cast<std::int64_t>(live_rows_);
-  timing_.liner_rows += static_cast<std::int64_t>(pl_.size());
+  timing_.liner_rows += static_cast<std::int64_t>(contacts_.liner.size());
 
   // 5. Finish.
   finish();
