@@ -152,8 +152,8 @@ MW_INLINE void warm_start_lanes(Body* body, const WideRows& c, int l0) {
   scatter(body, c.b + l0, B);
 }
 
-// The engine's solve_pass row (see its comments) for the lanes l0 .. l0 + width of a chunk:
-// normal (soft or speculative), friction bounded by mu times the normal impulse, rolling
+// The serial pass's row (contact_solver.cpp, see its comments) for the lanes l0 .. l0 +
+// width of a chunk: normal (soft or speculative), friction bounded by mu times the normal impulse, rolling
 // resistance bounded by its lever times it. kBias: the soft solve; otherwise the relax,
 // which also sums.
 template <bool kBias, class V>

@@ -9,7 +9,7 @@
 // them are solved at once (one vector operation per formula), and the chunks of a colour
 // do not wait for each other either.
 //
-// What is coloured is the engine's choice (soft_engine.cpp colours the rows that carry an
+// What is coloured is the engine's choice (contact_solver.cpp colours the rows that carry an
 // impulse into the step); everything else stays in its serial pass. A contact that finds
 // no free colour among kMaxColours stays serial too. The disk-liner contacts are not
 // coloured: the liner is one body of infinite mass, so they conflict only through their
@@ -31,7 +31,7 @@ namespace millwear::soft {
 
 constexpr int kLanes = 4;
 
-// kLanes contacts' rows, structure of arrays. The names are those of the engine's PairGap,
+// kLanes contacts' rows, structure of arrays. The names are those of contact_set.hpp's PairGap,
 // PairRow and StepSum: unit normal from b toward a, start separation, anchors r_a = -alpha
 // n and r_b = +beta n, effective masses (normal, tangent, rolling), friction coefficient,
 // rolling lever, the substep's impulses: seven cache lines. The step's impulse sums are a

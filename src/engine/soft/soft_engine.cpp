@@ -2,235 +2,47 @@
 // substeps and relax, warm starting, restitution once per step) and specialised to a mill
 // slice. No Box2D code is used; the method is written for disks from its description.
 //
-// One step (step_once) reads top to bottom:
-//   1. margins     every disk gets a speculative margin that grows with its speed * dt;
-//   2. broad phase uniform grids built by counting sort: disks reordered by cell every
-//                  kReorderInterval steps (deterministic), for cache locality; a finer grid
-//                  over the disks for the pair search;
-//   3. narrow      disk pairs, each found once from the cells a disk's reach can touch
-//                  (half of them), bucketed into key order; disk-liner contacts from the angle-bin
-//                  lookup in the mill frame; both lists come out sorted by pair key and are
-//                  matched against last step's to warm start;
-//   4. solve       the disk pairs that carry load coloured into lanes; n substeps of
-//                  {gravity, warm start, soft solve, integrate positions, relax}, then
-//                  restitution once;
-//   5. finish      write the state back, catch NaN and escaped disks, feed every contact to
-//                  the shared accounting once with its impulses summed over the substeps.
-//
+// The engine holds a model (model.hpp: the constants derived from the scene, the mill and
+// the charge's sizes, built once; the liner, replaced by set_liner) and the data of one run
+// (the disks in the solver's order, this and last step's contacts, the scratch of each
+// stage). A step is the sequence of named stages in step_once, each in its own file:
+//   broad_phase     margins, the reordering of the disks by cell, the pair-search grid;
+//   narrow_phase    disk pairs, disk-liner contacts, the match against last step's;
+//   contact_solver  per substep: gravity, warm start, soft solve, positions, relax; then
+//                   restitution once (colour_solve: the live disk pairs in vector lanes);
+//   finish          the state written back and checked, every contact accounted.
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
-//
-// Data. The substep passes touch a disk's velocity, displacement and inverse mass and
-// inertia: one 64-byte Body per disk (body.hpp), plus a dummy after the last disk for the
-// padding lanes of the wide solve. A contact is a gap (what every pass reads to decide
-// whether the row acts), a row (anchors, masses, impulses; built lazily, the first time the
-// row acts), a state byte, its step sums (relax), its key (matching) and its cold info
-// (restitution, accounting; built with the row): flat arrays in key order kept at their
-// high-water mark, no allocation per step once warm. The warm start walks a list of the live rows only.
-//
-// Colours and lanes (colour_solve.hpp, after Box2D v3's graph colouring and wide solver).
-// The disk-pair rows live at the start of a step (they carried an impulse out of the last
-// one: a third of the pairs, and nearly all that act in a pass) are coloured greedily in
-// key order so that no two rows of a colour share a disk, and are solved four at a time in
-// vector lanes; the serial pass keeps the rest, with its skip of inert rows and lazy
-// building. In each pass the serial rows go first, then the colours in order, then the
-// liner contacts (last, so that they win). Gauss-Seidel order is therefore not key order;
-// it is still fixed by the contact list, so results are bit-identical run to run, and the
-// same with four (AVX2) or two (SSE2) lanes per register.
-//
-// Contacts. A contact's normal, anchors and liner velocity are fixed for the step (computed
-// once, as Box2D does); substeps update only the separation, s = s0 + n . (dp_a - dp_b),
-// with dp the displacement since the step began (the liner's: its velocity at the contact
-// times the elapsed time). For disks the anchors lie on the normal, so the normal row has no
-// rotational term.
-//
-// Soft contact. A penetrating contact is an implicit spring-damper of frequency f and
-// damping ratio zeta solved at the substep h. With w = 2 pi f the implicit update gives
-//   bias_rate = w / (2 zeta + h w),  mass_scale = h w (2 zeta + h w) / (1 + h w (2 zeta + h w)),
-//   impulse_scale = 1 / (1 + h w (2 zeta + h w)),
-//   d_lambda = -m_n * mass_scale * (vn + max(bias_rate * s, -push_out)) - impulse_scale * lambda.
-// The relax pass solves the same rows rigidly with no bias, which takes out the velocity
-// the bias added (the position it pushed stays pushed): the energy that bias puts in or
-// takes out shows up only as the position correction, reported in solver_position_J.
-// A contact still apart (s > 0) is speculative: it allows the disks to close exactly the
-// gap this substep (bias s / h) and no more, which is what stops tunnelling.
-//
-// No tunnelling. A disk gets a speculative margin m = 0.1 r_min + 1.5 (|v| + g dt) dt, and a
-// pair or liner contact is created when the gap is under the sum of margins (liner: plus the
-// liner's own travel |omega| R dt). A disk that keeps its speed within the step therefore
-// always has a constraint before it can reach anything. What this cannot see is a disk
-// sped up within the step by a collision to more than 1.5x its start speed and then
-// travelling more than its margin: that needs a collision speed above r / dt (a 10 mm disk at
-// 1/600 s: 6 m/s gained in one step), beyond the stability envelope of any scene we run.
-// Against the liner there is a second line of defence: the liner knows its inside, so a
-// disk that ended a step with its centre past a face (by up to half a radius) is pushed back
-// out the next step. A centre deeper than that is an escape, reported as an event.
-//
-// Energy. With anchors and directions fixed for the step, every disk's velocity change is
-// exactly gravity * dt plus the sum of its contact impulses / mass, so the sum over contacts
-// of P . (v_rel before + v_rel after) / 2, with "before" = start velocity + g dt, is exactly
-// the kinetic energy the impulses change: dissipation is split per contact without residue.
-// Rolling resistance couples are accounted in the same way (added to the tangential
-// dissipation, and through the liner to the drive torque).
-#include "common/units.hpp"
 #include "engine/soft/soft_engine.hpp"
 
-#include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdint>
-#include <string>
 
-#include "engine/soft/body.hpp"
-#include "engine/soft/colour_solve.hpp"
-#include "engine/soft/grid.hpp"
-#include "engine/soft/liner_lookup.hpp"
+#include "engine/soft/broad_phase.hpp"
+#include "engine/soft/contact_set.hpp"
+#include "engine/soft/contact_solver.hpp"
+#include "engine/soft/disks.hpp"
+#include "engine/soft/finish.hpp"
+#include "engine/soft/model.hpp"
+#include "engine/soft/narrow_phase.hpp"
 
-namespace millwear {
+namespace millwear::soft {
 
 namespace {
 
-constexpr int kReorderInterval = 64;     // steps between reorderings of the disks by cell
-constexpr int kMaxLinerHits = 8;         // liner contacts of one disk in one step
-constexpr double kPairCellReaches = 1.0; // pair-search cell side / largest reach
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-using soft::Body;
-
-// Contacts are split by how often they are touched. Most disk-pair contacts are
-// speculative margins that never carry an impulse: every solve and relax pass (2 x 4 a
-// step) reads their gap (bodies, normal, start separation: 32 bytes, two to a cache line)
-// and the state byte, finds the row inert and goes on. The row proper (anchors, masses,
-// impulses) is read only for rows that act; the step sums are written once per substep
-// (relax); the info is cold (matching, restitution, accounting). All are flat arrays in the
-// same (key) order. The kLive bit (below) is exactly "some impulse of the row is not zero",
-// so testing it is testing the impulses.
-struct PairGap {
-  int a = 0, b = 0;            // internal disk indices, a < b
-  double nx = 0, ny = 0;       // unit normal from b toward a
-  double s0 = 0;               // separation at the start of the step
-};
-struct PairRow {
-  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
-  double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
-  double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
-  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
-};
-struct LinerGap {
-  int a = 0;
-  double nx = 0, ny = 0;       // unit normal from the liner toward a
-  double s0 = 0;
-  double vlx = 0, vly = 0;     // liner velocity at the contact point
-};
-struct LinerRow {
-  double alpha = 0;            // anchor r_a = -alpha n
-  double mn = 0, mt = 0, mr = 0;
-  double mu = 0, lever = 0;
-  double ln = 0, lt = 0, lr = 0;
-};
-// Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
-// wherever an impulse is written). kBuilt: the row's anchors, masses and material (and the
-// info's point, restitution and start velocity) have been computed. A disk-pair row is built
-// lazily, the first time a pass does not skip it: most are margins that never carry load,
-// and for them the narrow phase computes only the gap. An unbuilt row's impulses are zero
-// (not stored: kLive is clear). kBounce: a built disk-pair row whose contact closed faster than
-// the restitution threshold with a restitution above zero (set with its info): the once-a-step
-// restitution pass reads this byte and touches the cold info and sums of these rows only.
-constexpr std::uint8_t kLive = 1, kBuilt = 2, kBounce = 4;
-template <class Row>
-std::uint8_t has_impulse(const Row& c) {
-  return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
-}
-struct StepSum {
-  double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
-};
-// What every contact carries from one step to the next, apart from the cold info: the
-// matching reads it for every contact, most of which never get an info.
-struct ContactKey {
-  std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
-  double event_J = 0;      // energy dissipated since this collision began (spectrum)
-};
-struct ContactInfo {
-  int edge = -1;           // liner edge the contact's work goes to
-  int owner = -1;          // liner edge that found it (its key)
-  double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
-  double e = 0;            // restitution
-  double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
-};
-
-// A disk as the pair search sees it, stored in grid order so that a row of cells' candidates
-// are read from contiguous memory.
-struct Candidate {
-  double x, y, reach;  // reach = r + marg
-  int j;
-};
-
-// The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
-// use, so adding a contact is a bounds check and plain stores, no construction.
-template <class Gap, class Row>
-struct ContactSet {
-  std::vector<Gap> gap;
-  std::vector<Row> row;
-  std::vector<std::uint8_t> state;  // kLive | kBuilt
-  std::vector<StepSum> sum;
-  std::vector<ContactKey> key;
-  std::vector<ContactInfo> info;
-  std::size_t n = 0;
-  std::size_t size() const { return n; }
-  void clear() { n = 0; }
-  void reserve(std::size_t m) {
-    if (row.size() >= m) return;
-    gap.resize(m);
-    row.resize(m);
-    state.resize(m);
-    sum.resize(m);
-    key.resize(m);
-    info.resize(m);
+// Wall-clock laps for the Timing of the benchmarks; read between stages, never inside one.
+class Stopwatch {
+ public:
+  double lap() {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+    return s;
   }
-  void resize(std::size_t m) {
-    reserve(m);
-    n = m;
-  }
-  void swap(ContactSet& o) {
-    gap.swap(o.gap);
-    row.swap(o.row);
-    state.swap(o.state);
-    sum.swap(o.sum);
-    key.swap(o.key);
-    info.swap(o.info);
-    std::swap(n, o.n);
-  }
-  void copy(std::size_t to, const ContactSet& o, std::size_t from) {
-    gap[to] = o.gap[from];
-    row[to] = o.row[from];
-    state[to] = o.state[from];
-    sum[to] = o.sum[from];
-    key[to] = o.key[from];
-    info[to] = o.info[from];
-  }
-  // Append a contact; the caller writes gap, state and key, and row, info and zero step
-  // sums when it builds the row (only a built row's sums are ever read: most disk-pair rows
-  // are margins that are never built, and their sums are not written at all).
-  std::size_t add() {
-    if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
-    return n++;
-  }
-};
 
-struct Softness {
-  double bias_rate = 0, mass_scale = 1, impulse_scale = 0;
+ private:
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point last_ = Clock::now();
 };
-
-Softness make_softness(double hertz, double zeta, double h) {
-  const double w = 2.0 * kPi * hertz;
-  const double a1 = 2.0 * zeta + h * w;
-  const double a2 = h * w * a1;
-  const double a3 = 1.0 / (1.0 + a2);
-  return {w / a1, a2 * a3, a3};
-}
 
 class SoftEngine final : public Engine {
  public:
@@ -238,1079 +50,128 @@ class SoftEngine final : public Engine {
              const AccountingOptions& opts);
 
   void set_liner(const MillGeometry& mill) override;
-  void set_mill_speed(double omega_rad_s) override { state_.mill_speed_rad_s = omega_rad_s; }
-  void step(int n) override {
-    if (n <= 0) return;
-    for (int k = 0; k < n; ++k) step_once();
-    // The window's end energies: only the last step's count, so they are taken once here
-    // rather than after every step (two passes over the charge saved per step).
-    const auto t0 = Clock::now();
-    accounting_.kinetic_J_end = charge_kinetic_J(state_);
-    accounting_.potential_J_end = charge_potential_J(state_, kGravity);
-    timing_.account_s += seconds_since(t0);
-  }
-  const ChargeState& state() const override { return state_; }
-  double time_step_s() const override { return dt_; }
+  void set_mill_speed(double omega_rad_s) override { charge_.mill_speed_rad_s = omega_rad_s; }
+  void step(int n) override;
+  const ChargeState& state() const override { return charge_; }
+  double time_step_s() const override { return model_.dt_s; }
   const char* backend_name() const override { return "soft"; }
 
  private:
   void step_once();
-  void reorder_by_cell();
-  void find_pairs();
-  void find_liner_contacts();
-  void warm_start_match();
-  void colour_live_rows();
-  void load_lanes();
-  void store_lanes();
-  void solve();
-  template <bool kBias>
-  void solve_pass(double elapsed_s);
-  void warm_start();
-  void restitution();
-  void finish();
-  void account_contacts();
-  void check_inside_liner();
-  void remove_disk(int i, const std::string& why);
-  void add_pair_contact(int i, int j);
-  void build_pair_row(std::size_t q);
-  template <class Set>
-  void sort_by_key(Set& set, Set& spare);
+  void count_rows();
+  Report report() { return {charge_, accounting_, events_}; }
 
-  // Description (fixed).
-  double dt_ = 1.0 / 600.0;
-  int substeps_ = 4;
-  double hertz_ = 0.0, zeta_ = 10.0, push_out_m_s_ = 1.0;
-  double restitution_threshold_m_s_ = 0.1;
-  double margin_base_m_ = 0.0;
-  double r_min_ = 0.0, r_max_ = 0.0;
-  double radius_m_ = 0.0, band_m_ = 0.0, shape_band_m_ = 0.0, max_r_m_ = 0.0;
-  int species_count_ = 1;
-  std::vector<double> mu_pair_, e_pair_, rr_pair_;   // species x species
-  std::vector<double> mu_liner_, e_liner_, rr_;      // per species
-
-  // Disk state in internal (cell) order; id_ maps to the caller's. The solver's part is an
-  // array of Body (one cache line each); the rest is structure of arrays.
-  int n_ = 0;
-  std::vector<int> id_;
-  std::vector<Body> body_;
-  std::vector<double> x_, y_, ang_, r_, mass_;
-  std::vector<unsigned char> act_;
-  std::vector<std::uint8_t> sp_;
-  std::vector<double> x0_, y0_, vbx_, vby_, wb_, vy0_, marg_;
-  std::vector<double> scratch_d_;
-  std::vector<Body> scratch_body_;
-  std::vector<int> scratch_i_, scratch_ids_, inverse_;
-  std::vector<unsigned char> scratch_u_;
-  std::vector<std::pair<std::uint64_t, int>> scratch_keys_;
-  // The disk-pair rows that carry an impulse into the step are solved coloured, in lanes
-  // (colour_solve.hpp); the others (rest_, key order) serially. The live rows among the
-  // serial ones (some impulse not zero) in key order, for the warm start: set by the
-  // colouring for the first substep and by each relax pass for the next.
-  soft::ColouredRows coloured_;
-  std::vector<int> rest_;
-  std::size_t rest_n_ = 0;
-  std::vector<int> warm_rows_;
-  std::size_t warm_n_ = 0;
-  std::size_t live_rows_ = 0;  // pair rows carrying an impulse into this step (timing only)
-  std::vector<Candidate> cand_;   // grid order
-  std::vector<std::uint64_t> pair_keys_;  // pairs as found (key: lower << 32 | upper)
-  std::vector<int> pair_first_, pair_upper_;  // the pairs bucketed by lower index
-
-  // Contacts: current and last step's, each sorted by key.
-  ContactSet<PairGap, PairRow> pp_, pp_old_;
-  ContactSet<LinerGap, LinerRow> pl_, pl_old_;
-  soft::Grid grid_;        // whole mill, for the reordering
-  soft::Grid pair_grid_;   // the disks' bounding box, for the pair search
-  soft::LinerLookup liner_;
-  MillGeometry mill_;
-  std::vector<std::uint8_t> edge_is_shell_;
-  double liner_reach_need_ = 0.0;
-  double margin_max_ = 0.0;
-
-  ChargeState state_;
+  // Model: fixed for the engine's life, and the liner (set_liner).
+  const Model model_;
+  LinerModel liner_;
+  // Data of the run.
+  ChargeState charge_;  // by the caller's ids: what state() hands out, written every step
+  Disks disks_;         // the solver's copy, in cell order
+  StepStart start_;
+  Contacts contacts_;
+  // Scratch of the stages.
+  BroadPhase broad_;
+  PairSearch pair_search_;
+  LinerSearch liner_search_;
+  SolverRows rows_;
 };
 
 SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const ChargeState& initial,
                        const AccountingOptions& opts)
-    : state_(initial) {
+    : model_(build_model(scene, mill, initial)),
+      charge_(initial),
+      disks_(load_disks(initial)),
+      start_(make_step_start(disks_.n)) {
   accounting_.options = opts;
-  dt_ = scene.solver.time_step_s;
-  substeps_ = scene.solver.substeps;
-  const double h = dt_ / substeps_;
-  // Box2D v3 caps the contact frequency at an eighth of the substep rate; higher is not
-  // resolved by one soft iteration per substep. Liner contacts get twice it (as static
-  // contacts do in Box2D) and a quarter is the most we allow for them.
-  hertz_ = scene.solver.contact_hertz > 0.0 ? std::min(scene.solver.contact_hertz, 0.125 / h)
-                                            : 0.125 / h;
-  zeta_ = scene.solver.damping_ratio;
-  radius_m_ = mill.radius_m;
-
-  n_ = static_cast<int>(state_.size());
-  r_min_ = 0.0;
-  r_max_ = 0.0;
-  double mean_d = 0.0;
-  for (int i = 0; i < n_; ++i) {
-    const double r = state_.radius_m[static_cast<std::size_t>(i)];
-    r_min_ = i == 0 ? r : std::min(r_min_, r);
-    r_max_ = std::max(r_max_, r);
-    mean_d += 2.0 * r / n_;
-  }
-  if (n_ == 0) r_min_ = r_max_ = 0.01 * radius_m_, mean_d = 2.0 * r_min_;
-  push_out_m_s_ = scene.solver.push_out_radii_per_s * r_min_;
-  // Restitution only for impacts faster than 1.67 mean diameters per second: the same
-  // threshold as the Box2D backend (1 unit/s at its scaling), so both bounce alike.
-  restitution_threshold_m_s_ = mean_d / 0.6;
-  margin_base_m_ = 0.1 * r_min_;
-  shape_band_m_ = 2.0 * r_max_;
-
-  const auto& species = scene.charge.species;
-  species_count_ = static_cast<int>(std::max<std::size_t>(species.size(), 1));
-  mu_pair_.assign(static_cast<std::size_t>(species_count_ * species_count_), 0.5);
-  e_pair_ = mu_pair_;
-  rr_pair_.assign(mu_pair_.size(), 0.0);
-  mu_liner_.assign(static_cast<std::size_t>(species_count_), 0.5);
-  e_liner_.assign(mu_liner_.size(), 0.0);
-  rr_.assign(mu_liner_.size(), 0.0);
-  for (std::size_t a = 0; a < species.size(); ++a) {
-    mu_liner_[a] = species[a].friction_liner;
-    e_liner_[a] = species[a].restitution_liner;
-    rr_[a] = species[a].rolling_resistance;
-    for (std::size_t b = 0; b < species.size(); ++b) {
-      const std::size_t k = a * species.size() + b;
-      // Mixing as in Box2D: friction geometric mean, restitution the larger; rolling
-      // resistance the larger coefficient (times the pair's reduced radius, below).
-      mu_pair_[k] = std::sqrt(species[a].friction * species[b].friction);
-      e_pair_[k] = std::max(species[a].restitution, species[b].restitution);
-      rr_pair_[k] = std::max(species[a].rolling_resistance, species[b].rolling_resistance);
-    }
-  }
-
-  const auto n = static_cast<std::size_t>(n_);
-  id_.resize(n);
-  body_.resize(n + 1);  // body n: the dummy the padding lanes of the wide solve use
-  x_.resize(n); y_.resize(n); ang_.resize(n);
-  r_.resize(n); mass_.resize(n); act_.resize(n); sp_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    id_[i] = static_cast<int>(i);
-    x_[i] = state_.position_m[i].x;
-    y_[i] = state_.position_m[i].y;
-    Body& b = body_[i];
-    b.vx = state_.velocity_m_s[i].x;
-    b.vy = state_.velocity_m_s[i].y;
-    b.w = state_.spin_rad_s[i];
-    ang_[i] = state_.angle_rad[i];
-    r_[i] = state_.radius_m[i];
-    mass_[i] = state_.mass_kg[i];
-    sp_[i] = state_.species[i];
-    act_[i] = state_.active[i];
-    // A disk's moment of inertia is m r^2 / 2.
-    b.im = act_[i] ? 1.0 / mass_[i] : 0.0;
-    b.ii = act_[i] ? 2.0 / (mass_[i] * r_[i] * r_[i]) : 0.0;
-  }
-  for (auto* v : {&x0_, &y0_, &vbx_, &vby_, &wb_, &vy0_, &marg_, &scratch_d_}) v->assign(n, 0.0);
-  scratch_body_.resize(n + 1);  // its last body (a dummy) is never written by the reordering
-  scratch_i_.assign(n, 0);
-  scratch_ids_.assign(n, 0);
-  inverse_.assign(n, 0);
-  scratch_u_.assign(n, 0);
-  const std::size_t expected_contacts = 4 * n + 16;
-  for (auto* v : {&pp_, &pp_old_}) v->reserve(expected_contacts);
-  for (auto* v : {&pl_, &pl_old_}) v->reserve(n + 16);
-  scratch_keys_.reserve(expected_contacts);
-  cand_.reserve(n);
+  broad_.reserve(disks_.n);
+  contacts_.reserve(disks_.n);
+  pair_search_.reserve(disks_.n);
   set_liner(mill);
   reset_window();
 }
 
 void SoftEngine::set_liner(const MillGeometry& mill) {
-  mill_ = mill;
-  max_r_m_ = 0.0;
-  double min_r = 1e300;
-  for (const Vec2& p : mill.boundary) {
-    max_r_m_ = std::max(max_r_m_, length(p));
-    min_r = std::min(min_r, length(p));
-  }
-  band_m_ = max_r_m_ - min_r;
-  liner_.build(mill, std::max(liner_reach_need_, 1.5 * (r_max_ + 2.0 * margin_base_m_)));
-  const std::size_t n = mill.boundary.size();
-  edge_is_shell_.resize(n);
-  for (std::size_t e = 0; e < n; ++e)
-    edge_is_shell_[e] = mill.edges[e].owner == EdgeOwner::Shell ? 1 : 0;
-  edge_count_ = n;
-  reset_accounting(accounting_, n);
+  liner_ = build_liner_model(mill);
+  build_liner_search(model_, liner_, liner_search_);
+  edge_count_ = mill.boundary.size();
+  reset_accounting(accounting_, edge_count_);
   // Edge ids changed: liner contacts start cold.
-  pl_.clear();
-  pl_old_.clear();
+  contacts_.liner.clear();
+  contacts_.liner_old.clear();
 }
 
-void SoftEngine::remove_disk(int i, const std::string& why) {
-  const auto k = static_cast<std::size_t>(i);
-  act_[k] = 0;
-  body_[k].im = 0.0;
-  body_[k].ii = 0.0;
-  state_.active[static_cast<std::size_t>(id_[k])] = 0;
-  events_.push_back({state_.time_s, "disk " + std::to_string(id_[k]) + " " + why});
-}
-
-// ---- 2. broad phase helpers -------------------------------------------------------------
-
-// Sort a contact set by key (keys are unique, so any sort gives the same order), through
-// the spare set (whose contents are dead at this point) and scratch memory sized at
-// warm-up: no allocation.
-template <class Set>
-void SoftEngine::sort_by_key(Set& set, Set& spare) {
-  const std::size_t m = set.size();
-  scratch_keys_.clear();
-  for (std::size_t k = 0; k < m; ++k) scratch_keys_.emplace_back(set.key[k].key, static_cast<int>(k));
-  std::sort(scratch_keys_.begin(), scratch_keys_.end());
-  spare.resize(m);
-  for (std::size_t t = 0; t < m; ++t) {
-    const auto k = static_cast<std::size_t>(scratch_keys_[t].second);
-    spare.copy(t, set, k);
-  }
-  set.swap(spare);
-}
-
-// Permute every per-disk array into grid order (active disks by cell, then the inactive),
-// and carry the contacts over to the new indices. Deterministic: the grid order is.
-void SoftEngine::reorder_by_cell() {
-  const auto n = static_cast<std::size_t>(n_);
-  std::size_t k = 0;
-  for (int c = 0; c < grid_.placed(); ++c) scratch_i_[k++] = grid_.order[static_cast<std::size_t>(c)];
-  for (std::size_t i = 0; i < n; ++i)
-    if (grid_.cell_of[i] < 0) scratch_i_[k++] = static_cast<int>(i);
-  const std::vector<int>& perm = scratch_i_;  // new -> old
-  for (std::size_t i = 0; i < n; ++i) inverse_[static_cast<std::size_t>(perm[i])] = static_cast<int>(i);
-  auto permute_d = [&](std::vector<double>& v) {
-    for (std::size_t i = 0; i < n; ++i) scratch_d_[i] = v[static_cast<std::size_t>(perm[i])];
-    v.swap(scratch_d_);
-  };
-  for (auto* v : {&x_, &y_, &ang_, &r_, &mass_, &marg_}) permute_d(*v);
-  for (std::size_t i = 0; i < n; ++i) scratch_body_[i] = body_[static_cast<std::size_t>(perm[i])];
-  body_.swap(scratch_body_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = act_[static_cast<std::size_t>(perm[i])];
-  act_.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_u_[i] = sp_[static_cast<std::size_t>(perm[i])];
-  sp_.swap(scratch_u_);
-  for (std::size_t i = 0; i < n; ++i) scratch_ids_[i] = id_[static_cast<std::size_t>(perm[i])];
-  id_.swap(scratch_ids_);
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    PairGap& c = pp_.gap[q];
-    int a = inverse_[static_cast<std::size_t>(c.a)], b = inverse_[static_cast<std::size_t>(c.b)];
-    if (a > b) {
-      // Swapping the roles flips the normal and tangent: the tangent impulse on the new a
-      // keeps its sign, the rolling couple on it changes sign.
-      std::swap(a, b);
-      pp_.row[q].lr = -pp_.row[q].lr;
-    }
-    c.a = a;
-    c.b = b;
-    pp_.key[q].key = (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-  }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    LinerGap& c = pl_.gap[q];
-    c.a = inverse_[static_cast<std::size_t>(c.a)];
-    pl_.key[q].key = (static_cast<std::uint64_t>(c.a) << 32) | static_cast<std::uint32_t>(pl_.info[q].owner);
-  }
-  // The old sets hold the step before last: dead, so they serve as sort buffers.
-  sort_by_key(pp_, pp_old_);
-  sort_by_key(pl_, pl_old_);
-}
-
-// ---- 3. narrow phase --------------------------------------------------------------------
-
-// The gap of a new disk-pair contact (all that the skip test of the passes reads); the row
-// is built by build_pair_row when first needed.
-void SoftEngine::add_pair_contact(int i, int j) {
-  const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
-  const std::size_t q = pp_.add();
-  PairGap& g = pp_.gap[q];
-  ContactKey& key = pp_.key[q];
-  g.a = i;
-  g.b = j;
-  pp_.state[q] = 0;
-  key.key = (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
-  key.event_J = 0.0;
-  const double dx = x_[a] - x_[b], dy = y_[a] - y_[b];
-  const double dist = std::sqrt(dx * dx + dy * dy);
-  if (dist > 0.0) {
-    g.nx = dx / dist;
-    g.ny = dy / dist;
-  } else {
-    g.nx = 0.0;
-    g.ny = 1.0;
-  }
-  g.s0 = dist - r_[a] - r_[b];
-}
-
-// Everything else of a disk-pair row, from the state at the start of the step (x0, the
-// start velocities; masses and materials do not change within a step), so that building it
-// in the middle of the solve gives the same bits as building it in the narrow phase.
-void SoftEngine::build_pair_row(std::size_t q) {
-  const PairGap& g = pp_.gap[q];
-  PairRow& c = pp_.row[q];
-  ContactInfo& info = pp_.info[q];
-  const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-  if (!(pp_.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
-  pp_.state[q] |= kBuilt;
-  pp_.sum[q] = StepSum{};
-  info.edge = info.owner = -1;
-  // The contact point is midway between the two surfaces.
-  c.alpha = r_[a] + 0.5 * g.s0;
-  c.beta = r_[b] + 0.5 * g.s0;
-  info.px = x0_[a] - c.alpha * g.nx;
-  info.py = y0_[a] - c.alpha * g.ny;
-  const Body& A = body_[a];
-  const Body& B = body_[b];
-  const double im = A.im + B.im;
-  c.mn = im > 0.0 ? 1.0 / im : 0.0;
-  const double it = im + A.ii * c.alpha * c.alpha + B.ii * c.beta * c.beta;
-  c.mt = it > 0.0 ? 1.0 / it : 0.0;
-  const double ir = A.ii + B.ii;
-  c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
-  const std::size_t pair = static_cast<std::size_t>(sp_[a]) * static_cast<std::size_t>(species_count_) + sp_[b];
-  c.mu = mu_pair_[pair];
-  info.e = e_pair_[pair];
-  // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
-  // convention; a disk on a flat liner gets its own radius).
-  c.lever = rr_pair_[pair] * r_[a] * r_[b] / (r_[a] + r_[b]);
-  info.vn0 = (vbx_[a] - vbx_[b]) * g.nx + (vy0_[a] - vy0_[b]) * g.ny;
-  if (info.e != 0.0 && !(info.vn0 > -restitution_threshold_m_s_)) pp_.state[q] |= kBounce;
-}
-
-// Pairs within the sum of their reaches (radius + margin), each found once: a disk scans
-// only the cells after its own in grid order (the rest of its own cell and row, the rows
-// above) within its reach plus the largest reach, which holds every partner it can have.
-// The pairs are then bucketed by their lower index and each bucket sorted, so the list
-// comes out in key order. The test is the same expression whichever disk scans, so the
-// pair set does not depend on the grid.
-void SoftEngine::find_pairs() {
-  pp_.clear();
-  const soft::Grid& grid = pair_grid_;
-  const int nx = grid.nx;
-  const int* start = grid.start.data();
-  const double* x = x_.data();
-  const double* y = y_.data();
-  const double* r = r_.data();
-  const double* marg = marg_.data();
-  const int placed = grid.placed();
-  // A candidate is 32 bytes (position, reach, index): two to a cache line.
-  cand_.resize(static_cast<std::size_t>(placed));
-  for (int k = 0; k < placed; ++k) {
-    const int j = grid.order[static_cast<std::size_t>(k)];
-    cand_[static_cast<std::size_t>(k)] = {x[j], y[j], r[j] + marg[j], j};
-  }
-  const Candidate* cd = cand_.data();
-  // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
-  // the edge of the box from being lost to the rounding of the box.
-  const double reach_max = r_max_ + margin_max_ + 1e-6 * r_min_;
-  std::size_t found = 0;
-  // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
-  // every one is tested and stored, and only counted if it passes (room for a whole range
-  // is made first).
-  auto scan = [&](const Candidate& p, int k0, int k1) {
-    if (pair_keys_.size() < found + static_cast<std::size_t>(k1 - k0))
-      pair_keys_.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
-    std::uint64_t* out = pair_keys_.data();
-    for (int k = k0; k < k1; ++k) {
-      const Candidate& q = cd[k];
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      // (r_p + marg_p) + (r_q + marg_q): a sum of two terms is the same whichever disk
-      // scans, so the pair set does not depend on the grid.
-      const double reach = p.reach + q.reach;
-      const bool p_low = p.j < q.j;
-      const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
-      const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
-      out[found] = (lo << 32) | hi;
-      found += dx * dx + dy * dy < reach * reach ? 1 : 0;
-    }
-  };
-  for (int k = 0; k < placed; ++k) {
-    const Candidate& p = cd[k];
-    const double box = p.reach + reach_max;
-    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
-    const int row = grid.row(p.y);
-    // The rest of this row: the disks after p in its own cell, then the cells to its right.
-    scan(p, k + 1, start[row * nx + x_hi + 1]);
-    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
-      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
-  }
-  // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
-  const auto n = static_cast<std::size_t>(n_);
-  pair_first_.assign(n + 1, 0);
-  for (std::size_t t = 0; t < found; ++t) pair_first_[(pair_keys_[t] >> 32) + 1] += 1;
-  for (std::size_t i = 0; i < n; ++i) pair_first_[i + 1] += pair_first_[i];
-  if (pair_upper_.size() < found) pair_upper_.resize(pair_keys_.size());
-  for (std::size_t t = 0; t < found; ++t) {
-    const std::uint64_t key = pair_keys_[t];
-    pair_upper_[static_cast<std::size_t>(pair_first_[key >> 32]++)] = static_cast<int>(key & 0xffffffffu);
-  }
-  // pair_first_[i] is now the end of bucket i, and the start of bucket i + 1.
-  int* upper = pair_upper_.data();
-  int b0 = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int b1 = pair_first_[i];
-    // A handful per disk: insertion sort.
-    for (int p = b0 + 1; p < b1; ++p)
-      for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
-    for (int p = b0; p < b1; ++p) add_pair_contact(static_cast<int>(i), upper[p]);
-    b0 = b1;
-  }
-}
-
-// Disk-liner contacts through the mill-frame lookup; the liner's velocity at a contact is
-// omega x r.
-void SoftEngine::find_liner_contacts() {
-  pl_.clear();
-  const double omega = state_.mill_speed_rad_s;
-  const double cs = std::cos(state_.mill_angle_rad), sn = std::sin(state_.mill_angle_rad);
-  const double liner_travel = std::fabs(omega) * max_r_m_ * dt_;
-  soft::LinerHit hits[kMaxLinerHits];
-  for (int i = 0; i < n_; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const double margin = marg_[k] + liner_travel;
-    // Into the mill frame (rotate by -theta).
-    const Vec2 pm{cs * x_[k] + sn * y_[k], -sn * x_[k] + cs * y_[k]};
-    if (!liner_.may_touch(pm, r_[k] + margin)) continue;
-    const int count = liner_.query(pm, r_[k], margin, hits, kMaxLinerHits);
-    const Body& A = body_[k];
-    for (int h = 0; h < count; ++h) {
-      const soft::LinerHit& hit = hits[h];
-      const std::size_t q = pl_.add();
-      LinerGap& g = pl_.gap[q];
-      LinerRow& c = pl_.row[q];
-      ContactInfo& info = pl_.info[q];
-      g.a = i;
-      c.ln = c.lt = c.lr = 0.0;
-      pl_.state[q] = kBuilt;
-      pl_.sum[q] = StepSum{};
-      pl_.key[q] = {(static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(hit.owner), 0.0};
-      info.edge = hit.edge;
-      info.owner = hit.owner;
-      g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
-      g.ny = sn * hit.normal.x + cs * hit.normal.y;
-      g.s0 = hit.gap;
-      c.alpha = r_[k] + 0.5 * g.s0;
-      info.px = x_[k] - c.alpha * g.nx;
-      info.py = y_[k] - c.alpha * g.ny;
-      g.vlx = -omega * info.py;
-      g.vly = omega * info.px;
-      c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
-      const double it = A.im + A.ii * c.alpha * c.alpha;
-      c.mt = it > 0.0 ? 1.0 / it : 0.0;
-      c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
-      c.mu = mu_liner_[sp_[k]];
-      info.e = e_liner_[sp_[k]];
-      c.lever = rr_[sp_[k]] * r_[k];
-      info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
-    }
-  }
-}
-
-// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists).
-// A disk-pair contact that ended closes its collision event for the spectrum.
-void SoftEngine::warm_start_match() {
-  const bool spectrum = accounting_.options.collision_spectrum;
-  auto merge = [&](auto& now, const auto& old, bool events) {
-    std::size_t p = 0;
-    const std::size_t m = old.size();
-    for (std::size_t q = 0; q < now.size(); ++q) {
-      ContactKey& c = now.key[q];
-      while (p < m && old.key[p].key < c.key) {
-        if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
-        ++p;
-      }
-      if (p < m && old.key[p].key == c.key) {
-        // Only a live row carries impulses (an unbuilt one stores none).
-        if (old.state[p] & kLive) {
-          auto& row = now.row[q];
-          const auto& prev = old.row[p];
-          row.ln = prev.ln;
-          row.lt = prev.lt;
-          row.lr = prev.lr;
-          now.state[q] |= kLive;
-        }
-        c.event_J = old.key[p].event_J;
-        ++p;
-      }
-    }
-    for (; p < m; ++p)
-      if (events && old.key[p].event_J > 0.0) account_collision_event(accounting_, old.key[p].event_J);
-  };
-  merge(pp_, pp_old_, spectrum);
-  merge(pl_, pl_old_, false);
-}
-
-// ---- 4. solve ---------------------------------------------------------------------------
-
-// Which disk-pair rows are solved in lanes: the live ones (an impulse carried over from the
-// last step). They act in nearly every pass of the step, where most of the others are
-// margins that never act and that the serial pass skips after reading their gap; a lane
-// has no skip, so colouring every contact would solve three times as many rows. The live
-// rows are built now (the warm start applies them); a live row that finds no free colour
-// stays serial and goes into the serial warm-start list.
-void SoftEngine::colour_live_rows() {
-  const std::size_t m = pp_.size();
-  if (rest_.size() < m) rest_.resize(pp_.row.size());
-  if (warm_rows_.size() < m) warm_rows_.resize(pp_.row.size());
-  coloured_.begin(n_, m);
-  rest_n_ = 0;
-  warm_n_ = 0;
-  for (std::size_t q = 0; q < m; ++q) {
-    const auto qi = static_cast<int>(q);
-    if (pp_.state[q] & kLive) {
-      build_pair_row(q);
-      if (coloured_.add(qi, pp_.gap[q].a, pp_.gap[q].b)) continue;
-      warm_rows_[warm_n_++] = qi;
-    }
-    rest_[rest_n_++] = qi;
-  }
-  live_rows_ = m - rest_n_ + warm_n_;  // coloured + live ones left serial
-  coloured_.layout();
-  load_lanes();
-}
-
-// The coloured rows into their lanes in key order (the padding lanes are filled by the
-// layout), with zero step sums.
-void SoftEngine::load_lanes() {
-  for (std::size_t t = 0; t < coloured_.coloured(); ++t) {
-    const int q = coloured_.coloured_contact(t);
-    const std::size_t slot = coloured_.coloured_slot(t);
-    const PairGap& g = pp_.gap[static_cast<std::size_t>(q)];
-    const PairRow& c = pp_.row[static_cast<std::size_t>(q)];
-    soft::WideRows& w = coloured_.chunk_of(slot);
-    const std::size_t l = slot % soft::kLanes;
-    w.a[l] = g.a;
-    w.b[l] = g.b;
-    w.nx[l] = g.nx;
-    w.ny[l] = g.ny;
-    w.s0[l] = g.s0;
-    w.alpha[l] = c.alpha;
-    w.beta[l] = c.beta;
-    w.mn[l] = c.mn;
-    w.mt[l] = c.mt;
-    w.mr[l] = c.mr;
-    w.mu[l] = c.mu;
-    w.lever[l] = c.lever;
-    w.ln[l] = c.ln;
-    w.lt[l] = c.lt;
-    w.lr[l] = c.lr;
-    soft::WideSums& p = coloured_.sums_of(slot);
-    p.pn[l] = p.pt[l] = p.pr[l] = 0.0;
-  }
-}
-
-// The lanes' impulses, step sums and live bits back to the contact arrays, for the
-// restitution, the accounting and the next step's warm start.
-void SoftEngine::store_lanes() {
-  for (std::size_t t = 0; t < coloured_.coloured(); ++t) {
-    const int q = coloured_.coloured_contact(t);
-    const std::size_t slot = coloured_.coloured_slot(t);
-    const auto k = static_cast<std::size_t>(q);
-    const soft::WideRows& w = coloured_.chunk_of(slot);
-    const std::size_t l = slot % soft::kLanes;
-    PairRow& c = pp_.row[k];
-    c.ln = w.ln[l];
-    c.lt = w.lt[l];
-    c.lr = w.lr[l];
-    const soft::WideSums& p = coloured_.sums_of(slot);
-    pp_.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
-    pp_.state[k] = (pp_.state[k] & kBounce) | kBuilt | has_impulse(c);
-  }
-}
-
-// Every pass below loads the two bodies of a row into locals, applies the row, and stores
-// them back once: the same arithmetic in the same order as updating the arrays in place,
-// without the reloads that possible aliasing would force.
-void SoftEngine::warm_start() {
-  Body* body = body_.data();
-  soft::wide_warm_start(body, coloured_.rows(), coloured_.chunks());
-  // Of the serial rows only the live ones: a row without impulse applies nothing (adding its
-  // zero impulses would leave every velocity as it was), and most rows are such margins.
-  for (std::size_t t = 0; t < warm_n_; ++t) {
-    const auto q = static_cast<std::size_t>(warm_rows_[t]);
-    const PairGap& g = pp_.gap[q];
-    const PairRow& c = pp_.row[q];
-    Body& A = body[g.a];
-    Body& B = body[g.b];
-    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
-    A.vx += A.im * px;
-    A.vy += A.im * py;
-    A.w += A.ii * (c.lr - c.alpha * c.lt);
-    B.vx -= B.im * px;
-    B.vy -= B.im * py;
-    B.w += B.ii * (-c.lr - c.beta * c.lt);
-  }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const LinerGap& g = pl_.gap[q];
-    const LinerRow& c = pl_.row[q];
-    Body& A = body[g.a];
-    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
-    A.vx += A.im * px;
-    A.vy += A.im * py;
-    A.w += A.ii * (c.lr - c.alpha * c.lt);
-  }
-}
-
-// One Gauss-Seidel pass over the serial disk pairs (key order), the coloured ones (colour
-// order, in lanes), then the liner contacts (solved last, so they win: the liner must not
-// be pushed through). kBias: the soft solve; otherwise the relax,
-// which also adds the substep's impulses to the step sums.
-// Friction is bounded by mu times the normal impulse, rolling resistance by its lever times
-// it (the tangent of a contact is left_perp(n); r_a = -alpha n gives r_a x t = -alpha).
-template <bool kBias>
-void SoftEngine::solve_pass(double elapsed_s) {
-  const double h = dt_ / substeps_;
-  const double inv_h = 1.0 / h;
-  const Softness soft = make_softness(hertz_, zeta_, h);
-  const Softness soft_liner = make_softness(2.0 * hertz_, zeta_, h);
-  const double push = push_out_m_s_;
-  Body* body = body_.data();
-
-  auto normal_row = [&](auto& c, double s, double vn, const Softness& sf) {
-    double mass_scale = 1.0, impulse_scale = 0.0, bias = 0.0;
-    if (s > 0.0) {
-      bias = s * inv_h;  // speculative: close the gap, no more
-    } else if (kBias) {
-      bias = std::max(sf.bias_rate * s, -push);
-      mass_scale = sf.mass_scale;
-      impulse_scale = sf.impulse_scale;
-    }
-    const double raw = -c.mn * mass_scale * (vn + bias) - impulse_scale * c.ln;
-    const double next = std::max(c.ln + raw, 0.0);
-    const double d = next - c.ln;
-    c.ln = next;
-    return d;
-  };
-
-  const std::size_t nrest = rest_n_;
-  const int* rest = rest_.data();
-  const PairGap* gaps = pp_.gap.data();
-  PairRow* rows = pp_.row.data();
-  std::uint8_t* state = pp_.state.data();
-  StepSum* sums = pp_.sum.data();
-  int* warm = warm_rows_.data();
-  std::size_t warm_n = 0;
-  for (std::size_t t = 0; t < nrest; ++t) {
-    const auto q = static_cast<std::size_t>(rest[t]);
-    const PairGap& g = gaps[q];
-    Body& A = body[g.a];
-    Body& B = body[g.b];
-    const double s = g.s0 + g.nx * (A.dpx - B.dpx) + g.ny * (A.dpy - B.dpy);
-    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
-    // A speculative row with no impulse whose gap does not close this substep applies
-    // nothing (normal impulse max(0 - m (vn + s/h), 0) = 0, friction and rolling bounded by
-    // it): skip it. Many rows are such margins kept against tunnelling.
-    if (s > 0.0 && vn + s * inv_h >= 0.0 && !(state[q] & kLive)) continue;
-    if (!(state[q] & kBuilt)) build_pair_row(q);
-    PairRow& c = rows[q];
-    double vax = A.vx, vay = A.vy, wa = A.w;
-    double vbx = B.vx, vby = B.vy, wb = B.w;
-    const double ima = A.im, imb = B.im, iia = A.ii, iib = B.ii;
-    const double dn = normal_row(c, s, vn, soft);
-    vax += ima * dn * g.nx;
-    vay += ima * dn * g.ny;
-    vbx -= imb * dn * g.nx;
-    vby -= imb * dn * g.ny;
-    // Friction.
-    const double tx = -g.ny, ty = g.nx;
-    const double vt = tx * (vax - vbx) + ty * (vay - vby) - c.alpha * wa - c.beta * wb;
-    const double bound = c.mu * c.ln;
-    const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
-    const double dt_imp = lt - c.lt;
-    c.lt = lt;
-    vax += ima * dt_imp * tx;
-    vay += ima * dt_imp * ty;
-    wa -= iia * c.alpha * dt_imp;
-    vbx -= imb * dt_imp * tx;
-    vby -= imb * dt_imp * ty;
-    wb -= iib * c.beta * dt_imp;
-    // Rolling resistance.
-    if (c.lever > 0.0) {
-      const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (wa - wb), -rb, rb);
-      const double dr = lr - c.lr;
-      c.lr = lr;
-      wa += iia * dr;
-      wb -= iib * dr;
-    }
-    A.vx = vax;
-    A.vy = vay;
-    A.w = wa;
-    B.vx = vbx;
-    B.vy = vby;
-    B.w = wb;
-    const std::uint8_t live = has_impulse(c);
-    state[q] = (state[q] & kBounce) | kBuilt | live;
-    if (!kBias) {
-      // The next warm start applies the rows left live (a skipped row stays inert).
-      warm[warm_n] = static_cast<int>(q);
-      warm_n += live;
-      sums[q].pn += c.ln;
-      sums[q].pt += c.lt;
-      sums[q].pr += c.lr;
-    }
-  }
-  if (!kBias) warm_n_ = warm_n;
-  // The coloured rows, after the serial ones.
-  if (kBias) {
-    soft::WideSoftness wide;
-    wide.inv_h = inv_h;
-    wide.bias_rate = soft.bias_rate;
-    wide.mass_scale = soft.mass_scale;
-    wide.impulse_scale = soft.impulse_scale;
-    wide.push = push;
-    soft::wide_solve(body, coloured_.rows(), coloured_.chunks(), wide);
-  } else {
-    soft::wide_relax(body, coloured_.rows(), coloured_.sums(), coloured_.chunks(), inv_h);
-  }
-  const double omega = state_.mill_speed_rad_s;
-  const std::size_t npl = pl_.size();
-  const LinerGap* lgaps = pl_.gap.data();
-  LinerRow* lrows = pl_.row.data();
-  std::uint8_t* lstate = pl_.state.data();
-  StepSum* lsums = pl_.sum.data();
-  for (std::size_t q = 0; q < npl; ++q) {
-    const LinerGap& g = lgaps[q];
-    Body& A = body[g.a];
-    const double s = g.s0 + g.nx * (A.dpx - g.vlx * elapsed_s) + g.ny * (A.dpy - g.vly * elapsed_s);
-    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-    if (s > 0.0 && vn + s * inv_h >= 0.0 && !(lstate[q] & kLive)) continue;
-    LinerRow& c = lrows[q];
-    double vax = A.vx, vay = A.vy, wa = A.w;
-    const double ima = A.im, iia = A.ii;
-    const double dn = normal_row(c, s, vn, soft_liner);
-    vax += ima * dn * g.nx;
-    vay += ima * dn * g.ny;
-    const double tx = -g.ny, ty = g.nx;
-    const double vt = tx * (vax - g.vlx) + ty * (vay - g.vly) - c.alpha * wa;
-    const double bound = c.mu * c.ln;
-    const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
-    const double dt_imp = lt - c.lt;
-    c.lt = lt;
-    vax += ima * dt_imp * tx;
-    vay += ima * dt_imp * ty;
-    wa -= iia * c.alpha * dt_imp;
-    if (c.lever > 0.0) {
-      const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (wa - omega), -rb, rb);
-      wa += iia * (lr - c.lr);
-      c.lr = lr;
-    }
-    A.vx = vax;
-    A.vy = vay;
-    A.w = wa;
-    lstate[q] = kBuilt | has_impulse(c);
-    if (!kBias) {
-      lsums[q].pn += c.ln;
-      lsums[q].pt += c.lt;
-      lsums[q].pr += c.lr;
-    }
-  }
-}
-
-// Once per step, after the substeps: contacts that closed faster than the threshold and
-// carried load get the restitution impulse that sends them apart at e times that speed.
-void SoftEngine::restitution() {
-  const double thr = -restitution_threshold_m_s_;
-  Body* body = body_.data();
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    // Only a row that closed fast enough with some restitution bounces: one byte tells
-    // (kBounce), and the cold info and sums of the others stay untouched.
-    if (!(pp_.state[q] & kBounce)) continue;
-    const ContactInfo& info = pp_.info[q];
-    StepSum& sum = pp_.sum[q];
-    if (sum.pn == 0.0) continue;
-    const PairGap& g = pp_.gap[q];
-    PairRow& c = pp_.row[q];
-    Body& A = body[g.a];
-    Body& B = body[g.b];
-    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
-    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
-    const double d = next - c.ln;
-    c.ln = next;
-    pp_.state[q] = kBounce | kBuilt | has_impulse(c);
-    sum.pn += d;
-    A.vx += A.im * d * g.nx;
-    A.vy += A.im * d * g.ny;
-    B.vx -= B.im * d * g.nx;
-    B.vy -= B.im * d * g.ny;
-  }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const ContactInfo& info = pl_.info[q];
-    StepSum& sum = pl_.sum[q];
-    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
-    const LinerGap& g = pl_.gap[q];
-    LinerRow& c = pl_.row[q];
-    Body& A = body[g.a];
-    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
-    const double d = next - c.ln;
-    c.ln = next;
-    pl_.state[q] = kBuilt | has_impulse(c);
-    sum.pn += d;
-    A.vx += A.im * d * g.nx;
-    A.vy += A.im * d * g.ny;
-  }
-}
-
-void SoftEngine::solve() {
-  const double h = dt_ / substeps_;
-  const double gh = kGravity * h;
-  Body* body = body_.data();
-  colour_live_rows();
-  for (int sub = 0; sub < substeps_; ++sub) {
-    for (int i = 0; i < n_; ++i)
-      if (body[i].im > 0.0) body[i].vy -= gh;
-    warm_start();
-    solve_pass<true>(sub * h);
-    for (int i = 0; i < n_; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      if (!act_[k]) continue;
-      Body& b = body[i];
-      const double ddx = h * b.vx, ddy = h * b.vy;
-      x_[k] += ddx;
-      y_[k] += ddy;
-      b.dpx += ddx;
-      b.dpy += ddy;
-      ang_[k] += h * b.w;
-    }
-    solve_pass<false>((sub + 1) * h);
-  }
-  store_lanes();
-  restitution();
-}
-
-// ---- 5. finish: state, checks, accounting -----------------------------------------------
-
-void SoftEngine::account_contacts() {
-  const double omega = state_.mill_speed_rad_s;
-  const bool spectrum = accounting_.options.collision_spectrum;
-  const Body* body = body_.data();
-  ContactRecord rec;
-  for (std::size_t q = 0; q < pp_.size(); ++q) {
-    const StepSum& sum = pp_.sum[q];
-    ContactKey& key = pp_.key[q];
-    // An unbuilt row never acted: its sums are zero.
-    if (!(pp_.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
-      // Apart all step: a collision that was going on has ended.
-      if (spectrum && key.event_J > 0.0) account_collision_event(accounting_, key.event_J);
-      key.event_J = 0.0;
-      continue;
-    }
-    const ContactInfo& info = pp_.info[q];
-    const PairGap& g = pp_.gap[q];
-    const PairRow& c = pp_.row[q];
-    const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-    if (!act_[a] || !act_[b]) continue;
-    const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vbx_[a] - vbx_[b], dy0 = vby_[a] - vby_[b];
-    const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
-    rec.a = id_[a];
-    rec.b = id_[b];
-    rec.edge = -1;
-    rec.point_m = {info.px, info.py};
-    rec.normal = {g.nx, g.ny};
-    rec.normal_impulse = sum.pn;
-    rec.tangent_impulse = sum.pt;
-    rec.vn_before = g.nx * dx0 + g.ny * dy0;
-    rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a] - c.beta * wb_[b];
-    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
-    const auto lo = static_cast<std::uint64_t>(std::min(rec.a, rec.b));
-    const auto hi = static_cast<std::uint64_t>(std::max(rec.a, rec.b));
-    rec.key = (lo << 32) | hi;
-    account_contact(accounting_, rec, omega, false);
-    // The rolling couple's dissipation (no field of its own in the record).
-    const double rolling_loss = -sum.pr * 0.5 * ((wb_[a] - wb_[b]) + (body[a].w - body[b].w));
-    accounting_.pp_tangent_J += rolling_loss;
-    if (spectrum) {
-      key.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
-                      sum.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
-    }
-  }
-  for (std::size_t q = 0; q < pl_.size(); ++q) {
-    const StepSum& sum = pl_.sum[q];
-    if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) continue;
-    const LinerGap& g = pl_.gap[q];
-    const LinerRow& c = pl_.row[q];
-    const ContactInfo& info = pl_.info[q];
-    const auto a = static_cast<std::size_t>(g.a);
-    if (!act_[a]) continue;
-    const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vbx_[a] - g.vlx, dy0 = vby_[a] - g.vly;
-    const double dx1 = body[a].vx - g.vlx, dy1 = body[a].vy - g.vly;
-    rec.a = id_[a];
-    rec.b = -1;
-    rec.edge = info.edge;
-    rec.point_m = {info.px, info.py};
-    rec.normal = {g.nx, g.ny};
-    rec.normal_impulse = sum.pn;
-    rec.tangent_impulse = sum.pt;
-    rec.vn_before = g.nx * dx0 + g.ny * dy0;
-    rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * wb_[a];
-    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
-    rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | 0x80000000u | static_cast<std::uint32_t>(info.edge);
-    account_contact(accounting_, rec, omega, edge_is_shell_[static_cast<std::size_t>(info.edge)] != 0);
-    // Rolling couple against the liner: the drive supplies it at the mill's speed.
-    accounting_.pl_tangent_J += -sum.pr * (0.5 * (wb_[a] + body[a].w) - omega);
-    accounting_.torque_impulse_Nms += sum.pr;
-    accounting_.drive_work_J += omega * sum.pr;
-  }
-}
-
-void SoftEngine::check_inside_liner() {
-  // A disk whose centre got deeper into the lifter metal than the liner contact reaches
-  // (half a radius) has leaked through.
-  const int rows = mill_.rows;
-  if (rows <= 0 || mill_.units.empty()) return;
-  const double pitch_angle = 2.0 * kPi / rows;
-  const double inner_sq = (radius_m_ - band_m_) * (radius_m_ - band_m_);
-  for (int i = 0; i < n_; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const Vec2 p{x_[k], y_[k]};
-    if (length_sq(p) < inner_sq) continue;
-    const Vec2 pm = rotated(p, -state_.mill_angle_rad);
-    const double theta = std::atan2(pm.y, pm.x);
-    int row = static_cast<int>(std::lround(theta / pitch_angle));
-    row = ((row % rows) + rows) % rows;
-    const Vec2 local = mill_to_local(pm, row, rows, radius_m_);
-    const Polyline& surf = mill_.units[mill_.units.size() == 1 ? 0 : static_cast<std::size_t>(row)].surface;
-    for (std::size_t e = 0; e + 1 < surf.size(); ++e) {
-      const Vec2 a = surf[e], b = surf[e + 1];
-      if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
-      const double y_surface = a.y + (b.y - a.y) * (local.x - a.x) / (b.x - a.x);
-      if (local.y < y_surface - 0.5 * r_[k]) {
-        accounting_.escaped += 1;
-        remove_disk(i, "leaked into the liner");
-      }
-      break;
-    }
-  }
-}
-
-void SoftEngine::finish() {
-  const double g = kGravity;
-  for (int i = 0; i < n_; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!act_[k]) continue;
-    const auto id = static_cast<std::size_t>(id_[k]);
-    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]) || !std::isfinite(body_[k].vx) ||
-        !std::isfinite(body_[k].vy) || !std::isfinite(body_[k].w)) {
-      accounting_.non_finite += 1;
-      remove_disk(i, "went non-finite");
-      continue;
-    }
-    // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the final
-    // velocity): its potential energy is the solver's share of the energy balance.
-    const double corr_y = (y_[k] - y0_[k]) - dt_ * body_[k].vy;
-    accounting_.solver_position_J -= mass_[k] * g * corr_y;
-    state_.position_m[id] = {x_[k], y_[k]};
-    state_.velocity_m_s[id] = {body_[k].vx, body_[k].vy};
-    state_.angle_rad[id] = ang_[k];
-    state_.spin_rad_s[id] = body_[k].w;
-    const double escape_r = max_r_m_ + 0.5 * r_[k];
-    if (x_[k] * x_[k] + y_[k] * y_[k] > escape_r * escape_r) {
-      accounting_.escaped += 1;
-      remove_disk(i, "escaped through the shell");
-    }
-  }
+void SoftEngine::step(int n) {
+  if (n <= 0) return;
+  for (int k = 0; k < n; ++k) step_once();
+  // The window's end energies: only the last step's count, so they are taken once here
+  // rather than after every step (two passes over the charge saved per step).
+  Stopwatch watch;
+  accounting_.kinetic_J_end = charge_kinetic_J(charge_);
+  accounting_.potential_J_end = charge_potential_J(charge_, kGravity);
+  timing_.account_s += watch.lap();
 }
 
 void SoftEngine::step_once() {
-  const auto t_start = Clock::now();
-  const double g = kGravity;
-  // 1. Margins, and what the step starts from.
-  margin_max_ = 0.0;
-  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;
-  for (int i = 0; i < n_; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    x0_[k] = x_[k];
-    y0_[k] = y_[k];
-    vbx_[k] = body_[k].vx;
-    vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
-    vy0_[k] = body_[k].vy;
-    wb_[k] = body_[k].w;
-    body_[k].dpx = 0.0;
-    body_[k].dpy = 0.0;
-    if (!act_[k]) continue;
-    const double speed = std::sqrt(body_[k].vx * body_[k].vx + body_[k].vy * body_[k].vy);
-    marg_[k] = margin_base_m_ + 1.5 * (speed + g * dt_) * dt_;
-    margin_max_ = std::max(margin_max_, marg_[k]);
-    bx0 = std::min(bx0, x_[k]);
-    bx1 = std::max(bx1, x_[k]);
-    by0 = std::min(by0, y_[k]);
-    by1 = std::max(by1, y_[k]);
-  }
-  if (bx0 > bx1) bx0 = bx1 = by0 = by1 = 0.0;  // no active disk
-  // 2. Broad phase: every candidate pair lies within the 3x3 cells.
-  if (accounting_.steps % kReorderInterval == 0 && n_ > 0) {
-    // Cells over the whole mill, two reaches wide: the order depends on the positions (and
-    // this width) only.
-    const double side = 2.0 * (max_r_m_ + 2.0 * r_max_);
-    grid_.fit(-0.5 * side, -0.5 * side, side, side, 2.0 * (r_max_ + margin_max_));
-    grid_.build(x_.data(), y_.data(), act_.data(), n_);
-    reorder_by_cell();
-    // Reordering moved the before-step copies too: rebuild them.
-    for (int i = 0; i < n_; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      x0_[k] = x_[k];
-      y0_[k] = y_[k];
-      vbx_[k] = body_[k].vx;
-      vby_[k] = act_[k] ? body_[k].vy - g * dt_ : body_[k].vy;
-      vy0_[k] = body_[k].vy;
-      wb_[k] = body_[k].w;
-    }
-  }
-  // Pair cells one largest reach wide over the disks' bounding box: a disk's box (its reach
-  // plus the largest) spans at most 5 x 5 of them, of which it scans the half after it.
-  pair_grid_.fit(bx0, by0, bx1 - bx0, by1 - by0, kPairCellReaches * (r_max_ + margin_max_));
-  pair_grid_.build(x_.data(), y_.data(), act_.data(), n_);
-  const auto t_broad = Clock::now();
-  timing_.broad_s += std::chrono::duration<double>(t_broad - t_start).count();
+  const double omega = charge_.mill_speed_rad_s;
+  Stopwatch watch;
 
-  // 3. Narrow phase. The liner lookup is rebuilt (rarely) when a fast disk needs more reach.
-  const double reach = r_max_ + margin_max_ + std::fabs(state_.mill_speed_rad_s) * max_r_m_ * dt_;
-  if (reach > liner_.reach_m()) {
-    liner_reach_need_ = 1.5 * reach;
-    liner_.build(mill_, liner_reach_need_);
+  contacts_.begin_step();
+  const StepBounds bounds = update_margins(model_, disks_);
+  if (reorder_due(accounting_.steps, disks_))
+    reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
+  record_step_start(model_, disks_, start_);
+  build_pair_grid(model_, bounds, disks_, broad_);
+  timing_.broad_s += watch.lap();
+
+  fit_liner_search(model_, liner_, bounds, omega, liner_search_);
+  find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs);
+  find_liner_contacts(model_, liner_, liner_search_, disks_, charge_.mill_angle_rad, omega,
+                      contacts_.liner);
+  match_warm_start(contacts_, accounting_);
+  timing_.collide_s += watch.lap();
+
+  const double h = model_.substep_s;
+  colour_live_rows(model_, disks_, start_, contacts_.pairs, rows_);
+  for (int sub = 0; sub < model_.substeps; ++sub) {
+    integrate_velocities(model_, disks_);
+    warm_start(contacts_, rows_, disks_);
+    solve(model_, start_, sub * h, omega, contacts_, rows_, disks_);
+    integrate_positions(model_, disks_);
+    relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_);
   }
-  pp_old_.swap(pp_);
-  pl_old_.swap(pl_);
-  find_pairs();
-  find_liner_contacts();
-  warm_start_match();
-  const auto t_narrow = Clock::now();
-  timing_.collide_s += std::chrono::duration<double>(t_narrow - t_broad).count();
+  store_lanes(rows_, contacts_.pairs);
+  apply_restitution(model_, contacts_, disks_);
+  timing_.solve_s += watch.lap();
+  count_rows();
 
-  // 4. Solve.
-  solve();
-  const auto t_solve = Clock::now();
-  timing_.solve_s += std::chrono::duration<double>(t_solve - t_narrow).count();
-  timing_.disk_steps += n_;
-  timing_.pair_rows += static_cast<std::int64_t>(pp_.size());
-  timing_.live_pair_rows += static_cast<std::int64_t>(live_rows_);
-  timing_.liner_rows += static_cast<std::int64_t>(pl_.size());
+  write_back_and_check(model_, liner_, start_, disks_, report());
+  account_contacts(liner_, disks_, start_, omega, contacts_, accounting_);
+  advance_clock(model_, charge_);
+  if (inside_liner_check_due(accounting_.steps))
+    check_inside_liner(model_, liner_, disks_, report());
+  account_step(accounting_, charge_, model_.dt_s, model_.mill_radius_m,
+               model_.shape_band_m + liner_.band_m, kGravity);
+  timing_.account_s += watch.lap();
+}
 
-  // 5. Finish.
-  finish();
-  account_contacts();
-  state_.time_s += dt_;
-  state_.mill_angle_rad += state_.mill_speed_rad_s * dt_;
-  if (accounting_.steps % 16 == 0) check_inside_liner();
-  account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_, kGravity);
-  timing_.account_s += seconds_since(t_solve);
+// Rows per disk-step for the benchmarks: whether a cost per disk-step grows with the work.
+void SoftEngine::count_rows() {
+  timing_.disk_steps += disks_.n;
+  timing_.pair_rows += static_cast<std::int64_t>(contacts_.pairs.size());
+  timing_.live_pair_rows += static_cast<std::int64_t>(rows_.live_n);
+  timing_.liner_rows += static_cast<std::int64_t>(contacts_.liner.size());
 }
 
 }  // namespace
 
+}  // namespace millwear::soft
+
+namespace millwear {
+
 std::unique_ptr<Engine> make_soft_engine(const Scene& scene, const MillGeometry& mill,
                                          const ChargeState& initial,
                                          const AccountingOptions& opts) {
-  return std::make_unique<SoftEngine>(scene, mill, initial, opts);
+  return std::make_unique<soft::SoftEngine>(scene, mill, initial, opts);
 }
 
 }  // namespace millwear

@@ -1,0 +1,181 @@
+#pragma once
+// The soft backend's contacts: flat arrays in key order, split by how often they are
+// touched, kept at their high-water size (no allocation per step once warm).
+//
+// Most disk-pair contacts are speculative margins that never carry an impulse: every solve
+// and relax pass (2 x 4 a step) reads their gap (bodies, normal, start separation: 32
+// bytes, two to a cache line) and the state byte, finds the row inert and goes on. The row
+// proper (anchors, masses, impulses) is read only for rows that act; the step sums are
+// written once per substep (relax); the key is read by the matching; the info is cold
+// (restitution, accounting).
+//
+// A contact's normal, anchors and liner velocity are fixed for the step (as in Box2D);
+// the substeps update only the separation, s = s0 + n . (dp_a - dp_b), with dp the
+// displacement since the step began (the liner's: its velocity at the contact times the
+// elapsed time). For disks the anchors lie on the normal, so the normal row has no
+// rotational term.
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace millwear::soft {
+
+struct PairGap {
+  int a = 0, b = 0;            // solver disk indices, a < b
+  double nx = 0, ny = 0;       // unit normal from b toward a
+  double s0 = 0;               // separation at the start of the step
+};
+struct PairRow {
+  double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
+  double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
+  double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
+  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
+};
+struct LinerGap {
+  int a = 0;
+  double nx = 0, ny = 0;       // unit normal from the liner toward a
+  double s0 = 0;
+  double vlx = 0, vly = 0;     // liner velocity at the contact point
+};
+struct LinerRow {
+  double alpha = 0;            // anchor r_a = -alpha n
+  double mn = 0, mt = 0, mr = 0;
+  double mu = 0, lever = 0;
+  double ln = 0, lt = 0, lr = 0;
+};
+
+// Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
+// wherever an impulse is written, so testing it is testing the impulses). kBuilt: the
+// row's anchors, masses and material (and the info's point, restitution and start
+// velocity) have been computed. A disk-pair row is built lazily, the first time a pass
+// does not skip it: most are margins that never carry load, and for them the narrow phase
+// computes only the gap. An unbuilt row's impulses are zero (not stored: kLive is clear).
+// kBounce: a built disk-pair row whose contact closed faster than the restitution
+// threshold with a restitution above zero: the once-a-step restitution pass reads this
+// byte and touches the cold info and sums of these rows only.
+constexpr std::uint8_t kLive = 1, kBuilt = 2, kBounce = 4;
+
+template <class Row>
+std::uint8_t has_impulse(const Row& c) {
+  return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
+}
+
+struct StepSum {
+  double pn = 0, pt = 0, pr = 0;  // impulses summed over the step
+};
+// What every contact carries from one step to the next, apart from the cold info: the
+// matching reads it for every contact, most of which never get an info.
+struct ContactKey {
+  std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
+  double event_J = 0;      // energy dissipated since this collision began (spectrum)
+};
+struct ContactInfo {
+  int edge = -1;           // liner edge the contact's work goes to
+  int owner = -1;          // liner edge that found it (its key)
+  double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
+  double e = 0;            // restitution
+  double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
+};
+
+inline std::uint64_t pair_key(int a, int b) {
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
+// use, so adding a contact is a bounds check and plain stores, no construction.
+template <class Gap, class Row>
+struct ContactSet {
+  std::vector<Gap> gap;
+  std::vector<Row> row;
+  std::vector<std::uint8_t> state;  // kLive | kBuilt | kBounce
+  std::vector<StepSum> sum;
+  std::vector<ContactKey> key;
+  std::vector<ContactInfo> info;
+  std::size_t n = 0;
+  std::size_t size() const { return n; }
+  void clear() { n = 0; }
+  void reserve(std::size_t m) {
+    if (row.size() >= m) return;
+    gap.resize(m);
+    row.resize(m);
+    state.resize(m);
+    sum.resize(m);
+    key.resize(m);
+    info.resize(m);
+  }
+  void resize(std::size_t m) {
+    reserve(m);
+    n = m;
+  }
+  void swap(ContactSet& o) {
+    gap.swap(o.gap);
+    row.swap(o.row);
+    state.swap(o.state);
+    sum.swap(o.sum);
+    key.swap(o.key);
+    info.swap(o.info);
+    std::swap(n, o.n);
+  }
+  void copy(std::size_t to, const ContactSet& o, std::size_t from) {
+    gap[to] = o.gap[from];
+    row[to] = o.row[from];
+    state[to] = o.state[from];
+    sum[to] = o.sum[from];
+    key[to] = o.key[from];
+    info[to] = o.info[from];
+  }
+  // Append a contact; the caller writes gap, state and key, and row, info and zero step
+  // sums when it builds the row (only a built row's sums are ever read: most disk-pair rows
+  // are margins that are never built, and their sums are not written at all).
+  std::size_t add() {
+    if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
+    return n++;
+  }
+};
+
+using PairSet = ContactSet<PairGap, PairRow>;
+using LinerSet = ContactSet<LinerGap, LinerRow>;
+
+// This step's contacts and last step's (for the warm start), each sorted by key.
+struct Contacts {
+  PairSet pairs, pairs_old;
+  LinerSet liner, liner_old;
+  // Scratch of sort_by_key, sized at warm-up.
+  std::vector<std::pair<std::uint64_t, int>> sort_keys;
+
+  void reserve(int disks) {
+    const auto n = static_cast<std::size_t>(disks);
+    // Headroom over the 1.9 to 3.1 candidate pairs per disk the benchmark charges have,
+    // so that the arrays rarely grow after the first step; at least one liner contact
+    // per disk.
+    const std::size_t expected_pairs = 4 * n + 16;
+    pairs.reserve(expected_pairs);
+    pairs_old.reserve(expected_pairs);
+    liner.reserve(n + 16);
+    liner_old.reserve(n + 16);
+    sort_keys.reserve(expected_pairs);
+  }
+  // This step's contacts become last step's; the step before last's buffers are reused.
+  void begin_step() {
+    pairs_old.swap(pairs);
+    liner_old.swap(liner);
+  }
+};
+
+// Sort a contact set by key (keys are unique, so any sort gives the same order), through
+// the spare set (whose contents are dead at this point) and scratch sized at warm-up: no
+// allocation.
+template <class Set>
+void sort_by_key(Set& set, Set& spare, std::vector<std::pair<std::uint64_t, int>>& keys) {
+  const std::size_t m = set.size();
+  keys.clear();
+  for (std::size_t k = 0; k < m; ++k) keys.emplace_back(set.key[k].key, static_cast<int>(k));
+  std::sort(keys.begin(), keys.end());
+  spare.resize(m);
+  for (std::size_t t = 0; t < m; ++t) spare.copy(t, set, static_cast<std::size_t>(keys[t].second));
+  set.swap(spare);
+}
+
+}  // namespace millwear::soft

@@ -1,0 +1,59 @@
+#pragma once
+// The end of a soft step: the solver's disks written back to the ChargeState by id, with
+// the checks MuJoCo makes inside its step (a non-finite disk, a disk escaped through the
+// shell or leaked into the liner is removed and reported where it arises), and every
+// contact fed once to the shared accounting with its impulses summed over the substeps.
+//
+// Energy. With anchors and directions fixed for the step, every disk's velocity change is
+// exactly gravity * dt plus the sum of its contact impulses / mass, so the sum over
+// contacts of P . (v_rel before + v_rel after) / 2, with "before" = start velocity + g dt,
+// is exactly the kinetic energy the impulses change: dissipation is split per contact
+// without residue. Rolling resistance couples are accounted in the same way (added to the
+// tangential dissipation, and through the liner to the drive torque).
+#include <cstdint>
+#include <vector>
+
+#include "engine/accounting.hpp"
+#include "engine/charge.hpp"
+#include "engine/engine.hpp"
+#include "engine/soft/contact_set.hpp"
+#include "engine/soft/disks.hpp"
+#include "engine/soft/model.hpp"
+
+namespace millwear::soft {
+
+// The inside-liner check runs every this many steps. It walks a lifter surface for every
+// disk in the liner band, about what the liner search costs; a disk deeper than the liner
+// contacts reach stays there, so finding it up to 16 steps late changes only the step in
+// which it is removed.
+constexpr int kInsideLinerCheckInterval = 16;
+
+// Where the ChargeState and the events of the engine are reported to.
+struct Report {
+  ChargeState& charge;
+  Accounting& accounting;
+  std::vector<EngineEvent>& events;
+};
+
+// Positions, velocities, angles and spins back to the charge by id; the solver's position
+// correction into the energy balance; non-finite and escaped disks removed.
+void write_back_and_check(const Model& model, const LinerModel& liner, const StepStart& start,
+                          Disks& disks, Report report);
+
+// Every contact that carried an impulse this step, as a ContactRecord, to the accounting;
+// collision events closed for the spectrum.
+void account_contacts(const LinerModel& liner, const Disks& disks, const StepStart& start,
+                      double mill_speed_rad_s, Contacts& contacts, Accounting& accounting);
+
+// The step's time and the mill's turn.
+void advance_clock(const Model& model, ChargeState& charge);
+
+inline bool inside_liner_check_due(std::int64_t step) {
+  return step % kInsideLinerCheckInterval == 0;
+}
+// Disks whose centre got deeper into the lifter metal than the liner contacts reach are
+// removed as leaked.
+void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disks,
+                        Report report);
+
+}  // namespace millwear::soft

@@ -1,0 +1,110 @@
+#include "engine/soft/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/units.hpp"
+#include "geometry/vec2.hpp"
+
+namespace millwear::soft {
+
+namespace {
+
+// Box2D v3 caps the contact frequency at an eighth of the substep rate: stiffer is not
+// resolved by one soft iteration per substep.
+constexpr double kMaxHertzPerSubstepRate = 0.125;
+// A disk at rest keeps a margin of a tenth of the smallest radius, so that touching disks
+// hold their contact from step to step (warm starting) without creeping into overlap.
+constexpr double kMarginBaseRadii = 0.1;
+// Restitution only for impacts faster than 1.67 mean diameters per second: the Box2D
+// backend's threshold (1 unit/s at its scaling), so both backends bounce alike.
+constexpr double kRestitutionThresholdSeconds = 0.6;
+// The charge-shape band reaches two of the largest radii past the liner's depth.
+constexpr double kShapeBandRadii = 2.0;
+// With no disk, lengths are scaled from a disk of a hundredth of the mill radius.
+constexpr double kEmptyChargeRadius = 0.01;
+// Above any coordinate in metres: the first value replaces it.
+constexpr double kUnbounded = 1e300;
+
+}  // namespace
+
+Softness make_softness(double hertz, double zeta, double h) {
+  const double w = 2.0 * kPi * hertz;
+  const double a1 = 2.0 * zeta + h * w;
+  const double a2 = h * w * a1;
+  const double a3 = 1.0 / (1.0 + a2);
+  return {w / a1, a2 * a3, a3};
+}
+
+Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeState& initial) {
+  Model m;
+  m.dt_s = scene.solver.time_step_s;
+  m.substeps = scene.solver.substeps;
+  const double h = m.dt_s / m.substeps;
+  m.substep_s = h;
+  const double hertz = scene.solver.contact_hertz > 0.0
+                           ? std::min(scene.solver.contact_hertz, kMaxHertzPerSubstepRate / h)
+                           : kMaxHertzPerSubstepRate / h;
+  // Liner contacts get twice the frequency, as static contacts do in Box2D (at most a
+  // quarter of the substep rate).
+  m.pair_softness = make_softness(hertz, scene.solver.damping_ratio, h);
+  m.liner_softness = make_softness(2.0 * hertz, scene.solver.damping_ratio, h);
+  m.mill_radius_m = mill.radius_m;
+
+  const auto n = static_cast<int>(initial.size());
+  double r_min = 0.0, r_max = 0.0, mean_d = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double r = initial.radius_m[static_cast<std::size_t>(i)];
+    r_min = i == 0 ? r : std::min(r_min, r);
+    r_max = std::max(r_max, r);
+    mean_d += 2.0 * r / n;
+  }
+  if (n == 0) r_min = r_max = kEmptyChargeRadius * m.mill_radius_m, mean_d = 2.0 * r_min;
+  m.r_min_m = r_min;
+  m.r_max_m = r_max;
+  m.push_out_m_s = scene.solver.push_out_radii_per_s * r_min;
+  m.restitution_threshold_m_s = mean_d / kRestitutionThresholdSeconds;
+  m.margin_base_m = kMarginBaseRadii * r_min;
+  m.shape_band_m = kShapeBandRadii * r_max;
+
+  const auto& species = scene.charge.species;
+  Materials& mat = m.materials;
+  mat.species = static_cast<int>(std::max<std::size_t>(species.size(), 1));
+  const auto count = static_cast<std::size_t>(mat.species);
+  mat.pair_friction.assign(count * count, 0.5);
+  mat.pair_restitution = mat.pair_friction;
+  mat.pair_rolling.assign(count * count, 0.0);
+  mat.liner_friction.assign(count, 0.5);
+  mat.liner_restitution.assign(count, 0.0);
+  mat.rolling.assign(count, 0.0);
+  for (std::size_t a = 0; a < species.size(); ++a) {
+    mat.liner_friction[a] = species[a].friction_liner;
+    mat.liner_restitution[a] = species[a].restitution_liner;
+    mat.rolling[a] = species[a].rolling_resistance;
+    for (std::size_t b = 0; b < species.size(); ++b) {
+      const std::size_t k = a * species.size() + b;
+      mat.pair_friction[k] = std::sqrt(species[a].friction * species[b].friction);
+      mat.pair_restitution[k] = std::max(species[a].restitution, species[b].restitution);
+      mat.pair_rolling[k] = std::max(species[a].rolling_resistance, species[b].rolling_resistance);
+    }
+  }
+  return m;
+}
+
+LinerModel build_liner_model(const MillGeometry& mill) {
+  LinerModel liner;
+  liner.mill = mill;
+  double min_r = kUnbounded;
+  for (const Vec2& p : mill.boundary) {
+    liner.max_r_m = std::max(liner.max_r_m, length(p));
+    min_r = std::min(min_r, length(p));
+  }
+  liner.band_m = liner.max_r_m - min_r;
+  const std::size_t n = mill.boundary.size();
+  liner.edge_is_shell.resize(n);
+  for (std::size_t e = 0; e < n; ++e)
+    liner.edge_is_shell[e] = mill.edges[e].owner == EdgeOwner::Shell ? 1 : 0;
+  return liner;
+}
+
+}  // namespace millwear::soft

@@ -1,0 +1,230 @@
+#include "engine/soft/narrow_phase.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/vec2.hpp"
+
+namespace millwear::soft {
+
+namespace {
+
+// Liner contacts of one disk in one step: a disk in a lifter's inward corner touches two
+// faces, and a handful covers a disk on a finely meshed shell arc.
+constexpr int kMaxLinerHits = 8;
+// The liner lookup is built for this many times the reach asked of it, so that a charge
+// speeding up does not rebuild it step after step.
+constexpr double kLinerReachHeadroom = 1.5;
+// Of a disk at rest: its radius plus the margins of two disks at rest.
+constexpr double kRestMargins = 2.0;
+
+// The gap of a new disk-pair contact (all that the skip test of the passes reads).
+void add_pair_contact(const Disks& disks, PairSet& pairs, int i, int j) {
+  const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+  const std::size_t q = pairs.add();
+  PairGap& g = pairs.gap[q];
+  ContactKey& key = pairs.key[q];
+  g.a = i;
+  g.b = j;
+  pairs.state[q] = 0;
+  key.key = pair_key(i, j);
+  key.event_J = 0.0;
+  const double dx = disks.x[a] - disks.x[b], dy = disks.y[a] - disks.y[b];
+  const double dist = std::sqrt(dx * dx + dy * dy);
+  if (dist > 0.0) {
+    g.nx = dx / dist;
+    g.ny = dy / dist;
+  } else {
+    g.nx = 0.0;
+    g.ny = 1.0;
+  }
+  g.s0 = dist - disks.radius[a] - disks.radius[b];
+}
+
+}  // namespace
+
+void build_liner_search(const Model& model, const LinerModel& liner, LinerSearch& search) {
+  const double rest_reach =
+      kLinerReachHeadroom * (model.r_max_m + kRestMargins * model.margin_base_m);
+  search.lookup.build(liner.mill, std::max(search.reach_needed_m, rest_reach));
+}
+
+void fit_liner_search(const Model& model, const LinerModel& liner, const StepBounds& bounds,
+                      double mill_speed_rad_s, LinerSearch& search) {
+  const double reach = model.r_max_m + bounds.margin_max_m +
+                       std::fabs(mill_speed_rad_s) * liner.max_r_m * model.dt_s;
+  if (reach <= search.lookup.reach_m()) return;
+  search.reach_needed_m = kLinerReachHeadroom * reach;
+  search.lookup.build(liner.mill, search.reach_needed_m);
+}
+
+// Each pair is found once: a disk scans only the cells after its own in grid order (the
+// rest of its own cell and row, the rows above) within its reach plus the largest reach,
+// which holds every partner it can have. The pairs are then bucketed by their lower index
+// and each bucket sorted, so the list comes out in key order.
+void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
+                const StepBounds& bounds, PairSearch& search, PairSet& pairs) {
+  using Candidate = PairSearch::Candidate;
+  pairs.clear();
+  const int nx = grid.nx;
+  const int* start = grid.start.data();
+  const double* x = disks.x.data();
+  const double* y = disks.y.data();
+  const double* r = disks.radius.data();
+  const double* margin = disks.margin.data();
+  const int placed = grid.placed();
+  search.candidates.resize(static_cast<std::size_t>(placed));
+  for (int k = 0; k < placed; ++k) {
+    const int j = grid.order[static_cast<std::size_t>(k)];
+    search.candidates[static_cast<std::size_t>(k)] = {x[j], y[j], r[j] + margin[j], j};
+  }
+  const Candidate* cd = search.candidates.data();
+  // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
+  // the edge of the box from being lost to the rounding of the box.
+  const double reach_max = model.r_max_m + bounds.margin_max_m + 1e-6 * model.r_min_m;
+  std::vector<std::uint64_t>& keys = search.found_keys;
+  std::size_t found = 0;
+  // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
+  // every one is tested and stored, and only counted if it passes (room for a whole range
+  // is made first).
+  auto scan = [&](const Candidate& p, int k0, int k1) {
+    if (keys.size() < found + static_cast<std::size_t>(k1 - k0))
+      keys.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
+    std::uint64_t* out = keys.data();
+    for (int k = k0; k < k1; ++k) {
+      const Candidate& q = cd[k];
+      const double dx = p.x - q.x, dy = p.y - q.y;
+      // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever disk
+      // scans, so the pair set does not depend on the grid.
+      const double reach = p.reach + q.reach;
+      const bool p_low = p.j < q.j;
+      const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
+      const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
+      out[found] = (lo << 32) | hi;
+      found += dx * dx + dy * dy < reach * reach ? 1 : 0;
+    }
+  };
+  for (int k = 0; k < placed; ++k) {
+    const Candidate& p = cd[k];
+    const double box = p.reach + reach_max;
+    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
+    const int row = grid.row(p.y);
+    // The rest of this row: the disks after p in its own cell, then the cells to its right.
+    scan(p, k + 1, start[row * nx + x_hi + 1]);
+    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
+      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
+  }
+  // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
+  const auto n = static_cast<std::size_t>(disks.n);
+  std::vector<int>& bucket = search.bucket_end;
+  bucket.assign(n + 1, 0);
+  for (std::size_t t = 0; t < found; ++t) bucket[(keys[t] >> 32) + 1] += 1;
+  for (std::size_t i = 0; i < n; ++i) bucket[i + 1] += bucket[i];
+  if (search.upper.size() < found) search.upper.resize(keys.size());
+  for (std::size_t t = 0; t < found; ++t) {
+    const std::uint64_t key = keys[t];
+    const auto slot = static_cast<std::size_t>(bucket[key >> 32]++);
+    search.upper[slot] = static_cast<int>(key & 0xffffffffu);
+  }
+  // bucket[i] is now the end of bucket i, and the start of bucket i + 1.
+  int* upper = search.upper.data();
+  int b0 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b1 = bucket[i];
+    // A handful per disk: insertion sort.
+    for (int p = b0 + 1; p < b1; ++p)
+      for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
+    for (int p = b0; p < b1; ++p) add_pair_contact(disks, pairs, static_cast<int>(i), upper[p]);
+    b0 = b1;
+  }
+}
+
+void find_liner_contacts(const Model& model, const LinerModel& liner,
+                         const LinerSearch& search, const Disks& disks,
+                         double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts) {
+  contacts.clear();
+  const double omega = mill_speed_rad_s;
+  const double cs = std::cos(mill_angle_rad), sn = std::sin(mill_angle_rad);
+  const double liner_travel = std::fabs(omega) * liner.max_r_m * model.dt_s;
+  const Materials& mat = model.materials;
+  LinerHit hits[kMaxLinerHits];
+  for (int i = 0; i < disks.n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!disks.active[k]) continue;
+    const double margin = disks.margin[k] + liner_travel;
+    const double r = disks.radius[k];
+    const double x = disks.x[k], y = disks.y[k];
+    // Into the mill frame (rotate by -theta).
+    const Vec2 pm{cs * x + sn * y, -sn * x + cs * y};
+    if (!search.lookup.may_touch(pm, r + margin)) continue;
+    const int count = search.lookup.query(pm, r, margin, hits, kMaxLinerHits);
+    const Body& A = disks.body[k];
+    const std::uint8_t sp = disks.species[k];
+    for (int h = 0; h < count; ++h) {
+      const LinerHit& hit = hits[h];
+      const std::size_t q = contacts.add();
+      LinerGap& g = contacts.gap[q];
+      LinerRow& c = contacts.row[q];
+      ContactInfo& info = contacts.info[q];
+      g.a = i;
+      c.ln = c.lt = c.lr = 0.0;
+      contacts.state[q] = kBuilt;
+      contacts.sum[q] = StepSum{};
+      contacts.key[q] = {pair_key(i, hit.owner), 0.0};
+      info.edge = hit.edge;
+      info.owner = hit.owner;
+      g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
+      g.ny = sn * hit.normal.x + cs * hit.normal.y;
+      g.s0 = hit.gap;
+      c.alpha = r + 0.5 * g.s0;
+      info.px = x - c.alpha * g.nx;
+      info.py = y - c.alpha * g.ny;
+      g.vlx = -omega * info.py;
+      g.vly = omega * info.px;
+      c.mn = A.im > 0.0 ? 1.0 / A.im : 0.0;
+      const double it = A.im + A.ii * c.alpha * c.alpha;
+      c.mt = it > 0.0 ? 1.0 / it : 0.0;
+      c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
+      c.mu = mat.liner_friction[sp];
+      info.e = mat.liner_restitution[sp];
+      c.lever = mat.rolling[sp] * r;
+      info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
+    }
+  }
+}
+
+void match_warm_start(Contacts& contacts, Accounting& accounting) {
+  const bool spectrum = accounting.options.collision_spectrum;
+  auto merge = [&](auto& now, const auto& old, bool events) {
+    std::size_t p = 0;
+    const std::size_t m = old.size();
+    for (std::size_t q = 0; q < now.size(); ++q) {
+      ContactKey& c = now.key[q];
+      while (p < m && old.key[p].key < c.key) {
+        if (events && old.key[p].event_J > 0.0)
+          account_collision_event(accounting, old.key[p].event_J);
+        ++p;
+      }
+      if (p < m && old.key[p].key == c.key) {
+        // Only a live row carries impulses (an unbuilt one stores none).
+        if (old.state[p] & kLive) {
+          auto& row = now.row[q];
+          const auto& prev = old.row[p];
+          row.ln = prev.ln;
+          row.lt = prev.lt;
+          row.lr = prev.lr;
+          now.state[q] |= kLive;
+        }
+        c.event_J = old.key[p].event_J;
+        ++p;
+      }
+    }
+    for (; p < m; ++p)
+      if (events && old.key[p].event_J > 0.0)
+        account_collision_event(accounting, old.key[p].event_J);
+  };
+  merge(contacts.pairs, contacts.pairs_old, spectrum);
+  merge(contacts.liner, contacts.liner_old, false);
+}
+
+}  // namespace millwear::soft

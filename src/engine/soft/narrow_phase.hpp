@@ -1,0 +1,101 @@
+#pragma once
+// Narrow phase of the soft backend: disk pairs, each found once from the cells a disk's
+// reach can touch and bucketed into key order; disk-liner contacts from the angle-bin
+// lookup in the mill frame; both matched against last step's contacts to carry their
+// impulses over (warm start). A disk-pair contact gets only its gap here; its row is built
+// the first time a pass of the solve does not skip it (build_pair_row).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "engine/accounting.hpp"
+#include "engine/soft/broad_phase.hpp"
+#include "engine/soft/contact_set.hpp"
+#include "engine/soft/disks.hpp"
+#include "engine/soft/grid.hpp"
+#include "engine/soft/liner_lookup.hpp"
+#include "engine/soft/model.hpp"
+
+namespace millwear::soft {
+
+// Scratch of the pair search, at its high-water size.
+struct PairSearch {
+  // A disk as the search sees it, stored in grid order so that a row of cells' candidates
+  // are read from contiguous memory: 32 bytes, two to a cache line.
+  struct Candidate {
+    double x, y, reach;  // reach = radius + margin
+    int j;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<std::uint64_t> found_keys;   // pairs as found (key: lower << 32 | upper)
+  std::vector<int> bucket_end, upper;      // the pairs bucketed by lower index
+  void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
+};
+
+// The liner's angle-bin lookup and the reach it must cover.
+struct LinerSearch {
+  LinerLookup lookup;
+  double reach_needed_m = 0.0;  // grown (never shrunk) when a fast disk needed more
+};
+
+// After set_liner: bins for the reach of the largest disk at rest, or more if a step
+// already needed more.
+void build_liner_search(const Model& model, const LinerModel& liner, LinerSearch& search);
+// Rebuild the bins (rarely) when a fast disk or a fast mill needs more reach than built.
+void fit_liner_search(const Model& model, const LinerModel& liner, const StepBounds& bounds,
+                      double mill_speed_rad_s, LinerSearch& search);
+
+// Pairs within the sum of their reaches (radius + margin), in key order, rows unbuilt.
+void find_pairs(const Model& model, const Disks& disks, const Grid& pair_grid,
+                const StepBounds& bounds, PairSearch& search, PairSet& pairs);
+
+// Disk-liner contacts through the mill-frame lookup, rows built; the liner's velocity at
+// a contact is omega x r.
+void find_liner_contacts(const Model& model, const LinerModel& liner,
+                         const LinerSearch& search, const Disks& disks,
+                         double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts);
+
+// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists).
+// A disk-pair contact that ended closes its collision event for the spectrum.
+void match_warm_start(Contacts& contacts, Accounting& accounting);
+
+// Everything of a disk-pair row beyond its gap, from the state at the start of the step
+// (positions and velocities of StepStart; masses and materials do not change within a
+// step), so that building it in the middle of the solve gives the same bits as building it
+// in the narrow phase.
+inline void build_pair_row(const Model& model, const Disks& disks, const StepStart& start,
+                           PairSet& pairs, std::size_t q) {
+  const PairGap& g = pairs.gap[q];
+  PairRow& c = pairs.row[q];
+  ContactInfo& info = pairs.info[q];
+  const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
+  if (!(pairs.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
+  pairs.state[q] |= kBuilt;
+  pairs.sum[q] = StepSum{};
+  info.edge = info.owner = -1;
+  const double ra = disks.radius[a], rb = disks.radius[b];
+  // The contact point is midway between the two surfaces.
+  c.alpha = ra + 0.5 * g.s0;
+  c.beta = rb + 0.5 * g.s0;
+  info.px = start.x[a] - c.alpha * g.nx;
+  info.py = start.y[a] - c.alpha * g.ny;
+  const Body& A = disks.body[a];
+  const Body& B = disks.body[b];
+  const double im = A.im + B.im;
+  c.mn = im > 0.0 ? 1.0 / im : 0.0;
+  const double it = im + A.ii * c.alpha * c.alpha + B.ii * c.beta * c.beta;
+  c.mt = it > 0.0 ? 1.0 / it : 0.0;
+  const double ir = A.ii + B.ii;
+  c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
+  const Materials& mat = model.materials;
+  const std::size_t pair = mat.pair(disks.species[a], disks.species[b]);
+  c.mu = mat.pair_friction[pair];
+  info.e = mat.pair_restitution[pair];
+  // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
+  // convention; a disk on a flat liner gets its own radius).
+  c.lever = mat.pair_rolling[pair] * ra * rb / (ra + rb);
+  info.vn0 = (start.vx[a] - start.vx[b]) * g.nx + (start.vy[a] - start.vy[b]) * g.ny;
+  if (info.e != 0.0 && !(info.vn0 > -model.restitution_threshold_m_s)) pairs.state[q] |= kBounce;
+}
+
+}  // namespace millwear::soft
