@@ -35,6 +35,7 @@ inline Scene probe_scene(double r_min_m) {
   s.charge.filling = 0.30;
   s.charge.ball_filling = 0.30;
   s.charge.bulk_packing = 0.8;
+  s.solver.backend = Backend::Box2D;  // the benchmarks name the backend they run
   s.solver.time_step_s = 1.0 / 600.0;
   s.solver.settle_time_s = 1.0;
   s.solver.spinup_revolutions = 0.25;

@@ -47,10 +47,12 @@ inline Scene tiny_mill(double d_min_mm = 15.0, double size_ratio = 1.67, double 
   s.charge.species = {sp};
   s.charge.filling = filling;
   s.charge.ball_filling = filling;
+  s.solver.backend = Backend::Box2D;
   s.solver.time_step_s = 1.0 / 1000.0;
   s.solver.settle_time_s = 0.3;
   s.solver.spinup_revolutions = 0.25;
   s.wear.smoothing_radius_m = 0.002;
+  s.wear.window_revolutions = 2.0;
   s.wear.max_depth_step_m = 0.0005;
   s.wear.replacement_height_m = 0.005;
   return s;

@@ -65,6 +65,7 @@ Scene single_disk_scene(double friction) {
   sp.restitution = 0.0;
   sp.restitution_liner = 0.0;
   s.charge.species = {sp};
+  s.mill.mesh = {0.04, 0.02};
   s.solver.time_step_s = 1.0 / 600.0;
   return s;
 }

@@ -1,4 +1,4 @@
-// Tests for src/io: atomic writes, CSV tables, run-folder markers, the manifest JSON writer.
+// Tests for src/io: atomic writes, CSV tables, run-folder markers.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -223,38 +223,3 @@ TEST(IoRunFolder, KeyValueSyntaxErrorNamesLine) {
   }
 }
 
-// ---- JSON ----
-
-TEST(IoJson, NestedObjectPrintsInInsertionOrder) {
-  io::JsonObject m;
-  m.set("program", "millwear").set("seed", 42).set("fidelity", "draft");
-  m.object("settings").set("stage_hours", 750.0).set("bidirectional", true);
-  io::JsonValue walls = io::JsonValue::array();
-  walls.push(1.5).push(2.25);
-  m.set("wall_s", walls);
-  m.set("seed", 7);  // replaces in place
-  m.set("note", "a \"quoted\"\nline");
-  EXPECT_EQ(m.dump(2),
-            "{\n"
-            "  \"program\": \"millwear\",\n"
-            "  \"seed\": 7,\n"
-            "  \"fidelity\": \"draft\",\n"
-            "  \"settings\": {\n"
-            "    \"stage_hours\": 750,\n"
-            "    \"bidirectional\": true\n"
-            "  },\n"
-            "  \"wall_s\": [\n"
-            "    1.5,\n"
-            "    2.25\n"
-            "  ],\n"
-            "  \"note\": \"a \\\"quoted\\\"\\nline\"\n"
-            "}");
-  EXPECT_EQ(io::JsonObject().dump(), "{}");
-}
-
-TEST(IoJson, NumbersRoundTripAndNonFiniteIsNull) {
-  io::JsonValue a = io::JsonValue::array();
-  a.push(0.1).push(1.0 / 3.0).push(750.0).push(1e20).push(-2.5e-7).push(std::nan(""));
-  a.push(nullptr);
-  EXPECT_EQ(a.dump(0), "[0.1, 0.3333333333333333, 750, 1e+20, -2.5e-07, null, null]");
-}

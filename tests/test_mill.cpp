@@ -12,6 +12,9 @@ using namespace millwear;
 
 namespace {
 
+// The mesh these checks were written for.
+const MillMeshDef kMesh{0.04, 0.02};
+
 constexpr double kDeg = kPi / 180.0;
 constexpr double kR = 5.0;   // 10 m mill
 constexpr int kRows = 48;
@@ -19,7 +22,7 @@ constexpr int kRows = 48;
 Polyline lifter_2x30() { return trapezoid_points({0.2, 0.1, 30 * kDeg, 30 * kDeg}); }
 
 MillGeometry mill_2x30() {
-  return build_mill(kR, kRows, {make_liner_unit(lifter_2x30(), kR, kRows)});
+  return build_mill(kR, kRows, {make_liner_unit(lifter_2x30(), kR, kRows, kMesh)});
 }
 
 }  // namespace
@@ -117,7 +120,7 @@ TEST(Mill, EdgeOwnersAndLocalCoordinatesAtLifterFeet) {
 TEST(Mill, VerticalFaceEdgesBelongToTheLifter) {
   // 0 deg faces put the face edge midpoints exactly at |x| = half base.
   const Polyline rect = trapezoid_points({0.2, 0.2, 0.0, 0.0});
-  const MillGeometry g = build_mill(kR, 8, {make_liner_unit(rect, kR, 8)});
+  const MillGeometry g = build_mill(kR, 8, {make_liner_unit(rect, kR, 8, kMesh)});
   int lifter_edges = 0;
   for (const LinerEdgeInfo& e : g.edges)
     if (e.owner == EdgeOwner::Lifter && e.owner_index == 0) ++lifter_edges;
@@ -140,7 +143,7 @@ TEST(Mill, NormalsPointOutwardIntoTheLiner) {
 TEST(Mill, LifterWiderThanPitchIsRejected) {
   // 120 rows in a 5 m mill: pitch 262 mm < 331 mm base of the 2x30.
   try {
-    make_liner_unit(lifter_2x30(), kR, 120);
+    make_liner_unit(lifter_2x30(), kR, 120, kMesh);
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where, "lifters.rows");
@@ -149,7 +152,7 @@ TEST(Mill, LifterWiderThanPitchIsRejected) {
 
 TEST(Mill, LifterTallerThanHalfRadiusIsRejected) {
   try {
-    make_liner_unit(lifter_2x30(), 0.35, 2);
+    make_liner_unit(lifter_2x30(), 0.35, 2, kMesh);
     FAIL() << "no InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where, "lifters.profile");
@@ -160,7 +163,7 @@ TEST(Mill, LifterAreaMatchesPolarFormula) {
   // A rectangular lifter of width w, height h occupies the annular sector between R - h and
   // R over w/R radians: A = w h - w h^2 / (2R). Exact for the polygon, so 1e-12 relative.
   const double w = 0.2, h = 0.2;
-  const LinerUnit u = make_liner_unit(trapezoid_points({h, w, 0.0, 0.0}), kR, kRows);
+  const LinerUnit u = make_liner_unit(trapezoid_points({h, w, 0.0, 0.0}), kR, kRows, kMesh);
   const LifterMetrics m = measure_lifter(u, kR);
   EXPECT_NEAR(m.area_m2, w * h - w * h * h / (2 * kR), 1e-12 * w * h);
   EXPECT_NEAR(m.height_m, h, 1e-15);
@@ -168,7 +171,7 @@ TEST(Mill, LifterAreaMatchesPolarFormula) {
 }
 
 TEST(Mill, NewLifterMetricsMatchTheProfile) {
-  const LinerUnit u = make_liner_unit(lifter_2x30(), kR, kRows);
+  const LinerUnit u = make_liner_unit(lifter_2x30(), kR, kRows, kMesh);
   const LifterMetrics m = measure_lifter(u, kR);
   const ProfileMetrics p = measure_profile(lifter_2x30());
   EXPECT_NEAR(m.height_m, 0.2, 1e-12);
@@ -182,7 +185,7 @@ TEST(Mill, NewLifterMetricsMatchTheProfile) {
 TEST(Mill, WornShellBelowTheCircleDoesNotCountAsLifter) {
   // Shell worn 10 mm below the original circle next to the lifter: the metal above the
   // circle is still the lifter only, and a worn-down top lowers the height.
-  LinerUnit u = make_liner_unit(trapezoid_points({0.2, 0.2, 0.0, 0.0}), kR, kRows);
+  LinerUnit u = make_liner_unit(trapezoid_points({0.2, 0.2, 0.0, 0.0}), kR, kRows, kMesh);
   for (Vec2& p : u.surface) {
     if (p.y == 0.0 && std::abs(p.x) > u.lifter_half_base_m) p.y = -0.01;
     if (p.y > 0.15) p.y = 0.15;  // top worn 50 mm

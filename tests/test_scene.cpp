@@ -413,6 +413,25 @@ TEST(SceneFidelityTable, PresetsHaveTheDocumentedValues) {
   EXPECT_DOUBLE_EQ(s.shell_edge_m, 0.020);
 }
 
+// The defaults live in the scene's structs; `standard` is made of them, so a scene that
+// names nothing gets the same numbers whether or not the preset is applied.
+TEST(SceneFidelityTable, StandardIsTheSceneDefaults) {
+  const Scene defaults;
+  Scene s = defaults;
+  apply_fidelity(s, "standard");
+  EXPECT_EQ(s.solver.backend, defaults.solver.backend);
+  EXPECT_EQ(s.solver.time_step_s, defaults.solver.time_step_s);
+  EXPECT_EQ(s.solver.substeps, defaults.solver.substeps);
+  EXPECT_EQ(s.solver.velocity_iterations, defaults.solver.velocity_iterations);
+  EXPECT_EQ(s.solver.position_iterations, defaults.solver.position_iterations);
+  EXPECT_EQ(s.solver.size_cutoff_m, defaults.solver.size_cutoff_m);
+  EXPECT_EQ(s.wear.window_revolutions, defaults.wear.window_revolutions);
+  EXPECT_EQ(s.wear.max_depth_step_m, defaults.wear.max_depth_step_m);
+  EXPECT_EQ(s.wear.factor, defaults.wear.factor);
+  EXPECT_EQ(s.mill.mesh.shell_edge_m, defaults.mill.mesh.shell_edge_m);
+  EXPECT_EQ(s.mill.mesh.lifter_edge_m, defaults.mill.mesh.lifter_edge_m);
+}
+
 TEST(SceneFidelityTable, EachPresetIsFinerThanTheOneBefore) {
   const auto& p = fidelity_presets();
   ASSERT_EQ(p.size(), 3u);

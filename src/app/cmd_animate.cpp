@@ -18,7 +18,7 @@
 
 #include "common/units.hpp"
 #include "app/commands.hpp"
-#include "app/run_files.hpp"
+#include "io/stage_files.hpp"
 #include "common/errors.hpp"
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
@@ -106,7 +106,7 @@ int run_animate(const AnimateArgs& args) {
                            scene.name + "' (no " + scene.name + "_stage0.done in " +
                            io::stages_dir(args.history) + ")");
     for (int k = 0; k <= last; ++k) {
-      StageRecord rec = read_stage_state(args.history, scene.name, k);
+      StageRecord rec = io::read_stage_state(args.history, scene.name, k);
       if (rec.units.empty() || rec.edge_wear_rate_m_per_h.empty()) continue;  // worn-out marker
       Segment s;
       s.mill = build_mill(R, scene.mill.rows, rec.units);

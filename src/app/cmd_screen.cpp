@@ -38,7 +38,11 @@
 
 #include "app/commands.hpp"
 #include "app/duration_text.hpp"
-#include "app/run_command.hpp"
+#include "app/signals.hpp"
+#include "io/hash.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
+#include "study/plan.hpp"
+#include "study/run_designs.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
@@ -69,12 +73,6 @@ struct ScreenArgs {
   int chunk = 1;
 };
 
-std::string hex(std::size_t v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%016zx", v);
-  return buf;
-}
-
 std::string key_path(const std::string& out) { return io::join_path(out, "screen.key"); }
 
 std::string abs_path(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
@@ -83,30 +81,6 @@ std::string self_exe() {
   std::error_code ec;
   const fs::path p = fs::read_symlink("/proc/self/exe", ec);
   return ec ? std::string("millwear") : p.string();
-}
-
-// The "error" of the first design in a run folder's manifest.json (our own writer's format:
-// "error": "<JSON string>"), or "".
-std::string manifest_error(const std::string& run_dir) {
-  std::string m;
-  try {
-    m = io::read_file(io::manifest_path(run_dir));
-  } catch (const std::exception&) {
-    return "";
-  }
-  const std::string tag = "\"error\": \"";
-  const std::size_t at = m.find(tag);
-  if (at == std::string::npos) return "";
-  std::string out;
-  for (std::size_t i = at + tag.size(); i < m.size() && m[i] != '"'; ++i) {
-    if (m[i] == '\\' && i + 1 < m.size()) {
-      ++i;
-      out += m[i] == 'n' ? ' ' : m[i] == 't' ? ' ' : m[i];
-    } else {
-      out += m[i];
-    }
-  }
-  return out;
 }
 
 bool design_finished(const std::string& out, const Candidate& c) {
@@ -139,19 +113,25 @@ int run_one_task(const std::string& out, const std::vector<Candidate>& designs, 
   const std::string dir = design_dir(out, c.name);
   io::ensure_dir(dir);
   write_task_status(out, c, "running", -1, "");
-  RunArgs a;
-  a.scenes = {io::join_path(out, c.scene_file)};
-  a.out = dir;
-  a.quiet = true;
-  a.jobs = 1;
-  a.resume = true;  // a re-run task (Slurm requeue, re-emitted job) continues its stages
   int rc = 1;
   std::string reason;
   try {
-    rc = run_command(a);
+    // The same code path as `millwear run`: the candidate's folder is what run writes. A
+    // re-run task (Slurm requeue, re-emitted job) continues its stages.
+    const study::Plan plan = study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir});
+    study::RunState state(plan);
+    SignalScope signals;
+    study::RunOptions opt;
+    opt.out = dir;
+    opt.resume = true;
+    opt.jobs = 1;
+    opt.stop_signal = &g_signal;
+    opt.commit = MILLWEAR_COMMIT;
+    const study::RunOutcome r = study::run_designs(state, opt);
+    rc = r.interrupted ? 128 + (r.signal == SIGTERM ? SIGTERM : SIGINT) : r.failed || r.figures_failed ? 1 : 0;
     if (rc == 1) {
-      reason = manifest_error(dir);
-      if (reason.empty()) reason = "figures failed (see plots/gnuplot.log in the design's folder)";
+      reason = state.designs[0]->error;
+      if (reason.empty()) reason = "figures failed (see plots/gnuplot.log in the design's folder): " + r.figure_error;
     }
   } catch (const std::exception& e) {
     rc = dynamic_cast<const InputError*>(&e) ? 2 : 1;
@@ -459,7 +439,7 @@ int screen_command(const ScreenArgs& args) {
   std::string all = std::string(MILLWEAR_VERSION) + "\n" + io::read_file(args.screen) + "\n--\n" + io::read_file(def.base_scene);
   for (const auto& p : def.profiles) all += "\n--\n" + io::read_file(p);
   if (!def.equal_area.empty() && def.equal_area != "base") all += "\n--\n" + io::read_file(def.equal_area);
-  const std::string fingerprint = hex(std::hash<std::string>{}(all));
+  const std::string fingerprint = io::stable_hash_hex(all);
   bool same = false;
   if (io::file_exists(key_path(out))) {
     same = io::find_value(io::read_key_values(key_path(out)), "fingerprint") == fingerprint;

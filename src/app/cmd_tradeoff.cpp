@@ -22,7 +22,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
-#include "app/run_command.hpp"
+#include "study/plan.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "study/tradeoff.hpp"
@@ -124,7 +124,7 @@ void write_outputs(const TradeoffReport& r, const std::string& out) {
 
 int run_tradeoff_cmd(const TradeoffArgs& a) {
   // A scene or a comparison file; InputError -> exit 2 before anything is written.
-  const std::vector<Scene> designs = load_designs(a.scene);
+  const std::vector<Scene> designs = study::load_designs(a.scene);
   TradeoffOptions o;
   o.quick = a.quick;
   o.stages = a.stages;

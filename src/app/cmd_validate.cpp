@@ -28,7 +28,7 @@
 #include <map>
 
 #include "app/commands.hpp"
-#include "app/run_files.hpp"
+#include "io/stage_files.hpp"
 #include "app/validation_common.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
@@ -58,7 +58,7 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateArgs& 
     if (k < 0)
       throw InputError(a.from, "stages/" + scene.name + "_stage0.done",
                        "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
-    for (int s = 0; s <= k; ++s) stages.push_back(read_stage_state(a.from, scene.name, s));
+    for (int s = 0; s <= k; ++s) stages.push_back(io::read_stage_state(a.from, scene.name, s));
     const double reached = stages.back().hours;
     const std::vector<std::size_t> lines = measured.lines();
     for (std::size_t i = 0; i < hours.size(); ++i)
@@ -130,8 +130,8 @@ int validate_profiles(const Scene& scene, const ValidateArgs& a, const std::vect
                 c.mean_distance_m * 1e3, c.max_distance_m * 1e3, c.bias_m * 1e3, c.mean_pct_height,
                 c.max_pct_height, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6, c.area_error_pct);
     // The simulated lifter region: the measured span, or the lifter and its feet.
-    const double xa = std::min(v.profile_m.front().x, -kProfileMargin * half_base);
-    const double xb = std::max(v.profile_m.back().x, kProfileMargin * half_base);
+    const double xa = std::min(v.profile_m.front().x, -io::kProfileMargin * half_base);
+    const double xb = std::max(v.profile_m.back().x, io::kProfileMargin * half_base);
     validation::Survey s;
     s.hours = v.hours;
     for (const Vec2& p : sim)

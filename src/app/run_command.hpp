@@ -1,7 +1,5 @@
 #pragma once
-// `millwear run` as a function, so that other commands reuse its one code path: `millwear
-// screen-task` runs each screened candidate through it, and the candidate's folder is
-// exactly what `millwear run` writes.
+// `millwear run`: parse, plan, run (study/run_designs.hpp), print.
 #include <string>
 #include <vector>
 
@@ -24,9 +22,5 @@ struct RunArgs {
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.
 // Returns the exit code of `millwear run` (0, 1, 130/143); throws InputError on bad input.
 int run_command(const RunArgs& args);
-
-// The designs a scene or comparison file names, loaded and checked as `millwear run` does
-// (throws InputError naming the file and key). Their own fidelity is kept.
-std::vector<Scene> load_designs(const std::string& path);
 
 }  // namespace millwear::app

@@ -88,7 +88,7 @@ struct Accounting {
   std::vector<ContactRecord> contact_log;
   double contact_log_time_s = 0.0;     // window time when the log filled up (0: not full)
   // Packing: liner shear work booked by disks in liner contact for over a revolution (a
-  // jam's work, whose size follows the contact stiffness: docs/tradeoff-default-comparison.md),
+  // jam's work, whose size follows the contact stiffness: docs/wear-model.md, "Packing"),
   // and disk-steps spent so.
   LinerStreaks streaks;
   double packed_shear_work_J = 0.0;

@@ -74,60 +74,6 @@ std::vector<int> list_finished_stages(const std::string& out, const std::string&
 // A resumed run continues from K + 1.
 int last_finished_stage(const std::string& out, const std::string& design);
 
-// ---- minimal JSON writer (manifest) ----
-// One recursive value type: null, bool, number, string, array or object. A default-made
-// value is an empty object, so `JsonObject m; m.set("seed", 42).object("settings")...`
-// reads naturally. Object keys print in insertion order; set() on an existing key
-// replaces its value in place. Doubles print in the shortest form that reads back exactly
-// (up to 17 digits); NaN and infinities print as null (JSON has neither).
-class JsonValue {
- public:
-  enum class Kind { Null, Bool, Number, Integer, String, Array, Object };
-  JsonValue() : kind_(Kind::Object) {}
-  JsonValue(std::nullptr_t) : kind_(Kind::Null) {}
-  JsonValue(bool b) : kind_(Kind::Bool), b_(b) {}
-  JsonValue(double d) : kind_(Kind::Number), d_(d) {}
-  JsonValue(float d) : kind_(Kind::Number), d_(d) {}
-  JsonValue(int i) : kind_(Kind::Integer), i_(i) {}
-  JsonValue(long i) : kind_(Kind::Integer), i_(i) {}
-  JsonValue(long long i) : kind_(Kind::Integer), i_(i) {}
-  JsonValue(unsigned i) : kind_(Kind::Integer), i_(static_cast<long long>(i)) {}
-  JsonValue(unsigned long i) : kind_(Kind::Integer), i_(static_cast<long long>(i)) {}
-  JsonValue(unsigned long long i) : kind_(Kind::Integer), i_(static_cast<long long>(i)) {}
-  JsonValue(const char* s) : kind_(Kind::String), s_(s) {}
-  JsonValue(std::string s) : kind_(Kind::String), s_(std::move(s)) {}
-
-  static JsonValue array() { JsonValue v; v.kind_ = Kind::Array; return v; }
-  static JsonValue object() { return JsonValue(); }
-
-  Kind kind() const { return kind_; }
-
-  // Object: sets key to v (turns a null value into an object). Returns *this for chaining.
-  // Throws std::logic_error on a value that is neither null nor an object.
-  JsonValue& set(const std::string& key, JsonValue v);
-  // Object: the value under key, created as an empty object if absent; returns it so
-  // nested objects can be filled in place.
-  JsonValue& object(const std::string& key);
-  bool has(const std::string& key) const;
-  // Array: appends v (turns a null or empty object into an array). Returns *this.
-  JsonValue& push(JsonValue v);
-  std::size_t size() const;  // members or items; 0 for scalars
-
-  // Pretty-printed with `indent` spaces per level (0: one line), without final newline.
-  std::string dump(int indent = 2) const;
-
- private:
-  void dump_to(std::string& out, int indent, int depth) const;
-  Kind kind_;
-  bool b_ = false;
-  double d_ = 0.0;
-  long long i_ = 0;
-  std::string s_;
-  std::vector<JsonValue> items_;                            // Array
-  std::vector<std::pair<std::string, JsonValue>> members_;  // Object, insertion order
-};
-using JsonObject = JsonValue;
-
 // JSON string escaping (quotes included).
 std::string json_quote(const std::string& s);
 

@@ -47,8 +47,8 @@ struct MillGeometry {
 };
 
 struct MillMeshDef {
-  double shell_edge_m = 0.04;   // target edge length on shell arcs
-  double lifter_edge_m = 0.02;  // target edge length on lifter faces
+  double shell_edge_m = 0.020;  // target edge length on shell arcs
+  double lifter_edge_m = 0.010; // target edge length on lifter faces
 };
 
 // Map a lifter-local point of row k into the mill frame.

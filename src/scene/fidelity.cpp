@@ -7,13 +7,31 @@ namespace millwear {
 
 const std::vector<FidelityDef>& fidelity_presets() {
   static const std::vector<FidelityDef> presets = [] {
-    std::vector<FidelityDef> p(3);
-    // name, dt, vel/pos iterations, window rev, depth step, factor, cut-off, shell/lifter
-    // edge, backend, substeps, dt on the box2d backend
-    p[0] = {"draft", 1.0 / 200.0, 6, 2, 1.0, 0.008, 2e6, 0.0, 0.060, 0.030, Backend::Soft, 4, 1.0 / 300.0};
-    p[1] = {"standard", 1.0 / 200.0, 8, 3, 1.5, 0.006, 1e6, 0.0, 0.020, 0.010, Backend::Soft, 4, 1.0 / 400.0};
-    p[2] = {"reference", 1.0 / 1000.0, 10, 4, 4.0, 0.002, 5e5, 0.0, 0.020, 0.010, Backend::Soft, 4, 1.0 / 1000.0};
-    return p;
+    // standard: the scene defaults themselves (FidelityDef's own defaults).
+    const FidelityDef standard;
+    // draft: fewer library iterations, a shorter window, larger wear updates and a coarser
+    // mesh, at the same time step.
+    FidelityDef draft = standard;
+    draft.name = "draft";
+    draft.velocity_iterations = 6;
+    draft.position_iterations = 2;
+    draft.window_revolutions = 1.0;
+    draft.max_depth_step_m = 0.008;
+    draft.factor = 2e6;
+    draft.shell_edge_m = 0.060;
+    draft.lifter_edge_m = 0.030;
+    draft.box2d_time_step_s = 1.0 / 300.0;
+    // reference: the converged settings every other preset is measured against.
+    FidelityDef reference = standard;
+    reference.name = "reference";
+    reference.time_step_s = 1.0 / 1000.0;
+    reference.velocity_iterations = 10;
+    reference.position_iterations = 4;
+    reference.window_revolutions = 4.0;
+    reference.max_depth_step_m = 0.002;
+    reference.factor = 5e5;
+    reference.box2d_time_step_s = 1.0 / 1000.0;
+    return std::vector<FidelityDef>{draft, standard, reference};
   }();
   return presets;
 }

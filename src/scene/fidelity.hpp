@@ -58,22 +58,25 @@
 
 namespace millwear {
 
+// A preset's knobs. A default-made FidelityDef is the `standard` preset: its fields take
+// the scene defaults (SolverDef, WearDef, MillMeshDef), so every default lives in one place
+// and `standard` is what a scene gets when it names nothing.
 struct FidelityDef {
-  std::string name;
-  double time_step_s = 1.0 / 500.0;
-  int velocity_iterations = 8;
-  int position_iterations = 3;
-  double window_revolutions = 2.0;
-  double max_depth_step_m = 0.004;
-  double factor = 1e6;
-  double size_cutoff_m = 0.0;
-  double shell_edge_m = 0.040;
-  double lifter_edge_m = 0.020;
-  Backend backend = Backend::Soft;  // solver.backend
-  int substeps = 4;                 // solver.substeps (soft backend only)
+  std::string name = "standard";
+  double time_step_s = SolverDef{}.time_step_s;
+  int velocity_iterations = SolverDef{}.velocity_iterations;
+  int position_iterations = SolverDef{}.position_iterations;
+  double window_revolutions = WearDef{}.window_revolutions;
+  double max_depth_step_m = WearDef{}.max_depth_step_m;
+  double factor = WearDef{}.factor;
+  double size_cutoff_m = SolverDef{}.size_cutoff_m;
+  double shell_edge_m = MillMeshDef{}.shell_edge_m;
+  double lifter_edge_m = MillMeshDef{}.lifter_edge_m;
+  Backend backend = SolverDef{}.backend;     // solver.backend
+  int substeps = SolverDef{}.substeps;       // solver.substeps (soft backend only)
   // solver.time_step when the scene runs the library backend, which has no substeps and
   // needs a smaller step than the soft backend's (scene/limits.hpp).
-  double box2d_time_step_s = 1.0 / 500.0;
+  double box2d_time_step_s = 1.0 / 400.0;
 };
 
 // The three presets, fastest first: draft, standard, reference.

@@ -60,8 +60,8 @@ struct ChargeDef {
 enum class Backend { Box2D, Soft };
 
 struct SolverDef {
-  Backend backend = Backend::Box2D;
-  double time_step_s = 1.0 / 600.0;
+  Backend backend = Backend::Soft;
+  double time_step_s = 1.0 / 200.0;
   int velocity_iterations = 8;
   int position_iterations = 3;
   int substeps = 4;                  // soft backend only
@@ -89,8 +89,8 @@ struct WearDef {
   double factor = 1e6;                    // C_model = factor * C
   double stage_hours = 750.0;
   int stages = 4;
-  double window_revolutions = 2.0;        // staged: frozen-geometry window
-  double max_depth_step_m = 0.004;        // staged: largest depth per geometry update
+  double window_revolutions = 1.5;        // staged: frozen-geometry window
+  double max_depth_step_m = 0.006;        // staged: largest depth per geometry update
   double update_interval_s = 0.25;        // continuous: simulated seconds between updates
   double smoothing_radius_m = 0.0;        // 0: smallest particle radius
   bool average_rows = true;

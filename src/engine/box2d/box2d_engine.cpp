@@ -80,7 +80,7 @@ class Box2DEngine final : public Engine {
   }
 
   double units_per_m_ = 1.0;
-  double dt_ = 1.0 / 600.0;
+  double dt_ = 0.0;  // the scene's solver.time_step
   int velocity_iterations_ = 8;
   int position_iterations_ = 3;
   double radius_m_ = 0.0;

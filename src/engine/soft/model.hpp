@@ -34,7 +34,7 @@ struct Materials {
 };
 
 struct Model {
-  double dt_s = 1.0 / 600.0;
+  double dt_s = 0.0;  // the scene's solver.time_step
   int substeps = 4;
   double substep_s = 1.0 / 2400.0;
   Softness pair_softness, liner_softness;  // at the substep

@@ -1,4 +1,4 @@
-#include "app/run_files.hpp"
+#include "io/stage_files.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -14,14 +14,14 @@
 #include "io/run_folder.hpp"
 #include "mill/mill.hpp"
 
-namespace millwear::app {
+namespace millwear::io {
 
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string stage_base(const std::string& out, const std::string& design, int stage) {
-  return io::join_path(io::stages_dir(out), design + "_stage" + std::to_string(stage));
+  return join_path(stages_dir(out), design + "_stage" + std::to_string(stage));
 }
 
 // The scalar doubles of a StageRecord, by name. One list for writing and reading, so the
@@ -114,7 +114,7 @@ void write_charge_csv(const ChargeState& st, const std::string& path) {
 }
 
 void read_charge_csv(const std::string& path, ChargeState& st) {
-  io::CsvData ch = io::read_csv(path);
+  io::CsvData ch = read_csv(path);
   const auto x = ch.numbers("x_m"), y = ch.numbers("y_m"), vx = ch.numbers("vx_m_s"),
              vy = ch.numbers("vy_m_s"), sp = ch.numbers("species"), ac = ch.numbers("active");
   st.angle_rad = ch.numbers("angle_rad");
@@ -134,7 +134,7 @@ void read_charge_csv(const std::string& path, ChargeState& st) {
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec_in) {
   StageRecord rec = rec_in;  // the field table wants a mutable record; copies are cheap enough
   const std::string base = stage_base(out, design, rec.stage);
-  io::ensure_dir(io::stages_dir(out));
+  ensure_dir(stages_dir(out));
 
   io::CsvTable units({"unit", "x_m", "y_m"}, kExact);
   for (std::size_t u = 0; u < rec.units.size(); ++u)
@@ -162,21 +162,21 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   kv.emplace_back("units", std::to_string(rec.units.size()));
   for (std::size_t u = 0; u < rec.units.size(); ++u)
     kv.emplace_back("unit." + std::to_string(u) + ".lifter_half_base_m",
-                    io::format_exact(rec.units[u].lifter_half_base_m));
-  for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, io::format_exact(*p));
+                    format_exact(rec.units[u].lifter_half_base_m));
+  for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, format_exact(*p));
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
   if (carried) {
-    kv.emplace_back("start.mill_angle_rad", io::format_exact(rec.start_charge.mill_angle_rad));
-    kv.emplace_back("start.mill_speed_rad_s", io::format_exact(rec.start_charge.mill_speed_rad_s));
-    kv.emplace_back("start.time_s", io::format_exact(rec.start_charge.time_s));
+    kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
+    kv.emplace_back("start.mill_speed_rad_s", format_exact(rec.start_charge.mill_speed_rad_s));
+    kv.emplace_back("start.time_s", format_exact(rec.start_charge.time_s));
   }
-  io::write_file_atomic(base + ".record", io::format_key_values(kv, "millwear stage record (exact)"));
+  write_file_atomic(base + ".record", format_key_values(kv, "millwear stage record (exact)"));
 
   // Last: the marker says every file above is complete.
-  io::write_stage_done(out, design, rec.stage,
-                       {{"hours", io::format_number(rec.hours)},
-                        {"wall_s", io::format_number(rec.wall_s, 6)},
+  write_stage_done(out, design, rec.stage,
+                       {{"hours", format_number(rec.hours)},
+                        {"wall_s", format_number(rec.wall_s, 6)},
                         {"files", design + "_stage" + std::to_string(rec.stage) +
                                       ".{record,units.csv,spectrum.csv,edges.csv,charge.csv" +
                                       (carried ? ",start.csv}" : "}")}});
@@ -185,7 +185,7 @@ void write_stage_state(const std::string& out, const std::string& design, const 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
   const std::string base = stage_base(out, design, stage);
   StageRecord rec;
-  Reader r{io::read_key_values(base + ".record"), base + ".record"};
+  Reader r{read_key_values(base + ".record"), base + ".record"};
   rec.stage = static_cast<int>(r.integer("stage"));
   if (rec.stage != stage) throw InputError(r.path, "stage", "stage=" + std::to_string(stage));
   const long long nunits = r.integer("units");
@@ -198,7 +198,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   for (auto& [k, p] : integer_fields(rec)) *p = r.integer(k);
   rec.worn_out = r.integer("worn_out") != 0;
 
-  io::CsvData units = io::read_csv(base + ".units.csv");
+  io::CsvData units = read_csv(base + ".units.csv");
   {
     const std::size_t uc = units.column("unit"), xc = units.column("x_m"), yc = units.column("y_m");
     for (std::size_t i = 0; i < units.row_count(); ++i) {
@@ -209,14 +209,14 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
       rec.units[static_cast<std::size_t>(u)].surface.push_back({units.number(i, xc), units.number(i, yc)});
     }
   }
-  io::CsvData spec = io::read_csv(base + ".spectrum.csv");
+  io::CsvData spec = read_csv(base + ".spectrum.csv");
   rec.spectrum_count_per_s = spec.numbers("count_per_s");
   rec.spectrum_energy_W = spec.numbers("energy_W");
-  rec.edge_wear_rate_m_per_h = io::read_csv(base + ".edges.csv").numbers("wear_rate_m_per_h");
+  rec.edge_wear_rate_m_per_h = read_csv(base + ".edges.csv").numbers("wear_rate_m_per_h");
 
   read_charge_csv(base + ".charge.csv", rec.snapshot);
   // A stage that started from the previous stage's charge has it in .start.csv.
-  if (io::file_exists(base + ".start.csv")) {
+  if (file_exists(base + ".start.csv")) {
     read_charge_csv(base + ".start.csv", rec.start_charge);
     rec.start_charge.mill_angle_rad = r.number("start.mill_angle_rad");
     rec.start_charge.mill_speed_rad_s = r.number("start.mill_speed_rad_s");
@@ -227,7 +227,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
 
 void remove_stage_state(const std::string& out, const std::string& design) {
   std::error_code ec;
-  const std::string dir = io::stages_dir(out), prefix = design + "_stage";
+  const std::string dir = stages_dir(out), prefix = design + "_stage";
   if (!fs::is_directory(dir, ec)) return;
   std::vector<fs::path> doomed;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
@@ -244,7 +244,7 @@ void remove_stage_state(const std::string& out, const std::string& design) {
     if (p.extension() == ".done") fs::remove(p, ec);
   for (const auto& p : doomed) fs::remove(p, ec);
   // Profiles of the earlier run would otherwise be drawn as extra stages.
-  const std::string pdir = io::profiles_dir(out);
+  const std::string pdir = profiles_dir(out);
   if (fs::is_directory(pdir, ec))
     for (const auto& e : fs::directory_iterator(pdir, ec)) {
       const std::string n = e.path().filename().string();
@@ -264,8 +264,8 @@ void write_profile_csv(const std::string& out, const std::string& design, const 
     for (const Vec2& p : u.surface)
       if (std::fabs(p.x) <= xmax) t.add_row({p.x * 1e3, p.y * 1e3});
   }
-  io::ensure_dir(io::profiles_dir(out));
-  t.write(io::profile_path(out, design, rec.stage));
+  ensure_dir(profiles_dir(out));
+  t.write(profile_path(out, design, rec.stage));
 }
 
 void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
@@ -279,7 +279,7 @@ void write_snapshot_csv(const std::string& out, const std::string& design, const
         s < static_cast<int>(scene.charge.species.size()) ? scene.charge.species[s].name : "?";
     t.add_row({st.position_m[i].x, st.position_m[i].y, st.radius_m[i], s, name});
   }
-  t.write(io::snapshot_path(out, design));
+  t.write(snapshot_path(out, design));
 }
 
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
@@ -299,7 +299,7 @@ void write_liner_csv(const std::string& out, const std::string& design, const Sc
                  b.y, w, rec.stage, rec.hours, rec.mill_angle_rad});
     }
   }
-  t.write(io::liner_path(out, design));
+  t.write(liner_path(out, design));
 }
 
-}  // namespace millwear::app
+}  // namespace millwear::io

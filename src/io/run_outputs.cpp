@@ -1,0 +1,201 @@
+// summary.csv, spectrum.csv and manifest.json from a run's report.
+#include "io/run_outputs.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+#include "common/units.hpp"
+#include "engine/accounting.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+
+namespace millwear::io {
+
+namespace {
+
+// Insertion order kept, so the manifest reads in the order it is written.
+using Json = nlohmann::ordered_json;
+
+// A number, or null where it is not finite (JSON has no NaN or infinity).
+Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+const char* direction_name(Direction d) {
+  switch (d) {
+    case Direction::Forward: return "forward";
+    case Direction::Reverse: return "reverse";
+    case Direction::Bidirectional: return "bidirectional";
+  }
+  return "?";
+}
+
+Json scene_settings(const Scene& s) {
+  Json j;
+  j["mill"] = Json{
+      {"diameter_m", s.mill.diameter_m},
+      {"length_m", s.mill.length_m},
+      {"slice_thickness_m", s.slice_thickness()},
+      {"speed_fraction_critical", s.mill.speed_fraction_critical},
+      {"speed_rpm", s.angular_speed_rad_s() * 60.0 / (2.0 * kPi)},
+      {"direction", direction_name(s.mill.direction)},
+      {"reverse_every_hours", s.mill.reverse_every_hours},
+      {"rows", s.mill.rows},
+      {"lifter_profile", s.mill.lifter.name},
+      {"shell_edge_m", s.mill.mesh.shell_edge_m},
+      {"lifter_edge_m", s.mill.mesh.lifter_edge_m}};
+  j["charge"] = Json{
+      {"filling", s.charge.filling},
+      {"ball_filling", s.charge.ball_filling},
+      {"bulk_packing", s.charge.bulk_packing},
+      {"species", static_cast<int>(s.charge.species.size())}};
+  j["solver"] = Json{
+      {"backend", s.solver.backend == Backend::Box2D ? "box2d" : "soft"},
+      {"time_step_s", s.solver.time_step_s},
+      {"velocity_iterations", s.solver.velocity_iterations},
+      {"position_iterations", s.solver.position_iterations},
+      {"substeps", s.solver.substeps},
+      {"settle_time_s", s.solver.settle_time_s},
+      {"spinup_revolutions", s.solver.spinup_revolutions},
+      {"seed", static_cast<unsigned long long>(s.solver.seed)},
+      {"size_cutoff_m", s.solver.size_cutoff_m}};
+  const WearDef& w = s.wear;
+  j["wear"] = Json{
+      {"mode", w.mode == WearMode::Staged ? "staged" : "continuous"},
+      {"rate_source", w.rate_source == WearRateSource::Given          ? "given"
+                          : w.rate_source == WearRateSource::AreaLossRate ? "area_loss_rate"
+                                                                          : "height_loss_rate"},
+      {"wear_rate_m3_per_J", w.wear_rate_m3_per_J},
+      {"calibration_value", w.calibration_value},
+      {"factor", w.factor},
+      {"stage_hours", w.stage_hours},
+      {"stages", w.stages},
+      {"window_revolutions", w.window_revolutions},
+      {"max_depth_step_m", w.max_depth_step_m},
+      {"update_interval_s", w.update_interval_s},
+      {"smoothing_radius_m", w.smoothing_radius_m},
+      {"average_rows", w.average_rows},
+      {"shell_wear", w.shell_wear},
+      {"replacement_height_m", w.replacement_height_m},
+      {"target_rel_uncertainty", w.target_rel_uncertainty}};
+  return j;
+}
+
+}  // namespace
+
+// summary.csv: one row per design and stage.
+void write_summary(const RunReport& report) {
+  const auto& designs = report.designs;
+  CsvTable t({"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
+                  "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
+                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct"});
+  // The reference design's new stage normalises every *_norm column.
+  double ref_area = std::nan(""), ref_power = std::nan(""), ref_coll = std::nan(""), ref_util = std::nan("");
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    if (designs[i].name != report.reference) continue;
+    auto it = designs[i].stages.find(0);
+    if (it == designs[i].stages.end()) break;
+    const double len = designs[i].scene->mill.length_m;
+    ref_area = it->second.lifter.area_m2 * 1e6;
+    ref_power = it->second.charge.power_kW_per_m * len;
+    ref_coll = it->second.charge.collision_kW_per_m * len;
+    ref_util = ref_coll / ref_power;
+  }
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    const DesignReport& st = designs[i];
+    if (st.stages.empty()) continue;
+    const double len = st.scene->mill.length_m;
+    const auto own0 = st.stages.find(0);
+    const double own_area = own0 != st.stages.end() ? own0->second.lifter.area_m2 * 1e6 : std::nan("");
+    const double life_h = st.life_h;
+    const bool extrapolated = st.life_extrapolated;
+    for (const auto& [k, r] : st.stages) {
+      const double area = r.lifter.area_m2 * 1e6;
+      const double power = r.charge.power_kW_per_m * len;  // kW per mill
+      const double coll = r.charge.collision_kW_per_m * len;
+      const double util = power != 0.0 ? coll / power : std::nan("");
+      t.add_row({designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
+                 r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
+                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share});
+    }
+  }
+  t.write(summary_path(report.out));
+}
+
+// spectrum.csv: the new stage's collision spectrum of each design.
+void write_spectrum(const RunReport& report) {
+  CsvTable t({"design", "stage", "hours", "energy_J_lower", "energy_J_upper", "count_per_s", "energy_W"});
+  for (const DesignReport& d : report.designs) {
+    // A scene that did not ask for the spectrum has none (zeros, not a measurement).
+    if (!d.scene->outputs.collision_spectrum) continue;
+    auto it = d.stages.find(0);
+    if (it == d.stages.end()) continue;
+    const StageRecord& r = it->second;
+    const std::size_t n = std::min(r.spectrum_count_per_s.size(), r.spectrum_energy_W.size());
+    for (std::size_t k = 0; k < n; ++k)
+      t.add_row({d.name, 0, r.hours, spectrum_bin_lower_J(static_cast<int>(k)),
+                 spectrum_bin_lower_J(static_cast<int>(k) + 1), r.spectrum_count_per_s[k],
+                 r.spectrum_energy_W[k]});
+  }
+  t.write(spectrum_path(report.out));
+}
+
+void write_manifest(const RunReport& r) {
+  Json m;
+  m["program"] = "millwear";
+  m["version"] = r.program_version;
+  m["commit"] = r.program_commit;
+  m["started"] = r.started;
+  m["finished"] = r.finished;
+  m["wall_s"] = r.wall_s;
+  m["fidelity"] = r.fidelity;
+  m["reference"] = r.reference;
+  m["resumed"] = r.resumed;
+  m["jobs"] = r.jobs;
+  m["comparison_files"] = r.comparison_files;
+  Json designs = Json::array();
+  for (const DesignReport& d : r.designs) {
+    Json j;
+    j["name"] = d.name;
+    j["scene_file"] = d.input_files.front();
+    j["input_files"] = d.input_files;
+    Json copies = Json::array();
+    for (const auto& f : d.input_copies) copies.push_back("inputs/" + f);
+    j["input_copies"] = copies;
+    j["seed"] = static_cast<unsigned long long>(d.scene->solver.seed);
+    j["fidelity"] = d.scene->fidelity;
+    j["status"] = d.status;
+    if (!d.error.empty()) j["error"] = d.error;
+    j["resumed_stages"] = d.resumed_stages;
+    j["life_h"] = number(d.life_h);
+    j["life_extrapolated"] = d.life_extrapolated;
+    j["wear_rate_m3_per_J"] = number(d.wear_rate_m3_per_J);
+    j["settings"] = scene_settings(*d.scene);
+    Json stages = Json::array();
+    for (const auto& [k, rec] : d.stages)
+      stages.push_back(Json{{"stage", k},
+                            {"hours", rec.hours},
+                            {"wall_s", rec.wall_s},
+                            {"simulated_s", rec.simulated_s},
+                            {"disk_steps", static_cast<long long>(rec.disk_steps)},
+                            {"resumed", k < d.resumed_stages}});
+    j["stages"] = stages;
+    j["events"] = d.events;
+    designs.push_back(j);
+  }
+  m["designs"] = designs;
+  // Invalid UTF-8 (a file name in a message) is replaced, never a failure to write.
+  write_file_atomic(manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+}
+
+std::string manifest_error(const std::string& out) {
+  try {
+    const Json m = Json::parse(read_file(manifest_path(out)));
+    const Json& first = m.at("designs").at(0);
+    return first.contains("error") ? first.at("error").get<std::string>() : std::string();
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace millwear::io

@@ -1,0 +1,175 @@
+// A run's plan from scene and comparison files.
+#include "study/plan.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <optional>
+#include <set>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/hash.hpp"
+#include "io/run_folder.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
+
+namespace millwear::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A profile file and every profile it reads (match_area_of), in reading order.
+void profile_files(const std::string& path, std::vector<std::string>& files, int depth = 0) {
+  if (path.empty() || depth > 8) return;
+  if (std::find(files.begin(), files.end(), path) != files.end()) return;
+  files.push_back(path);
+  try {
+    toml::table t = toml::parse_file(path);
+    if (auto m = t["match_area_of"].value<std::string>())
+      profile_files((fs::path(path).parent_path() / *m).lexically_normal().string(), files, depth + 1);
+  } catch (const toml::parse_error&) {
+    // load_scene already read it; nothing more to copy
+  }
+}
+
+void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override) {
+  Scene scene = load_scene(scene_file);  // throws InputError naming the file and key
+  if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
+  // The measured limits too, so a scene outside them stops here (exit 2), before any work.
+  check_numerical_limits(scene, scene_file);
+  check_smoothing_radius(scene, scene_file);
+  if (!io::is_valid_design_name(scene.name))
+    throw InputError(scene_file, "name",
+                     "a design name of letters, digits, '.', '-' and '_' (it names the output "
+                     "files), found '" + scene.name + "'");
+  for (const auto& d : plan.designs)
+    if (d.name == scene.name)
+      throw InputError(scene_file, "name",
+                       "a design name different from that of " + d.scene.source_file + " ('" +
+                           scene.name + "'): each design names its output files");
+  DesignInput d;
+  d.name = scene.name;
+  d.files.push_back(scene_file);
+  profile_files(scene.mill.lifter.source_file, d.files);
+  std::string all = scene.fidelity;
+  for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);
+  d.fingerprint = io::stable_hash_hex(all);
+  d.scene = std::move(scene);
+  plan.designs.push_back(std::move(d));
+}
+
+// Returns the comparison table if the file is a comparison file, else nullopt (a scene,
+// or a file load_scene will reject with a better message).
+std::optional<toml::table> comparison_table(const std::string& path) {
+  try {
+    toml::table t = toml::parse_file(path);
+    if (t.contains("comparison")) return t;
+  } catch (const toml::parse_error&) {
+  }
+  return std::nullopt;
+}
+
+void add_comparison(Plan& plan, const std::string& file, const toml::table& root,
+                    const std::string& fidelity_override, std::string& reference) {
+  for (const auto& [k, v] : root)
+    if (k.str() != "comparison")
+      throw InputError(file, std::string(k.str()),
+                       "only a [comparison] table in a comparison file (designs, reference, "
+                       "name, description)");
+  const toml::table* c = root["comparison"].as_table();
+  if (!c) throw InputError(file, "comparison", "a table: [comparison] with designs = [...]");
+  const std::set<std::string> allowed{"designs", "reference", "name", "description"};
+  for (const auto& [k, v] : *c)
+    if (!allowed.count(std::string(k.str())))
+      throw InputError(file, "comparison." + std::string(k.str()),
+                       "one of designs, reference, name, description");
+  for (const char* key : {"name", "description"})
+    if (c->contains(key) && !(*c)[key].is_string())
+      throw InputError(file, std::string("comparison.") + key, "a string");
+  const toml::array* designs = (*c)["designs"].as_array();
+  if (!designs)
+    throw InputError(file, "comparison.designs",
+                     "an array of scene files, relative to this file, e.g. designs = "
+                     "[\"sag-2x30.toml\", \"sag-1x30.toml\"]");
+  if (designs->empty())
+    throw InputError(file, "comparison.designs", "at least one scene file");
+  const fs::path dir = fs::path(file).parent_path();
+  const std::size_t first = plan.designs.size();
+  for (std::size_t i = 0; i < designs->size(); ++i) {
+    const std::string key = "comparison.designs[" + std::to_string(i) + "]";
+    auto rel = (*designs)[i].value<std::string>();
+    if (!rel || rel->empty()) throw InputError(file, key, "a scene file name (a string)");
+    const std::string path = (dir / *rel).lexically_normal().string();
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+      throw InputError(file, key, "an existing scene file, relative to the comparison file; tried '" + path + "'");
+    if (comparison_table(path))
+      throw InputError(file, key, "a scene file, not another comparison file ('" + path + "')");
+    add_design(plan, path, fidelity_override);
+  }
+  if (c->contains("reference")) {
+    auto ref = (*c)["reference"].value<std::string>();
+    if (!ref) throw InputError(file, "comparison.reference", "a design name (a string)");
+    bool found = false;
+    std::string names;
+    for (std::size_t i = first; i < plan.designs.size(); ++i) {
+      found = found || plan.designs[i].name == *ref;
+      names += (names.empty() ? "" : ", ") + plan.designs[i].name;
+    }
+    if (!found)
+      throw InputError(file, "comparison.reference",
+                       "the name of one of its designs (" + names + "), found '" + *ref + "'");
+    if (reference.empty()) reference = *ref;
+  }
+  plan.comparison_files.push_back(file);
+}
+
+}  // namespace
+
+Plan make_plan(const PlanArgs& args) {
+  if (!args.fidelity.empty()) fidelity_preset(args.fidelity);  // InputError for a bad name
+  Plan plan;
+  std::string reference;
+  for (const auto& path : args.scenes) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+      throw InputError(path, "", "a scene or comparison file (not found or not a regular file)");
+    if (auto t = comparison_table(path))
+      add_comparison(plan, path, *t, args.fidelity, reference);
+    else
+      add_design(plan, path, args.fidelity);
+  }
+  if (plan.designs.empty()) throw InputError("", "SCENE", "at least one scene file");
+  if (!args.reference.empty()) {
+    bool found = false;
+    for (const auto& d : plan.designs) found = found || d.name == args.reference;
+    if (!found) throw InputError("", "--reference", "the name of one of the designs, found '" + args.reference + "'");
+    reference = args.reference;
+  }
+  plan.reference = reference.empty() ? plan.designs.front().name : reference;
+  if (!args.fidelity.empty()) {
+    plan.fidelity = args.fidelity;
+  } else {
+    plan.fidelity = plan.designs.front().scene.fidelity;
+    for (const auto& d : plan.designs)
+      if (d.scene.fidelity != plan.fidelity) plan.fidelity = "mixed";
+  }
+  std::error_code ec;
+  if (!args.out.empty() && fs::exists(args.out, ec) && !fs::is_directory(args.out, ec))
+    throw InputError(args.out, "-o", "an output folder, but a file of that name exists");
+  return plan;
+}
+
+std::vector<Scene> load_designs(const std::string& path) {
+  PlanArgs args;
+  args.scenes = {path};
+  std::vector<Scene> scenes;
+  for (auto& d : make_plan(args).designs) scenes.push_back(std::move(d.scene));
+  return scenes;
+}
+
+}  // namespace millwear::study

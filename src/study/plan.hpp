@@ -1,0 +1,48 @@
+#pragma once
+// A run's plan: the designs a set of scene and comparison files name, every one read,
+// validated (the scene checks, the numerical limits, the smoothing radius, a name that is
+// safe for file names) and fingerprinted before anything runs or is written.
+//
+// A comparison file:
+//   [comparison]
+//   name = "sag-2x30-vs-1x30"                        # optional, for the record
+//   description = "..."                              # optional
+//   designs = ["sag-2x30.toml", "sag-1x30.toml"]     # scene files, relative to this file
+//   reference = "sag-1x30"                           # design whose new stage normalises
+//                                                    # (default: the first design)
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace millwear::study {
+
+struct DesignInput {
+  std::string name;
+  Scene scene;
+  std::vector<std::string> files;  // scene file, profile file(s) it reads
+  std::string fingerprint;         // of the file contents and fidelity (resume check)
+};
+
+struct Plan {
+  std::vector<DesignInput> designs;
+  std::string reference;
+  std::vector<std::string> comparison_files;
+  std::string fidelity;  // the override, or the shared fidelity of the scenes, or "mixed"
+};
+
+struct PlanArgs {
+  std::vector<std::string> scenes;  // scene or comparison files
+  std::string fidelity;             // preset applied to every design ("": each scene's own)
+  std::string reference;            // design that normalises ("": the comparison's, else the first)
+  std::string out;                  // output folder ("": not checked)
+};
+
+// Throws InputError naming the file and key for anything wrong; nothing is written.
+Plan make_plan(const PlanArgs& args);
+
+// The designs a scene or comparison file names, loaded and checked as make_plan does. Their
+// own fidelity is kept.
+std::vector<Scene> load_designs(const std::string& path);
+
+}  // namespace millwear::study

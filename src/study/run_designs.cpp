@@ -1,0 +1,377 @@
+// Running the designs of a plan: threads, resume, the stage files and the tables.
+#include "study/run_designs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <thread>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
+#include "io/run_outputs.hpp"
+#include "io/stage_files.hpp"
+#include "plots/plots.hpp"
+#include "wear/life.hpp"
+
+namespace millwear::study {
+
+namespace fs = std::filesystem;
+
+const char* status_name(DesignStatus s) {
+  switch (s) {
+    case DesignStatus::Waiting: return "waiting";
+    case DesignStatus::Running: return "running";
+    case DesignStatus::Done: return "finished";
+    case DesignStatus::Failed: return "failed";
+    case DesignStatus::Interrupted: return "interrupted";
+  }
+  return "?";
+}
+
+namespace {
+
+// Thrown from on_stage by stop_after_stage; the wear loop passes it through.
+struct StopRequested : std::runtime_error {
+  StopRequested() : std::runtime_error("stopped after the requested stage (--stop-after-stage)") {}
+};
+
+bool stop_requested(const RunOptions& opt) { return opt.stop_signal && opt.stop_signal->load() != 0; }
+
+void tick(const RunOptions& opt) {
+  if (opt.on_tick) opt.on_tick();
+}
+
+// Life from the stages so far (final histories carry their own).
+}  // namespace
+
+void life_of(const DesignInput& d, const DesignState& st, double& life_h, bool& extrapolated) {
+  if (st.have_history) {
+    life_h = st.life_h;
+    extrapolated = st.life_extrapolated;
+    return;
+  }
+  life_h = std::nan("");
+  extrapolated = true;
+  if (st.stages.size() < 2) return;
+  WearHistory h;
+  for (const auto& [k, r] : st.stages) h.stages.push_back(r);
+  try {
+    compute_life(h, d.scene.wear.replacement_height_m);
+    life_h = h.life_h;
+    extrapolated = h.life_extrapolated;
+  } catch (const std::exception&) {
+  }
+}
+
+namespace {
+
+// The run's plain report for the table writers. Caller holds the mutex.
+io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_write) {
+  io::RunReport r;
+  r.out = opt.out;
+  r.program_version = MILLWEAR_VERSION;
+  r.program_commit = opt.commit;
+  r.started = ctx.started_text;
+  r.finished = final_write;
+  r.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
+  r.fidelity = ctx.plan.fidelity;
+  r.reference = ctx.plan.reference;
+  r.resumed = opt.resume;
+  r.jobs = ctx.jobs;
+  r.comparison_files = ctx.plan.comparison_files;
+  for (std::size_t i = 0; i < ctx.plan.designs.size(); ++i) {
+    const DesignInput& d = ctx.plan.designs[i];
+    const DesignState& st = *ctx.designs[i];
+    io::DesignReport dr;
+    dr.name = d.name;
+    dr.scene = &d.scene;
+    dr.input_files = d.files;
+    auto copies = ctx.copied.find(d.name);
+    if (copies != ctx.copied.end()) dr.input_copies = copies->second;
+    dr.status = status_name(st.status);
+    dr.error = st.error;
+    dr.resumed_stages = st.resumed_up_to + 1;
+    life_of(d, st, dr.life_h, dr.life_extrapolated);
+    dr.wear_rate_m3_per_J = st.wear_rate_m3_per_J;
+    dr.stages = st.stages;
+    dr.events = st.events;
+    r.designs.push_back(std::move(dr));
+  }
+  return r;
+}
+
+// summary.csv, spectrum.csv (once the new stages are in) and manifest.json. Caller holds the mutex.
+void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
+  const io::RunReport r = report_of(ctx, opt, final_write);
+  io::write_summary(r);
+  io::write_spectrum(r);
+  io::write_manifest(r);
+}
+
+// One finished stage of design i: persist it (unless it was read back from disk), then
+// update the shared tables. Runs on the design's thread.
+void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const StageRecord& rec) {
+  const DesignInput& d = ctx.plan.designs[i];
+  DesignState& st = *ctx.designs[i];
+  const std::string& out = opt.out;
+  io::write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
+  if (rec.stage > st.resumed_up_to) io::write_stage_state(out, d.name, rec);  // then the marker
+  bool latest;
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    // A worn-out record carries no charge: the snapshot keeps the last measured stage.
+    latest = rec.stage > st.latest_written && rec.snapshot.size() > 0;
+    if (latest) st.latest_written = rec.stage;
+  }
+  // The snapshot and liner files show the latest stage (only this thread writes them).
+  if (latest) {
+    io::write_snapshot_csv(out, d.name, d.scene, rec);
+    io::write_liner_csv(out, d.name, d.scene, rec);
+  }
+  StageRecord light = rec;
+  light.snapshot = ChargeState{};
+  light.start_charge = ChargeState{};
+  light.edge_wear_rate_m_per_h.clear();
+  std::lock_guard<std::mutex> lock(ctx.mutex);
+  st.stages[rec.stage] = std::move(light);
+  write_tables(ctx, opt, false);
+  const bool last = rec.stage >= d.scene.wear.stages || rec.worn_out;
+  if (opt.stop_after_stage >= 0 && rec.stage >= opt.stop_after_stage &&
+      rec.stage > st.resumed_up_to && !last) {
+    // --stop-after-stage: this stage is on disk; leave the loop now, as an interrupt would.
+    st.stop = true;
+    throw StopRequested();
+  }
+}
+
+void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::vector<StageRecord>& resume_from) {
+  const DesignInput& d = ctx.plan.designs[i];
+  DesignState& st = *ctx.designs[i];
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    st.status = DesignStatus::Running;
+    st.started = Clock::now();
+  }
+  WearCallbacks cb;
+  cb.on_stage = [&ctx, &opt, i](const StageRecord& r) { on_stage_done(ctx, opt, i, r); };
+  cb.on_progress = [&ctx, &st](const WearProgress& p) {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    st.progress = p;
+    st.progress_at = Clock::now();
+  };
+  cb.should_stop = [&opt, &st] { return stop_requested(opt) || st.stop.load(); };
+  DesignStatus status = DesignStatus::Done;
+  std::string error;
+  WearHistory history;
+  bool have = false;
+  try {
+    const bool complete = !resume_from.empty() && (resume_from.back().stage >= d.scene.wear.stages ||
+                                                   resume_from.back().worn_out);
+    if (complete) {
+      // Every stage was read back: nothing left to simulate.
+      history.stages = resume_from;
+      if (d.scene.wear.rate_source == WearRateSource::Given)
+        history.wear_rate_m3_per_J = d.scene.wear.wear_rate_m3_per_J;
+      compute_life(history, d.scene.wear.replacement_height_m);
+    } else {
+      history = run_wear_history(d.scene, cb, resume_from);
+    }
+    have = true;
+  } catch (const std::exception& e) {
+    const bool stopping = stop_requested(opt) || st.stop.load();
+    status = stopping ? DesignStatus::Interrupted : DesignStatus::Failed;
+    error = e.what();
+  }
+  if (have && (stop_requested(opt) || st.stop.load()) &&
+      static_cast<int>(history.stages.size()) <= d.scene.wear.stages) {
+    // The loop returned early (stopped at a stage boundary) instead of throwing.
+    status = DesignStatus::Interrupted;
+    have = false;
+  }
+  std::lock_guard<std::mutex> lock(ctx.mutex);
+  st.wall_s = std::chrono::duration<double>(Clock::now() - st.started).count();
+  st.status = status;
+  st.error = error;
+  if (have) {
+    st.have_history = true;
+    st.life_h = history.life_h;
+    st.life_extrapolated = history.life_extrapolated;
+    st.wear_rate_m3_per_J = history.wear_rate_m3_per_J;
+    st.events = history.events;
+    // Stages the callback did not see (a loop that reports only new ones) come from here.
+    for (const auto& r : history.stages)
+      if (!st.stages.count(r.stage)) {
+        StageRecord light = r;
+        light.snapshot = ChargeState{};
+        light.start_charge = ChargeState{};
+        light.edge_wear_rate_m_per_h.clear();
+        st.stages[r.stage] = std::move(light);
+      }
+  }
+  try {
+    write_tables(ctx, opt, false);
+  } catch (const std::exception& e) {
+    if (st.status == DesignStatus::Done) {
+      st.status = DesignStatus::Failed;
+      st.error = e.what();
+    }
+  }
+}
+
+std::string resume_key_path(const std::string& out) { return io::join_path(io::stages_dir(out), "run.key"); }
+
+io::KeyValues resume_key(const Plan& plan) {
+  io::KeyValues kv;
+  for (const auto& d : plan.designs) kv.emplace_back("design." + d.name, d.fingerprint);
+  return kv;
+}
+
+// Copies of every scene, profile and comparison file into OUT/inputs/ (file names kept;
+// a second, different file with a name already taken gets its design's name in front).
+void copy_inputs(RunState& ctx, const std::string& out) {
+  const std::string dir = io::join_path(out, "inputs");
+  io::ensure_dir(dir);
+  std::map<std::string, std::string> taken;  // name -> content
+  auto copy = [&](const std::string& path, const std::string& prefix) {
+    const std::string content = io::read_file(path);
+    std::string name = fs::path(path).filename().string();
+    auto it = taken.find(name);
+    if (it != taken.end() && it->second != content) name = prefix + "_" + name;
+    if (!taken.count(name)) {
+      io::write_file_atomic(io::join_path(dir, name), content);
+      taken[name] = content;
+    }
+    return name;
+  };
+  for (const auto& c : ctx.plan.comparison_files) copy(c, "comparison");
+  for (const auto& d : ctx.plan.designs)
+    for (const auto& f : d.files) ctx.copied[d.name].push_back(copy(f, d.name));
+}
+
+}  // namespace
+
+RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
+  const Plan& plan = ctx.plan;
+  {
+    std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&t, &tm);
+    char buf[64];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S%z", &tm);
+    ctx.started_text = buf;
+  }
+  for (std::size_t i = 0; i < plan.designs.size(); ++i) ctx.designs.push_back(std::make_unique<DesignState>());
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : hw, plan.designs.size()));
+
+  // --resume: the earlier run must have had the same scenes and fidelity.
+  const std::string& out = opt.out;
+  std::vector<std::vector<StageRecord>> resume(plan.designs.size());
+  bool resuming = false;
+  if (opt.resume && io::file_exists(resume_key_path(out))) {
+    const io::KeyValues have = io::read_key_values(resume_key_path(out));
+    for (const auto& d : plan.designs) {
+      const std::string was = io::find_value(have, "design." + d.name);
+      if (!was.empty() && was != d.fingerprint)
+        throw InputError(resume_key_path(out), "design." + d.name,
+                         "the same scene and profile files and fidelity as the run being resumed "
+                         "(they changed); use a new output folder or drop --resume");
+    }
+    resuming = true;
+  }
+  if (resuming) {
+    for (std::size_t i = 0; i < plan.designs.size(); ++i) {
+      const int k = std::min(io::last_finished_stage(out, plan.designs[i].name), plan.designs[i].scene.wear.stages);
+      for (int s = 0; s <= k; ++s) resume[i].push_back(io::read_stage_state(out, plan.designs[i].name, s));
+      ctx.designs[i]->resumed_up_to = k;
+    }
+  }
+
+  // The folder.
+  io::create_run_folder(out);
+  for (const std::string& dir : {out, io::stages_dir(out), io::profiles_dir(out), io::plots_out_dir(out),
+                                 io::plots_data_dir(out), io::join_path(out, "inputs")})
+    io::remove_stale_temps(dir);
+  if (!resuming) {
+    for (const auto& d : plan.designs) {
+      io::remove_stage_state(out, d.name);
+      std::error_code ec;
+      fs::remove(io::snapshot_path(out, d.name), ec);
+      fs::remove(io::liner_path(out, d.name), ec);
+    }
+    std::error_code ec;
+    fs::remove(io::summary_path(out), ec);
+    fs::remove(io::spectrum_path(out), ec);
+  }
+  io::write_file_atomic(resume_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
+  copy_inputs(ctx, out);
+
+  // Stages read back: the same bookkeeping as freshly finished ones (files rewritten from
+  // the exact state, so they match an uninterrupted run).
+  for (std::size_t i = 0; i < plan.designs.size(); ++i)
+    for (const auto& r : resume[i]) on_stage_done(ctx, opt, i, r);
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    ctx.resumed = resuming;
+    write_tables(ctx, opt, false);
+    tick(opt);
+  }
+
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> running{ctx.jobs};
+  std::vector<std::thread> workers;
+  for (int j = 0; j < ctx.jobs; ++j)
+    workers.emplace_back([&] {
+      for (std::size_t i; (i = next.fetch_add(1)) < plan.designs.size();) {
+        if (stop_requested(opt)) {
+          std::lock_guard<std::mutex> lock(ctx.mutex);
+          ctx.designs[i]->status = DesignStatus::Interrupted;
+          continue;
+        }
+        run_design(ctx, opt, i, resume[i]);
+      }
+      running.fetch_sub(1);
+    });
+  while (running.load() > 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    tick(opt);
+  }
+  for (auto& w : workers) w.join();
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    tick(opt);
+  }
+
+  bool failed = false, interrupted = false;
+  for (const auto& st : ctx.designs) {
+    failed = failed || st->status == DesignStatus::Failed;
+    interrupted = interrupted || st->status == DesignStatus::Interrupted;
+  }
+  RunOutcome outcome;
+  outcome.failed = failed;
+  outcome.interrupted = interrupted;
+  outcome.signal = opt.stop_signal ? opt.stop_signal->load() : 0;
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    write_tables(ctx, opt, !interrupted);
+  }
+  if (!interrupted && opt.figures) {
+    // Figures from whatever finished.
+    std::vector<std::string> names;
+    for (const auto& d : plan.designs) names.push_back(d.name);
+    try {
+      plots::render_all_figures(out, names, plan.reference);
+    } catch (const std::exception& e) {
+      outcome.figures_failed = plots::gnuplot_available();
+      outcome.figure_error = e.what();
+    }
+  }
+  outcome.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
+  return outcome;
+
+}
+
+}  // namespace millwear::study

@@ -1,0 +1,88 @@
+#pragma once
+// Running the designs of a plan into one output folder: the library's side of `millwear
+// run` and `millwear screen-task`. Designs run in parallel threads (one per design, up to
+// jobs); every finished stage is written atomically (the exact stage state for --resume, the
+// profile, snapshot and liner files, the tables and the manifest) as it finishes; a resumed
+// run continues from the last finished stages and gives the same bits as an uninterrupted
+// one. Nothing here prints: the caller watches the run through on_tick.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "study/plan.hpp"
+#include "wear/history.hpp"
+
+namespace millwear::study {
+
+enum class DesignStatus { Waiting, Running, Done, Failed, Interrupted };
+const char* status_name(DesignStatus s);
+
+using Clock = std::chrono::steady_clock;
+
+// One design's run as the caller sees it (read under RunState::mutex).
+struct DesignState {
+  DesignStatus status = DesignStatus::Waiting;
+  std::string error;
+  std::map<int, StageRecord> stages;  // light copies: no charge state, no edge rates
+  int resumed_up_to = -1;             // stages 0..K were read back from disk
+  int latest_written = -1;            // stage of the snapshot/liner files
+  bool have_history = false;
+  double life_h = std::nan("");
+  bool life_extrapolated = false;
+  double wear_rate_m3_per_J = std::nan("");
+  std::vector<std::string> events;
+  WearProgress progress;
+  Clock::time_point progress_at;      // when progress last came
+  Clock::time_point started;
+  double wall_s = 0.0;
+  std::atomic<bool> stop{false};
+};
+
+struct RunOptions {
+  std::string out;
+  bool resume = false;
+  int jobs = 0;                         // designs at once (0: the hardware's cores)
+  int stop_after_stage = -1;            // >= 0: stop cleanly after that stage, as if interrupted
+  const std::atomic<int>* stop_signal = nullptr;  // non-zero: stop at the next window (a signal number)
+  bool figures = true;                  // render the figures at the end
+  std::string commit;                   // the program's git commit, for the manifest
+  // Called about four times a second from the calling thread, with RunState::mutex held.
+  std::function<void()> on_tick;
+};
+
+// Everything the run shares between its threads and the caller.
+struct RunState {
+  explicit RunState(const Plan& p) : plan(p) {}
+  const Plan& plan;
+  std::vector<std::unique_ptr<DesignState>> designs;
+  std::mutex mutex;
+  std::string started_text;
+  Clock::time_point t0 = Clock::now();
+  int jobs = 1;
+  bool resumed = false;
+  std::map<std::string, std::vector<std::string>> copied;  // design -> inputs/ names
+};
+
+struct RunOutcome {
+  bool failed = false;            // a design failed (the others finished)
+  bool interrupted = false;       // stopped by a signal or stop_after_stage: --resume continues
+  int signal = 0;                 // the signal that stopped it (0: stop_after_stage)
+  bool figures_failed = false;
+  std::string figure_error;
+  double wall_s = 0.0;
+};
+
+// Runs every design of the plan into options.out. Throws InputError before anything is
+// written when --resume meets a folder of other inputs or a damaged stage file.
+RunOutcome run_designs(RunState& state, const RunOptions& options);
+
+// Life of a design from its stages so far (a finished history carries its own).
+void life_of(const DesignInput& design, const DesignState& state, double& life_h, bool& extrapolated);
+
+}  // namespace millwear::study
