@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/accounting.hpp"
+#include "metrics/charge_summary.hpp"
 
 namespace millwear {
 namespace {

@@ -157,7 +157,9 @@ TEST(Geometry, ResmoothingRoundsConvexCornersAndNeverGrowsThem) {
     for (int c = 0; c < 4; ++c) {
       const double dx = v.x - cx[c], dy = v.y - cy[c];
       const bool beyond = (c == 0 || c == 1 ? dx > 0 : dx < 0) && (c == 1 || c == 2 ? dy > 0 : dy < 0);
-      if (beyond) EXPECT_LE(std::hypot(dx, dy), rho + 1e-9) << "corner " << c;
+      if (beyond) {
+        EXPECT_LE(std::hypot(dx, dy), rho + 1e-9) << "corner " << c;
+      }
     }
   }
   // Rounded at r, the worn square is side^2 less four fillets of a right angle. The disk

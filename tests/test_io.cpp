@@ -12,6 +12,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/hash.hpp"
 #include "io/run_folder.hpp"
 
 namespace fs = std::filesystem;
@@ -223,3 +224,14 @@ TEST(IoRunFolder, KeyValueSyntaxErrorNamesLine) {
   }
 }
 
+
+// ---- Resume keys ----
+
+// FNV-1a 64 has published check values; the same bytes give the same key on every platform
+// (std::hash gives none of these guarantees).
+TEST(IoHash, StableHashMatchesTheFnv1aCheckValues) {
+  EXPECT_EQ(millwear::io::stable_hash_hex(""), "cbf29ce484222325");
+  EXPECT_EQ(millwear::io::stable_hash_hex("a"), "af63dc4c8601ec8c");
+  EXPECT_EQ(millwear::io::stable_hash_hex("foobar"), "85944171f73967e8");
+  EXPECT_NE(millwear::io::stable_hash_hex("scene\n--\nprofile"), millwear::io::stable_hash_hex("scene\n--\nprofilf"));
+}

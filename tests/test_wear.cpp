@@ -6,6 +6,7 @@
 #include <map>
 #include <vector>
 
+#include "common/units.hpp"
 #include "engine_fixtures.hpp"
 #include "geometry/polyline.hpp"
 #include "wear/wear.hpp"
@@ -160,7 +161,7 @@ TEST(WearLoop, AreaFallsStageByStageAndLifeIsReported) {
   EXPECT_TRUE(h.life_extrapolated);
   EXPECT_TRUE(std::isfinite(h.life_h));
   for (const auto& st : h.stages) {
-    EXPECT_GT(st.area_loss_rate_mm2_per_h, 0.0);
+    EXPECT_GT(st.area_loss_rate_m2_per_s, 0.0);
     EXPECT_GT(st.area_loss_rate_rel_sem, 0.0);  // rule 2: every rate has its error
     EXPECT_LT(st.area_loss_rate_rel_sem, 0.5);
   }
@@ -323,9 +324,9 @@ TEST(WearRate, AreaLossCalibrationReproducesTheMeasuredRateOnTheNextWindow) {
   ASSERT_EQ(h.stages.size(), 2u);
   ASSERT_GT(h.wear_rate_m3_per_J, 0.0);
   const double measured_mm2_per_h = 0.5;
-  EXPECT_NEAR(h.stages[1].area_loss_rate_mm2_per_h / measured_mm2_per_h, 1.0, 0.10)
+  EXPECT_NEAR(mm2_per_hour(h.stages[1].area_loss_rate_m2_per_s) / measured_mm2_per_h, 1.0, 0.10)
       << "C " << h.wear_rate_m3_per_J << " m^3/J fitted on stage 0 gives "
-      << h.stages[1].area_loss_rate_mm2_per_h << " mm^2/h on stage 1";
+      << mm2_per_hour(h.stages[1].area_loss_rate_m2_per_s) << " mm^2/h on stage 1";
 }
 
 // With average_rows = false every row's liner unit wears by the work done on that row, not
@@ -356,7 +357,7 @@ TEST(WearLoop, RowsCanWearOnTheirOwn) {
   std::vector<double> own(rows, 0.0);
   double deepest = 0.0;
   for (std::size_t e = 0; e < mill.edges.size(); ++e) {
-    const double depth = fresh.edge_wear_rate_m_per_h[e] * s.wear.stage_hours;
+    const double depth = per_hour(fresh.edge_wear_rate_m_per_s[e]) * s.wear.stage_hours;
     deepest = std::max(deepest, depth);
     if (mill.edges[e].owner == EdgeOwner::Lifter)
       own[static_cast<std::size_t>(mill.edges[e].row)] += depth * mill.edge_length_m[e];

@@ -107,11 +107,11 @@ int run_animate(const AnimateArgs& args) {
                            io::stages_dir(args.history) + ")");
     for (int k = 0; k <= last; ++k) {
       StageRecord rec = io::read_stage_state(args.history, scene.name, k);
-      if (rec.units.empty() || rec.edge_wear_rate_m_per_h.empty()) continue;  // worn-out marker
+      if (rec.units.empty() || rec.edge_wear_rate_m_per_s.empty()) continue;  // worn-out marker
       Segment s;
       s.mill = build_mill(R, scene.mill.rows, rec.units);
-      s.edge_value = rec.edge_wear_rate_m_per_h;
-      for (double& v : s.edge_value) v *= 1e6;  // m/h -> mm per 1000 h
+      s.edge_value = rec.edge_wear_rate_m_per_s;
+      for (double& v : s.edge_value) v = mm_per_1000h(v);
       s.edge_value.resize(s.mill.boundary.size(), 0.0);
       s.stage = k;
       s.hours = rec.hours;

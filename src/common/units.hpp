@@ -7,4 +7,11 @@ namespace millwear {
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kSecondsPerHour = 3600.0;
 
+// A rate per second as a rate per operating hour.
+inline constexpr double per_hour(double per_second) { return per_second * kSecondsPerHour; }
+// m^2 per second -> mm^2 per operating hour (files and figures).
+inline constexpr double mm2_per_hour(double m2_per_s) { return per_hour(m2_per_s) * 1e6; }
+// m per second -> mm per 1000 operating hours (the liner's colour scale).
+inline constexpr double mm_per_1000h(double m_per_s) { return per_hour(m_per_s) * 1e6; }
+
 }  // namespace millwear

@@ -113,26 +113,5 @@ void account_step(Accounting& acc, const ChargeState& s, double dt_s, double rad
 int spectrum_bin(double energy_J);
 double spectrum_bin_lower_J(int bin);
 
-// Derived figures of a window (SI).
-struct ChargeSummary {
-  double time_s = 0.0;
-  double power_W = 0.0;                 // drive work / time (per slice)
-  double torque_Nm = 0.0;               // mean torque the drive supplies (per slice)
-  double torque_arm_Nm = 0.0;           // M g x_cm from the centre of mass (per slice)
-  double collision_power_W = 0.0;       // particle-particle dissipation rate
-  double liner_dissipation_W = 0.0;     // particle-liner dissipation rate
-  double solver_dissipation_W = 0.0;    // position-correction share
-  double kinetic_change_W = 0.0;        // (KE+PE change) / time
-  double mass_kg = 0.0;                 // mean active charge mass
-  Vec2 centre_of_mass_m;
-  double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side
-  double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
-  double shear_work_rate_W = 0.0;       // total on the liner
-  double packed_shear_share = 0.0;      // of all liner slip work (packed included), packed disks'
-  double mean_packed_disks = 0.0;       // disks riding the liner for over a revolution
-  std::int64_t escaped = 0;
-  std::int64_t non_finite = 0;
-};
-ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2);
 
 }  // namespace millwear

@@ -9,18 +9,6 @@ double initial_direction_sign(const Scene& scene) {
   return scene.mill.direction == Direction::Reverse ? -1.0 : 1.0;
 }
 
-ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s) {
-  ChargeFigures f;
-  f.summary = summarize(acc, omega_rad_s, kGravity);
-  const double per_m = 1e-3 / scene.slice_thickness();  // W per slice -> kW per metre
-  f.power_kW_per_m = f.summary.power_W * per_m;
-  f.torque_arm_kW_per_m = omega_rad_s * f.summary.torque_arm_Nm * per_m;
-  f.collision_kW_per_m = f.summary.collision_power_W * per_m;
-  f.liner_kW_per_m = f.summary.liner_dissipation_W * per_m;
-  f.solver_kW_per_m = f.summary.solver_dissipation_W * per_m;
-  return f;
-}
-
 ChargeRunResult run_charge_only(const Scene& scene) {
   ChargeRunResult r;
   r.mill = build_scene_mill(scene);

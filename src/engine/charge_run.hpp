@@ -3,20 +3,10 @@
 #include <vector>
 
 #include "engine/engine.hpp"
+#include "metrics/charge_summary.hpp"
 
 namespace millwear {
 
-// Figures of a measured window, per metre of mill length and SI inside.
-struct ChargeFigures {
-  ChargeSummary summary;          // per slice
-  double power_kW_per_m = 0.0;    // drive power / slice thickness
-  double torque_arm_kW_per_m = 0.0;  // omega * M g x_cm / thickness
-  double collision_kW_per_m = 0.0;
-  double liner_kW_per_m = 0.0;
-  double solver_kW_per_m = 0.0;
-};
-
-ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s);
 
 struct ChargeRunResult {
   ChargeFigures figures;

@@ -1,3 +1,4 @@
+#include "common/units.hpp"
 #include "io/stage_files.hpp"
 
 #include <algorithm>
@@ -57,7 +58,7 @@ std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
       {"summary.shear_work_rate_W", &s.shear_work_rate_W},
       {"summary.packed_shear_share", &s.packed_shear_share},
       {"summary.mean_packed_disks", &s.mean_packed_disks},
-      {"area_loss_rate_mm2_per_h", &r.area_loss_rate_mm2_per_h},
+      {"area_loss_rate_m2_per_s", &r.area_loss_rate_m2_per_s},
       {"area_loss_rate_rel_sem", &r.area_loss_rate_rel_sem},
       {"mill_angle_rad", &r.mill_angle_rad},
       {"wall_s", &r.wall_s},
@@ -148,9 +149,9 @@ void write_stage_state(const std::string& out, const std::string& design, const 
                   k < rec.spectrum_energy_W.size() ? rec.spectrum_energy_W[k] : 0.0});
   spec.write(base + ".spectrum.csv");
 
-  io::CsvTable edges({"edge", "wear_rate_m_per_h"}, kExact);
-  for (std::size_t e = 0; e < rec.edge_wear_rate_m_per_h.size(); ++e)
-    edges.add_row({e, rec.edge_wear_rate_m_per_h[e]});
+  io::CsvTable edges({"edge", "wear_rate_m_per_s"}, kExact);
+  for (std::size_t e = 0; e < rec.edge_wear_rate_m_per_s.size(); ++e)
+    edges.add_row({e, rec.edge_wear_rate_m_per_s[e]});
   edges.write(base + ".edges.csv");
 
   write_charge_csv(rec.snapshot, base + ".charge.csv");
@@ -212,7 +213,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   io::CsvData spec = read_csv(base + ".spectrum.csv");
   rec.spectrum_count_per_s = spec.numbers("count_per_s");
   rec.spectrum_energy_W = spec.numbers("energy_W");
-  rec.edge_wear_rate_m_per_h = read_csv(base + ".edges.csv").numbers("wear_rate_m_per_h");
+  rec.edge_wear_rate_m_per_s = read_csv(base + ".edges.csv").numbers("wear_rate_m_per_s");
 
   read_charge_csv(base + ".charge.csv", rec.snapshot);
   // A stage that started from the previous stage's charge has it in .start.csv.
@@ -292,8 +293,7 @@ void write_liner_csv(const std::string& out, const std::string& design, const Sc
     for (std::size_t e = 0; e < n; ++e) {
       const Vec2 a = rotated(mill.boundary[e], rec.mill_angle_rad);
       const Vec2 b = rotated(mill.boundary[(e + 1) % n], rec.mill_angle_rad);
-      // m/h -> mm per 1000 h: x 1e3 (mm) x 1e3 (per 1000 h).
-      const double w = e < rec.edge_wear_rate_m_per_h.size() ? rec.edge_wear_rate_m_per_h[e] * 1e6
+      const double w = e < rec.edge_wear_rate_m_per_s.size() ? mm_per_1000h(rec.edge_wear_rate_m_per_s[e])
                                                              : std::nan("");
       t.add_row({e, mill.edges[e].owner == EdgeOwner::Lifter ? "lifter" : "shell", a.x, a.y, b.x,
                  b.y, w, rec.stage, rec.hours, rec.mill_angle_rad});

@@ -10,7 +10,7 @@
 //                  charge figures, rates, mill angle, timings, disk count, worn_out
 //   .units.csv     unit,x_m,y_m            liner unit surfaces, lifter-local, m
 //   .spectrum.csv  bin,count_per_s,energy_W
-//   .edges.csv     edge,wear_rate_m_per_h  per mill boundary edge
+//   .edges.csv     edge,wear_rate_m_per_s  per mill boundary edge (m per operating second)
 //   .charge.csv    x_m,y_m,vx_m_s,vy_m_s,angle_rad,spin_rad_s,radius_m,mass_kg,species,active
 // then the done marker OUT/stages/DESIGN_stageK.done (io/run_folder.hpp), written last.
 #include <string>

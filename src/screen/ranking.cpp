@@ -1,5 +1,6 @@
 // Screened designs: results read from their run folders, ranked by life with uncertainty,
 // Pareto fronts. See ranking.hpp for the uncertainty and tie rules.
+#include "common/units.hpp"
 #include "screen/ranking.hpp"
 
 #include <algorithm>
@@ -92,7 +93,7 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
           io::join_path(io::stages_dir(dir), c.name + "_stage" + std::to_string(k) + ".record"));
       StageRate sr;
       sr.hours = to_number(io::find_value(rec, "hours"));
-      sr.rate_mm2_per_h = to_number(io::find_value(rec, "area_loss_rate_mm2_per_h"));
+      sr.rate_mm2_per_h = mm2_per_hour(to_number(io::find_value(rec, "area_loss_rate_m2_per_s")));
       sr.rel_sem = to_number(io::find_value(rec, "area_loss_rate_rel_sem"));
       rates.push_back(sr);
     }

@@ -133,7 +133,7 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   StageRecord light = rec;
   light.snapshot = ChargeState{};
   light.start_charge = ChargeState{};
-  light.edge_wear_rate_m_per_h.clear();
+  light.edge_wear_rate_m_per_s.clear();
   std::lock_guard<std::mutex> lock(ctx.mutex);
   st.stages[rec.stage] = std::move(light);
   write_tables(ctx, opt, false);
@@ -206,7 +206,7 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
         StageRecord light = r;
         light.snapshot = ChargeState{};
         light.start_charge = ChargeState{};
-        light.edge_wear_rate_m_per_h.clear();
+        light.edge_wear_rate_m_per_s.clear();
         st.stages[r.stage] = std::move(light);
       }
   }

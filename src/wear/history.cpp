@@ -113,7 +113,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   rec.lifter = measure_lifter(mill.units[0], mill.radius_m);
   rec.charge = charge_figures(w.accounting, scene, run.direction * scene.angular_speed_rad_s());
   const double t = scene.slice_thickness();
-  rec.area_loss_rate_mm2_per_h = c_real * w.lifter_power_mean_W / t * kSecondsPerHour * 1e6;
+  rec.area_loss_rate_m2_per_s = c_real * w.lifter_power_mean_W / t;
   rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
   rec.spectrum_count_per_s.resize(kSpectrumBins);
   rec.spectrum_energy_W.resize(kSpectrumBins);
@@ -121,11 +121,11 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
     rec.spectrum_count_per_s[b] = w.accounting.spectrum_count[b] / w.accounting.time_s;
     rec.spectrum_energy_W[b] = w.accounting.spectrum_energy_J[b] / w.accounting.time_s;
   }
-  rec.edge_wear_rate_m_per_h.resize(mill.boundary.size());
+  rec.edge_wear_rate_m_per_s.resize(mill.boundary.size());
   for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
     const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
-    rec.edge_wear_rate_m_per_h[e] = (shell && !scene.wear.shell_wear) ? 0.0
-        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real) * kSecondsPerHour;
+    rec.edge_wear_rate_m_per_s[e] = (shell && !scene.wear.shell_wear) ? 0.0
+        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real);
   }
   rec.snapshot = run.engine->state();
   rec.mill_angle_rad = run.engine->state().mill_angle_rad;

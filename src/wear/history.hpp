@@ -21,13 +21,13 @@ struct StageRecord {
   std::vector<LinerUnit> units;   // exact geometry (resume restarts from it)
   LifterMetrics lifter;           // of row 0 (or the shared unit)
   ChargeFigures charge;           // measured on this geometry
-  double area_loss_rate_mm2_per_h = 0.0;      // of the lifter, at this geometry
+  double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
   // Collision spectrum measured on this geometry (per log bin, see engine/accounting.hpp).
   std::vector<double> spectrum_count_per_s, spectrum_energy_W;
-  // Wear rate of every mill boundary edge at this geometry (m per operating hour), and the
+  // Wear rate of every mill boundary edge at this geometry (m per operating second), and the
   // charge at the end of the measuring window (for snapshot figures).
-  std::vector<double> edge_wear_rate_m_per_h;
+  std::vector<double> edge_wear_rate_m_per_s;
   ChargeState snapshot;
   double mill_angle_rad = 0.0;    // mill rotation at the snapshot
   // The charge this stage started from: the previous stage's charge as its wear ended

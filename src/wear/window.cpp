@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "metrics/batch_means.hpp"
 #include "wear/archard.hpp"
 
 namespace millwear {
@@ -82,11 +83,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     accumulate_work(w.accounting, acc);
     const int n = static_cast<int>(batch_power.size());
     if (n < kWindowBatches) continue;
-    const double mean = std::accumulate(batch_power.begin(), batch_power.end(), 0.0) / n;
-    double var = 0.0;
-    for (double x : batch_power) var += (x - mean) * (x - mean);
-    var /= (n - 1);
-    w.lifter_power_rel_sem = mean > 0.0 ? std::sqrt(var / n) / mean : 0.0;
+    w.lifter_power_rel_sem = batch_means(batch_power).rel_sem;
     if (scene.wear.target_rel_uncertainty <= 0.0 || w.lifter_power_rel_sem <= scene.wear.target_rel_uncertainty)
       break;
   }

@@ -1,0 +1,74 @@
+// Charge figures from a window's accounting sums.
+#include "metrics/charge_summary.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace millwear {
+
+namespace {
+
+// Walk from the bottom bin in direction dir (+1 rising side) until occupancy drops under
+// half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge.
+double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) {
+  const double peak = *std::max_element(occ.begin(), occ.end());
+  if (!(peak > 0.0)) return 0.0;
+  const double threshold = 0.5 * peak;
+  const double bin_deg = 360.0 / kShapeAngleBins;
+  for (int k = 0; k < kShapeAngleBins; ++k) {
+    const int bin = ((dir > 0 ? k : -k - 1) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
+    if (occ[bin] < threshold) {
+      // Resolution is one bin (5 deg): the edge is the first bin under half the peak.
+      return dir > 0 ? k * bin_deg : -(k * bin_deg);
+    }
+  }
+  return dir * 180.0;
+}
+
+}  // namespace
+
+ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2) {
+  ChargeSummary s;
+  s.time_s = acc.time_s;
+  s.escaped = acc.escaped;
+  s.non_finite = acc.non_finite;
+  if (!(acc.time_s > 0.0)) return s;
+  const double t = acc.time_s;
+  s.power_W = acc.drive_work_J / t;
+  s.torque_Nm = acc.torque_impulse_Nms / t;
+  s.collision_power_W = (acc.pp_normal_J + acc.pp_tangent_J) / t;
+  s.liner_dissipation_W = (acc.pl_normal_J + acc.pl_tangent_J) / t;
+  s.solver_dissipation_W = acc.solver_position_J / t;
+  s.kinetic_change_W = ((acc.kinetic_J_end - acc.kinetic_J_start) +
+                        (acc.potential_J_end - acc.potential_J_start)) / t;
+  for (double w : acc.shear_work_J) s.shear_work_rate_W += w;
+  const double slip_J = s.shear_work_rate_W + (acc.options.packed_wear ? 0.0 : acc.packed_shear_work_J);
+  if (slip_J > 0.0) s.packed_shear_share = acc.packed_shear_work_J / slip_J;
+  s.shear_work_rate_W /= t;
+  if (acc.steps > 0) s.mean_packed_disks = static_cast<double>(acc.packed_disk_steps) / acc.steps;
+  if (acc.mass_time_kg_s > 0.0) {
+    s.mass_kg = acc.mass_time_kg_s / acc.shape_samples;
+    s.centre_of_mass_m = acc.moment_time_kg_m_s / acc.mass_time_kg_s;
+    // Steady state: the drive holds the charge's weight off-centre, torque = M g x_cm.
+    s.torque_arm_Nm = s.mass_kg * gravity_m_s2 * s.centre_of_mass_m.x;
+  }
+  // Toe and shoulder in the frame where the charge rises on the + side.
+  const int dir = mill_speed_rad_s < 0 ? -1 : 1;
+  s.shoulder_deg = dir * charge_edge_deg(acc.shell_band_occupancy, dir);
+  s.toe_deg = dir * charge_edge_deg(acc.shell_band_occupancy, -dir);
+  return s;
+}
+
+ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s) {
+  ChargeFigures f;
+  f.summary = summarize(acc, omega_rad_s, kGravity);
+  const double per_m = 1e-3 / scene.slice_thickness();  // W per slice -> kW per metre
+  f.power_kW_per_m = f.summary.power_W * per_m;
+  f.torque_arm_kW_per_m = omega_rad_s * f.summary.torque_arm_Nm * per_m;
+  f.collision_kW_per_m = f.summary.collision_power_W * per_m;
+  f.liner_kW_per_m = f.summary.liner_dissipation_W * per_m;
+  f.solver_kW_per_m = f.summary.solver_dissipation_W * per_m;
+  return f;
+}
+
+}  // namespace millwear
