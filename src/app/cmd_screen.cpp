@@ -133,9 +133,16 @@ int run_one_task(const std::string& out, const std::vector<Candidate>& designs, 
       reason = state.designs[0]->error;
       if (reason.empty()) reason = "figures failed (see plots/gnuplot.log in the design's folder): " + r.figure_error;
     }
+    // The task's log (logs/NAME.log under GNU parallel and Slurm) says how it ended.
+    const study::DesignState& st = *state.designs[0];
+    std::printf("%s: %s after %.1f s%s%s\n", c.name.c_str(), study::status_name(st.status), r.wall_s,
+                st.error.empty() ? "" : ": ", st.error.c_str());
+    for (const auto& e : st.events) std::printf("%s: event: %s\n", c.name.c_str(), e.c_str());
+    if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   } catch (const std::exception& e) {
     rc = dynamic_cast<const InputError*>(&e) ? 2 : 1;
     reason = e.what();
+    std::fprintf(stderr, "millwear: %s: %s\n", rc == 2 ? "error" : "run failed", reason.c_str());
   }
   if (rc == 0) write_task_status(out, c, "finished", 0, "");
   else if (rc == 1 || rc == 2) write_task_status(out, c, "failed", rc, reason);

@@ -188,14 +188,4 @@ void write_manifest(const RunReport& r) {
   write_file_atomic(manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 }
 
-std::string manifest_error(const std::string& out) {
-  try {
-    const Json m = Json::parse(read_file(manifest_path(out)));
-    const Json& first = m.at("designs").at(0);
-    return first.contains("error") ? first.at("error").get<std::string>() : std::string();
-  } catch (const std::exception&) {
-    return "";
-  }
-}
-
 }  // namespace millwear::io

@@ -43,7 +43,4 @@ void write_summary(const RunReport& report);
 void write_spectrum(const RunReport& report);
 void write_manifest(const RunReport& report);
 
-// The "error" of the first design of a run folder's manifest.json, or "" (none, or no manifest).
-std::string manifest_error(const std::string& out);
-
 }  // namespace millwear::io

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "common/errors.hpp"
 #include "wear/history.hpp"
 
 namespace millwear {
@@ -23,14 +24,23 @@ Rule1Report rule1_check(const Scene& scene, std::vector<double> factors, double 
     s.wear.mode = WearMode::Continuous;
     s.wear.factor = f;
     const auto t0 = Clock::now();
-    const WearHistory h = run_wear_history(s);
     Rule1Row row;
     row.factor = f;
+    WearHistory h;
+    try {
+      h = run_wear_history(s);
+    } catch (const NumericalError& e) {
+      // A factor whose update the reshaping cannot take does not qualify; the others still run.
+      row.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      row.events = {e.what()};
+      report.rows.push_back(row);
+      continue;
+    }
     row.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     for (const auto& st : h.stages) row.simulated_s += st.simulated_s;
     row.profile = h.stages.back().units[0].surface;
     row.events = h.events;
-    if (!report.rows.empty()) {
+    if (!report.rows.empty() && !report.rows.back().profile.empty()) {
       const Polyline& prev = report.rows.back().profile;
       double d = 0.0;
       for (const Vec2& p : row.profile) d = std::max(d, distance_to_polyline(p, prev));

@@ -102,7 +102,7 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
   return r;
 }
 
-// summary.csv, spectrum.csv (once the new stages are in) and manifest.json. Caller holds the mutex.
+// summary.csv, spectrum.csv and manifest.json, from the stages so far. Caller holds the mutex.
 void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
   const io::RunReport r = report_of(ctx, opt, final_write);
   io::write_summary(r);

@@ -245,8 +245,16 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     StageEnd end = StageEnd::Finished;
     try {
       end = wear_through_stage(scene, liner, run, c_real, history, cb);
-    } catch (const NumericalError&) {
-      if (on_record) finish_stage(history, run, cb);  // measured on a valid liner: keep it
+    } catch (const NumericalError& failure) {
+      // The stage was measured on a valid liner: keep it. Whatever the caller's on_stage
+      // throws then (a stop request, a full disk), the failure is what the run reports.
+      if (on_record) {
+        try {
+          finish_stage(history, run, cb);
+        } catch (...) {
+          throw failure;
+        }
+      }
       throw;
     }
     if (end == StageEnd::StoppedByRule) break;
