@@ -32,10 +32,14 @@ TEST(StabilityOperating, AboveCriticalTheChargeCentrifuges) {
   EXPECT_GT(mean_r / n, 0.8 * s.radius_m());
 }
 
-TEST(StabilityOperating, EmptyMillIsSound) {
-  Scene s = tiny_mill(15.0, 1.67, 1e-4);  // less than one disk's area: nothing placed
+// A filling too small for one disk is refused before anything is placed, naming the filling
+// (the tiny mill's charge is all balls: ball_filling = filling).
+TEST(StabilityOperating, FillingOfNoDiskIsRefused) {
+  Scene s = tiny_mill(15.0, 1.67, 1e-4);  // less than one disk's area
   const Outcome o = run_briefly(s, 1.0);
-  expect_sound_or_clear_stop(o, "charge.filling", "empty mill");
+  EXPECT_FALSE(o.completed);
+  EXPECT_NE(o.error.find("charge.ball_filling"), std::string::npos) << o.error;
+  EXPECT_NE(o.error.find("at least one disk"), std::string::npos) << o.error;
   EXPECT_EQ(o.disks, 0u);
 }
 

@@ -83,6 +83,8 @@ inline Outcome run_briefly(const Scene& scene, double revolutions = 1.0, bool gu
   Outcome o;
   o.speed_bound_m_s = speed_bound(scene);
   try {
+    // As every command does: the limits before anything is filled.
+    if (guarded) check_run_limits(scene, scene.source_file);
     const MillGeometry mill = build_scene_mill(scene);
     auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
     o.disks = engine->state().size();

@@ -233,7 +233,7 @@ TEST_F(SceneErrors, OutOfRangeSpeedNamesKeyAndRange) {
   const std::string f = scene_with("speed = 0.75", "speed = 2.5");
   const InputError e = load_error(f);
   expect_names(e, f, "mill.speed");
-  EXPECT_NE(e.expected.find("(0, 2]"), std::string::npos) << e.expected;
+  EXPECT_NE(e.expected.find("[0.01, 2]"), std::string::npos) << e.expected;
 }
 
 TEST_F(SceneErrors, NegativeDensityIsOutOfRange) {

@@ -26,6 +26,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear::app {
@@ -90,6 +91,7 @@ double direction_at_hours(const Scene& scene, double hours) {
 int run_animate(const AnimateArgs& args) {
   Scene scene = load_scene(args.scene);
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
+  check_run_limits(scene, args.scene);  // before anything is filled or written
   if (args.out.size() < 5 || args.out.substr(args.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + args.out + "'");
   const std::string outbase = args.out.substr(0, args.out.size() - 4);

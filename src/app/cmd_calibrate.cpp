@@ -26,6 +26,7 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "validation/area_fit.hpp"
 #include "validation/area_surveys.hpp"
 #include "validation/profile_fit.hpp"
@@ -123,6 +124,7 @@ std::string calibrated_scene_text(const std::string& scene_path, const std::stri
 int run_calibrate(const CalibrateArgs& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  check_run_limits(scene, a.scene);  // before anything is filled or written
   const validation::Measurements measured = validation::read_measurements(a.measured);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > 0.0;
@@ -130,6 +132,9 @@ int run_calibrate(const CalibrateArgs& a) {
     throw InputError(a.measured, "hours", std::string("at least one survey after 0 h (a worn ") +
                                               (measured.areas_only ? "lifter area" : "profile") + ") to calibrate on");
   const bool areas = measured.areas_only;
+  if (areas)
+    validation::check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
+                                   a.measured);
 
   const std::string stem = fs::path(a.scene).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene)).parent_path().string() : a.out;
@@ -151,7 +156,11 @@ int run_calibrate(const CalibrateArgs& a) {
     for (const auto& e : r.events) std::printf("  event: %s\n", e.c_str());
     std::fflush(stdout);
   };
-  const auto history = [](const Scene& s) { return run_wear_history(s, progress_callbacks()); };
+  const auto history = [](const Scene& s) {
+    WearHistory h = run_wear_history(s, progress_callbacks());
+    throw_if_failed(h);  // a lost disk or rule 1's stop: no rate is fitted to it
+    return h;
+  };
   const validation::CalibrationResult res =
       areas ? validation::calibrate_wear_rate(scene, measured.areas, opt, on_run, history)
             : validation::calibrate_wear_rate(scene, measured.profiles, opt, on_run, history);

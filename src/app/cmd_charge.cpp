@@ -11,6 +11,7 @@
 #include "engine/charge_run.hpp"
 #include "io/atomic_write.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear::app {
@@ -116,6 +117,7 @@ int run_charge(const ChargeArgs& args) {
   Scene scene = load_scene(args.scene);
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
+  check_run_limits(scene, args.scene);
   io::ensure_dir(args.out);
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
@@ -139,7 +141,14 @@ int run_charge(const ChargeArgs& args) {
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
   std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
               args.out.c_str());
-  return f.summary.escaped > 0 || f.summary.non_finite > 0 ? 1 : 0;
+  // A disk lost at any time (settling and spin-up included) makes every figure suspect.
+  if (result.lost_disks > 0) {
+    std::cerr << "millwear: run failed: " << result.lost_disks << " of " << result.disks
+              << " disks were lost (escaped or non-finite; first: t=" << result.events.front().time_s
+              << " s: " << result.events.front().what << ")\n";
+    return 1;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -152,7 +161,7 @@ void register_charge(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder")->required();
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 1e4));
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });
 }
 

@@ -5,6 +5,7 @@
 
 #include "app/commands.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "study/rule1.hpp"
 #include "wear/wear.hpp"
 
@@ -24,6 +25,7 @@ int run_rule1(const Rule1Args& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
+  check_run_limits(scene, a.scene);  // before anything is filled or written
   std::vector<double> factors = a.factors;
   if (factors.empty()) {
     const double f = scene.wear.factor;
@@ -56,7 +58,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", args->tolerance_pct, "allowed deviation, % of lifter height (default 5)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::PositiveNumber);
+  cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }

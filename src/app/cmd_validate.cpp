@@ -36,6 +36,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "validation/area_fit.hpp"
 #include "validation/area_surveys.hpp"
 #include "validation/profile_fit.hpp"
@@ -78,6 +79,7 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateArgs& 
   std::fflush(stdout);
   const WearHistory h = run_wear_history(s, progress_callbacks());
   for (const auto& e : h.events) std::printf("  event: %s\n", e.c_str());
+  throw_if_failed(h);  // a lost disk or rule 1's stop: no comparison with the surveys
   return h.stages;
 }
 
@@ -208,6 +210,7 @@ int validate_areas(const Scene& scene, const ValidateArgs& a, const validation::
 int run_validate(const ValidateArgs& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  check_run_limits(scene, a.scene);  // before anything is filled or written
   const validation::Measurements measured = validation::read_measurements(a.measured);
   const std::vector<StageRecord> stages = history_stages(scene, a, measured);
   return measured.areas_only ? validate_areas(scene, a, measured.areas, stages)

@@ -24,6 +24,7 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   r.final_state = engine->state();
   r.events = engine->events();
   r.disks = initial.size();
+  for (std::size_t i = 0; i < r.final_state.size(); ++i) r.lost_disks += r.final_state.active[i] ? 0 : 1;
   r.timing = engine->timing();
   r.disk_steps = r.timing.disk_steps;
   return r;

@@ -15,6 +15,7 @@ struct ChargeRunResult {
   MillGeometry mill;
   std::vector<EngineEvent> events;
   std::size_t disks = 0;
+  std::size_t lost_disks = 0;   // escaped or non-finite at any time, settling included
   std::int64_t disk_steps = 0;  // measured window only
   double window_wall_s = 0.0;   // wall time of the measured window (speed figure)
   Engine::Timing timing;

@@ -2,6 +2,8 @@
 #include "engine/engine.hpp"
 
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "common/errors.hpp"
 #include "engine/box2d/box2d_engine.hpp"
@@ -11,7 +13,11 @@
 namespace millwear {
 
 int steps_for(double seconds, double dt_s) {
-  return seconds <= 0.0 ? 0 : static_cast<int>(std::ceil(seconds / dt_s - 1e-9));
+  const std::int64_t n = steps_in(seconds, dt_s);
+  // The scene's limits keep every phase far below this; a count past it is a caller's bug.
+  if (n > std::numeric_limits<int>::max())
+    throw RunError("a phase of " + std::to_string(seconds) + " s needs more time steps than one call can take");
+  return static_cast<int>(n);
 }
 
 AccountingOptions accounting_options_for(const Scene& scene) {
@@ -37,9 +43,10 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
 }
 
 void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign) {
-  // Before anything moves: a time step too large for the smallest disk leaks disks through
-  // the liner (scene/limits.hpp); stop with the limit named rather than report escapes.
-  check_numerical_limits(scene, scene.source_file);
+  // Before anything moves: a time step too large for the smallest disk, or a lifter thinner
+  // than it, leaks disks through the liner, and a phase too long never ends
+  // (scene/limits.hpp); stop with the limit named rather than report escapes.
+  check_run_limits(scene, scene.source_file);
   const double dt = engine.time_step_s();
   engine.set_mill_speed(0.0);
   engine.step(steps_for(scene.solver.settle_time_s, dt));

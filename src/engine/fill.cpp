@@ -8,6 +8,8 @@
 #include "common/units.hpp"
 #include "common/errors.hpp"
 #include "engine/engine.hpp"
+#include "scene/filling.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear {
 
@@ -23,35 +25,20 @@ struct DiskDraw {
 // distribution implementation).
 double uniform01(std::mt19937_64& rng) { return (rng() >> 11) * (1.0 / 9007199254740992.0); }
 
-std::vector<DiskDraw> draw_sizes(const Scene& scene, double mill_area_m2, std::mt19937_64& rng) {
+std::vector<DiskDraw> draw_sizes(const Scene& scene, std::mt19937_64& rng) {
   const ChargeDef& c = scene.charge;
-  double balls_area = c.ball_filling * mill_area_m2 * c.bulk_packing;
-  double rocks_area = (c.filling - c.ball_filling) * mill_area_m2 * c.bulk_packing;
-  int ball_species = 0, rock_species = 0;
-  for (const auto& sp : c.species) (sp.is_ball ? ball_species : rock_species)++;
   std::vector<DiskDraw> disks;
   for (std::size_t k = 0; k < c.species.size(); ++k) {
     const SpeciesDef& sp = c.species[k];
-    double budget = sp.is_ball ? balls_area / std::max(ball_species, 1)
-                               : rocks_area / std::max(rock_species, 1);
-    if (!sp.is_ball && rock_species == 0) budget = 0;
-    const double cutoff = sp.is_ball ? 0.0 : scene.solver.size_cutoff_m;
     const auto sp_id = static_cast<std::uint8_t>(k);
     if (!sp.diameters_m.empty()) {
-      // Mass fractions are area fractions in a slice of one density; renormalise over the
-      // sizes kept by the cut-off.
-      double kept = 0.0;
+      // Whole disks per size by largest remainder (scene/filling.hpp).
+      const std::vector<std::int64_t> n = disks_per_size(scene, k);
       for (std::size_t j = 0; j < sp.diameters_m.size(); ++j)
-        if (sp.diameters_m[j] >= cutoff) kept += sp.mass_fractions[j];
-      if (kept <= 0.0) continue;
-      for (std::size_t j = 0; j < sp.diameters_m.size(); ++j) {
-        const double d = sp.diameters_m[j];
-        if (d < cutoff) continue;
-        const double area = budget * sp.mass_fractions[j] / kept;
-        const long n = std::lround(area / (0.25 * kPi * d * d));
-        for (long i = 0; i < n; ++i) disks.push_back({d, sp_id});
-      }
+        for (std::int64_t i = 0; i < n[j]; ++i) disks.push_back({sp.diameters_m[j], sp_id});
     } else {
+      const double budget = species_area_m2(scene, k);
+      const double cutoff = sp.is_ball ? 0.0 : scene.solver.size_cutoff_m;
       const double lo = std::max(sp.d_min_m, std::min(cutoff, sp.d_max_m));
       const double hi = sp.d_max_m;
       double area = 0.0;
@@ -83,8 +70,10 @@ double segment_area_below(double r, double h) {
 ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
   std::mt19937_64 rng(scene.solver.seed);
   const double R = mill.radius_m;
-  const double mill_area = kPi * R * R;
-  std::vector<DiskDraw> draws = draw_sizes(scene, mill_area, rng);
+  // The disk counts before anything is placed (every command checks all the limits on its
+  // own too, before it writes anything).
+  check_filling(scene, scene.source_file);
+  std::vector<DiskDraw> draws = draw_sizes(scene, rng);
   ChargeState s;
   s.mill_speed_rad_s = 0.0;
   if (draws.empty()) return s;

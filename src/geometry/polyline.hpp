@@ -41,6 +41,18 @@ Vec2 point_at_length(const Polyline& line, double s);
 // Shortest distance from p to the polyline (any segment).
 double distance_to_polyline(Vec2 p, const Polyline& line);
 
+// The thinnest part of the metal under an open surface (a lifter profile running left to
+// right over a flat shell: the metal is the region between the surface and the straight line
+// joining its ends). Found on points `spacing` apart along the surface: the smallest distance
+// between two of them that face each other across the metal, i.e. whose straight join runs
+// through the metal while the surface between them runs more than twice as far (a ridge,
+// tooth or spike, as opposed to the two sides of a corner). Infinity if the metal has no such
+// part. Accurate to about `spacing`; at most 4000 points are used.
+double thinnest_part(const Polyline& surface, double spacing);
+
+// Whether p lies inside a polygon (even-odd rule; a point on the boundary may go either way).
+bool contains(const Polygon& ring, Vec2 p);
+
 // Morphological smoothing of a simple polygon with a disk of radius r (a regular 32-gon,
 // exact Minkowski sums): an opening (erode r, dilate r) rounds convex corners to radius r and
 // removes ridges narrower than 2r, never adding metal; then a closing (dilate r, erode r)

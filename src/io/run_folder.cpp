@@ -1,5 +1,7 @@
 #include "io/run_folder.hpp"
 
+#include "common/names.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -44,14 +46,7 @@ std::string stage_done_marker(const std::string& out, const std::string& design,
 std::string plots_out_dir(const std::string& out) { return join_path(out, "plots"); }
 std::string plots_data_dir(const std::string& out) { return join_path(plots_out_dir(out), "data"); }
 
-bool is_valid_design_name(const std::string& design) {
-  if (design.empty() || design.size() > 64 || design[0] == '.') return false;
-  for (char c : design) {
-    unsigned char u = static_cast<unsigned char>(c);
-    if (!(std::isalnum(u) || c == '.' || c == '-' || c == '_')) return false;
-  }
-  return true;
-}
+bool is_valid_design_name(const std::string& design) { return is_safe_name(design); }
 
 void create_run_folder(const std::string& out) {
   ensure_dir(out);

@@ -42,8 +42,7 @@ std::string stage_done_marker(const std::string& out, const std::string& design,
 std::string plots_out_dir(const std::string& out);                   // OUT/plots
 std::string plots_data_dir(const std::string& out);                  // OUT/plots/data
 
-// Design names become parts of file names: letters, digits, '.', '-', '_' and not
-// starting with '.'; at most 64 characters.
+// Design names become parts of file names: common/names.hpp's is_safe_name.
 bool is_valid_design_name(const std::string& design);
 
 // Creates OUT, OUT/profiles, OUT/stages, OUT/plots, OUT/plots/data. Throws RunError.

@@ -68,6 +68,16 @@ std::string parent_dir(const std::string& path) {
   return p.empty() ? std::string(".") : p.string();
 }
 
+// Why drawing may have failed when the cause is the file system, not gnuplot: "; the file
+// system holding DIR is full" (less than a megabyte free), else "".
+std::string full_disk_hint(const std::string& dir) {
+  std::error_code ec;
+  const fs::space_info space = fs::space(dir.empty() ? "." : dir, ec);
+  if (ec || space.available >= (1u << 20)) return "";
+  return "; the file system holding " + dir + " is full (" + std::to_string(space.available / 1024) +
+         " kB free)";
+}
+
 std::uintmax_t size_or_zero(const std::string& path) {
   std::error_code ec;
   auto n = fs::file_size(path, ec);
@@ -246,7 +256,8 @@ std::vector<std::string> render_figure(const std::string& script,
     gp.flush();
   } catch (const std::exception& e) {  // pipe could not be opened or written
     cleanup_temps();
-    throw RunError("cannot run gnuplot for " + script + ": " + e.what());
+    throw RunError("cannot run gnuplot for " + script + ": " + e.what() +
+                   full_disk_hint(parent_dir(final_base.empty() ? log_path : final_base)));
   }
 
   std::string status_text;
@@ -254,7 +265,8 @@ std::vector<std::string> render_figure(const std::string& script,
     status_text = io::read_file(status_path);
   } catch (const InputError&) {
     cleanup_temps();
-    throw RunError("gnuplot did not finish for " + script + " (no exit status recorded)");
+    throw RunError("gnuplot did not finish for " + script + " (no exit status recorded)" +
+                   full_disk_hint(parent_dir(final_base.empty() ? log_path : final_base)));
   }
   int status = std::atoi(status_text.c_str());
   if (status != 0) {
@@ -271,7 +283,8 @@ std::vector<std::string> render_figure(const std::string& script,
       throw RunError("gnuplot could not be started for " + script + " (not found or not executable)");
     throw RunError("gnuplot failed on " + script + " (exit status " + std::to_string(status) + ")" +
                    (log_tail.empty() ? "" : ": " + log_tail) +
-                   (log_path.empty() ? "" : "; see " + log_path));
+                   (log_path.empty() ? "" : "; see " + log_path) +
+                   full_disk_hint(parent_dir(final_base.empty() ? log_path : final_base)));
   }
 
   std::vector<std::string> written;
@@ -281,7 +294,7 @@ std::vector<std::string> render_figure(const std::string& script,
       if (size_or_zero(tmp) == 0) {
         cleanup_temps();
         throw RunError("gnuplot script " + script + " did not write " + final_base + "." + f +
-                       (log_path.empty() ? "" : "; see " + log_path));
+                       (log_path.empty() ? "" : "; see " + log_path) + full_disk_hint(parent_dir(final_base)));
       }
     }
     for (const auto& f : formats) {

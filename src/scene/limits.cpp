@@ -1,13 +1,41 @@
-// Numerical limits of a scene (the reasons and the measured numbers are in limits.hpp and
+// Limits of a scene (the reasons and the measured numbers are in limits.hpp and
 // docs/stability.md).
 #include "scene/limits.hpp"
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
+#include "geometry/polyline.hpp"
+#include "metrics/batch_means.hpp"
+#include "scene/filling.hpp"
 
 namespace millwear {
+
+namespace {
+
+// The most geometry updates a run may take, however they arise (staged updates of at most
+// wear.max_depth_step, continuous updates, reversals of a bidirectional mill): each is a
+// reshape of the liner and, staged, a measuring window.
+constexpr double kMaxUpdates = 100'000;
+
+std::string count_text(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, n < 1e6 ? "%.0f" : "%.3g", n);
+  return buf;
+}
+
+void check_steps(const std::string& file, const std::string& key, std::int64_t steps, const std::string& what) {
+  if (steps <= kMaxPhaseSteps) return;
+  throw InputError(file, key,
+                   "expected at most " + count_text(double(kMaxPhaseSteps)) + " time steps for " + what + ", got " +
+                       (steps == std::numeric_limits<std::int64_t>::max() ? std::string("more than 9.2e18")
+                                                                          : count_text(double(steps))));
+}
+
+}  // namespace
 
 double impact_speed_m_s(const Scene& scene) {
   return scene.angular_speed_rad_s() * scene.radius_m() + std::sqrt(2.0 * kGravity * scene.mill.diameter_m);
@@ -16,6 +44,14 @@ double impact_speed_m_s(const Scene& scene) {
 double step_travel_radii(const Scene& scene) {
   const double r = scene.smallest_particle_radius_m();
   return r > 0.0 ? scene.solver.time_step_s * impact_speed_m_s(scene) / r : 0.0;
+}
+
+std::int64_t steps_in(double seconds, double dt_s) {
+  if (!(seconds > 0.0)) return 0;
+  const double n = std::ceil(seconds / dt_s - 1e-9);
+  // 9.2e18 is the largest double below INT64_MAX's range.
+  if (!(n < 9.2e18)) return std::numeric_limits<std::int64_t>::max();
+  return static_cast<std::int64_t>(n);
 }
 
 void check_numerical_limits(const Scene& scene, const std::string& file) {
@@ -35,6 +71,116 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
                   1.0 / scene.solver.time_step_s);
     throw InputError(file, "solver.time_step", buf);
   }
+}
+
+void check_profile_features(const Scene& scene, const std::string& file) {
+  const double needed = scene.smallest_particle_radius_m();
+  if (!(needed > 0.0)) return;
+  // Sampled at a quarter of the size needed: a part thinner than it is found to within that.
+  const double thinnest = thinnest_part(scene.mill.lifter.points, 0.25 * needed);
+  if (thinnest >= needed) return;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a lifter whose every part is at least %.3g mm thick (the smallest particle radius): profile '%s' "
+                "has a part about %.3g mm thick, so a disk can touch both of its faces at once and pass through "
+                "the liner",
+                needed * 1e3, scene.mill.lifter.name.c_str(), thinnest * 1e3);
+  throw InputError(file, "lifters.profile", buf);
+}
+
+void check_step_counts(const Scene& scene, const std::string& file) {
+  const SolverDef& v = scene.solver;
+  const WearDef& w = scene.wear;
+  const double dt = v.time_step_s;
+  const double rev_s = scene.revolution_time_s();
+  check_steps(file, "solver.settle_time", steps_in(v.settle_time_s, dt), "settling");
+  check_steps(file, "mill.speed", steps_in(rev_s, dt), "one revolution of the mill");
+  check_steps(file, "solver.spinup_revolutions", steps_in(v.spinup_revolutions * rev_s, dt), "the spin-up");
+  check_steps(file, "run.revolutions", steps_in(scene.run.revolutions * rev_s, dt), "the measured revolutions");
+  if (steps_in(scene.run.revolutions * rev_s, dt) < 1)
+    throw InputError(file, "run.revolutions", "expected at least one time step of measured revolutions");
+
+  const double stage_sim_s = w.stage_hours * kSecondsPerHour / w.factor;  // continuous mode
+  if (w.mode == WearMode::Staged) {
+    const std::int64_t batch = steps_in(w.window_revolutions * rev_s / kWindowBatches, dt);
+    if (batch < 1)
+      throw InputError(file, "wear.window_revolutions",
+                       "expected a measuring window of at least " + std::to_string(kWindowBatches) +
+                           " time steps (one per batch of the rule-2 error), got " +
+                           count_text(w.window_revolutions * rev_s / dt));
+    const int batches = w.target_rel_uncertainty > 0.0 ? kMaxWindowBatches : kWindowBatches;
+    check_steps(file, "wear.window_revolutions", batch * batches < batch ? std::numeric_limits<std::int64_t>::max()
+                                                                          : batch * batches,
+                "a measuring window");
+  } else {
+    check_steps(file, "wear.update_interval", steps_in(w.update_interval_s, dt), "one continuous update");
+    check_steps(file, "wear.factor", steps_in(stage_sim_s, dt),
+                "a continuous stage (stage_hours / factor of simulated time)");
+    const double updates = w.stages * std::ceil(stage_sim_s / w.update_interval_s);
+    if (!(updates <= kMaxUpdates))
+      throw InputError(file, "wear.update_interval",
+                       "expected at most " + count_text(kMaxUpdates) + " geometry updates in the run, got " +
+                           count_text(updates) + " (stages x stage_hours / factor / update_interval)");
+  }
+  if (scene.mill.direction == Direction::Bidirectional) {
+    const double reversals = w.stages * w.stage_hours / scene.mill.reverse_every_hours;
+    if (!(reversals <= kMaxUpdates))
+      throw InputError(file, "mill.reverse_every",
+                       "expected at most " + count_text(kMaxUpdates) + " reversals in the run, got " +
+                           count_text(reversals));
+  }
+  if (w.mode == WearMode::Staged && !scene.mill.lifter.points.empty()) {
+    // Updates of at most max_depth_step wear the lifter to the shell in height / step of them.
+    const double height = measure_profile(scene.mill.lifter.points).height_m;
+    const double updates = height / w.max_depth_step_m;
+    if (!(updates <= kMaxUpdates))
+      throw InputError(file, "wear.max_depth_step",
+                       "expected at least " + count_text(height / kMaxUpdates * 1e3 * 1e3) +
+                           " um (the lifter's height over " + count_text(kMaxUpdates) +
+                           " updates), got " + count_text(w.max_depth_step_m * 1e6) + " um");
+  }
+}
+
+void check_filling(const Scene& scene, const std::string& file) {
+  const auto placed = scene.species_as_placed();
+  double total = 0.0;
+  for (std::size_t k = 0; k < placed.size(); ++k) {
+    if (!scene.species_in_use(placed[k])) continue;
+    const double n = expected_disks(scene, k);
+    if (!(n >= 0.5)) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "a filling that gives charge.species[%zu] ('%s') at least one disk: its share (%.3g m^2 of "
+                    "the slice) holds %.2f of its disks; raise the filling or use smaller sizes",
+                    k, placed[k].name.c_str(), species_area_m2(scene, k), n);
+      throw InputError(file, placed[k].is_ball ? "charge.ball_filling" : "charge.filling", buf);
+    }
+    total += n;
+  }
+  if (!(total <= double(kMaxDisks)))
+    throw InputError(file, "charge.filling",
+                     "expected a charge of at most " + count_text(double(kMaxDisks)) + " disks, got about " +
+                         count_text(total) + " (smallest particle " +
+                         count_text(2e3 * scene.smallest_particle_radius_m()) + " mm; raise solver.size_cutoff)");
+}
+
+void check_liner_size(const Scene& scene, const std::string& file) {
+  const double shell = 2.0 * kPi * scene.radius_m() / scene.mill.mesh.shell_edge_m;
+  const double lifters =
+      scene.mill.rows * polyline_length(scene.mill.lifter.points) / scene.mill.mesh.lifter_edge_m;
+  if (shell + lifters <= double(kMaxLinerEdges)) return;
+  throw InputError(file, shell > lifters ? "lifters.shell_edge" : "lifters.lifter_edge",
+                   "expected a liner of at most " + count_text(double(kMaxLinerEdges)) + " edges, got about " +
+                       count_text(shell + lifters) + " (" + count_text(shell) + " on the shell, " +
+                       count_text(lifters) + " on the lifters)");
+}
+
+void check_run_limits(const Scene& scene, const std::string& file) {
+  check_step_counts(scene, file);
+  check_filling(scene, file);
+  check_liner_size(scene, file);
+  check_numerical_limits(scene, file);
+  check_profile_features(scene, file);
 }
 
 }  // namespace millwear

@@ -1,16 +1,24 @@
 #pragma once
-// Numerical limits of a scene: the ranges the stability suite (tests/stability_*.cpp)
-// measured as safe, checked before anything runs. docs/stability.md gives, knob by knob,
-// the safe range, the measured edge and what happens beyond it.
+// Limits of a scene, checked before anything is filled, simulated or written: what the
+// stability suite (tests/stability_*.cpp, docs/stability.md) measured as safe, and the
+// sizes a run can take. Every command runs check_run_limits after its own overrides
+// (fidelity, revolutions) and before it creates its output folder; the filling and the
+// settling check again, so a scene built in code meets the same limits.
 //
-// Checked here (InputError naming the key and the limit):
+// Checked here (InputError naming the file, the key and the limit):
 // - time step against particle size: a disk must not travel more than
 //   kMaxStepTravelRadii of the smallest radius in one step at the scene's impact speed
 //   (impact_speed_m_s): beyond it contacts are found too late, the position correction
 //   cannot push the overlap out, and disks leak through the one-sided liner.
+// - the lifter's thinnest part against the particles: metal thinner than the smallest
+//   particle radius lets a disk touch both of its faces at once, and disks leak through.
+// - counts, in 64 bits: steps of every phase (settling, spin-up, a measuring window or
+//   `charge`'s revolutions, a continuous stage), disks of the filling (none in a species
+//   that has a share of it is an error), liner edges.
 // Reported as events during a run instead (they depend on the run, not the input):
 // escaped or non-finite disks (engine), a lifter worn to the shell and rule 1's one-update
 // bound on wear.factor (wear loop).
+#include <cstdint>
 #include <string>
 
 #include "scene/scene.hpp"
@@ -31,7 +39,26 @@ double step_travel_radii(const Scene& scene);
 // sits at the clean edge, not the first leak).
 constexpr double kMaxStepTravelRadii = 1.6;
 
-// Throw InputError(file, key, ...) if the scene is outside a measured limit above.
-void check_numerical_limits(const Scene& scene, const std::string& file);
+// The most steps of any one phase: settling, spin-up, `charge`'s revolutions, a measuring
+// window (all its batches), the simulated time of a continuous stage. 1e8 steps of a
+// thousand disks are days of computing; a count past it is a typo, not a plan.
+constexpr std::int64_t kMaxPhaseSteps = 100'000'000;
+// The most disks a filling may ask for, and the most edges of the liner.
+constexpr std::int64_t kMaxDisks = 2'000'000;
+constexpr std::int64_t kMaxLinerEdges = 1'000'000;
+
+// Steps of `seconds` at time step dt (ceil, less a 1e-9 tolerance), in 64 bits;
+// INT64_MAX when the count does not fit (or is not a number).
+std::int64_t steps_in(double seconds, double dt_s);
+
+// Each throws InputError(file, key, ...) for a scene outside its limit.
+void check_numerical_limits(const Scene& scene, const std::string& file);  // time step
+void check_profile_features(const Scene& scene, const std::string& file);
+void check_step_counts(const Scene& scene, const std::string& file);
+void check_filling(const Scene& scene, const std::string& file);
+void check_liner_size(const Scene& scene, const std::string& file);
+
+// All of the above, in the order a user would fix them.
+void check_run_limits(const Scene& scene, const std::string& file);
 
 }  // namespace millwear

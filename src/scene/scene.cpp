@@ -18,6 +18,7 @@
 #include <toml++/toml.h>
 
 #include "common/errors.hpp"
+#include "common/names.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/table_reader.hpp"
 
@@ -125,6 +126,11 @@ using namespace toml_reader;  // Bounds, TableReader and the message helpers
 
 constexpr double kMm = 1e-3;  // mm -> m, the one conversion of lengths in scene files
 
+// 1e6 h (over a century of operation) bounds every time in hours; 1e4 revolutions every
+// count of revolutions (the step counts they give are bounded again in scene/limits.hpp).
+constexpr double kMaxHours = 1e6;
+constexpr double kMaxRevolutions = 1e4;
+
 const toml::table kEmpty;
 
 // Exactly one of two keys (both or neither is an error).
@@ -137,16 +143,19 @@ void exactly_one(const TableReader& r, const char* a, const char* b, const std::
 
 void read_mill(const TableReader& r, Scene& s) {
   MillDef& m = s.mill;
-  m.diameter_m = r.need_number("diameter", open_closed(0.0, 50.0), "m, inside the shell");
+  // 0.05 m: below any laboratory mill; 50 m: above the largest mill built.
+  m.diameter_m = r.need_number("diameter", closed(0.05, 50.0), "m, inside the shell");
   m.length_m = r.need_number("length", open_closed(0.0, 50.0), "m, belly length");
-  if (auto v = r.number("slice_thickness", non_negative(), "m; 0 = largest particle diameter"))
+  if (auto v = r.number("slice_thickness", closed(0.0, 50.0), "m; 0 = largest particle diameter"))
     m.slice_thickness_m = *v;
   exactly_one(r, "speed", "speed_rpm", "mill speed");
-  if (auto v = r.number("speed", open_closed(0.0, 2.0), "fraction of critical speed"))
+  // 0.01: a mill turning slower hardly lifts its charge (and one revolution takes hours of
+  // simulated time in a large mill).
+  if (auto v = r.number("speed", closed(0.01, 2.0), "fraction of critical speed"))
     m.speed_fraction_critical = *v;
   if (r.has("speed_rpm")) {
     const double crit_rpm = std::sqrt(kGravity / (0.5 * m.diameter_m)) * 60.0 / (2.0 * kPi);
-    const double rpm = *r.number("speed_rpm", open_closed(0.0, 2.0 * crit_rpm),
+    const double rpm = *r.number("speed_rpm", closed(0.01 * crit_rpm, 2.0 * crit_rpm),
                                  "rpm; critical speed of this mill is " + num_text(crit_rpm) + " rpm");
     m.speed_fraction_critical = rpm / crit_rpm;
   }
@@ -154,16 +163,18 @@ void read_mill(const TableReader& r, Scene& s) {
     m.direction = static_cast<Direction>(*v);
   if (r.has("reverse_every") && m.direction != Direction::Bidirectional)
     r.fail("reverse_every", "no reverse_every unless mill.direction = \"bidirectional\"");
-  if (auto v = r.number("reverse_every", positive(), "hours of operation"))
+  if (auto v = r.number("reverse_every", open_closed(0.0, kMaxHours), "hours of operation"))
     m.reverse_every_hours = *v;
 }
 
 void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
   if (!r.has("rows")) r.missing("rows", "an integer in [1, 1000] (lifter rows)");
   s.mill.rows = static_cast<int>(*r.integer("rows", 1, 1000, "lifter rows"));
-  if (auto v = r.number("shell_edge", positive(), "mm, target edge length on the shell"))
+  // 0.1 mm: finer than any particle the solver can take; the liner's edge count is bounded
+  // again once the lifter is known (scene/limits.hpp).
+  if (auto v = r.number("shell_edge", closed(0.1, 10000.0), "mm, target edge length on the shell"))
     s.mill.mesh.shell_edge_m = *v * kMm;
-  if (auto v = r.number("lifter_edge", positive(), "mm, target edge length on the lifters"))
+  if (auto v = r.number("lifter_edge", closed(0.1, 10000.0), "mm, target edge length on the lifters"))
     s.mill.mesh.lifter_edge_m = *v * kMm;
 
   const auto rel = r.string("profile");
@@ -182,15 +193,19 @@ SpeciesDef read_species(const TableReader& r) {
   SpeciesDef sp;
   if (auto v = r.string("name")) sp.name = *v;
   else r.missing("name", "a species name (e.g. \"rock\", \"ball\")");
-  if (sp.name.empty()) r.fail("name", "a non-empty name");
+  // Species names are written into snapshot files.
+  if (!is_safe_name(sp.name)) r.fail("name", safe_name_rule());
   if (auto v = r.boolean("ball")) sp.is_ball = *v;
-  sp.density_kg_m3 = r.need_number("density", open_closed(0.0, 25000.0), "kg/m^3");
+  // 100 kg/m^3: lighter than any ore or grinding medium (cork is 120); 25000: denser than
+  // any metal used for grinding.
+  sp.density_kg_m3 = r.need_number("density", closed(100.0, 25000.0), "kg/m^3");
 
   if (r.has("sizes") && r.has("size_range"))
     r.fail("size_range", "only one of 'sizes' (with mass_fractions) and 'size_range'");
   if (!r.has("sizes") && !r.has("size_range"))
     r.missing("sizes", "'sizes' (mm, with 'mass_fractions') or 'size_range' = [min, max] (mm)");
-  if (auto sizes = r.numbers("sizes", positive(), "mm, diameters", 1)) {
+  // 0.1 mm: fine rock; below it a charge would hold far more disks than any run can take.
+  if (auto sizes = r.numbers("sizes", closed(0.1, 20000.0), "mm, diameters", 1)) {
     for (double d : *sizes) sp.diameters_m.push_back(d * kMm);
     if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
       if (f->size() != sizes->size())
@@ -209,7 +224,7 @@ SpeciesDef read_species(const TableReader& r) {
   } else {
     if (r.has("mass_fractions"))
       r.fail("mass_fractions", "no mass_fractions with size_range (they go with 'sizes')");
-    const auto range = *r.numbers("size_range", positive(), "mm, diameters", 2);
+    const auto range = *r.numbers("size_range", closed(0.1, 20000.0), "mm, diameters", 2);
     if (range.size() != 2 || !(range[0] < range[1]))
       r.fail("size_range", "[min, max] with 0 < min < max (mm)");
     sp.d_min_m = range[0] * kMm;
@@ -270,27 +285,29 @@ void read_solver(const TableReader& r, Scene& s) {
   if (r.has("time_step") && r.has("steps_per_second"))
     r.fail("steps_per_second", "only one of 'solver.time_step' and 'solver.steps_per_second'");
   // 0.05 s: beyond it a disk falls more than its own size per step under gravity alone.
-  if (auto x = r.number("time_step", open_closed(0.0, 0.05), "s")) v.time_step_s = *x;
-  if (auto x = r.number("steps_per_second", {20.0, kInf, false, false}, "steps per simulated s"))
+  // 1e-6 s: a microsecond step is finer than any DEM of a mill needs.
+  if (auto x = r.number("time_step", closed(1e-6, 0.05), "s")) v.time_step_s = *x;
+  if (auto x = r.number("steps_per_second", closed(20.0, 1e6), "steps per simulated s"))
     v.time_step_s = 1.0 / *x;
   if (auto x = r.integer("velocity_iterations", 1, 1000)) v.velocity_iterations = static_cast<int>(*x);
   if (auto x = r.integer("position_iterations", 1, 1000)) v.position_iterations = static_cast<int>(*x);
   if (auto x = r.integer("substeps", 1, 1000)) v.substeps = static_cast<int>(*x);
-  if (auto x = r.number("contact_hertz", non_negative(), "Hz; 0: substeps / time_step / 8"))
+  if (auto x = r.number("contact_hertz", closed(0.0, 1e7), "Hz; 0: substeps / time_step / 8"))
     v.contact_hertz = *x;
-  if (auto x = r.number("damping_ratio", positive(), "contact damping ratio")) v.damping_ratio = *x;
-  if (auto x = r.number("push_out", positive(), "smallest particle radii per second"))
+  if (auto x = r.number("damping_ratio", open_closed(0.0, 1e4), "contact damping ratio")) v.damping_ratio = *x;
+  if (auto x = r.number("push_out", open_closed(0.0, 1e6), "smallest particle radii per second"))
     v.push_out_radii_per_s = *x;
-  if (auto x = r.number("settle_time", non_negative(), "s")) v.settle_time_s = *x;
-  if (auto x = r.number("spinup_revolutions", non_negative(), "revolutions")) v.spinup_revolutions = *x;
+  if (auto x = r.number("settle_time", closed(0.0, 1000.0), "s")) v.settle_time_s = *x;
+  if (auto x = r.number("spinup_revolutions", closed(0.0, 1000.0), "revolutions")) v.spinup_revolutions = *x;
   if (auto x = r.integer("seed", 0, std::numeric_limits<long long>::max()))
     v.seed = static_cast<std::uint64_t>(*x);
-  if (auto x = r.number("size_cutoff", non_negative(), "mm; rock sizes below are left out"))
+  if (auto x = r.number("size_cutoff", closed(0.0, 20000.0), "mm; rock sizes below are left out"))
     v.size_cutoff_m = *x * kMm;
 }
 
 void read_run(const TableReader& r, Scene& s) {
-  if (auto x = r.number("revolutions", positive(), "measured revolutions")) s.run.revolutions = *x;
+  if (auto x = r.number("revolutions", open_closed(0.0, kMaxRevolutions), "measured revolutions"))
+    s.run.revolutions = *x;
 }
 
 void read_wear(const TableReader& r, Scene& s) {
@@ -304,32 +321,37 @@ void read_wear(const TableReader& r, Scene& s) {
     if (given == 0) r.missing("wear_rate", what);
     r.fail(r.has("height_loss_rate") ? "height_loss_rate" : "area_loss_rate", what);
   }
-  if (auto x = r.number("wear_rate", positive(), "m^3/J, Archard C = K/H")) {
+  // 1e-6 m^3/J: a million times any measured Archard rate of mill liners (1e-18 to 1e-12).
+  if (auto x = r.number("wear_rate", open_closed(0.0, 1e-6), "m^3/J, Archard C = K/H")) {
     w.rate_source = WearRateSource::Given;
     w.wear_rate_m3_per_J = *x;
   }
-  if (auto x = r.number("area_loss_rate", positive(), "mm^2 of lifter area per 1000 h, new lifter")) {
+  if (auto x = r.number("area_loss_rate", open_closed(0.0, 1e9), "mm^2 of lifter area per 1000 h, new lifter")) {
     w.rate_source = WearRateSource::AreaLossRate;
     w.calibration_value = *x;
     w.wear_rate_m3_per_J = 0.0;  // the wear module calibrates C from it
   }
-  if (auto x = r.number("height_loss_rate", positive(), "mm of lifter height per h, new lifter")) {
+  if (auto x = r.number("height_loss_rate", open_closed(0.0, 1000.0), "mm of lifter height per h, new lifter")) {
     w.rate_source = WearRateSource::HeightLossRate;
     w.calibration_value = *x;
     w.wear_rate_m3_per_J = 0.0;
   }
-  if (auto x = r.number("factor", positive(), "C_model = factor * C")) w.factor = *x;
-  if (auto x = r.number("stage_hours", positive(), "hours of operation")) w.stage_hours = *x;
+  // 1e12: a whole liner life (1e4 h) in under a tenth of a simulated second; any larger
+  // wears a lifter away within one window.
+  if (auto x = r.number("factor", open_closed(0.0, 1e12), "C_model = factor * C")) w.factor = *x;
+  if (auto x = r.number("stage_hours", open_closed(0.0, kMaxHours), "hours of operation")) w.stage_hours = *x;
   if (auto x = r.integer("stages", 1, 10000)) w.stages = static_cast<int>(*x);
-  if (auto x = r.number("window_revolutions", positive(), "revolutions")) w.window_revolutions = *x;
-  if (auto x = r.number("max_depth_step", positive(), "mm")) w.max_depth_step_m = *x * kMm;
-  if (auto x = r.number("update_interval", positive(), "s of simulated time")) w.update_interval_s = *x;
-  if (auto x = r.number("smoothing_radius", non_negative(), "mm; 0 = smallest particle radius"))
+  if (auto x = r.number("window_revolutions", open_closed(0.0, kMaxRevolutions), "revolutions"))
+    w.window_revolutions = *x;
+  if (auto x = r.number("max_depth_step", open_closed(0.0, 1000.0), "mm")) w.max_depth_step_m = *x * kMm;
+  if (auto x = r.number("update_interval", open_closed(0.0, 1000.0), "s of simulated time"))
+    w.update_interval_s = *x;
+  if (auto x = r.number("smoothing_radius", closed(0.0, 1000.0), "mm; 0 = smallest particle radius"))
     w.smoothing_radius_m = *x * kMm;
   if (auto x = r.boolean("average_rows")) w.average_rows = *x;
   if (auto x = r.boolean("shell_wear")) w.shell_wear = *x;
   if (auto x = r.boolean("packed_wear")) w.packed_wear = *x;
-  if (auto x = r.number("replacement_height", non_negative(), "mm")) w.replacement_height_m = *x * kMm;
+  if (auto x = r.number("replacement_height", closed(0.0, 10000.0), "mm")) w.replacement_height_m = *x * kMm;
   if (auto x = r.number("target_uncertainty", {0.0, 1.0, false, true}, "relative; 0 = off"))
     w.target_rel_uncertainty = *x;
 }
@@ -353,9 +375,15 @@ void check_scene(const Scene& s, const std::string& file) {
     }
     // The lifter bases must not touch: base width < pitch (arc between rows at the shell).
     const double pitch = 2.0 * kPi * R / s.mill.rows;
+    const double rows_that_fit = std::floor(2.0 * kPi * R / (xmax - xmin) - 1e-9);
+    if (!(rows_that_fit >= 1.0))
+      throw InputError(file, "lifters.profile",
+                       "expected a lifter base narrower than the shell's circumference (" +
+                           num_text(2.0 * kPi * R / kMm) + " mm); profile '" + s.mill.lifter.name + "' is " +
+                           num_text((xmax - xmin) / kMm) + " mm wide at its base");
     if (xmax - xmin >= pitch)
       throw InputError(file, "lifters.rows",
-                       "expected at most " + std::to_string(int(std::floor(2.0 * kPi * R / (xmax - xmin) - 1e-9))) +
+                       "expected at most " + std::to_string(static_cast<long long>(std::min(rows_that_fit, 1e9))) +
                            " rows: the lifter base (" + num_text((xmax - xmin) / kMm) +
                            " mm) must be narrower than the pitch (" + num_text(pitch / kMm) + " mm)");
     // Lifters reaching past half the radius leave no room for a charge at any filling.
@@ -404,11 +432,12 @@ Scene load_scene(const std::string& path) {
 
   Scene s;
   s.source_file = path;
-  s.name = fs::path(path).stem().string();
+  s.name = safe_name_from(fs::path(path).stem().string());
   TableReader top(root, "", path, &s.explicit_keys,
                   {"name", "fidelity", "mill", "lifters", "charge", "solver", "run", "wear", "outputs"});
   if (auto v = top.string("name")) {
-    if (v->empty()) top.fail("name", "a non-empty scene name");
+    // The name is part of output file names and CSV rows.
+    if (!is_safe_name(*v)) top.fail("name", safe_name_rule());
     s.name = *v;
   }
   std::string fidelity = "standard";

@@ -6,6 +6,7 @@
 // files (scene/, screen/): no toml++ type leaves them.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <set>
@@ -76,7 +77,22 @@ inline std::string value_text(const toml::node& n) {
   if (n.is_integer()) return std::to_string(n.as_integer()->get());
   if (n.is_floating_point()) return num_text(n.as_floating_point()->get());
   if (n.is_boolean()) return n.as_boolean()->get() ? "true" : "false";
-  if (n.is_string()) return "'" + n.as_string()->get() + "'";
+  if (n.is_string()) {
+    // Shown in a message: cut long strings, and show control characters as escapes.
+    const std::string& v = n.as_string()->get();
+    std::string out = "'";
+    for (std::size_t i = 0; i < v.size() && i < 40; ++i) {
+      const unsigned char c = static_cast<unsigned char>(v[i]);
+      if (c < 0x20 || c == 0x7f) {
+        char esc[8];
+        std::snprintf(esc, sizeof esc, "\\x%02x", c);
+        out += esc;
+      } else {
+        out += v[i];
+      }
+    }
+    return out + (v.size() > 40 ? "..." : "") + "'";
+  }
   if (n.is_array()) {
     std::string out = "[";
     for (std::size_t i = 0; i < n.as_array()->size(); ++i)
@@ -113,6 +129,22 @@ inline std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// A key as shown in a message: control characters escaped, cut after 64 characters.
+inline std::string printable_key(const std::string& key) {
+  std::string out;
+  for (std::size_t i = 0; i < key.size() && i < 64; ++i) {
+    const unsigned char c = static_cast<unsigned char>(key[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\x%02x", c);
+      out += esc;
+    } else {
+      out += key[i];
+    }
+  }
+  return key.size() > 64 ? out + "..." : out;
+}
+
 // One TOML table with a dotted prefix and its list of allowed keys. Every accessor checks
 // the type and range and records the key in the scene's explicit keys.
 class TableReader {
@@ -128,6 +160,7 @@ class TableReader {
       std::string best;
       std::size_t best_d = 3;  // suggest only near misses (typos)
       for (const auto& a : allowed_) {
+        if (key.size() > a.size() + best_d) continue;
         const std::size_t d = edit_distance(key, a);
         if (d < best_d) best_d = d, best = a;
       }
@@ -135,7 +168,7 @@ class TableReader {
       expected += "; allowed here: ";
       for (std::size_t i = 0; i < allowed_.size(); ++i)
         expected += (i ? ", " : "") + allowed_[i];
-      throw InputError(file_, full(key), expected + line_text(v));
+      throw InputError(file_, full(printable_key(key)), expected + line_text(v));
     }
   }
 

@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "common/errors.hpp"
+#include "common/names.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -32,6 +33,9 @@ namespace tr = toml_reader;
 namespace {
 
 constexpr double kDeg = kPi / 180.0;
+
+// The most candidates a screen may have, drawn or on a grid.
+constexpr int kMaxCandidates = 100000;
 
 // A family parameter: a number, a list of numbers, or {min, max[, steps]}.
 Axis read_axis(const tr::TableReader& r, const char* key, tr::Bounds b, const std::string& unit,
@@ -115,7 +119,7 @@ ScreenDef load_screen(const std::string& path) {
                     {"name", "base", "fidelity", "stages", "stage_hours", "sampling", "samples", "seed",
                      "equal_area", "power"});
   if (auto v = s.string("name")) {
-    if (!io::is_valid_design_name(*v)) s.fail("name", "a name of letters, digits, '.', '-' and '_'");
+    if (!io::is_valid_design_name(*v)) s.fail("name", safe_name_rule());
     d.name = *v;
   }
   const auto base = s.string("base");
@@ -129,8 +133,8 @@ ScreenDef load_screen(const std::string& path) {
   if (auto v = s.number("stage_hours", tr::positive(), "hours of operation")) d.stage_hours = *v;
   if (auto v = s.choice("sampling", {"grid", "latin_hypercube"})) d.sampling = static_cast<Sampling>(*v);
   if (d.sampling == Sampling::LatinHypercube) {
-    if (!s.has("samples")) s.missing("samples", "an integer in [1, 100000] (candidates to draw)");
-    d.samples = static_cast<int>(*s.integer("samples", 1, 100000, "candidates to draw"));
+    if (!s.has("samples")) s.missing("samples", "an integer in [1, " + std::to_string(kMaxCandidates) + "] (candidates to draw)");
+    d.samples = static_cast<int>(*s.integer("samples", 1, kMaxCandidates, "candidates to draw"));
   } else if (s.has("samples")) {
     s.fail("samples", "no samples with sampling = \"grid\" (the grid takes every combination)");
   }
@@ -196,6 +200,20 @@ ScreenDef load_screen(const std::string& path) {
   }
   if (!d.equal_area.empty() && d.top_width_mm.given)
     f.fail("top_width", "no top_width with screen.equal_area (the area sets the top width)");
+
+  // A grid takes every combination: bound their count before any is made (each axis is
+  // bounded alone; their product is not). The same bound as screen.samples.
+  if (d.sampling == Sampling::Grid) {
+    double combinations = std::max<double>(1.0, double(d.profiles.size())) * std::max<double>(1.0, double(d.directions.size()));
+    for (const Axis* a : {&d.height_mm, &d.top_width_mm, &d.leading_deg, &d.trailing_deg, &d.rows})
+      if (a->given) combinations *= double(std::max<std::size_t>(1, a->values.size()));
+    if (combinations > double(kMaxCandidates))
+      throw InputError(path, "family",
+                       "expected a grid of at most " + std::to_string(kMaxCandidates) +
+                           " candidates (the product of the values of every family parameter), got " +
+                           tr::num_text(combinations) + "; use fewer steps or sampling = \"latin_hypercube\"" +
+                           (ft ? tr::line_text(*ft) : std::string()));
+  }
 
   // The base scene: its own errors name it.
   const Scene b = load_scene(d.base_scene);
@@ -403,7 +421,7 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
     try {
       const Scene s = load_scene(scene_path);
       build_scene_mill(s);
-      check_numerical_limits(s, scene_path);
+      check_run_limits(s, scene_path);
       check_smoothing_radius(s, scene_path);  // a lifter narrower than the smoothing would vanish
       if (c.area_mm2 <= 0.0) c.area_mm2 = measure_profile(s.mill.lifter.points).area_m2 * 1e6;
     } catch (const InputError& e) {

@@ -40,12 +40,8 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   Scene scene = load_scene(scene_file);  // throws InputError naming the file and key
   if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
   // The measured limits too, so a scene outside them stops here (exit 2), before any work.
-  check_numerical_limits(scene, scene_file);
+  check_run_limits(scene, scene_file);
   check_smoothing_radius(scene, scene_file);
-  if (!io::is_valid_design_name(scene.name))
-    throw InputError(scene_file, "name",
-                     "a design name of letters, digits, '.', '-' and '_' (it names the output "
-                     "files), found '" + scene.name + "'");
   for (const auto& d : plan.designs)
     if (d.name == scene.name)
       throw InputError(scene_file, "name",

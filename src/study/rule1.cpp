@@ -1,6 +1,8 @@
 // Rule 1: the wear history at several C_model factors, and how far their profiles part.
 #include "study/rule1.hpp"
 
+#include "scene/limits.hpp"
+
 #include <algorithm>
 #include <chrono>
 
@@ -17,6 +19,15 @@ Rule1Report rule1_check(const Scene& scene, std::vector<double> factors, double 
   std::sort(factors.begin(), factors.end());
   Rule1Report report;
   report.tolerance_pct_height = tolerance_pct_height;
+  // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
+  for (double f : factors) {
+    Scene s = scene;
+    s.wear.mode = WearMode::Continuous;
+    s.wear.factor = f;
+    if (!(f > 0.0 && f <= 1e12))
+      throw InputError("", "--factors", "factors in (0, 1e12], got " + std::to_string(f));
+    check_run_limits(s, scene.source_file);
+  }
   const MillGeometry new_mill = build_scene_mill(scene);
   const double height = measure_lifter(new_mill.units[0], new_mill.radius_m).height_m;
   for (double f : factors) {

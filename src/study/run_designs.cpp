@@ -179,6 +179,11 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
       history = run_wear_history(d.scene, cb, resume_from);
     }
     have = true;
+    // Stopped by rule 1 or a lost disk: the finished stages stay, the design failed.
+    if (!history.failure.empty()) {
+      status = DesignStatus::Failed;
+      error = history.failure;
+    }
   } catch (const std::exception& e) {
     const bool stopping = stop_requested(opt) || st.stop.load();
     status = stopping ? DesignStatus::Interrupted : DesignStatus::Failed;

@@ -1,6 +1,8 @@
 // Speed against accuracy: the fidelity ladder, its runs and their errors (see tradeoff.hpp).
 #include "study/tradeoff.hpp"
 
+#include "scene/limits.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -50,6 +52,12 @@ struct HistoryDigest {
   double life_h = 0.0;
   bool life_extrapolated = false;
 };
+
+// Every setting's scenes within the run limits, before any of them runs.
+void check_ladder(const TradeoffLadder& ladder) {
+  for (const auto& setting : ladder.settings)
+    for (const Scene& s : setting.scenes) check_run_limits(s, s.source_file);
+}
 
 }  // namespace
 
@@ -106,7 +114,11 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
         kept.push_back(std::move(l.settings[k]));
     l.settings = std::move(kept);
   };
-  if (o.quick) { keep_only(ladder); return ladder; }
+  if (o.quick) {
+    keep_only(ladder);
+    check_ladder(ladder);
+    return ladder;
+  }
 
   std::vector<Scene> std_scenes = base;
   for (Scene& s : std_scenes) apply_fidelity(s, "standard");
@@ -231,6 +243,7 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     knob("smoothing", {"wear.smoothing_radius"}, values);
   }
   keep_only(ladder);
+  check_ladder(ladder);
   return ladder;
 }
 

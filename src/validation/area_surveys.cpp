@@ -82,6 +82,19 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2) {
   return m;
 }
 
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file) {
+  const MeasuredAreas m = measured_areas(surveys, new_area_m2);
+  double moment = 0.0;
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i) moment += surveys.surveys[i].hours * m.loss_m2[i];
+  if (moment > 0.0 || surveys.surveys.empty()) return;
+  throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
+                   std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
+                               "lost); these ") +
+                       (surveys.losses ? "area losses are not positive" : "areas grow with time") +
+                       " (the reference area is " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") +
+                       ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
+}
+
 std::vector<double> Measurements::hours() const {
   return areas_only ? survey_hours(areas) : survey_hours(profiles);
 }

@@ -54,6 +54,11 @@ struct MeasuredAreas {
 };
 MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2);
 
+// A wear rate can be fitted only to areas that shrink with operating time: throws
+// InputError(file, line of the last survey, ...) unless the area loss, fitted through 0 h,
+// grows with the hours (sum of hours x loss > 0).
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file);
+
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
 // or area surveys (area_mm2 or area_loss_mm2, no x_mm/y_mm), told apart by the header.
 struct Measurements {

@@ -168,6 +168,7 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     const auto t0 = std::chrono::steady_clock::now();
     const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
     WearHistory h = run_history ? run_history(s) : run_wear_history(s);
+    throw_if_failed(h);
     CalibrationRun r;
     r.run = run;
     r.c_m3_per_J = h.wear_rate_m3_per_J;

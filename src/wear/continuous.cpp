@@ -3,6 +3,7 @@
 // simulated second stands for `factor` seconds of operation (rule 1: C_model * n and time
 // / n give the same profiles while one update stays a small change of the geometry).
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "common/units.hpp"
@@ -30,9 +31,12 @@ WearStep continuous_step(const Scene& scene, const MillGeometry& mill, Engine& e
   step.depths = archard_depths(scene, mill, work, w.factor * rate_m3_per_J);
   const double worst = deepest(step.depths);
   if (worst > kMaxUpdateHeightFraction * new_height_m) {
-    step.stop_event = "stage " + std::to_string(stage) + ": wear.factor " + std::to_string(w.factor) + " wore " +
-                      std::to_string(worst * 1e3) + " mm in one update (over a quarter of the lifter): "
-                      "C_model is too large for rule 1; lower wear.factor";
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "stage %d: wear.factor %g wore %.3g mm in one update (over a quarter of the lifter): C_model is "
+                  "too large for rule 1; lower wear.factor",
+                  stage, w.factor, worst * 1e3);
+    step.stop_event = buf;
     step.depths.clear();
   }
   return step;

@@ -161,6 +161,7 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
     run.disk_steps += step.disk_steps;
     if (!step.stop_event.empty()) {
       history.events.push_back(step.stop_event);
+      if (history.failure.empty()) history.failure = step.stop_event;
       return StageEnd::StoppedByRule;
     }
     run.mill = build_mill(run.mill.radius_m, run.mill.rows,
@@ -231,12 +232,22 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     history.wear_rate_m3_per_J = c_real;
     // A resumed run's first stage is on disk already: it is re-simulated only to wear on.
     const bool on_record = !(k == first_stage && resumed);
+    // A lost disk makes the figures from there on suspect: the stage it happened in is
+    // kept with the event named, and the history stops.
+    std::size_t events_seen = 0;
+    auto note_lost_disks = [&] {
+      const auto& events = run.engine->events();
+      for (; events_seen < events.size(); ++events_seen) {
+        history.events.push_back("stage " + std::to_string(k) + ": " + events[events_seen].what);
+        if (history.failure.empty()) history.failure = history.events.back() + " (a disk was lost)";
+      }
+      return !history.failure.empty();
+    };
     if (on_record) {
       history.stages.push_back(stage_record(scene, liner, run, c_real));
-      for (const auto& e : run.engine->events())
-        history.events.push_back("stage " + std::to_string(k) + ": " + e.what);
+      const bool lost = note_lost_disks();
       const bool worn_out = history.stages.back().worn_out;
-      if (k == scene.wear.stages || worn_out) {
+      if (k == scene.wear.stages || worn_out || lost) {
         finish_stage(history, run, cb);
         if (worn_out) history.events.push_back("stage " + std::to_string(k) + ": the lifter is worn to the shell");
         break;
@@ -257,8 +268,10 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
       }
       throw;
     }
-    if (end == StageEnd::StoppedByRule) break;
+    const bool lost = note_lost_disks();
+    if (end == StageEnd::StoppedByRule || (lost && !on_record)) break;
     if (on_record) finish_stage(history, run, cb);
+    if (lost) break;
     report_progress(cb, run);
     if (end == StageEnd::WornOut) {
       record_worn_out(history, run, cb);
@@ -269,6 +282,10 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
   }
   compute_life(history, scene.wear.replacement_height_m);
   return history;
+}
+
+void throw_if_failed(const WearHistory& history) {
+  if (!history.failure.empty()) throw RunError(history.failure);
 }
 
 }  // namespace millwear

@@ -45,7 +45,14 @@ struct WearHistory {
   bool life_extrapolated = false;
   double wear_rate_m3_per_J = 0.0;   // real C used
   std::vector<std::string> events;   // worn flat, escaped disks, NaN, rule-1 bound
+  // The first event that makes the history's figures suspect (a disk lost, rule 1's bound
+  // stopping the loop); empty when the history ran to its end or the shell. The history
+  // keeps every stage finished before it; a caller reports it as a failed run (exit 1).
+  std::string failure;
 };
+
+// Throws RunError(history.failure) if the history has one.
+void throw_if_failed(const WearHistory& history);
 
 struct WearProgress {
   int stage = 0;

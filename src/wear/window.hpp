@@ -7,15 +7,11 @@
 #include <vector>
 
 #include "engine/engine.hpp"
+#include "metrics/batch_means.hpp"
 #include "mill/mill.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear {
-
-// A window's batches: at least kWindowBatches (the smallest count whose batch means give a
-// usable error), extended up to kMaxWindowBatches while the error misses its target.
-constexpr int kWindowBatches = 4;
-constexpr int kMaxWindowBatches = 16;
 
 // What one window measured on one geometry.
 struct WindowWork {

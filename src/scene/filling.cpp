@@ -1,0 +1,67 @@
+// Disk counts of a filling (see filling.hpp).
+#include "scene/filling.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "common/units.hpp"
+
+namespace millwear {
+
+double species_area_m2(const Scene& scene, std::size_t k) {
+  const ChargeDef& c = scene.charge;
+  const double mill_area_m2 = kPi * scene.radius_m() * scene.radius_m();
+  int balls = 0, rocks = 0;
+  for (const auto& sp : c.species) (sp.is_ball ? balls : rocks)++;
+  const bool ball = c.species[k].is_ball;
+  const double kind_area = (ball ? c.ball_filling : c.filling - c.ball_filling) * mill_area_m2 * c.bulk_packing;
+  return kind_area / std::max(ball ? balls : rocks, 1);
+}
+
+std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k) {
+  const SpeciesDef sp = scene.species_as_placed()[k];  // the cut-off applied, fractions renormalised
+  const SpeciesDef& given = scene.charge.species[k];
+  std::vector<std::int64_t> count(given.diameters_m.size(), 0);
+  if (given.diameters_m.empty() || sp.diameters_m.empty()) return count;
+  const double area = species_area_m2(scene, k);
+  // Real-valued counts of the sizes kept, in the order given.
+  std::vector<double> exact(given.diameters_m.size(), 0.0);
+  std::size_t kept = 0;
+  for (std::size_t j = 0; j < given.diameters_m.size(); ++j) {
+    if (kept == sp.diameters_m.size() || given.diameters_m[j] != sp.diameters_m[kept]) continue;
+    const double d = sp.diameters_m[kept];
+    exact[j] = area * sp.mass_fractions[kept] / (0.25 * kPi * d * d);
+    ++kept;
+  }
+  double total = 0.0;
+  std::int64_t whole = 0;
+  for (std::size_t j = 0; j < exact.size(); ++j) {
+    count[j] = static_cast<std::int64_t>(std::floor(exact[j]));
+    whole += count[j];
+    total += exact[j];
+  }
+  // The disks left over go to the largest remainders; ties to the earlier size.
+  std::int64_t left = std::llround(total) - whole;
+  std::vector<std::size_t> order(exact.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return exact[a] - std::floor(exact[a]) > exact[b] - std::floor(exact[b]);
+  });
+  for (std::size_t i = 0; i < order.size() && left > 0; ++i, --left) ++count[order[i]];
+  return count;
+}
+
+double expected_disks(const Scene& scene, std::size_t k) {
+  const SpeciesDef sp = scene.species_as_placed()[k];
+  if (!sp.diameters_m.empty()) {
+    const auto n = disks_per_size(scene, k);
+    return static_cast<double>(std::accumulate(n.begin(), n.end(), std::int64_t{0}));
+  }
+  // Mean area of a disk whose diameter is uniform in [lo, hi]: pi/4 (lo^2 + lo hi + hi^2)/3.
+  const double lo = sp.d_min_m, hi = sp.d_max_m;
+  const double mean_area = 0.25 * kPi * (lo * lo + lo * hi + hi * hi) / 3.0;
+  return species_area_m2(scene, k) / mean_area;
+}
+
+}  // namespace millwear

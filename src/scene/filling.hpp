@@ -1,0 +1,28 @@
+#pragma once
+// How many disks of each size the scene's filling asks for. The charge's solid area (the
+// filling times the bulk packing, of the mill's area) goes to the ball and rock species in
+// equal shares within each kind, and within a species to its sizes by mass fraction (area
+// fraction in a slice of one density). Counts are whole disks: each size gets the whole
+// part of its share, and the disks left over (the species' total, rounded) go to the sizes
+// with the largest remainders, so a species matches its share within one disk however many
+// sizes it has. The filling (engine/fill.cpp) places exactly these counts; the limits
+// (scene/limits.hpp) bound them before anything is placed.
+#include <cstdint>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace millwear {
+
+// Solid area (m^2 of the slice) species k of scene.species_as_placed() is to fill.
+double species_area_m2(const Scene& scene, std::size_t k);
+
+// Disks per size of a species with discrete sizes (same order as its diameters_m; sizes left
+// out by the cut-off get 0). Empty for a species with a uniform size range.
+std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
+
+// The disks species k will get: exact for discrete sizes; for a uniform range, the share
+// over the mean disk area (the draw stops within half a disk of the share).
+double expected_disks(const Scene& scene, std::size_t k);
+
+}  // namespace millwear

@@ -1,0 +1,320 @@
+// Hostile input: every bound is checked before anything is filled, simulated or written, and
+// the exit code says whether the figures are real (0), the run failed with an event named
+// (1) or the input was refused naming the file and key (2).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <string>
+
+#include "cli_support.hpp"
+#include "common/errors.hpp"
+#include "common/names.hpp"
+#include "geometry/polyline.hpp"
+#include "scene/filling.hpp"
+#include "scene/limits.hpp"
+#include "scene/scene.hpp"
+
+namespace fs = std::filesystem;
+using millwear::testing::quoted;
+using millwear::testing::read_text;
+using millwear::testing::run_millwear;
+
+namespace {
+
+const std::string kSource = MILLWEAR_SOURCE_DIR;
+
+// A fresh folder for one test.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("millwear-hostile-" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+// The lab mill scene with one line replaced (and its profile found from anywhere).
+std::string lab_mill_with(const std::string& from, const std::string& to) {
+  std::string s = read_text(kSource + "/scenarios/lab-mill.toml");
+  const std::string prof = "\"../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  if (!from.empty()) {
+    const auto at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+  }
+  return s;
+}
+
+// A refusal: exit 2, the message names the file and the key, nothing was written.
+void expect_refused(const millwear::testing::CliResult& r, const std::string& file, const std::string& key,
+                    const fs::path& out) {
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(file), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(key), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << "the refusal wrote " << out;
+}
+
+}  // namespace
+
+// ---- step counts ---------------------------------------------------------------------------
+
+TEST(HostileSteps, CountsPastSixtyFourBitsSaturateInsteadOfWrapping) {
+  EXPECT_EQ(millwear::steps_in(1e300, 1e-3), std::numeric_limits<std::int64_t>::max());
+  EXPECT_EQ(millwear::steps_in(3e6 * 1.3, 1e-3), 3'900'000'000LL);  // past int: no wrap to 0
+  EXPECT_EQ(millwear::steps_in(0.0, 1e-3), 0);
+  EXPECT_EQ(millwear::steps_in(1e-3, 1e-3), 1);
+}
+
+TEST(HostileSteps, ChargeRevolutionsPastTheLimitAreRefused) {
+  const fs::path dir = scratch("revolutions");
+  const auto r = run_millwear("charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " -o " +
+                              quoted(dir / "out") + " --revolutions 3e6");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--revolutions"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(HostileSteps, HugeOrTinyTimesInTheSceneAreRefusedNamingTheKey) {
+  const fs::path dir = scratch("times");
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"window_revolutions = 1.0", "window_revolutions = 1e300", "wear.window_revolutions"},
+      {"time_step = 0.001 ", "time_step = 1e-300 ", "solver.time_step"},
+      {"speed = 0.75 ", "speed = 1e-300 ", "mill.speed"},
+      {"settle_time = 0.5 ", "settle_time = 1e300 ", "solver.settle_time"},
+      {"spinup_revolutions = 1.0", "spinup_revolutions = 1e300", "solver.spinup_revolutions"},
+      {"stage_hours = 100.0", "stage_hours = 1e300", "wear.stage_hours"},
+  };
+  for (const auto& [from, to, key] : cases) {
+    SCOPED_TRACE(to);
+    const fs::path scene = dir / "scene.toml";
+    write(scene, lab_mill_with(from, to));
+    expect_refused(run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(), key,
+                   dir / "out");
+    expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(), key,
+                   dir / "out");
+  }
+}
+
+// A window of 1e4 revolutions passes the key's own range but not the step count at a fine step.
+TEST(HostileSteps, AWindowOfTooManyStepsIsRefusedWithTheLimit) {
+  millwear::Scene s = millwear::load_scene(kSource + "/scenarios/lab-mill.toml");
+  s.wear.window_revolutions = 1e4;
+  s.solver.time_step_s = 1e-5;
+  try {
+    millwear::check_step_counts(s, "lab.toml");
+    FAIL() << "not refused";
+  } catch (const millwear::InputError& e) {
+    EXPECT_EQ(e.where, "wear.window_revolutions");
+    EXPECT_NE(e.expected.find("at most 1e+08 time steps"), std::string::npos) << e.expected;
+  }
+}
+
+// ---- physical ranges -------------------------------------------------------------------------
+
+TEST(HostileRanges, ADensityOfNothingIsRefused) {
+  const fs::path dir = scratch("density");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_mill_with("density = 7800.0", "density = 1e-300"));
+  expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(),
+                 "charge.species[0].density", dir / "out");
+}
+
+// Sizes this fine would fill the mill with more disks than any run can take, and a time step
+// to match: refused at once, not after minutes of filling.
+TEST(HostileRanges, DustSizesAreRefusedBeforeTheFill) {
+  const fs::path dir = scratch("dust");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_mill_with("size_range = [15.0, 25.0]", "size_range = [0.05, 0.1]"));
+  for (const char* cmd : {"charge", "rule1", "animate"}) {
+    SCOPED_TRACE(cmd);
+    const std::string out = std::string(cmd) == "animate" ? " -o " + quoted(dir / "out" / "a.gif")
+                            : std::string(cmd) == "rule1" ? "" : " -o " + quoted(dir / "out");
+    expect_refused(run_millwear(std::string(cmd) + " " + quoted(scene) + out), scene.string(),
+                   "charge.species[0].size_range", dir / "out");
+  }
+}
+
+// ---- names -----------------------------------------------------------------------------------
+
+TEST(HostileNames, SafeNamesAreOneRule) {
+  EXPECT_TRUE(millwear::is_safe_name("2x30"));
+  EXPECT_TRUE(millwear::is_safe_name("sag-1x30_v2.1+hi"));
+  for (const std::string bad : {"", ".hidden", "a,b", "a\"b", "a\nb", "a b", "../x", "a/b"})
+    EXPECT_FALSE(millwear::is_safe_name(bad)) << bad;
+  EXPECT_FALSE(millwear::is_safe_name(std::string(65, 'a')));
+  EXPECT_EQ(millwear::safe_name_from("Mill 3, liner"), "Mill_3__liner");
+  EXPECT_EQ(millwear::safe_name_from(".x"), "_x");
+  EXPECT_EQ(millwear::safe_name_from(std::string(100, 'b')).size(), millwear::kMaxNameLength);
+}
+
+// A name with a comma, a quote or a line end would break the CSV files `charge` writes.
+TEST(HostileNames, NamesThatWouldBreakCsvAreRefusedByCharge) {
+  const fs::path dir = scratch("names");
+  const fs::path scene = dir / "scene.toml";
+  for (const std::string& name : std::vector<std::string>{"a,b", "a\\\"b", "a\\nb", std::string(1 << 20, 'n')}) {
+    write(scene, lab_mill_with("name = \"lab-mill\"", "name = \"" + name + "\""));
+    expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(),
+                   "name", dir / "out");
+  }
+  write(scene, lab_mill_with("name = \"ball\"", "name = \"steel, hard\""));
+  expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(),
+                 "charge.species[0].name", dir / "out");
+}
+
+// ---- filling ---------------------------------------------------------------------------------
+
+namespace {
+
+// The lab mill with one ball species of n sizes in equal mass fractions, from d0 by step.
+millwear::Scene many_sizes(int n, double d0_m, double step_m) {
+  millwear::Scene s = millwear::load_scene(kSource + "/scenarios/lab-mill.toml");
+  millwear::SpeciesDef& sp = s.charge.species[0];
+  sp.diameters_m.clear();
+  sp.mass_fractions.assign(n, 1.0 / n);
+  for (int i = 0; i < n; ++i) sp.diameters_m.push_back(d0_m + i * step_m);
+  return s;
+}
+
+// What the filling asks of each size, in disks (real-valued).
+std::vector<double> exact_counts(const millwear::Scene& s) {
+  const millwear::SpeciesDef& sp = s.charge.species[0];
+  std::vector<double> n;
+  for (std::size_t j = 0; j < sp.diameters_m.size(); ++j)
+    n.push_back(millwear::species_area_m2(s, 0) * sp.mass_fractions[j] /
+                (0.25 * M_PI * sp.diameters_m[j] * sp.diameters_m[j]));
+  return n;
+}
+
+}  // namespace
+
+// Rounding each size alone gave 0 disks for 1,000 sizes of mass fraction 0.001, and 270 for
+// 300 sizes that ask for about 233: the largest remainder keeps the species within one disk
+// of its share and every size within one disk of its own.
+TEST(HostileFilling, ManySizesGetTheirShareWithinOneDisk) {
+  for (const auto& [n, d0, step] : {std::tuple{1000, 0.010, 0.00001}, std::tuple{300, 0.015, 0.00003},
+                                    std::tuple{3, 0.015, 0.005}}) {
+    SCOPED_TRACE(n);
+    const millwear::Scene s = many_sizes(n, d0, step);
+    const std::vector<double> exact = exact_counts(s);
+    const std::vector<std::int64_t> got = millwear::disks_per_size(s, 0);
+    ASSERT_EQ(got.size(), exact.size());
+    const double want = std::accumulate(exact.begin(), exact.end(), 0.0);
+    const auto total = std::accumulate(got.begin(), got.end(), std::int64_t{0});
+    EXPECT_LE(std::abs(double(total) - want), 0.5 + 1e-9) << "total " << total << " for " << want;
+    EXPECT_GT(total, 0);
+    for (std::size_t j = 0; j < got.size(); ++j) EXPECT_LT(std::abs(double(got[j]) - exact[j]), 1.0) << j;
+  }
+}
+
+TEST(HostileFilling, AFillingOfNoDiskIsRefused) {
+  const fs::path dir = scratch("empty");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_mill_with("filling = 0.3                   # fraction of the mill area\nball_filling = 0.3",
+                             "filling = 1e-5\nball_filling = 1e-5"));
+  expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(),
+                 "charge.ball_filling", dir / "out");
+}
+
+// ---- rule 1 ----------------------------------------------------------------------------------
+
+// Stopped by rule 1 is a failed run with the event named, not a finished one with an
+// infinite life.
+TEST(HostileRule1, AContinuousRunStoppedByRuleOneExitsOne) {
+  const fs::path dir = scratch("rule1");
+  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  s.replace(s.find("mode = \"staged\""), 15, "mode = \"continuous\"");
+  const auto f = s.find("factor = ");
+  s.replace(f, s.find('\n', f) - f, "factor = 1e9");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("C_model is too large for rule 1"), std::string::npos) << r.output;
+  const std::string manifest = read_text(dir / "out" / "manifest.json");
+  EXPECT_NE(manifest.find("\"status\": \"failed\""), std::string::npos) << manifest;
+}
+
+// ---- profile features ------------------------------------------------------------------------
+
+TEST(HostileProfile, ThinnestPartOfAFinIsItsThickness) {
+  // A 4 mm fin, 30 mm tall, on a 40 mm base plate 5 mm high.
+  const millwear::Polyline fin = {{-0.020, 0.0}, {-0.020, 0.005}, {-0.002, 0.005}, {-0.002, 0.035},
+                                  {0.002, 0.035},  {0.002, 0.005},  {0.020, 0.005}, {0.020, 0.0}};
+  EXPECT_NEAR(millwear::thinnest_part(fin, 0.0002), 0.004, 0.0004);
+  // A trapezoid 60 mm across at the top has no part thinner than its top.
+  const millwear::Polyline trapezoid = {{-0.06, 0.0}, {-0.03, 0.08}, {0.03, 0.08}, {0.06, 0.0}};
+  EXPECT_GE(millwear::thinnest_part(trapezoid, 0.001), 0.06 - 0.002);
+}
+
+// A sawtooth of 1 mm teeth leaked disks through the liner within 0.2 revolutions: refused up
+// front by every command, with the thickness found and the one needed.
+TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
+  const fs::path dir = scratch("saw");
+  std::string points = "[[-16.0, 0.0]";
+  for (int i = 1; i <= 32; ++i) points += ", [" + std::to_string(-16 + i) + ".0, " + (i % 2 ? "40.0" : "1.0") + "]";
+  points += ", [16.5, 0.0]]";
+  write(dir / "saw.toml", "name = \"saw\"\nform = \"polyline\"\npoints = " + points + "\n");
+  std::string s = lab_mill_with("", "");
+  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"saw.toml\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  for (const char* cmd : {"charge", "run"}) {
+    const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
+    expect_refused(r, scene.string(), "lifters.profile", dir / "out");
+    EXPECT_NE(r.output.find("at least 7.5 mm thick"), std::string::npos) << r.output;
+  }
+}
+
+// A lifter wider than the whole shell was reported as "at most -1 rows".
+TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
+  const fs::path dir = scratch("wide");
+  std::string p = read_text(kSource + "/profiles/lab-2x30.toml");
+  p.replace(p.find("top_width = 10.0"), 16, "top_width = 1e6");
+  write(dir / "wide.toml", p);
+  std::string s = lab_mill_with("", "");
+  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"wide.toml\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const auto r = run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out"));
+  expect_refused(r, scene.string(), "lifters.profile", dir / "out");
+  EXPECT_NE(r.output.find("circumference"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("-1 rows"), std::string::npos) << r.output;
+}
+
+// ---- screens and surveys ---------------------------------------------------------------------
+
+// Four parameters of 10,000 steps each are 1e16 candidates: refused before any is made.
+TEST(HostileScreen, AGridPastTheCandidateLimitIsRefused) {
+  const fs::path dir = scratch("grid");
+  const fs::path screen = dir / "screen.toml";
+  write(screen, "[screen]\nname = \"huge\"\nbase = \"" + kSource +
+                    "/scenarios/lab-mill.toml\"\nstages = 1\nsampling = \"grid\"\n\n[family]\n"
+                    "height = {min = 15.0, max = 25.0, steps = 10000}\n"
+                    "top_width = {min = 5.0, max = 15.0, steps = 10000}\n"
+                    "leading_face_angle = {min = 10.0, max = 40.0, steps = 10000}\n"
+                    "trailing_face_angle = {min = 10.0, max = 40.0, steps = 10000}\n");
+  const auto r = run_millwear("screen " + quoted(screen) + " -o " + quoted(dir / "out"));
+  expect_refused(r, screen.string(), "family", dir / "out");
+  EXPECT_NE(r.output.find("at most 100000 candidates"), std::string::npos) << r.output;
+}
+
+// Areas that grow with time cannot give a wear rate: refused before the first history.
+TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
+  const fs::path dir = scratch("grow");
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,430\n100,445\n");
+  const auto r = run_millwear("calibrate " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " --measured " +
+                              quoted(dir / "areas.csv") + " -o " + quoted(dir / "out"));
+  expect_refused(r, (dir / "areas.csv").string(), "line 4", dir / "out");
+  EXPECT_NE(r.output.find("areas grow with time"), std::string::npos) << r.output;
+}
