@@ -233,13 +233,13 @@ void register_calibrate(CLI::App& app, Action* action) {
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder (default: the calibrated scene goes next to SCENE)");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
-  cmd->add_option("--max-runs", args->max_runs, "wear histories at most (default 5)")->check(CLI::PositiveNumber);
+  cmd->add_option("--max-runs", args->max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));
   cmd->add_option("--min-runs", args->min_runs,
                   "wear histories at least (default 2); every history after the first is an estimate, and C is "
                   "their mean")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
               "squares on the area loss of every row after 0 h (two or more such rows give the fit's own\n"

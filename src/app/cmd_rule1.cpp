@@ -57,7 +57,7 @@ void register_rule1(CLI::App& app, Action* action) {
   cmd->add_option("--factors", args->factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", args->tolerance_pct, "allowed deviation, % of lifter height (default 5)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });

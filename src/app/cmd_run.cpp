@@ -217,10 +217,10 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 10000));
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });
 }
 

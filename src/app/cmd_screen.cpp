@@ -555,10 +555,10 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_option("screen", args->screen, "screen file (TOML); with --collect: the output folder");
   cmd->add_option("-o,--out", args->out, "output folder");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("--resume", args->resume, "keep finished designs (and finished stages) in OUT, run the rest");
   cmd->add_option("--emit", args->emit, "parallel | slurm: write a job list / sbatch array script instead of running");
-  cmd->add_option("--chunk", args->chunk, "designs per job or array task (with --emit)")->check(CLI::PositiveNumber);
+  cmd->add_option("--chunk", args->chunk, "designs per job or array task (with --emit)")->check(CLI::Range(1, 100000));
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->callback([args, action] { *action = [args] { return screen_command(*args); }; });

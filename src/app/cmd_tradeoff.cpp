@@ -181,11 +181,11 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_option("scene", args->scene, "scene file of one design, or a comparison file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder")->required();
   cmd->add_flag("--quick", args->quick, "the three presets only (no one-knob ladder)");
-  cmd->add_option("--stages", args->stages, "stages to run (default: the scene's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--stages", args->stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
   cmd->add_option("--stage-hours", args->stage_hours, "hours per stage (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 1e6));
   cmd->add_option("-j,--jobs", args->jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-plot", args->no_plot, "skip the figure");
   cmd->add_option("--only", args->only,
                   "run only these settings, by label (comma-separated, e.g. \"standard,standard seed=2\"); "
