@@ -264,6 +264,65 @@ TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
 
 // ---- run folder ----
 
+// Spreadsheets save CSV with a byte-order mark, CRLF line ends and, in much of Europe, ';'
+// separators with decimal commas. Each is read as the table it is.
+TEST(IoCsv, AByteOrderMarkIsNotPartOfTheFirstColumnName) {
+  const io::CsvData d = io::parse_csv("\xEF\xBB\xBFhours,area_mm2\n0,431.5\n", "excel.csv");
+  EXPECT_EQ(d.header.front(), "hours");
+  EXPECT_EQ(d.number(0, d.column("hours")), 0.0);
+  EXPECT_EQ(d.number(0, "area_mm2"), 431.5);
+}
+
+TEST(IoCsv, CrlfLineEndsReadAsLf) {
+  const io::CsvData d = io::parse_csv("hours,\"x_mm\"\r\n0,1.5\r\n\r\n100,-2\r\n", "crlf.csv");
+  ASSERT_EQ(d.header, (std::vector<std::string>{"hours", "x_mm"}));
+  ASSERT_EQ(d.row_count(), 2u);
+  EXPECT_EQ(d.number(1, "x_mm"), -2.0);
+  EXPECT_EQ(d.row_line[1], 4u);  // the blank line still counts
+}
+
+TEST(IoCsv, SemicolonFilesReadWithDecimalCommas) {
+  const io::CsvData d =
+      io::parse_csv("\xEF\xBB\xBFhours;area_mm2;note\r\n0;431,5;\"new; clean\"\r\n100;400.25;a,b\r\n", "eu.csv");
+  EXPECT_EQ(d.separator, ';');
+  ASSERT_EQ(d.header, (std::vector<std::string>{"hours", "area_mm2", "note"}));
+  EXPECT_EQ(d.number(0, "area_mm2"), 431.5);
+  EXPECT_EQ(d.number(1, "area_mm2"), 400.25);  // a point still reads
+  EXPECT_EQ(d.text(0, 2), "new; clean");
+  EXPECT_EQ(d.text(1, 2), "a,b");  // a comma is text in a ';' file
+  // In a ',' file a comma is never a decimal separator.
+  EXPECT_EQ(io::parse_csv("a,b\n1,2\n", "c.csv").separator, ',');
+}
+
+TEST(IoCsv, SemicolonFileErrorsNameFileLineAndWhatWasExpected) {
+  try {
+    io::parse_csv("hours;area_mm2\n0;431,5\n100\n", "eu.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "eu.csv");
+    EXPECT_EQ(e.where, "line 3");
+    EXPECT_NE(e.expected.find("2 fields"), std::string::npos) << e.what();
+  }
+  const io::CsvData d = io::parse_csv("hours;area_mm2\n0;1.431,5\n", "eu.csv");
+  try {
+    d.number(0, "area_mm2");  // a thousands separator is refused, not guessed at
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "eu.csv");
+    EXPECT_EQ(e.where, "line 2");
+    EXPECT_NE(e.expected.find("area_mm2"), std::string::npos) << e.what();
+    EXPECT_NE(e.expected.find("1.431,5"), std::string::npos) << e.what();
+  }
+  try {
+    io::parse_csv(std::string("\xFF\xFEh\0", 5), "utf16.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "utf16.csv");
+    EXPECT_EQ(e.where, "line 1");
+    EXPECT_NE(e.expected.find("UTF-8"), std::string::npos) << e.what();
+  }
+}
+
 TEST(IoRunFolder, PathConventions) {
   EXPECT_EQ(io::stage_done_marker("OUT", "2x30", 3), "OUT/stages/2x30_stage3.done");
   EXPECT_EQ(io::profile_path("OUT/", "1x30", 0), "OUT/profiles/1x30_stage0.csv");
