@@ -9,12 +9,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "io/atomic_write.hpp"
@@ -333,4 +338,190 @@ TEST_F(AppRunCli, ShippedComparisonSceneIsValid) {
   EXPECT_NE(r.output.find("sag-1x30: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("reference"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// ---- One run per output folder ----
+// The small lab-quick scene (two 50 h stages at draft fidelity, a few seconds a run). One
+// undisturbed run into a folder that already holds a user's files is shared by the tests.
+
+namespace {
+
+// `millwear ARGS` started in the background (stdout and stderr to `log`); its pid.
+pid_t start_millwear(const std::string& args, const fs::path& log) {
+  const std::string cmd = "exec \"" + std::string(MILLWEAR_BINARY) + "\" " + args + " >" + q(log) + " 2>&1";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int wait_exit_code(pid_t pid) {
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Every file under a folder (relative path -> content).
+std::map<std::string, std::string> folder_contents(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+  return files;
+}
+
+// What an undisturbed run writes that must come out the same byte for byte: the tables and
+// every stage profile.
+std::map<std::string, std::string> results_in(const std::map<std::string, std::string>& contents) {
+  std::map<std::string, std::string> r;
+  for (const auto& [f, text] : contents)
+    if (f == "summary.csv" || f == "spectrum.csv" || f.rfind("profiles/", 0) == 0) r[f] = text;
+  return r;
+}
+std::map<std::string, std::string> results_of(const fs::path& dir) { return results_in(folder_contents(dir)); }
+
+// Files a user keeps in the folder that millwear must never touch; two are named like the
+// temporaries of earlier millwear versions.
+const std::map<std::string, std::string> kUserFiles = {
+    {"notes.txt", "my notes\n"}, {"x.tmp.1", "mine\n"}, {"summary.csv.tmp.12.0", "mine too\n"}};
+
+void put_user_files(const fs::path& dir) {
+  fs::create_directories(dir);
+  for (const auto& [f, text] : kUserFiles) std::ofstream(dir / f) << text;
+}
+
+std::string quick_scene() { return src("tests/data/lab-quick.toml"); }
+
+}  // namespace
+
+class FolderRuns : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = fs::temp_directory_path() / ("millwear-test-folder-" + std::to_string(::getpid()));
+    fs::remove_all(root_);
+    put_user_files(root_ / "ref");
+    ref_result_ = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --quiet");
+  }
+  static void TearDownTestSuite() { fs::remove_all(root_); }
+  void SetUp() override {
+    ASSERT_EQ(ref_result_.exit_code, 0) << ref_result_.output;
+    ASSERT_FALSE(results_of(root_ / "ref").empty());
+  }
+  static fs::path root_;
+  static Result ref_result_;
+};
+fs::path FolderRuns::root_;
+Result FolderRuns::ref_result_;
+
+TEST_F(FolderRuns, AUsersFilesNamedLikeTemporariesSurviveARun) {
+  for (const auto& [f, text] : kUserFiles) EXPECT_EQ(slurp(root_ / "ref" / f), text) << f;
+  EXPECT_FALSE(fs::exists(root_ / "ref/.millwear.lock")) << "the lock goes with the run";
+}
+
+// A second run into a folder another run is writing is refused at once (exit 2, naming the
+// folder and the running process); the first run's results are an undisturbed run's.
+TEST_F(FolderRuns, ASecondRunIntoABusyFolderIsRefusedAndTheFirstIsUndisturbed) {
+  const fs::path out = root_ / "busy";
+  const pid_t first = start_millwear("run " + quick_scene() + " -o " + q(out) + " --quiet", root_ / "first.log");
+  ASSERT_GT(first, 0);
+  // Wait until the first run holds the lock (it then runs for seconds).
+  bool held = false;
+  for (int i = 0; i < 400 && !held; ++i) {
+    held = slurp(out / ".millwear.lock").find("pid=" + std::to_string(first)) != std::string::npos;
+    if (!held) ::usleep(10000);
+  }
+  const Result second = run("run " + quick_scene() + " -o " + q(out) + " --quiet");
+  const int first_exit = wait_exit_code(first);
+  ASSERT_TRUE(held) << slurp(root_ / "first.log");
+  EXPECT_EQ(second.exit_code, 2) << second.output;
+  EXPECT_NE(second.output.find(out.string()), std::string::npos) << second.output;
+  EXPECT_NE(second.output.find("process " + std::to_string(first)), std::string::npos) << second.output;
+  ASSERT_EQ(first_exit, 0) << slurp(root_ / "first.log");
+  EXPECT_EQ(results_of(out), results_of(root_ / "ref"));
+  EXPECT_FALSE(fs::exists(out / ".millwear.lock"));
+}
+
+// Two runs started together: one runs, one is refused; none fails half-way.
+TEST_F(FolderRuns, TwoRunsStartedTogetherGiveOneRunAndOneRefusal) {
+  const fs::path out = root_ / "together";
+  const pid_t a = start_millwear("run " + quick_scene() + " -o " + q(out) + " --quiet", root_ / "a.log");
+  const pid_t b = start_millwear("run " + quick_scene() + " -o " + q(out) + " --quiet", root_ / "b.log");
+  const int ea = wait_exit_code(a), eb = wait_exit_code(b);
+  // Started together, the one that takes the lock runs for seconds while the other is refused.
+  ASSERT_EQ(std::min(ea, eb), 0) << slurp(root_ / "a.log") << slurp(root_ / "b.log");
+  ASSERT_EQ(std::max(ea, eb), 2) << slurp(root_ / "a.log") << slurp(root_ / "b.log");
+  const std::string refused = slurp(root_ / (ea == 2 ? "a.log" : "b.log"));
+  EXPECT_NE(refused.find("process " + std::to_string(ea == 2 ? b : a)), std::string::npos) << refused;
+  EXPECT_EQ(results_of(out), results_of(root_ / "ref"));
+}
+
+// A folder holding another scene's results is not mixed with a new run's: refused with
+// nothing changed; with --force, exactly the earlier run's files go and the user's stay.
+TEST_F(FolderRuns, AnotherScenesFolderIsRefusedThenTakenOverWithForce) {
+  const fs::path out = root_ / "taken";
+  fs::copy(root_ / "ref", out, fs::copy_options::recursive);
+  std::ofstream(out / "profiles/my-survey.csv") << "x_mm,y_mm\n0,0\n";
+  std::string t = slurp(fs::path(MILLWEAR_SOURCE_DIR) / "tests/data/lab-quick.toml");
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"name = \"lab-quick\"", "name = \"lab-other\""},
+           {"stages = 2", "stages = 1"},
+           {"\"../../profiles/lab-2x30.toml\"", "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml\""}}) {
+    const auto at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+  }
+  const fs::path other = root_ / "lab-other.toml";
+  std::ofstream(other) << t;
+
+  const auto before = folder_contents(out);
+  const Result refused = run("run " + q(other) + " -o " + q(out) + " --quiet");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find(out.string()), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("lab-quick"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("--force"), std::string::npos) << refused.output;
+  EXPECT_EQ(folder_contents(out), before) << "a refused run changes nothing";
+
+  const Result forced = run("run " + q(other) + " -o " + q(out) + " --quiet --force");
+  ASSERT_EQ(forced.exit_code, 0) << forced.output;
+  const auto after = folder_contents(out);
+  for (const auto& [f, text] : kUserFiles) EXPECT_EQ(after.count(f) ? after.at(f) : "", text) << f;
+  EXPECT_EQ(after.count("profiles/my-survey.csv"), 1u);
+  // Every other file is the new run's own, and its manifest lists it.
+  const auto manifest = nlohmann::json::parse(slurp(out / "manifest.json"));
+  std::set<std::string> listed;
+  for (const auto& f : manifest.at("files")) listed.insert(f.get<std::string>());
+  for (const auto& [f, text] : after) {
+    if (kUserFiles.count(f) || f == "profiles/my-survey.csv") continue;
+    EXPECT_EQ(f.find("lab-quick"), std::string::npos) << "left from the earlier run: " << f;
+    EXPECT_EQ(listed.count(f), 1u) << "not in the manifest: " << f;
+  }
+  for (const auto& f : listed) EXPECT_EQ(after.count(f), 1u) << "listed but missing: " << f;
+  EXPECT_EQ(listed.count("profiles/lab-other_stage1.csv"), 1u);
+
+  // The same scene again into its own folder replaces its results as before.
+  const Result again = run("run " + q(other) + " -o " + q(out) + " --quiet");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(results_of(out), results_in(after));
+}
+
+// An existing file given as the output folder is bad input for every command that writes
+// one: exit 2, naming the path and that a folder was expected, the file left as it was.
+TEST_F(FolderRuns, AFileAsTheOutputFolderExits2ForEveryCommand) {
+  const fs::path file = root_ / "a-file";
+  std::ofstream(file) << "not a folder\n";
+  const std::string lab = src("scenarios/lab-mill.toml"), f = q(file);
+  for (const std::string& args :
+       {"run " + quick_scene() + " -o " + f, "charge " + lab + " -o " + f, "tradeoff " + lab + " -o " + f,
+        "validate " + lab + " --measured " + src("validation/lab-mill-areas.csv") + " -o " + f,
+        "calibrate " + lab + " --measured " + src("validation/lab-mill-areas.csv") + " -o " + f,
+        "hardness " + src("validation/hardness-synthetic.csv") + " -o " + f,
+        "screen " + src("tests/data/screen-lab.toml") + " -o " + f, "screen-task " + f + " 0",
+        "profile " + src("profiles/lab-2x30.toml") + " --csv " + f}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(file.string()), std::string::npos) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("folder"), std::string::npos) << args << "\n" << r.output;
+  }
+  EXPECT_EQ(slurp(file), "not a folder\n");
 }

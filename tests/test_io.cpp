@@ -9,9 +9,12 @@
 #include <random>
 #include <string>
 
+#include <unistd.h>
+
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 
@@ -80,15 +83,93 @@ TEST(IoAtomicWrite, EnsureDirCreatesNestedFoldersAndIsIdempotent) {
   EXPECT_THROW(io::ensure_dir(dir / "file"), RunError);
 }
 
+TEST(IoAtomicWrite, TemporariesAreHiddenAndTaggedNextToTheTarget) {
+  const std::string t = io::temp_path_for("out/profiles/a_stage1.csv");
+  const std::string prefix = "out/profiles/.a_stage1.csv.millwear-tmp." + std::to_string(::getpid()) + ".";
+  EXPECT_EQ(t.compare(0, prefix.size(), prefix), 0) << t;
+  EXPECT_TRUE(io::is_temp_name(fs::path(t).filename().string())) << t;
+  EXPECT_TRUE(io::is_temp_name(".fig7_area.millwear-tmp.12.3.png"));  // a figure's temporary base
+  // Names a user (or another program) may well write are never taken for ours.
+  for (const char* name : {"x.tmp.1", "leftover.csv.tmp.1234.0", "keep.tmp.csv", ".x.millwear-tmp.",
+                           "x.millwear-tmp.1.2", ".x.millwear-tmp.1", ".x.millwear-tmp.1.2x", ".millwear-tmp.1.2"})
+    EXPECT_FALSE(io::is_temp_name(name)) << name;
+}
+
 TEST(IoAtomicWrite, RemoveStaleTempsDeletesOnlyTemporaries) {
   TempDir dir;
   io::write_file_atomic(dir / "keep.csv", "x");
-  io::write_file_atomic(dir / "keep.tmp.csv", "x");  // ".tmp." not followed by a pid
-  io::write_file_atomic(dir / "leftover.csv.tmp.1234.0", "x");
-  EXPECT_EQ(io::remove_stale_temps(dir.path), 1);
-  EXPECT_TRUE(io::file_exists(dir / "keep.csv"));
-  EXPECT_TRUE(io::file_exists(dir / "keep.tmp.csv"));
-  EXPECT_FALSE(io::file_exists(dir / "leftover.csv.tmp.1234.0"));
+  io::write_file_atomic(dir / "keep.tmp.csv", "x");             // ".tmp." not followed by a pid
+  io::write_file_atomic(dir / "x.tmp.1", "a user's file");      // the old temporary pattern
+  io::write_file_atomic(dir / "notes.csv.tmp.1234.0", "a user's file");
+  io::write_file_atomic(dir / ".leftover.csv.millwear-tmp.1234.0", "x");
+  io::write_file_atomic(dir / ".fig.millwear-tmp.1234.1.png", "x");
+  EXPECT_EQ(io::remove_stale_temps(dir.path), 2);
+  for (const char* kept : {"keep.csv", "keep.tmp.csv", "x.tmp.1", "notes.csv.tmp.1234.0"})
+    EXPECT_TRUE(io::file_exists(dir / kept)) << kept;
+  EXPECT_FALSE(io::file_exists(dir / ".leftover.csv.millwear-tmp.1234.0"));
+  EXPECT_FALSE(io::file_exists(dir / ".fig.millwear-tmp.1234.1.png"));
+}
+
+// ---- folder lock ----
+
+TEST(IoFolderLock, ASecondLockIsRefusedNamingTheFolderAndTheHoldersPid) {
+  TempDir dir;
+  const std::string out = dir / "run";
+  {
+    io::FolderLock first(out);  // creates the folder
+    EXPECT_TRUE(fs::is_directory(out));
+    const std::string lock_text = io::read_file(first.path());
+    EXPECT_EQ(io::find_value(io::parse_key_values(lock_text, first.path()), "pid"), std::to_string(::getpid()));
+    EXPECT_NE(io::find_value(io::parse_key_values(lock_text, first.path()), "command"), "");
+    try {
+      io::FolderLock second(out);  // a second open file description: flock refuses it
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(out), std::string::npos) << m;
+      EXPECT_NE(m.find("process " + std::to_string(::getpid())), std::string::npos) << m;
+    }
+  }
+  // Released: the lock file is gone and the folder can be locked again.
+  EXPECT_EQ(count_entries(out), 0);
+  io::FolderLock again(out);
+  EXPECT_TRUE(io::file_exists(again.path()));
+}
+
+TEST(IoFolderLock, AFileGivenAsTheFolderIsAnInputErrorNamingIt) {
+  TempDir dir;
+  io::write_file_atomic(dir / "results", "a file, not a folder");
+  try {
+    io::FolderLock lock(dir / "results");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, dir / "results");
+    EXPECT_NE(std::string(e.what()).find("folder"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(io::read_file(dir / "results"), "a file, not a folder");
+  EXPECT_THROW(io::check_output_folder(dir / "results"), InputError);
+  EXPECT_NO_THROW(io::check_output_folder(dir / "not-yet"));
+  EXPECT_FALSE(fs::exists(dir / "not-yet"));  // checking writes nothing
+}
+
+TEST(IoRunFolder, RemoveRunFilesDeletesOnlyListedFilesInsideTheFolder) {
+  TempDir dir;
+  const std::string out = dir / "out";
+  io::create_run_folder(out);
+  io::write_file_atomic(dir / "outside.csv", "x");
+  for (const char* f : {"summary.csv", "profiles/a_stage0.csv", "notes.txt", "profiles/mine.csv"})
+    io::write_file_atomic(io::join_path(out, f), "x");
+  io::write_file_atomic(io::join_path(out, "stages/.a_stage0.record.millwear-tmp.99.0"), "x");
+  const int n = io::remove_run_files(out, {"summary.csv", "profiles/a_stage0.csv", "../outside.csv",
+                                           dir / "outside.csv", "missing.csv"});
+  EXPECT_EQ(n, 3);  // two listed files and the temporary
+  EXPECT_FALSE(io::file_exists(io::join_path(out, "summary.csv")));
+  EXPECT_FALSE(io::file_exists(io::join_path(out, "profiles/a_stage0.csv")));
+  EXPECT_TRUE(io::file_exists(io::join_path(out, "notes.txt")));
+  EXPECT_TRUE(io::file_exists(io::join_path(out, "profiles/mine.csv")));
+  EXPECT_TRUE(io::file_exists(dir / "outside.csv"));
+  EXPECT_FALSE(fs::exists(io::stages_dir(out)));   // left empty: removed
+  EXPECT_TRUE(fs::exists(io::profiles_dir(out)));  // still holds the user's file
 }
 
 // ---- CSV ----
@@ -182,6 +263,65 @@ TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
 }
 
 // ---- run folder ----
+
+// Spreadsheets save CSV with a byte-order mark, CRLF line ends and, in much of Europe, ';'
+// separators with decimal commas. Each is read as the table it is.
+TEST(IoCsv, AByteOrderMarkIsNotPartOfTheFirstColumnName) {
+  const io::CsvData d = io::parse_csv("\xEF\xBB\xBFhours,area_mm2\n0,431.5\n", "excel.csv");
+  EXPECT_EQ(d.header.front(), "hours");
+  EXPECT_EQ(d.number(0, d.column("hours")), 0.0);
+  EXPECT_EQ(d.number(0, "area_mm2"), 431.5);
+}
+
+TEST(IoCsv, CrlfLineEndsReadAsLf) {
+  const io::CsvData d = io::parse_csv("hours,\"x_mm\"\r\n0,1.5\r\n\r\n100,-2\r\n", "crlf.csv");
+  ASSERT_EQ(d.header, (std::vector<std::string>{"hours", "x_mm"}));
+  ASSERT_EQ(d.row_count(), 2u);
+  EXPECT_EQ(d.number(1, "x_mm"), -2.0);
+  EXPECT_EQ(d.row_line[1], 4u);  // the blank line still counts
+}
+
+TEST(IoCsv, SemicolonFilesReadWithDecimalCommas) {
+  const io::CsvData d =
+      io::parse_csv("\xEF\xBB\xBFhours;area_mm2;note\r\n0;431,5;\"new; clean\"\r\n100;400.25;a,b\r\n", "eu.csv");
+  EXPECT_EQ(d.separator, ';');
+  ASSERT_EQ(d.header, (std::vector<std::string>{"hours", "area_mm2", "note"}));
+  EXPECT_EQ(d.number(0, "area_mm2"), 431.5);
+  EXPECT_EQ(d.number(1, "area_mm2"), 400.25);  // a point still reads
+  EXPECT_EQ(d.text(0, 2), "new; clean");
+  EXPECT_EQ(d.text(1, 2), "a,b");  // a comma is text in a ';' file
+  // In a ',' file a comma is never a decimal separator.
+  EXPECT_EQ(io::parse_csv("a,b\n1,2\n", "c.csv").separator, ',');
+}
+
+TEST(IoCsv, SemicolonFileErrorsNameFileLineAndWhatWasExpected) {
+  try {
+    io::parse_csv("hours;area_mm2\n0;431,5\n100\n", "eu.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "eu.csv");
+    EXPECT_EQ(e.where, "line 3");
+    EXPECT_NE(e.expected.find("2 fields"), std::string::npos) << e.what();
+  }
+  const io::CsvData d = io::parse_csv("hours;area_mm2\n0;1.431,5\n", "eu.csv");
+  try {
+    d.number(0, "area_mm2");  // a thousands separator is refused, not guessed at
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "eu.csv");
+    EXPECT_EQ(e.where, "line 2");
+    EXPECT_NE(e.expected.find("area_mm2"), std::string::npos) << e.what();
+    EXPECT_NE(e.expected.find("1.431,5"), std::string::npos) << e.what();
+  }
+  try {
+    io::parse_csv(std::string("\xFF\xFEh\0", 5), "utf16.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "utf16.csv");
+    EXPECT_EQ(e.where, "line 1");
+    EXPECT_NE(e.expected.find("UTF-8"), std::string::npos) << e.what();
+  }
+}
 
 TEST(IoRunFolder, PathConventions) {
   EXPECT_EQ(io::stage_done_marker("OUT", "2x30", 3), "OUT/stages/2x30_stage3.done");

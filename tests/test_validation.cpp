@@ -289,6 +289,34 @@ TEST(ValidationAreaSurveys, TheHeaderTellsProfilesFromAreas) {
   EXPECT_EQ(a.lines(), (std::vector<std::size_t>{3, 4}));
 }
 
+// Survey files as spreadsheets save them: "CSV UTF-8" (a byte-order mark, here before a
+// comment line), CRLF line ends, and European ';' files with decimal commas.
+TEST(ValidationAreaSurveys, SpreadsheetSavedFilesReadLikePlainOnes) {
+  const auto plain = validation::parse_measurements("hours,area_mm2\n0,431.5\n100,400.25\n", "plain.csv");
+  for (const std::string& text :
+       {std::string("\xEF\xBB\xBFhours,area_mm2\n0,431.5\n100,400.25\n"),
+        std::string("\xEF\xBB\xBF# surveyed by hand\r\nhours,area_mm2\r\n0,431.5\r\n100,400.25\r\n"),
+        std::string("\xEF\xBB\xBFhours;area_mm2\r\n0;431,5\r\n100;400,25\r\n")}) {
+    const auto m = validation::parse_measurements(text, "sheet.csv");
+    EXPECT_TRUE(m.areas_only);
+    ASSERT_EQ(m.areas.surveys.size(), plain.areas.surveys.size());
+    for (std::size_t i = 0; i < m.areas.surveys.size(); ++i) {
+      EXPECT_EQ(m.areas.surveys[i].hours, plain.areas.surveys[i].hours);
+      EXPECT_EQ(m.areas.surveys[i].value_m2, plain.areas.surveys[i].value_m2);
+    }
+  }
+  const auto profiles = validation::parse_measurements("\xEF\xBB\xBFhours;x_mm;y_mm\r\n0;-1,5;0\r\n0;1,5;0\r\n", "p.csv");
+  EXPECT_FALSE(profiles.areas_only);
+  EXPECT_EQ(profiles.count(), 1u);
+  try {
+    validation::parse_measurements("\xEF\xBB\xBFhours;area_mm2\r\n0;431,5\r\n100;abc\r\n", "sheet.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "sheet.csv");
+    EXPECT_EQ(e.where, "line 3");
+  }
+}
+
 TEST(ValidationAreaSurveys, LossIsFromTheMeasuredNewAreaElseTheScenes) {
   // With 0 h rows their mean is the reference; without, the scene's new lifter area.
   const auto with0 = validation::measured_areas(

@@ -17,13 +17,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -139,6 +142,9 @@ int run_calibrate(const CalibrateArgs& a) {
   const std::string stem = fs::path(a.scene).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene)).parent_path().string() : a.out;
   const std::string scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
+  // One writer per output folder, for the whole calibration (not the scene's own folder).
+  std::optional<io::FolderLock> lock;
+  if (!a.out.empty()) lock.emplace(a.out);
 
   validation::CalibrationOptions opt;
   opt.max_runs = a.max_runs;
@@ -231,7 +237,8 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("--measured", args->measured,
                   "measured surveys (CSV): profiles hours,x_mm,y_mm or areas only hours,area_mm2 (see below)")
       ->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", args->out, "output folder (default: the calibrated scene goes next to SCENE)");
+  cmd->add_option("-o,--out", args->out, "output folder (default: the calibrated scene goes next to SCENE)")
+      ->check(output_folder());
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--max-runs", args->max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));
   cmd->add_option("--min-runs", args->min_runs,

@@ -8,8 +8,10 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
 #include "io/atomic_write.hpp"
+#include "io/folder_lock.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
@@ -118,7 +120,7 @@ int run_charge(const ChargeArgs& args) {
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
   check_run_limits(scene, args.scene);
-  io::ensure_dir(args.out);
+  const io::FolderLock lock(args.out);  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -158,7 +160,7 @@ void register_charge(CLI::App& app, Action* action) {
   CLI::App* cmd = app.add_subcommand(
       "charge", "Run the charge alone (no wear): power, toe/shoulder, shear work along the liner");
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
       ->check(CLI::Range(1e-6, 1e4));

@@ -14,9 +14,11 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "validation/hardness.hpp"
@@ -49,7 +51,7 @@ int run_hardness(const HardnessArgs& a) {
   std::printf("coefficient of variation of the wear rate: %.1f%% before, %.1f%% after the correction "
               "(log-log R^2 %.3f)\n", 100.0 * f.cv_before, 100.0 * f.cv_after, f.r_squared);
 
-  io::ensure_dir(a.out);
+  const io::FolderLock lock(a.out);  // one writer per folder
   io::ensure_dir(io::join_path(a.out, "plots"));
   io::CsvTable t({"period", "start", "end", "length", "hardness", "wear", "rate", "ct", "corrected_time",
                   "corrected_rate"});
@@ -94,7 +96,7 @@ void register_hardness(CLI::App& app, Action* action) {
       "hardness", "Fit the ore-hardness correction CT = a*H^b to measured wear per period (paper Figs. 1-3)");
   cmd->add_option("file", args->file, "CSV: period,days|hours,<wear column>,hardness")
       ->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--reference-hardness", args->reference_hardness,
                   "normalise a so that CT = 1 at this hardness (default: corrected total time = actual)")
       ->check(CLI::PositiveNumber);

@@ -13,6 +13,7 @@
 
 #include "common/units.hpp"
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "profiles/profile.hpp"
 
@@ -92,7 +93,8 @@ void register_profile(CLI::App& app, Action* action) {
   CLI::App* sub = app.add_subcommand(
       "profile", "Print lifter profile metrics (area, height, widths, face angles)");
   sub->add_option("files", args->files, "Profile files (TOML)")->required();
-  sub->add_option("--csv", args->csv_dir, "Write each profile's polyline to DIR/<name>.csv (mm)");
+  sub->add_option("--csv", args->csv_dir, "Write each profile's polyline to DIR/<name>.csv (mm)")
+      ->check(output_folder());
   sub->callback([args, action] { *action = [args] { return run_profile(*args); }; });
 }
 

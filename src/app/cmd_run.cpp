@@ -30,6 +30,7 @@
 
 #include "app/commands.hpp"
 #include "app/duration_text.hpp"
+#include "app/output_folder.hpp"
 #include "app/run_command.hpp"
 #include "app/signals.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -159,6 +160,7 @@ int run_command(const RunArgs& args) {
   study::RunOptions opt;
   opt.out = args.out;
   opt.resume = args.resume;
+  opt.force = args.force;
   opt.jobs = args.jobs;
   opt.stop_after_stage = args.stop_after_stage;
   opt.stop_signal = &g_signal;
@@ -210,10 +212,12 @@ void register_run(CLI::App& app, Action* action) {
       "Exit codes: 0 done, 1 a design or figure failed (the others finish), 2 bad input,\n"
       "130/143 interrupted (Ctrl-C/SIGTERM): finished stages are kept, --resume continues.");
   cmd->add_option("scene", args->scenes, "scene or comparison files (TOML)")->required();
-  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: each scene's)");
   cmd->add_option("--reference", args->reference, "design whose new stage normalises (default: the comparison's, else the first)");
   cmd->add_flag("--resume", args->resume, "continue an interrupted run in OUT from its last finished stages");
+  cmd->add_flag("--force", args->force,
+               "OUT holds another run's results: delete the files its manifest lists, then run");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")

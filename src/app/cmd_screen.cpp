@@ -32,12 +32,14 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
 
 #include "app/commands.hpp"
 #include "app/duration_text.hpp"
+#include "app/output_folder.hpp"
 #include "app/signals.hpp"
 #include "io/hash.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -46,6 +48,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/scene.hpp"
@@ -111,7 +114,7 @@ int run_one_task(const std::string& out, const std::vector<Candidate>& designs, 
                      "a task number in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(index));
   const Candidate& c = designs[static_cast<std::size_t>(index)];
   const std::string dir = design_dir(out, c.name);
-  io::ensure_dir(dir);
+  const io::FolderLock lock(dir);  // before the status: a task refused here changes nothing
   write_task_status(out, c, "running", -1, "");
   int rc = 1;
   std::string reason;
@@ -124,6 +127,7 @@ int run_one_task(const std::string& out, const std::vector<Candidate>& designs, 
     study::RunOptions opt;
     opt.out = dir;
     opt.resume = true;
+    opt.lock_folder = false;  // held above
     opt.jobs = 1;
     opt.stop_signal = &g_signal;
     opt.commit = MILLWEAR_COMMIT;
@@ -422,9 +426,12 @@ int run_pool(const ScreenArgs& args, const std::string& out, const std::vector<C
 // The screen command
 
 int screen_command(const ScreenArgs& args) {
+  std::error_code ec;
   if (args.collect) {
     const std::string out = !args.out.empty() ? args.out : args.screen;
     if (out.empty()) throw InputError("", "--collect", "the screen's output folder: --collect -o OUT (or --collect OUT)");
+    std::optional<io::FolderLock> lock;  // ranking and figures: one writer at a time
+    if (fs::is_directory(out, ec)) lock.emplace(out);
     return collect(out, true);
   }
   if (args.screen.empty()) throw InputError("", "SCREEN", "a screen file (or --collect OUT)");
@@ -432,7 +439,6 @@ int screen_command(const ScreenArgs& args) {
   if (!args.emit.empty() && args.emit != "parallel" && args.emit != "slurm")
     throw InputError("", "--emit", "parallel or slurm, got '" + args.emit + "'");
   const std::string& out = args.out;
-  std::error_code ec;
   if (fs::exists(out, ec) && !fs::is_directory(out, ec))
     throw InputError(out, "-o", "an output folder, but a file of that name exists");
 
@@ -447,6 +453,7 @@ int screen_command(const ScreenArgs& args) {
   for (const auto& p : def.profiles) all += "\n--\n" + io::read_file(p);
   if (!def.equal_area.empty() && def.equal_area != "base") all += "\n--\n" + io::read_file(def.equal_area);
   const std::string fingerprint = io::stable_hash_hex(all);
+  const io::FolderLock lock(out);  // one screen per folder, from here to the ranking
   bool same = false;
   if (io::file_exists(key_path(out))) {
     same = io::find_value(io::read_key_values(key_path(out)), "fingerprint") == fingerprint;
@@ -553,7 +560,7 @@ void register_screen(CLI::App& app, Action* action) {
       "OUT: designs.csv, rejected.csv, candidates/, designs/NAME/ (a `millwear run` folder each), ranking.csv, plots/.\n"
       "Exit codes: 0 all ranked, 1 a design failed or is missing, 2 bad input, 130/143 interrupted (--resume).");
   cmd->add_option("screen", args->screen, "screen file (TOML); with --collect: the output folder");
-  cmd->add_option("-o,--out", args->out, "output folder");
+  cmd->add_option("-o,--out", args->out, "output folder")->check(output_folder());
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--resume", args->resume, "keep finished designs (and finished stages) in OUT, run the rest");
@@ -570,7 +577,7 @@ void register_screen_task(CLI::App& app, Action* action) {
   CLI::App* cmd = app.add_subcommand(
       "screen-task", "Run design(s) I of a screen's OUT/designs.csv into OUT/designs/NAME (what GNU parallel and Slurm "
                      "array tasks run)");
-  cmd->add_option("out", *out, "the screen's output folder")->required();
+  cmd->add_option("out", *out, "the screen's output folder")->required()->check(output_folder());
   cmd->add_option("task", *idx, "task numbers (rows of designs.csv, from 0)")->required();
   cmd->callback([out, idx, action] { *action = [out, idx] { return screen_task_command(*out, *idx); }; });
 }

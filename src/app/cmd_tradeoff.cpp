@@ -19,9 +19,11 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "study/plan.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -131,7 +133,7 @@ int run_tradeoff_cmd(const TradeoffArgs& a) {
   o.stage_hours = a.stage_hours;
   o.only = a.only;
   const TradeoffLadder ladder = tradeoff_ladder(designs, o);
-  io::ensure_dir(a.out);
+  const io::FolderLock lock(a.out);  // one writer per folder, for the whole run
   const Scene& first = ladder.settings.front().scenes.front();
   std::printf("tradeoff on %zu design(s): %zu settings, %d stage(s) of %g h, %d job(s)\n", designs.size(),
               ladder.settings.size(), first.wear.stages, first.wear.stage_hours, a.jobs);
@@ -179,7 +181,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
   CLI::App* cmd = app.add_subcommand(
       "tradeoff", "Speed against accuracy: the wear history over a ladder of fidelity settings, against reference");
   cmd->add_option("scene", args->scene, "scene file of one design, or a comparison file (TOML)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_flag("--quick", args->quick, "the three presets only (no one-knob ladder)");
   cmd->add_option("--stages", args->stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
   cmd->add_option("--stage-hours", args->stage_hours, "hours per stage (default: the scene's)")

@@ -28,11 +28,13 @@
 #include <map>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "io/stage_files.hpp"
 #include "app/validation_common.hpp"
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -212,6 +214,7 @@ int run_validate(const ValidateArgs& a) {
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   check_run_limits(scene, a.scene);  // before anything is filled or written
   const validation::Measurements measured = validation::read_measurements(a.measured);
+  const io::FolderLock lock(a.out);  // one writer per folder, for the whole run
   const std::vector<StageRecord> stages = history_stages(scene, a, measured);
   return measured.areas_only ? validate_areas(scene, a, measured.areas, stages)
                              : validate_profiles(scene, a, measured.profiles, stages);
@@ -227,7 +230,7 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->add_option("--measured", args->measured,
                   "measured surveys (CSV): profiles hours,x_mm,y_mm or areas only hours,area_mm2 (see below)")
       ->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", args->out, "output folder")->required();
+  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");

@@ -13,6 +13,7 @@ struct RunArgs {
   std::string fidelity;
   std::string reference;
   bool resume = false;
+  bool force = false;
   bool quiet = false;
   bool check = false;
   int jobs = 0;

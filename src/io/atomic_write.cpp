@@ -46,18 +46,29 @@ void sync_dir(const std::string& dir) {
 
 }  // namespace
 
+constexpr const char kTempTag[] = ".millwear-tmp.";
+
 std::string temp_path_for(const std::string& path) {
+  const fs::path p(path);
   std::ostringstream s;
-  s << path << ".tmp." << ::getpid() << "." << g_temp_counter.fetch_add(1);
-  return s.str();
+  s << '.' << p.filename().string() << kTempTag << ::getpid() << "." << g_temp_counter.fetch_add(1);
+  return (p.parent_path() / s.str()).string();
 }
 
 bool is_temp_name(const std::string& filename) {
-  auto pos = filename.rfind(".tmp.");
-  if (pos == std::string::npos) return false;
-  std::size_t i = pos + 5;
-  if (i >= filename.size() || !std::isdigit(static_cast<unsigned char>(filename[i]))) return false;
-  return true;
+  // .NAME.millwear-tmp.<pid>.<n>, then anything (gnuplot adds .png, .svg to its base).
+  if (filename.size() < 2 || filename[0] != '.') return false;
+  const std::size_t tag = filename.find(kTempTag, 2);
+  if (tag == std::string::npos) return false;
+  std::size_t i = tag + sizeof kTempTag - 1;
+  auto digits = [&] {
+    const std::size_t from = i;
+    while (i < filename.size() && std::isdigit(static_cast<unsigned char>(filename[i]))) ++i;
+    return i > from;
+  };
+  if (!digits() || i >= filename.size() || filename[i] != '.') return false;
+  ++i;
+  return digits() && (i == filename.size() || filename[i] == '.');
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {

@@ -8,8 +8,10 @@
 
 namespace millwear::io {
 
-// Writes `content` to `path` atomically: `path.tmp.<pid>.<n>` in the same folder, write,
-// fsync, rename, then fsync the folder so the rename itself survives a power cut.
+// Writes `content` to `path` atomically: `.NAME.millwear-tmp.<pid>.<n>` in the same folder
+// (NAME the file name of `path`: hidden, and tagged so that no file of the user's is ever
+// taken for one), write, fsync, rename, then fsync the folder so the rename itself survives
+// a power cut.
 // <n> is a per-process counter so that threads writing the same path do not share a
 // temporary. The parent folder must exist (see ensure_dir).
 // Throws millwear::RunError naming the path on any failure; the temporary is removed.
@@ -30,12 +32,15 @@ std::string read_file(const std::string& path);
 // tools that let another program write, then rename: see plots/).
 std::string temp_path_for(const std::string& path);
 
-// True if a file name (no folder) looks like one of our temporaries: contains ".tmp."
-// followed by the writing process id.
+// True if a file name (no folder) is one of our temporaries: `.NAME.millwear-tmp.<pid>.<n>`,
+// optionally followed by `.EXT` (figures drawn to a temporary base). A user's `x.tmp.1`
+// is not one.
 bool is_temp_name(const std::string& filename);
 
 // Deletes leftover temporaries (is_temp_name) directly inside `dir`, left by a run that
 // was killed between write and rename. Returns how many were removed. Missing dir -> 0.
+// Call it only while holding the folder's lock (io/folder_lock.hpp): then no other run is
+// writing there and every temporary is stale.
 int remove_stale_temps(const std::string& dir);
 
 }  // namespace millwear::io

@@ -95,7 +95,21 @@ const std::string& CsvData::text(std::size_t row, std::size_t col) const {
 }
 
 double CsvData::number(std::size_t row, std::size_t col) const {
-  const std::string& s = text(row, col);
+  const std::string& field = text(row, col);
+  // In a ';' file (European spreadsheets) the decimal separator is a comma: one comma and
+  // no point reads as the point. A point and a comma together (a thousands separator) is
+  // refused, not guessed at.
+  std::string s = field;
+  if (separator == ';') {
+    const auto comma = s.find(',');
+    if (comma != std::string::npos) {
+      if (s.find(',', comma + 1) != std::string::npos || s.find('.') != std::string::npos)
+        throw InputError(path, "line " + std::to_string(row_line.at(row)),
+                         "a number in column " + header.at(col) +
+                             " (';'-separated: a decimal comma and no thousands separator), found '" + field + "'");
+      s[comma] = '.';
+    }
+  }
   const char* begin = s.c_str();
   char* end = nullptr;
   errno = 0;
@@ -109,7 +123,7 @@ double CsvData::number(std::size_t row, std::size_t col) const {
   if (ok && errno == ERANGE && std::isinf(v)) ok = false;
   if (!ok)
     throw InputError(path, "line " + std::to_string(row_line.at(row)),
-                     "a number in column " + header.at(col) + ", found '" + s + "'");
+                     "a number in column " + header.at(col) + ", found '" + field + "'");
   return v;
 }
 
@@ -137,7 +151,25 @@ struct Record {
   std::size_t line = 0;
 };
 
-std::vector<Record> split_records(const std::string& text, const std::string& name) {
+// The separator, from the header (the first line that is not blank): ';' if it has a ';'
+// and no ',' outside quotes, else ','.
+char detect_separator(const std::string& text) {
+  bool commas = false, semicolons = false, quoted = false, content = false;
+  for (char c : text) {
+    if (c == '"') quoted = !quoted;
+    if (quoted) continue;
+    if (c == '\n') {
+      if (content) break;
+      continue;
+    }
+    if (c != ' ' && c != '\t' && c != '\r') content = true;
+    commas = commas || c == ',';
+    semicolons = semicolons || c == ';';
+  }
+  return semicolons && !commas ? ';' : ',';
+}
+
+std::vector<Record> split_records(const std::string& text, const std::string& name, char sep) {
   std::vector<Record> records;
   std::size_t i = 0, n = text.size(), line = 1;
   while (i < n) {
@@ -166,14 +198,14 @@ std::vector<Record> split_records(const std::string& text, const std::string& na
           field += c;
         }
         // Anything between the closing quote and the separator is an error.
-        if (i < n && text[i] != ',' && text[i] != '\n' && text[i] != '\r')
+        if (i < n && text[i] != sep && text[i] != '\n' && text[i] != '\r')
           throw InputError(name, "line " + std::to_string(line),
-                           "a comma or line end after a quoted field");
+                           std::string("a ") + (sep == ';' ? "';'" : "comma") + " or line end after a quoted field");
       } else {
-        while (i < n && text[i] != ',' && text[i] != '\n' && text[i] != '\r') field += text[i++];
+        while (i < n && text[i] != sep && text[i] != '\n' && text[i] != '\r') field += text[i++];
       }
       rec.fields.push_back(field);
-      if (i < n && text[i] == ',') { ++i; continue; }
+      if (i < n && text[i] == sep) { ++i; continue; }
       // Line end or end of text.
       if (i < n && text[i] == '\r') ++i;
       if (i < n && text[i] == '\n') { ++i; ++line; }
@@ -186,10 +218,16 @@ std::vector<Record> split_records(const std::string& text, const std::string& na
 
 }  // namespace
 
-CsvData parse_csv(const std::string& text, const std::string& name) {
+CsvData parse_csv(const std::string& text_in, const std::string& name) {
   CsvData data;
   data.path = name;
-  std::vector<Record> records = split_records(text, name);
+  // Spreadsheets save "CSV UTF-8" with a byte-order mark; it is not part of the header.
+  const bool bom = text_in.compare(0, 3, kUtf8Bom) == 0;
+  if (text_in.compare(0, 2, "\xFF\xFE") == 0 || text_in.compare(0, 2, "\xFE\xFF") == 0)
+    throw InputError(name, "line 1", "UTF-8 or ASCII text, found UTF-16 (save it as \"CSV UTF-8\" or plain CSV)");
+  const std::string text = bom ? text_in.substr(3) : text_in;
+  data.separator = detect_separator(text);
+  std::vector<Record> records = split_records(text, name, data.separator);
   if (records.empty()) throw InputError(name, "line 1", "a header row");
   data.header = std::move(records[0].fields);
   data.header_line = records[0].line;

@@ -1,9 +1,13 @@
 #pragma once
-// A tiny CSV table builder and reader for the run folder (summary.csv, profiles, spectra).
-// Dialect: comma separated, first line is the header, '\n' line ends ('\r\n' accepted on
-// read), fields quoted with '"' only when they contain a comma, a quote or a line end
-// (RFC 4180; a quote inside a quoted field is doubled). Numbers are written with
-// std::snprintf in the C locale, so '.' is always the decimal point.
+// A tiny CSV table builder and reader for the run folder (summary.csv, profiles, spectra)
+// and for the user's own tables (surveys, hardness periods).
+// Written: comma separated, first line is the header, '\n' line ends, fields quoted with '"'
+// only when they contain a comma, a quote or a line end (RFC 4180; a quote inside a quoted
+// field is doubled). Numbers are written with std::snprintf in the C locale, so '.' is
+// always the decimal point.
+// Read: the same, and also as spreadsheets save CSV: a UTF-8 byte-order mark is skipped,
+// '\r\n' line ends are accepted, and a file whose header has ';' and no ',' is read as
+// ';'-separated (European Excel), where a number may have a decimal comma ("12,5").
 #include <cstddef>
 #include <string>
 #include <variant>
@@ -68,8 +72,12 @@ class CsvTable {
 
 // A CSV file as read: header, rows of text fields, and where each row was in the file,
 // so that errors found later (a bad number in row 7) can name the line.
+// The UTF-8 byte-order mark some programs put at the start of a text file.
+constexpr const char kUtf8Bom[] = "\xEF\xBB\xBF";
+
 struct CsvData {
   std::string path;                     // as given to read_csv, used in error messages
+  char separator = ',';                 // ',' or ';' (found from the header)
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> row_line;    // 1-based line number of each row in the file
@@ -82,7 +90,8 @@ struct CsvData {
   std::size_t column(const std::string& name) const;
   const std::string& text(std::size_t row, std::size_t col) const;
   // The field as a double (strtod, whole field, surrounding spaces allowed; nan/inf
-  // accepted). Throws InputError(path, "line N", "a number in column NAME, found 'X'").
+  // accepted; in a ';' file one ',' is the decimal separator).
+  // Throws InputError(path, "line N", "a number in column NAME, found 'X'").
   double number(std::size_t row, std::size_t col) const;
   double number(std::size_t row, const std::string& col) const { return number(row, column(col)); }
   // A whole column as numbers (same errors as number()).
@@ -90,9 +99,11 @@ struct CsvData {
   std::vector<std::string> texts(const std::string& col) const;
 };
 
-// Parses CSV text; `name` is used as the file in error messages.
+// Parses CSV text; `name` is used as the file in error messages. A leading byte-order
+// mark is skipped; the separator is found from the header (see above).
 // Throws InputError(name, "line N", ...) on: no header, a row with a different number of
-// fields than the header, an unterminated quoted field. Blank lines are skipped.
+// fields than the header, an unterminated quoted field, UTF-16 text. Blank lines are
+// skipped.
 CsvData parse_csv(const std::string& text, const std::string& name);
 // Reads and parses a CSV file. Throws InputError(path, "", "a readable file") if missing.
 CsvData read_csv(const std::string& path);

@@ -56,6 +56,33 @@ void create_run_folder(const std::string& out) {
   ensure_dir(plots_data_dir(out));
 }
 
+std::string relative_to(const std::string& out, const std::string& path) {
+  const std::string prefix = join_path(out, "");
+  if (prefix.empty() || path.size() <= prefix.size() || path.compare(0, prefix.size(), prefix) != 0) return "";
+  return path.substr(prefix.size());
+}
+
+int remove_run_files(const std::string& out, const std::vector<std::string>& files) {
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& f : files) {
+    const fs::path rel(f);
+    if (f.empty() || rel.is_absolute()) continue;
+    bool up = false;
+    for (const auto& part : rel) up = up || part == "..";
+    if (up) continue;
+    const std::string path = join_path(out, f);
+    if (fs::is_regular_file(fs::symlink_status(path, ec)) && fs::remove(path, ec)) ++removed;
+  }
+  const std::vector<std::string> dirs = {plots_data_dir(out), plots_out_dir(out), stages_dir(out),
+                                         profiles_dir(out), join_path(out, "inputs")};
+  removed += remove_stale_temps(out);
+  for (const auto& d : dirs) removed += remove_stale_temps(d);
+  for (const auto& d : dirs)
+    if (fs::is_directory(d, ec) && fs::is_empty(d, ec)) fs::remove(d, ec);
+  return removed;
+}
+
 // ---- key=value ----
 
 namespace {

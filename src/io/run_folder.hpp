@@ -11,6 +11,11 @@
 //   OUT/stages/DESIGN_stageK.done        marker: stage K of DESIGN is complete on disk
 //   OUT/plots/                           figures (PNG + SVG), gnuplot.log
 //   OUT/plots/data/                      per-design files split out for gnuplot
+//   OUT/inputs/                          copies of the scene, profile and comparison files
+//   OUT/stages/run.key                   the designs and their input fingerprints
+//   OUT/.millwear.lock                   while a run writes (io/folder_lock.hpp)
+// manifest.json lists every file the run wrote ("files"); `run --force` deletes exactly
+// those when the folder is taken over by a run of other inputs.
 //
 // Stage-done marker format (key=value text, one pair a line, '#' starts a comment line,
 // blank lines ignored; the key is trimmed, the value is everything after the first '='
@@ -47,6 +52,16 @@ bool is_valid_design_name(const std::string& design);
 
 // Creates OUT, OUT/profiles, OUT/stages, OUT/plots, OUT/plots/data. Throws RunError.
 void create_run_folder(const std::string& out);
+
+// `path` relative to `out` if it lies under it ("profiles/x.csv"), else "".
+std::string relative_to(const std::string& out, const std::string& path);
+
+// Deletes the files of an earlier run in OUT: each entry of `files` (relative to OUT, as a
+// manifest lists them) that is a regular file, then millwear's temporaries in the folders of
+// a run folder, then those folders (profiles, stages, plots/data, plots, inputs) if they
+// are left empty. An entry that is absolute or has a ".." part is skipped: nothing outside
+// OUT is touched, and no file that is not listed. Returns how many files were removed.
+int remove_run_files(const std::string& out, const std::vector<std::string>& files);
 
 // ---- key=value files ----
 using KeyValues = std::vector<std::pair<std::string, std::string>>;  // in file order

@@ -184,8 +184,24 @@ void write_manifest(const RunReport& r) {
     designs.push_back(j);
   }
   m["designs"] = designs;
+  m["files"] = r.files;
   // Invalid UTF-8 (a file name in a message) is replaced, never a failure to write.
   write_file_atomic(manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+}
+
+std::vector<std::string> manifest_files(const std::string& out) {
+  const std::string path = manifest_path(out);
+  if (!file_exists(path)) return {};
+  std::vector<std::string> files;
+  try {
+    const Json m = Json::parse(read_file(path));
+    if (m.is_object() && m.contains("files") && m["files"].is_array())
+      for (const auto& f : m["files"])
+        if (f.is_string()) files.push_back(f.get<std::string>());
+  } catch (const std::exception&) {
+    return {};
+  }
+  return files;
 }
 
 }  // namespace millwear::io

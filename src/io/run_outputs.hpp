@@ -37,10 +37,15 @@ struct RunReport {
   int jobs = 1;
   std::vector<std::string> comparison_files;
   std::vector<DesignReport> designs;
+  std::vector<std::string> files;  // every file the run wrote, relative to out
 };
 
 void write_summary(const RunReport& report);
 void write_spectrum(const RunReport& report);
 void write_manifest(const RunReport& report);
+
+// The `files` list of OUT/manifest.json (paths relative to OUT): what a run wrote. Empty if
+// there is no manifest, it does not parse or it has no list (an older millwear's).
+std::vector<std::string> manifest_files(const std::string& out);
 
 }  // namespace millwear::io

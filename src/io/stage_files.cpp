@@ -226,6 +226,16 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   return rec;
 }
 
+std::vector<std::string> stage_state_files(const std::string& out, const std::string& design, int stage) {
+  const std::string base = stage_base(out, design, stage);
+  std::vector<std::string> files;
+  for (const char* ext : {".record", ".units.csv", ".spectrum.csv", ".edges.csv", ".charge.csv", ".start.csv"})
+    if (file_exists(base + ext)) files.push_back(base + ext);
+  const std::string marker = stage_done_marker(out, design, stage);
+  if (file_exists(marker)) files.push_back(marker);
+  return files;
+}
+
 void remove_stage_state(const std::string& out, const std::string& design) {
   std::error_code ec;
   const std::string dir = stages_dir(out), prefix = design + "_stage";

@@ -25,6 +25,8 @@ namespace millwear::io {
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec);
 // Reads stage K back. Throws InputError naming the file if anything is missing or bad.
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage);
+// The state files and marker of stage K of a design that are on disk (paths under OUT).
+std::vector<std::string> stage_state_files(const std::string& out, const std::string& design, int stage);
 // Deletes the state files and marker of every stage of a design (a fresh run).
 void remove_stage_state(const std::string& out, const std::string& design);
 

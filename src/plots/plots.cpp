@@ -376,6 +376,18 @@ std::string hours_text(double h) {
 
 }  // namespace
 
+std::vector<std::string> figure_data_files(const std::string& out, const std::vector<std::string>& designs) {
+  std::vector<std::string> files;
+  const std::string log_path = io::join_path(io::plots_out_dir(out), "gnuplot.log");
+  if (io::file_exists(log_path)) files.push_back(log_path);
+  for (const auto& d : designs)
+    for (const char* suffix : {"_summary.csv", "_spectrum.csv", "_profiles.dat"}) {
+      const std::string f = io::join_path(io::plots_data_dir(out), d + suffix);
+      if (io::file_exists(f)) files.push_back(f);
+    }
+  return files;
+}
+
 std::vector<std::string> render_all_figures(const std::string& out,
                                             const std::vector<std::string>& designs_in,
                                             const std::string& reference_in) {

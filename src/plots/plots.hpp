@@ -60,4 +60,8 @@ std::vector<std::string> render_all_figures(const std::string& out_dir,
                                             const std::vector<std::string>& designs,
                                             const std::string& reference = "");
 
+// The files render_all_figures writes besides the figures, those on disk: OUT/plots/gnuplot.log
+// and, per design, OUT/plots/data/DESIGN_{summary.csv,spectrum.csv,profiles.dat}.
+std::vector<std::string> figure_data_files(const std::string& out_dir, const std::vector<std::string>& designs);
+
 }  // namespace millwear::plots

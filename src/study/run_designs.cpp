@@ -5,10 +5,13 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <optional>
+#include <set>
 #include <thread>
 
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "io/run_outputs.hpp"
 #include "io/stage_files.hpp"
@@ -67,6 +70,12 @@ void life_of(const DesignInput& d, const DesignState& st, double& life_h, bool& 
 
 namespace {
 
+// Books a file as written by this run (for the manifest's list). Caller holds the mutex.
+void note(RunState& ctx, const std::string& out, const std::string& path) {
+  const std::string rel = io::relative_to(out, path);
+  if (!rel.empty()) ctx.written.insert(rel);
+}
+
 // The run's plain report for the table writers. Caller holds the mutex.
 io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_write) {
   io::RunReport r;
@@ -99,11 +108,17 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
     dr.events = st.events;
     r.designs.push_back(std::move(dr));
   }
+  // The files on disk now (a file of an earlier stage may since have been replaced).
+  r.files.push_back("manifest.json");
+  for (const auto& f : ctx.written)
+    if (f != "manifest.json" && io::file_exists(io::join_path(opt.out, f))) r.files.push_back(f);
   return r;
 }
 
 // summary.csv, spectrum.csv and manifest.json, from the stages so far. Caller holds the mutex.
 void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
+  note(ctx, opt.out, io::summary_path(opt.out));
+  note(ctx, opt.out, io::spectrum_path(opt.out));
   const io::RunReport r = report_of(ctx, opt, final_write);
   io::write_summary(r);
   io::write_spectrum(r);
@@ -134,7 +149,14 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   light.snapshot = ChargeState{};
   light.start_charge = ChargeState{};
   light.edge_wear_rate_m_per_s.clear();
+  const std::vector<std::string> state_files = io::stage_state_files(out, d.name, rec.stage);
   std::lock_guard<std::mutex> lock(ctx.mutex);
+  note(ctx, out, io::profile_path(out, d.name, rec.stage));
+  for (const auto& f : state_files) note(ctx, out, f);
+  if (latest) {
+    note(ctx, out, io::snapshot_path(out, d.name));
+    note(ctx, out, io::liner_path(out, d.name));
+  }
   st.stages[rec.stage] = std::move(light);
   write_tables(ctx, opt, false);
   const bool last = rec.stage >= d.scene.wear.stages || rec.worn_out;
@@ -233,6 +255,63 @@ io::KeyValues resume_key(const Plan& plan) {
   return kv;
 }
 
+// What OUT holds. None: no run.key and no manifest (a new folder, or the user's own files).
+// Same: the same designs with the same fingerprints. Other: anything else.
+enum class Holds { None, Same, Other };
+
+Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) {
+  const std::string key = resume_key_path(out);
+  if (!io::file_exists(key)) {
+    if (!io::file_exists(io::manifest_path(out))) return Holds::None;
+    what = "a run whose inputs are not recorded (" + io::manifest_path(out) + " without " + key + ")";
+    return Holds::Other;
+  }
+  io::KeyValues have;
+  try {
+    have = io::read_key_values(key);
+  } catch (const InputError&) {
+    what = "a run whose " + key + " does not read";
+    return Holds::Other;
+  }
+  const io::KeyValues want = resume_key(plan);
+  const std::set<std::pair<std::string, std::string>> a(have.begin(), have.end()), b(want.begin(), want.end());
+  if (a == b) return Holds::Same;
+  std::string names, changed;
+  for (const auto& [k, v] : have) {
+    if (k.compare(0, 7, "design.") != 0) continue;
+    const std::string n = k.substr(7);
+    names += (names.empty() ? "" : ", ") + n;
+    for (const auto& d : plan.designs)
+      if (d.name == n && d.fingerprint != v) changed += (changed.empty() ? "" : ", ") + n;
+  }
+  what = "the results of design(s) " + (names.empty() ? std::string("?") : names) +
+         (changed.empty() ? std::string(" (not the designs of this run)")
+                          : " (other scene or profile files, or fidelity, for " + changed + ")");
+  return Holds::Other;
+}
+
+// --force: the files the earlier run wrote, by its manifest's list and by the names millwear
+// gives the stage files, snapshot and liner of each design its run.key names. Nothing else.
+void clear_other_run(const std::string& out) {
+  std::vector<std::string> files = io::manifest_files(out);
+  const std::string key = resume_key_path(out);
+  if (io::file_exists(key)) {
+    try {
+      for (const auto& [k, v] : io::read_key_values(key)) {
+        if (k.compare(0, 7, "design.") != 0 || !io::is_valid_design_name(k.substr(7))) continue;
+        const std::string n = k.substr(7);
+        io::remove_stage_state(out, n);
+        files.push_back(io::relative_to(out, io::snapshot_path(out, n)));
+        files.push_back(io::relative_to(out, io::liner_path(out, n)));
+      }
+    } catch (const InputError&) {
+    }
+  }
+  for (const std::string& f : {io::summary_path(out), io::spectrum_path(out), key, io::manifest_path(out)})
+    files.push_back(io::relative_to(out, f));
+  io::remove_run_files(out, files);
+}
+
 // Copies of every scene, profile and comparison file into OUT/inputs/ (file names kept;
 // a second, different file with a name already taken gets its design's name in front).
 void copy_inputs(RunState& ctx, const std::string& out) {
@@ -246,6 +325,7 @@ void copy_inputs(RunState& ctx, const std::string& out) {
     if (it != taken.end() && it->second != content) name = prefix + "_" + name;
     if (!taken.count(name)) {
       io::write_file_atomic(io::join_path(dir, name), content);
+      note(ctx, out, io::join_path(dir, name));
       taken[name] = content;
     }
     return name;
@@ -271,21 +351,29 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : hw, plan.designs.size()));
 
-  // --resume: the earlier run must have had the same scenes and fidelity.
+  // One run per folder, for the whole run: a second one is refused here, before it reads
+  // or deletes anything.
   const std::string& out = opt.out;
+  std::optional<io::FolderLock> folder_lock;
+  if (opt.lock_folder) folder_lock.emplace(out);
+
+  // A folder holding another run's results is not mixed with this one's: refused, or with
+  // --force cleared of that run's files (and only those) first.
+  std::string holds_what;
+  const Holds holds = folder_holds(plan, out, holds_what);
+  if (holds == Holds::Other && !opt.force)
+    throw InputError(out, "-o",
+                     "a folder that is new or holds the results of these same scenes and settings, but it "
+                     "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
+                     "its manifest.json lists; no other file is touched)");
+  if (holds == Holds::Other) clear_other_run(out);
+
+  // --resume: continues the stages of this same run (the check above).
   std::vector<std::vector<StageRecord>> resume(plan.designs.size());
-  bool resuming = false;
-  if (opt.resume && io::file_exists(resume_key_path(out))) {
-    const io::KeyValues have = io::read_key_values(resume_key_path(out));
-    for (const auto& d : plan.designs) {
-      const std::string was = io::find_value(have, "design." + d.name);
-      if (!was.empty() && was != d.fingerprint)
-        throw InputError(resume_key_path(out), "design." + d.name,
-                         "the same scene and profile files and fidelity as the run being resumed "
-                         "(they changed); use a new output folder or drop --resume");
-    }
-    resuming = true;
-  }
+  const bool resuming = opt.resume && holds == Holds::Same;
+  // Files an earlier run of these same inputs wrote stay listed while they are on disk.
+  if (holds == Holds::Same)
+    for (const auto& f : io::manifest_files(out)) ctx.written.insert(f);
   if (resuming) {
     for (std::size_t i = 0; i < plan.designs.size(); ++i) {
       const int k = std::min(io::last_finished_stage(out, plan.designs[i].name), plan.designs[i].scene.wear.stages);
@@ -311,6 +399,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     fs::remove(io::spectrum_path(out), ec);
   }
   io::write_file_atomic(resume_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
+  ctx.written.insert(io::relative_to(out, resume_key_path(out)));
   copy_inputs(ctx, out);
 
   // Stages read back: the same bookkeeping as freshly finished ones (files rewritten from
@@ -367,12 +456,18 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     // Figures from whatever finished.
     std::vector<std::string> names;
     for (const auto& d : plan.designs) names.push_back(d.name);
+    std::vector<std::string> figures;
     try {
-      plots::render_all_figures(out, names, plan.reference);
+      figures = plots::render_all_figures(out, names, plan.reference);
     } catch (const std::exception& e) {
       outcome.figures_failed = plots::gnuplot_available();
       outcome.figure_error = e.what();
     }
+    // The manifest again, now listing the figures and their data files too.
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    for (const auto& f : figures) note(ctx, out, f);
+    for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
+    io::write_manifest(report_of(ctx, opt, true));
   }
   outcome.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
   return outcome;

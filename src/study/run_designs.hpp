@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,12 @@ struct DesignState {
 struct RunOptions {
   std::string out;
   bool resume = false;
+  // OUT holds the results of other designs or inputs (its stages/run.key differs): without
+  // force the run is refused (InputError); with it, the files that run's manifest lists are
+  // deleted first, and nothing else.
+  bool force = false;
+  // Hold OUT's lock (io/folder_lock.hpp) for the whole run; false when the caller holds it.
+  bool lock_folder = true;
   int jobs = 0;                         // designs at once (0: the hardware's cores)
   int stop_after_stage = -1;            // >= 0: stop cleanly after that stage, as if interrupted
   const std::atomic<int>* stop_signal = nullptr;  // non-zero: stop at the next window (a signal number)
@@ -67,6 +74,7 @@ struct RunState {
   int jobs = 1;
   bool resumed = false;
   std::map<std::string, std::vector<std::string>> copied;  // design -> inputs/ names
+  std::set<std::string> written;  // files of the run, relative to OUT (the manifest's list)
 };
 
 struct RunOutcome {
@@ -79,7 +87,8 @@ struct RunOutcome {
 };
 
 // Runs every design of the plan into options.out. Throws InputError before anything is
-// written when --resume meets a folder of other inputs or a damaged stage file.
+// written when another process is writing into the folder, when the folder holds the
+// results of other inputs (unless force) or when --resume meets a damaged stage file.
 RunOutcome run_designs(RunState& state, const RunOptions& options);
 
 // Life of a design from its stages so far (a finished history carries its own).

@@ -27,7 +27,8 @@ std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + st
 std::string strip_comment_lines(const std::string& text) {
   std::string out;
   out.reserve(text.size());
-  std::size_t pos = 0;
+  // A byte-order mark (spreadsheets' "CSV UTF-8") would hide a first line's '#'.
+  std::size_t pos = text.compare(0, 3, io::kUtf8Bom) == 0 ? 3 : 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
     const bool last = end == std::string::npos;

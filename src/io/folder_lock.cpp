@@ -1,0 +1,117 @@
+// The output folder's lock: flock on OUT/.millwear.lock.
+#include "io/folder_lock.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
+
+namespace millwear::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// This process's command line, words joined by spaces, on one line.
+std::string own_command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  std::string c = s.str();
+  for (char& ch : c)
+    if (ch == '\0' || ch == '\n' || ch == '\r') ch = ' ';
+  while (!c.empty() && c.back() == ' ') c.pop_back();
+  if (c.size() > 400) c = c.substr(0, 400) + " ...";
+  return c.empty() ? std::string("millwear") : c;
+}
+
+// The holder writes its pid right after taking the lock: a refused process that looks in
+// that instant finds the file still empty, so it looks again for a moment.
+KeyValues read_holder(const std::string& path) {
+  for (int i = 0; i < 40; ++i) {
+    try {
+      KeyValues kv = parse_key_values(read_file(path), path);
+      if (!find_value(kv, "pid").empty()) return kv;
+    } catch (const InputError&) {
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  return {};
+}
+
+[[noreturn]] void refuse(const std::string& folder, const std::string& path) {
+  const KeyValues kv = read_holder(path);
+  const std::string pid = find_value(kv, "pid"), command = find_value(kv, "command");
+  const std::string who = pid.empty() ? "another process (its pid could not be read from " + path + ")"
+                                      : "millwear process " + pid + (command.empty() ? "" : " (" + command + ")");
+  throw InputError(folder, "-o",
+                   "an output folder no other run is writing into, but " + who +
+                       " holds its lock " + kFolderLockName +
+                       "; wait for that process to end, or choose another folder");
+}
+
+}  // namespace
+
+void check_output_folder(const std::string& path) {
+  if (path.empty()) throw InputError("", "-o", "an output folder");
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_directory(path, ec))
+    throw InputError(path, "-o", "an output folder, but a file of that name exists");
+}
+
+FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_path(folder, kFolderLockName)) {
+  check_output_folder(folder);
+  ensure_dir(folder);
+  // The file is removed on release; a process that opened it just before that would hold a
+  // lock on a file no longer in the folder. So after flock, the file must still be the one
+  // at the path, else start again.
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+      throw RunError("cannot create the lock file " + path_ + " (" + std::strerror(errno) + ")");
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int err = errno;
+      ::close(fd);
+      if (err == EWOULDBLOCK) refuse(folder_, path_);
+      throw RunError("cannot lock " + path_ + " (" + std::strerror(err) + ")");
+    }
+    struct stat held {}, named {};
+    if (::fstat(fd, &held) != 0 || ::stat(path_.c_str(), &named) != 0 || held.st_ino != named.st_ino ||
+        held.st_dev != named.st_dev) {
+      ::close(fd);
+      continue;
+    }
+    const std::string text = format_key_values(
+        {{"pid", std::to_string(::getpid())}, {"command", own_command_line()}}, "millwear folder lock");
+    if (::ftruncate(fd, 0) != 0 || ::write(fd, text.data(), text.size()) != static_cast<ssize_t>(text.size())) {
+      const int err = errno;
+      ::unlink(path_.c_str());
+      ::close(fd);
+      throw RunError("cannot write the lock file " + path_ + " (" + std::strerror(err) + ")");
+    }
+    fd_ = fd;
+    return;
+  }
+  throw RunError("cannot lock " + path_ + ": it keeps being replaced");
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ < 0) return;
+  // Unlink while still holding it: a waiting process then finds the path gone and retries.
+  ::unlink(path_.c_str());
+  ::close(fd_);
+}
+
+}  // namespace millwear::io

@@ -1,0 +1,43 @@
+#pragma once
+// One writer per output folder. A command that writes into OUT holds OUT/.millwear.lock
+// (flock, exclusive, non-blocking) for as long as it writes: a second millwear pointed at
+// the same folder is refused at once, naming the process that holds it, instead of the two
+// mixing their files or deleting each other's temporaries.
+//
+// The lock file holds the holder's pid and command line (key=value text):
+//   # millwear folder lock
+//   pid=12345
+//   command=millwear run scene.toml -o OUT
+// It is removed when the lock is released, so a finished or refused run leaves the folder
+// as it found it. The kernel drops a flock when its process dies, so a lock file left by a
+// killed run does not block the next one: it is simply taken over.
+#include <string>
+
+namespace millwear::io {
+
+// Name of the lock file inside a locked folder.
+constexpr const char* kFolderLockName = ".millwear.lock";
+
+// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a folder.
+// Writes nothing: call it before any work, so that `-o FILE` stops every command alike.
+void check_output_folder(const std::string& path);
+
+class FolderLock {
+ public:
+  // Checks the path (check_output_folder), creates the folder if needed (ensure_dir) and
+  // takes its lock. Throws InputError(folder, "", ...) naming the holder's pid if another
+  // process holds it, RunError if the lock file cannot be made.
+  explicit FolderLock(const std::string& folder);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+  const std::string& folder() const { return folder_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string folder_, path_;
+  int fd_ = -1;
+};
+
+}  // namespace millwear::io
