@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "common/errors.hpp"
+#include "common/names.hpp"
 
 namespace millwear {
 
@@ -121,14 +122,13 @@ Polyline read_points(const toml::table& t, const std::string& file) {
   return pts;
 }
 
-// A name is also a CSV file name (`profile --csv`), so keep it a plain file name.
-void check_name(const std::string& name, const std::string& file) {
-  const bool bad = name.empty() || name == "." || name == ".." ||
-                   name.find_first_of("/\\") != std::string::npos ||
-                   std::any_of(name.begin(), name.end(),
-                               [](char c) { return static_cast<unsigned char>(c) < 0x20; });
-  if (bad)
-    throw InputError(file, "name", "expected a non-empty name usable as a file name (no '/')");
+// A name is also a CSV file name (`profile --csv`) and a manifest field: the one rule for names.
+void check_name(const std::string& name, const std::string& file, bool from_file_name) {
+  if (is_safe_name(name)) return;
+  throw InputError(file, "name",
+                   "expected " + safe_name_rule() +
+                       (from_file_name ? " (the profile has no name key, so its file name is used: give it one)"
+                                       : ""));
 }
 
 LifterProfile load_profile_impl(const std::string& path, std::vector<std::string>& chain) {
@@ -173,7 +173,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
   prof.form = form;
   prof.name = root.contains("name") ? string_at(root, "name", path, "a string")
                                     : fs::path(path).stem().string();
-  check_name(prof.name, path);
+  check_name(prof.name, path, !root.contains("name"));
   if (root.contains("description")) string_at(root, "description", path, "a string");
 
   if (form == ProfileForm::Trapezoid) {
