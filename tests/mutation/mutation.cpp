@@ -363,7 +363,7 @@ void print_report(const std::vector<const Case*>& cases, const std::vector<Resul
       const Result& r = results[gr.example];
       std::string files;
       for (std::size_t k = 0; k < gr.files.size(); ++k) files += (k ? ", " : "") + gr.files[k];
-      std::printf("  %s  x%zu  [%s]\n      %s | %s\n", g.c_str(), gr.n, files.c_str(), r.detail.c_str(),
+      std::printf("  %s  x%zu  [%s]\n      %s | %s\n", g.c_str(), gr.n, files.c_str(), one_line(r.detail).c_str(),
                   one_line(r.message).c_str());
     }
   };
@@ -377,7 +377,7 @@ void print_report(const std::vector<const Case*>& cases, const std::vector<Resul
       if (!is_failure(r.outcome)) continue;
       const Case& c = *cases[i];
       std::printf("  %s | %s | %s | %s | %s | %s | %s\n", c.source->rel.c_str(), one_line(c.key, 60).c_str(),
-                  c.value_class.c_str(), r.step.c_str(), outcome_name(r.outcome), r.detail.c_str(),
+                  c.value_class.c_str(), r.step.c_str(), outcome_name(r.outcome), one_line(r.detail).c_str(),
                   one_line(r.message).c_str());
     }
   }

@@ -69,6 +69,12 @@ bool mentions_alloc(const std::string& err) {
 // loss of 0 (a survey row at 0 h; validation/area_fit.hpp).
 bool documented_non_finite(const fs::path& file, const std::vector<std::string>& header,
                            const std::vector<std::string>& fields, std::size_t i) {
+  // Label columns copy the user's text ("inf" is a fine period label), they are not numbers.
+  static const std::set<std::string> kLabels{"period", "design", "species", "species_name", "scene", "name",
+                                             "owner", "quantity", "unit", "status", "reason", "time_unit",
+                                             "wear_column", "direction", "profile_source", "scene_file",
+                                             "profile_file"};
+  if (kLabels.count(header[i])) return true;
   if (file.filename() != "validation.csv" || header[i] != "loss_error_pct") return false;
   for (std::size_t k = 0; k < header.size(); ++k)
     if (header[k] == "measured_loss_mm2") return std::strtod(fields[k].c_str(), nullptr) == 0.0;
@@ -118,7 +124,7 @@ std::string check_csv(const fs::path& file, const fs::path& root, std::size_t* d
       }
       if (bad && !documented_non_finite(file, header, fields, i))
         return "non-finite number in " + name + " line " + std::to_string(record_line) + " field " +
-               std::to_string(i + 1) + ": '" + fields[i] + "'";
+               std::to_string(i + 1) + " (" + header[i] + "): '" + shorten(fields[i], 40) + "'";
     }
     return "";
   };
