@@ -279,7 +279,7 @@ TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
 TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
   const fs::path dir = scratch("wide");
   std::string p = read_text(kSource + "/profiles/lab-2x30.toml");
-  p.replace(p.find("top_width = 10.0"), 16, "top_width = 1e6");
+  p.replace(p.find("top_width = 10.0"), 16, "top_width = 4000");  // the shell is 1,885 mm round
   write(dir / "wide.toml", p);
   std::string s = lab_mill_with("", "");
   const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";

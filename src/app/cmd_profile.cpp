@@ -13,6 +13,7 @@
 
 #include "common/units.hpp"
 #include "app/commands.hpp"
+#include "io/atomic_write.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "profiles/profile.hpp"
@@ -28,28 +29,15 @@ struct ProfileArgs {
   std::string csv_dir;
 };
 
-// Write the polyline in mm to dir/<name>.csv via a temporary file and a rename, so a reader
-// never sees half a file.
+// Write the polyline in mm to dir/<name>.csv atomically (a reader never sees half a file).
 void write_csv(const LifterProfile& p, const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
-  const fs::path final_path = dir / (p.name + ".csv");
-  const fs::path tmp_path = dir / (p.name + ".csv.tmp");
-  {
-    std::ofstream out(tmp_path);
-    if (!out) throw RunError("cannot write " + tmp_path.string());
-    out << "x_mm,y_mm\n";
-    char line[64];
-    for (const Vec2& v : p.points) {
-      std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
-      out << line;
-    }
-    out.flush();
-    if (!out) throw RunError("cannot write " + tmp_path.string());
+  std::string text = "x_mm,y_mm\n";
+  char line[96];
+  for (const Vec2& v : p.points) {
+    std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
+    text += line;
   }
-  std::error_code ec;
-  fs::rename(tmp_path, final_path, ec);
-  if (ec) throw RunError("cannot rename " + tmp_path.string() + " to " + final_path.string() +
-                         ": " + ec.message());
+  io::write_file_atomic((dir / (p.name + ".csv")).string(), text);
 }
 
 int run_profile(const ProfileArgs& args) {

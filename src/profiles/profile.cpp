@@ -40,6 +40,11 @@ std::string line_of(const toml::node& n) {
   return "line " + std::to_string(n.source().begin.line);
 }
 
+// 5 m bounds a lifter's height and top width (the largest mills are 12 m across); 100 m any
+// point of a polyline profile (a whole liner unit of the largest mill is under 2 m).
+constexpr double kMaxLifterMm = 5000.0;
+constexpr double kMaxPointMm = 1e5;
+
 // A number (integer or float) or an InputError naming the key.
 double number_at(const toml::table& t, std::string_view key, const std::string& file,
                  const std::string& expected) {
@@ -115,8 +120,8 @@ Polyline read_points(const toml::table& t, const std::string& file) {
     if (!pair || pair->size() != 2 || !pair->get(0)->is_number() || !pair->get(1)->is_number())
       throw InputError(file, key, "expected a pair [x, y] of numbers in mm (" + line_of(e) + ")");
     const double x = *pair->get(0)->value<double>(), y = *pair->get(1)->value<double>();
-    if (!std::isfinite(x) || !std::isfinite(y))
-      throw InputError(file, key, "expected finite numbers in mm (" + line_of(e) + ")");
+    if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
+      throw InputError(file, key, "expected numbers in mm within +-100000 (" + line_of(e) + ")");
     pts.push_back({x * kMmToM, y * kMmToM});
   }
   return pts;
@@ -178,10 +183,10 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
 
   if (form == ProfileForm::Trapezoid) {
     TrapezoidDef t;
-    const double h_mm = number_at(root, "height", path, "a height in mm > 0");
-    if (!(h_mm > 0.0))
+    const double h_mm = number_at(root, "height", path, "a height in mm in (0, 5000]");
+    if (!(h_mm > 0.0 && h_mm <= kMaxLifterMm))
       throw InputError(path, "height",
-                       "expected a height in mm > 0 (got " + fmt_num(h_mm) + ")");
+                       "expected a height in mm in (0, 5000] (got " + fmt_num(h_mm) + ")");
     t.height_m = h_mm * kMmToM;
     t.leading_face_angle_rad = face_angle_at(root, "leading_face_angle", path);
     t.trailing_face_angle_rad = face_angle_at(root, "trailing_face_angle", path);
@@ -201,10 +206,10 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       const double target = measure_profile(ref.points).area_m2;
       t.top_width_m = top_width_for_area(t, target, path);
     } else if (has_top) {
-      const double w_mm = number_at(root, "top_width", path, "a top width in mm > 0");
-      if (!(w_mm > 0.0))
+      const double w_mm = number_at(root, "top_width", path, "a top width in mm in (0, 5000]");
+      if (!(w_mm > 0.0 && w_mm <= kMaxLifterMm))
         throw InputError(path, "top_width",
-                         "expected a top width in mm > 0 (got " + fmt_num(w_mm) + ")");
+                         "expected a top width in mm in (0, 5000] (got " + fmt_num(w_mm) + ")");
       t.top_width_m = w_mm * kMmToM;
     } else {
       throw InputError(path, "top_width", "missing; expected a top width in mm > 0 "

@@ -321,8 +321,9 @@ void read_wear(const TableReader& r, Scene& s) {
     if (given == 0) r.missing("wear_rate", what);
     r.fail(r.has("height_loss_rate") ? "height_loss_rate" : "area_loss_rate", what);
   }
-  // 1e-6 m^3/J: a million times any measured Archard rate of mill liners (1e-18 to 1e-12).
-  if (auto x = r.number("wear_rate", open_closed(0.0, 1e-6), "m^3/J, Archard C = K/H")) {
+  // 1e-6 m^3/J: a million times any measured Archard rate of mill liners (1e-18 to 1e-12);
+  // 1e-20: a hundredth of the smallest.
+  if (auto x = r.number("wear_rate", closed(1e-20, 1e-6), "m^3/J, Archard C = K/H")) {
     w.rate_source = WearRateSource::Given;
     w.wear_rate_m3_per_J = *x;
   }

@@ -157,8 +157,9 @@ ScreenDef load_screen(const std::string& path) {
   tr::TableReader f(ft ? *ft : kEmpty, "family", path, nullptr,
                     {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric", "rows",
                      "direction", "profiles"});
-  d.height_mm = read_axis(f, "height", tr::positive(), "mm", path, d.sampling, false);
-  d.top_width_mm = read_axis(f, "top_width", tr::positive(), "mm", path, d.sampling, false);
+  // The bounds of a profile file's height and top width (profiles/profile.cpp).
+  d.height_mm = read_axis(f, "height", tr::open_closed(0.0, 5000.0), "mm", path, d.sampling, false);
+  d.top_width_mm = read_axis(f, "top_width", tr::open_closed(0.0, 5000.0), "mm", path, d.sampling, false);
   d.leading_deg = read_axis(f, "leading_face_angle", {0.0, 90.0, false, true}, "deg from radial", path, d.sampling, false);
   d.trailing_deg = read_axis(f, "trailing_face_angle", {0.0, 90.0, false, true}, "deg from radial", path, d.sampling, false);
   d.rows = read_axis(f, "rows", tr::closed(1, 1000), "lifter rows", path, d.sampling, true);

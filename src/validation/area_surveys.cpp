@@ -37,12 +37,13 @@ AreaSurveys parse_area_surveys(const std::string& text, const std::string& name)
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const std::string line = "line " + std::to_string(d.row_line[r]);
     const double h = d.number(r, ch), v = d.number(r, cv);
-    if (!std::isfinite(h) || h < 0.0)
-      throw InputError(name, line, "operating hours >= 0 in column hours, found '" + d.text(r, ch) + "'");
-    if (area && !(std::isfinite(v) && v > 0.0))
-      throw InputError(name, line, "a lifter area > 0 (mm^2) in column area_mm2, found '" + d.text(r, cv) + "'");
-    if (loss && !std::isfinite(v))
-      throw InputError(name, line, "a finite area loss (mm^2) in column area_loss_mm2, found '" + d.text(r, cv) + "'");
+    // 1e6 h is over a century of operation; 1e10 mm^2 (100 m x 100 m) is past any lifter.
+    if (!(h >= 0.0 && h <= 1e6))
+      throw InputError(name, line, "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
+    if (area && !(v > 0.0 && v <= 1e10))
+      throw InputError(name, line, "a lifter area in (0, 1e10] (mm^2) in column area_mm2, found '" + d.text(r, cv) + "'");
+    if (loss && !(std::abs(v) <= 1e10))
+      throw InputError(name, line, "an area loss within +-1e10 (mm^2) in column area_loss_mm2, found '" + d.text(r, cv) + "'");
     out.surveys.push_back({h, v * kMm2, d.row_line[r]});
   }
   return out;

@@ -64,12 +64,15 @@ HardnessData parse_hardness(const std::string& text, const std::string& name) {
     p.length = d.number(r, ct);
     p.wear = d.number(r, cw);
     p.hardness = d.number(r, ch);
-    if (!(p.length > 0.0) || !std::isfinite(p.length))
-      throw InputError(name, where, "a period length > 0 in column " + data.time_unit);
-    if (!(p.wear > 0.0) || !std::isfinite(p.wear))
-      throw InputError(name, where, "a wear > 0 in column " + data.wear_column + " (the fit uses its logarithm)");
-    if (!(p.hardness > 0.0) || !std::isfinite(p.hardness))
-      throw InputError(name, where, "an ore hardness > 0 in column hardness");
+    // Bounds that keep the log-log fit finite: a period of 1e-3 to 1e6 (days or hours), a wear
+    // and a hardness of 1e-9 to 1e9 in the file's units.
+    if (!(p.length >= 1e-3 && p.length <= 1e6))
+      throw InputError(name, where, "a period length in [0.001, 1e6] in column " + data.time_unit);
+    if (!(p.wear >= 1e-9 && p.wear <= 1e9))
+      throw InputError(name, where,
+                       "a wear in [1e-9, 1e9] in column " + data.wear_column + " (the fit uses its logarithm)");
+    if (!(p.hardness >= 1e-9 && p.hardness <= 1e9))
+      throw InputError(name, where, "an ore hardness in [1e-9, 1e9] in column hardness");
     p.start = t;
     t += p.length;
     p.rate = data.wear_column == "wear_rate" ? p.wear : p.wear / p.length;

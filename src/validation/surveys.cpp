@@ -74,10 +74,11 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
   std::map<double, std::size_t> seen;  // hours -> first line of its block
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const double h = d.number(r, ch), x = d.number(r, cx), y = d.number(r, cy);
-    if (!std::isfinite(h) || h < 0.0)
-      throw InputError(name, line_of(d, r), "operating hours >= 0 in column hours, found '" + d.text(r, ch) + "'");
-    if (!std::isfinite(x) || !std::isfinite(y))
-      throw InputError(name, line_of(d, r), "finite x_mm and y_mm");
+    // 1e6 h is over a century of operation; 1e5 mm (100 m) is past any liner.
+    if (!(h >= 0.0 && h <= 1e6))
+      throw InputError(name, line_of(d, r), "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
+    if (!(std::abs(x) <= 1e5 && std::abs(y) <= 1e5))
+      throw InputError(name, line_of(d, r), "x_mm and y_mm within +-100000 mm");
     if (surveys.empty() || surveys.back().hours != h) {
       auto it = seen.find(h);
       if (it != seen.end())
