@@ -165,6 +165,20 @@ void check_filling(const Scene& scene, const std::string& file) {
 }
 
 void check_liner_size(const Scene& scene, const std::string& file) {
+  // A lifter needs edges of its own to wear, a shell plate between two lifters at least one.
+  if (!scene.mill.lifter.points.empty()) {
+    const double height = measure_profile(scene.mill.lifter.points).height_m;
+    if (scene.mill.mesh.lifter_edge_m > height)
+      throw InputError(file, "lifters.lifter_edge",
+                       "expected edges of at most the lifter's height (" + count_text(height * 1e3) +
+                           " mm) so the lifter has edges of its own to wear, got " +
+                           count_text(scene.mill.mesh.lifter_edge_m * 1e3) + " mm");
+  }
+  const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
+  if (scene.mill.mesh.shell_edge_m > pitch)
+    throw InputError(file, "lifters.shell_edge",
+                     "expected edges of at most the lifter pitch (" + count_text(pitch * 1e3) + " mm), got " +
+                         count_text(scene.mill.mesh.shell_edge_m * 1e3) + " mm");
   const double shell = 2.0 * kPi * scene.radius_m() / scene.mill.mesh.shell_edge_m;
   const double lifters =
       scene.mill.rows * polyline_length(scene.mill.lifter.points) / scene.mill.mesh.lifter_edge_m;

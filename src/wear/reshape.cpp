@@ -219,6 +219,15 @@ void check_smoothing_radius(const Scene& scene, const std::string& file) {
   }
   const SmoothingLoss l = smoothing_loss(scene, r);
   char buf[512];
+  if (lo <= 0.0) {
+    // Not a radius problem: the lifter as meshed does not survive any re-smoothing.
+    std::snprintf(buf, sizeof buf,
+                  "a lifter that survives re-smoothing: even at %.2g mm it removes over %.0f%% of the new lifter "
+                  "(at %.3g mm: %.0f%% of its area, %.0f%% of its height); look at the profile and at "
+                  "lifters.lifter_edge",
+                  hi * 1e3, 100.0 * kMaxSmoothingAreaLoss, r * 1e3, 100.0 * l.area_fraction, 100.0 * l.height_fraction);
+    throw InputError(file, "wear.smoothing_radius", buf);
+  }
   std::snprintf(buf, sizeof buf,
                 "a smoothing radius of at most %.3g mm for this lifter: re-smoothing the new lifter at %.3g mm "
                 "removes %.0f%% of its area and %.0f%% of its height before any wear (the radius is wider than half "
