@@ -318,3 +318,25 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
   expect_refused(r, (dir / "areas.csv").string(), "line 4", dir / "out");
   EXPECT_NE(r.output.find("areas grow with time"), std::string::npos) << r.output;
 }
+
+// ---- a full disk -----------------------------------------------------------------------------
+
+// A disk that fills while the figures are drawn: the run fails (exit 1) and says the file
+// system is full, where it said only "pclose returned error". A 700 kB file system holds the
+// results of the lab run (430 kB) but not all of its figures (1.2 MB). Mounting one needs
+// root (CI runs as root); elsewhere the test cannot arrange a full disk and says so.
+TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
+  const fs::path dir = scratch("full");
+  const std::string mnt = (dir / "fs").string();
+  fs::create_directories(mnt);
+  if (millwear::testing::run_shell("mount -t tmpfs -o size=700k tmpfs " + quoted(fs::path(mnt))).exit_code != 0)
+    GTEST_SKIP() << "cannot mount a small file system here (not root)";
+  const auto r = run_millwear("run " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " -o " +
+                              quoted(fs::path(mnt) / "out") + " --quiet");
+  millwear::testing::run_shell("umount " + quoted(fs::path(mnt)));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const bool named = r.output.find("is full") != std::string::npos ||
+                     r.output.find("No space left on device") != std::string::npos;
+  EXPECT_TRUE(named) << r.output;
+  EXPECT_EQ(r.output.find("pclose returned error"), std::string::npos) << r.output;
+}

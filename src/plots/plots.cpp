@@ -245,8 +245,10 @@ std::vector<std::string> render_figure(const std::string& script,
   // gnuplot-iostream's pclose has nothing to complain about and we read the real status.
   // Braces send the shell's own messages (e.g. "gnuplot: not found") to the log as well.
   if (!log_path.empty()) io::ensure_dir(parent_dir(log_path));
+  // `exit 0` even when the log or the status cannot be written (a full disk): gnuplot-iostream
+  // would print its own complaint about pclose; the missing status says it instead, below.
   const std::string cmd = "{ gnuplot >&2; echo $? >" + shell_quote(status_path) + "; } 2>>" +
-                          shell_quote(log_path.empty() ? "/dev/null" : log_path);
+                          shell_quote(log_path.empty() ? "/dev/null" : log_path) + "; exit 0";
   try {
     SigpipeGuard guard;
     Gnuplot gp(cmd);
