@@ -185,7 +185,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_flag("--quick", args->quick, "the three presets only (no one-knob ladder)");
   cmd->add_option("--stages", args->stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
   cmd->add_option("--stage-hours", args->stage_hours, "hours per stage (default: the scene's)")
-      ->check(CLI::Range(1e-6, 1e6));
+      ->check(CLI::Range(1.0, 1e6));
   cmd->add_option("-j,--jobs", args->jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-plot", args->no_plot, "skip the figure");
