@@ -18,7 +18,7 @@
 #include "cli_support.hpp"
 #include "io/csv.hpp"
 #include "scene/scene.hpp"
-#include "validation/area_surveys.hpp"
+#include "study/area_surveys.hpp"
 
 namespace fs = std::filesystem;
 

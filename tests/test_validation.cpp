@@ -18,11 +18,11 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "plots/plots.hpp"
-#include "validation/area_fit.hpp"
-#include "validation/area_surveys.hpp"
-#include "validation/hardness.hpp"
-#include "validation/profile_fit.hpp"
-#include "validation/surveys.hpp"
+#include "study/area_fit.hpp"
+#include "study/area_surveys.hpp"
+#include "study/hardness.hpp"
+#include "study/profile_fit.hpp"
+#include "study/surveys.hpp"
 
 namespace fs = std::filesystem;
 

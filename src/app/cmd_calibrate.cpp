@@ -1,8 +1,8 @@
 // `millwear calibrate SCENE --measured FILE [-o OUT]`: the real wear rate C that makes the
 // simulated wear history fit measured lifter profiles (least squares on the signed normal
-// distances; validation/profile_fit.hpp) or, when the file holds areas only, measured lifter
-// areas (least squares on the area loss; validation/area_fit.hpp), with its uncertainty
-// (validation/calibration.hpp), and a copy of the scene with `wear.wear_rate` filled in.
+// distances; study/profile_fit.hpp) or, when the file holds areas only, measured lifter
+// areas (least squares on the area loss; study/area_fit.hpp), with its uncertainty
+// (study/calibration.hpp), and a copy of the scene with `wear.wear_rate` filled in.
 //
 // Outputs: OUT/STEM-calibrated.toml (or, without -o, STEM-calibrated.toml next to the
 // scene), OUT/calibration.csv (one row per history run), OUT/calibration_surveys.csv (the
@@ -30,9 +30,9 @@
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
-#include "validation/area_fit.hpp"
-#include "validation/area_surveys.hpp"
-#include "validation/profile_fit.hpp"
+#include "study/area_fit.hpp"
+#include "study/area_surveys.hpp"
+#include "study/profile_fit.hpp"
 
 namespace millwear::app {
 

@@ -1,6 +1,6 @@
 // `millwear hardness FILE -o OUT`: the ore-hardness correction of operating time
 // CT = a * H^b fitted to measured wear per operating period (the paper's Figs. 1 to 3;
-// file format and method in validation/hardness.hpp).
+// file format and method in study/hardness.hpp).
 //
 // Outputs in OUT:
 //   hardness_periods.csv   period,start,end,length,hardness,wear,rate,ct,corrected_time,
@@ -21,7 +21,7 @@
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
-#include "validation/hardness.hpp"
+#include "study/hardness.hpp"
 
 namespace millwear::app {
 

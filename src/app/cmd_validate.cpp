@@ -2,10 +2,10 @@
 // (the paper's Fig. 4), or measured lifter areas alone, against the simulated wear history.
 //
 // The history is either run here (stage boundaries on the survey hours when they share a
-// common step, see validation/calibration.hpp) or read from a finished `millwear run`
+// common step, see study/calibration.hpp) or read from a finished `millwear run`
 // folder (--from RUN: its exact stage geometry, OUT/stages/DESIGN_stageK.units.csv, for the
 // design named by the scene). The measured file holds profiles (hours,x_mm,y_mm) or areas
-// only (hours,area_mm2 or hours,area_loss_mm2; validation/area_surveys.hpp). Outputs in OUT:
+// only (hours,area_mm2 or hours,area_loss_mm2; study/area_surveys.hpp). Outputs in OUT:
 // profiles:
 //   validation.csv               one row per survey: distances (mm, % of the new lifter's
 //                                height), bias, areas and area error
@@ -39,9 +39,9 @@
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
-#include "validation/area_fit.hpp"
-#include "validation/area_surveys.hpp"
-#include "validation/profile_fit.hpp"
+#include "study/area_fit.hpp"
+#include "study/area_surveys.hpp"
+#include "study/profile_fit.hpp"
 
 namespace millwear::app {
 

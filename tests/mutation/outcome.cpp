@@ -66,7 +66,7 @@ bool mentions_alloc(const std::string& err) {
 }
 
 // The one documented not-a-number of the outputs: validate's loss error in % of a measured
-// loss of 0 (a survey row at 0 h; validation/area_fit.hpp).
+// loss of 0 (a survey row at 0 h; study/area_fit.hpp).
 bool documented_non_finite(const fs::path& file, const std::vector<std::string>& header,
                            const std::vector<std::string>& fields, std::size_t i) {
   // Label columns copy the user's text ("inf" is a fine period label), they are not numbers.

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/surveys.hpp"
+#include "study/surveys.hpp"
 
 namespace millwear::validation {
 

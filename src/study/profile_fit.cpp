@@ -1,6 +1,6 @@
 // Profile comparison, interpolation between stages, and the calibration of C on profiles
 // (see profile_fit.hpp; the time-scale fit itself is in calibration.cpp).
-#include "validation/profile_fit.hpp"
+#include "study/profile_fit.hpp"
 
 #include <algorithm>
 #include <cmath>

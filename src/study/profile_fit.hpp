@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "scene/scene.hpp"
-#include "validation/calibration.hpp"
-#include "validation/surveys.hpp"
+#include "study/calibration.hpp"
+#include "study/surveys.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::validation {

@@ -1,6 +1,6 @@
 // The time-scale fit and the calibration loop shared by the profile and area calibrations
 // (method in calibration.hpp).
-#include "validation/calibration.hpp"
+#include "study/calibration.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "validation/surveys.hpp"
+#include "study/surveys.hpp"
 
 #include <algorithm>
 #include <cmath>

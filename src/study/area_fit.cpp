@@ -1,6 +1,6 @@
 // Simulated against measured lifter areas, and the calibration of C on area loss (see
 // area_fit.hpp; the time-scale fit itself is in calibration.cpp).
-#include "validation/area_fit.hpp"
+#include "study/area_fit.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "scene/scene.hpp"
-#include "validation/area_surveys.hpp"
-#include "validation/calibration.hpp"
+#include "study/area_surveys.hpp"
+#include "study/calibration.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::validation {

@@ -1,4 +1,4 @@
-#include "validation/hardness.hpp"
+#include "study/hardness.hpp"
 
 #include <Eigen/Dense>
 
@@ -8,7 +8,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
-#include "validation/surveys.hpp"
+#include "study/surveys.hpp"
 
 namespace millwear::validation {
 

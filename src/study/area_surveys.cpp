@@ -1,4 +1,4 @@
-#include "validation/area_surveys.hpp"
+#include "study/area_surveys.hpp"
 
 #include <cmath>
 
