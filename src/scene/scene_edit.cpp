@@ -1,0 +1,122 @@
+// A scene file's text with its wear rate replaced (see scene_edit.hpp). toml++ finds where
+// each key and value sit (line and column); the text itself is edited, so nothing else of
+// the file changes.
+#include "scene/scene_edit.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "common/errors.hpp"
+
+namespace millwear {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+// Replace columns [from, to) (1-based, to exclusive) of line `line` (1-based).
+void replace_span(std::vector<std::string>& lines, std::size_t line, std::size_t from, std::size_t to,
+                  const std::string& with, const std::string& path) {
+  if (line == 0 || line > lines.size() || from == 0 || to < from || to - 1 > lines[line - 1].size())
+    throw RunError("cannot edit " + path + " at line " + std::to_string(line) + " (unexpected layout)");
+  lines[line - 1] = lines[line - 1].substr(0, from - 1) + with + lines[line - 1].substr(to - 1);
+}
+
+// A path as a TOML string: literal ('...') unless it holds a quote, else a basic string
+// with TOML's escapes (the same as JSON's).
+std::string toml_path_string(const std::string& p) {
+  if (p.find('\'') == std::string::npos) return "'" + p + "'";
+  std::string q = "\"";
+  for (char c : p) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    switch (c) {
+      case '"': q += "\\\""; break;
+      case '\\': q += "\\\\"; break;
+      case '\n': q += "\\n"; break;
+      case '\r': q += "\\r"; break;
+      case '\t': q += "\\t"; break;
+      case '\b': q += "\\b"; break;
+      case '\f': q += "\\f"; break;
+      default:
+        if (u < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", u);
+          q += buf;
+        } else {
+          q += c;  // UTF-8 passes through unchanged
+        }
+    }
+  }
+  return q + '"';
+}
+
+}  // namespace
+
+std::string calibrated_scene_text(const std::string& text, const std::string& scene_path, const WearRateEdit& edit) {
+  toml::table t;
+  try {
+    t = toml::parse(text, scene_path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(scene_path, "", std::string("a TOML file: ") + e.what());
+  }
+  std::vector<std::string> lines = split_lines(text);
+  // Edits go bottom-up within a line, so columns stay valid: collect, then apply by line.
+  struct Edit { std::size_t line, from, to; std::string with; };
+  std::vector<Edit> edits;
+
+  toml::table* wear = t["wear"].as_table();
+  if (!wear) throw InputError(scene_path, "wear", "a [wear] table with the wear rate to replace");
+  bool done = false;
+  for (auto&& [k, v] : *wear) {
+    const std::string key(k.str());
+    if (key != "wear_rate" && key != "area_loss_rate" && key != "height_loss_rate") continue;
+    const auto ks = k.source(), vs = v.source();
+    if (ks.begin.line != vs.end.line)
+      throw RunError(scene_path + ": the wear-rate key and value are not on one line; set wear_rate by hand");
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", edit.wear_rate_m3_per_J);
+    edits.push_back({ks.begin.line, ks.begin.column, lines[vs.end.line - 1].size() + 1,
+                     std::string("wear_rate = ") + buf + "   # m^3/J, " + edit.note});
+    done = true;
+  }
+  if (!done)
+    throw InputError(scene_path, "wear.wear_rate",
+                     "a wear-rate key to replace (wear_rate, area_loss_rate or height_loss_rate)");
+
+  const fs::path scene_dir = fs::absolute(fs::path(scene_path)).parent_path();
+  const fs::path target_dir = fs::absolute(fs::path(edit.out_dir));
+  if (toml::table* lifters = t["lifters"].as_table()) {
+    if (toml::node* prof = lifters->get("profile"); prof && prof->is_string() &&
+                                                    fs::weakly_canonical(scene_dir) != fs::weakly_canonical(target_dir)) {
+      const fs::path resolved = (scene_dir / fs::path(prof->as_string()->get())).lexically_normal();
+      // Relative when the copy stays near the scene (portable with its folder), else absolute.
+      std::string rel = fs::relative(resolved, fs::weakly_canonical(target_dir)).string();
+      if (rel.rfind("../../", 0) == 0) rel = resolved.string();
+      const auto vs = prof->source();
+      if (vs.begin.line != vs.end.line) throw RunError(scene_path + ": lifters.profile spans lines");
+      edits.push_back({vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)});
+    }
+  }
+  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
+    return a.line != b.line ? a.line > b.line : a.from > b.from;
+  });
+  for (const Edit& e : edits) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
+
+  std::string out = "# Calibrated copy of " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+
+}  // namespace millwear

@@ -1,0 +1,96 @@
+// `millwear calibrate` as one call (see calibration_run.hpp).
+#include "study/calibration_run.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+#include "scene/scene_edit.hpp"
+#include "study/area_fit.hpp"
+#include "study/profile_fit.hpp"
+
+namespace millwear::validation {
+
+namespace fs = std::filesystem;
+
+CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallbacks& cb) {
+  Scene scene = load_scene(a.scene_file);
+  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  const Measurements measured = read_measurements(a.measured_file);
+  bool worn = false;
+  for (double h : measured.hours()) worn |= h > 0.0;
+  if (!worn)
+    throw InputError(a.measured_file, "hours", std::string("at least one survey after 0 h (a worn ") +
+                                                   (measured.areas_only ? "lifter area" : "profile") +
+                                                   ") to calibrate on");
+  CalibrateOutcome o;
+  o.areas = measured.areas_only;
+  if (o.areas)
+    check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
+                       a.measured_file);
+  const std::string stem = fs::path(a.scene_file).stem().string();
+  const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;
+  o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
+  // One writer per output folder, for the whole calibration (not the scene's own folder).
+  std::optional<io::FolderLock> lock;
+  if (!a.out.empty()) lock.emplace(a.out);
+  o.options = a.options;
+  o.options.min_runs = std::min(a.options.min_runs, a.options.max_runs);
+  if (cb.on_start) cb.on_start(scene, measured, o.options);
+
+  const WearCallbacks wear = cb.wear;
+  const auto history = [wear](const Scene& s) {
+    WearHistory h = run_wear_history(s, wear);
+    throw_if_failed(h);  // a lost disk or rule 1's stop: no rate is fitted to it
+    return h;
+  };
+  o.result = o.areas ? calibrate_wear_rate(scene, measured.areas, o.options, cb.on_run, history)
+                     : calibrate_wear_rate(scene, measured.profiles, o.options, cb.on_run, history);
+  const CalibrationResult& res = o.result;
+
+  io::ensure_dir(out_dir);
+  char note[200];
+  std::snprintf(note, sizeof note, "calibrated on %s%s: %.4g +- %.2g (k=2)",
+                fs::path(a.measured_file).filename().c_str(), o.areas ? " (areas)" : "", res.c_m3_per_J,
+                res.expanded_m3_per_J);
+  io::write_file_atomic(o.scene_out,
+                        calibrated_scene_text(io::read_file(a.scene_file), a.scene_file, {res.c_m3_per_J, note, out_dir}));
+  // The copy must read back as a valid scene with exactly this C.
+  const Scene check = load_scene(o.scene_out);
+  if (check.wear.rate_source != WearRateSource::Given ||
+      std::fabs(check.wear.wear_rate_m3_per_J / res.c_m3_per_J - 1.0) > 1e-5)
+    throw RunError(o.scene_out + ": the calibrated copy does not read back with the calibrated wear rate");
+  if (!a.out.empty()) write_calibration_tables(a.out, res, o.areas);
+  return o;
+}
+
+void write_calibration_tables(const std::string& out, const CalibrationResult& res, bool areas) {
+  // rms of the residuals: normal distances (mm) for profiles, area losses (mm^2) for areas.
+  io::CsvTable runs({"run", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J",
+                     areas ? "rms_mm2" : "rms_mm", "points", "sigma_scale_curvature", "sigma_scale_spread",
+                     "at_bound", "wall_s"});
+  for (const auto& r : res.runs)
+    runs.add_row({r.run, r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms * (areas ? 1e6 : 1e3),
+                  r.fit.points, r.fit.sigma_curvature, r.fit.sigma_spread, r.fit.at_bound, r.wall_s});
+  runs.write(io::join_path(out, "calibration.csv"));
+  io::CsvTable per({"hours", "c_m3_per_J"});
+  for (std::size_t j = 0; j < res.survey_c.size(); ++j) per.add_row({res.survey_hours[j], res.survey_c[j]});
+  per.write(io::join_path(out, "calibration_surveys.csv"));
+  io::CsvTable sum({"c_m3_per_J", "sigma_m3_per_J", "sigma_fit_m3_per_J", "sigma_simulation_m3_per_J",
+                    "expanded_m3_per_J", "converged", "runs", "histories_averaged", "fit_on", "fit_error_known"});
+  sum.add_row({res.c_m3_per_J, res.sigma_m3_per_J, res.sigma_fit_m3_per_J, res.sigma_model_m3_per_J,
+               res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size()), res.histories_averaged,
+               areas ? "area_loss" : "profiles", res.fit_error_known});
+  sum.write(io::join_path(out, "calibration_result.csv"));
+}
+
+}  // namespace millwear::validation

@@ -1,0 +1,74 @@
+// The calibrated copy of a scene (scene/scene_edit.hpp): its text is the scene's own with
+// the wear-rate line replaced, so comments and every other key survive.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "common/errors.hpp"
+#include "engine_fixtures.hpp"
+#include "io/atomic_write.hpp"
+#include "scene/scene.hpp"
+#include "scene/scene_edit.hpp"
+
+namespace millwear {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kScene =
+    "# lab mill for the edit tests\n"
+    "name = \"edit\"   # design name\n"
+    "\n"
+    "[wear]\n"
+    "mode = \"staged\"\n"
+    "area_loss_rate = 900.0   # mm^2 per 1000 h, from the last relining\n"
+    "stage_hours = 50.0       # h\n";
+
+TEST(SceneEdit, TheWearRateKeyIsReplacedAndEverythingElseKept) {
+  const std::string dir = ::testing::TempDir();
+  const std::string out = calibrated_scene_text(kScene, dir + "/edit.toml", {1.2345678e-10, "fitted", dir});
+  EXPECT_EQ(out,
+            "# Calibrated copy of " + dir + "/edit.toml written by millwear calibrate (fitted).\n"
+            "# lab mill for the edit tests\n"
+            "name = \"edit\"   # design name\n"
+            "\n"
+            "[wear]\n"
+            "mode = \"staged\"\n"
+            "wear_rate = 1.23457e-10   # m^3/J, fitted\n"
+            "stage_hours = 50.0       # h\n");
+}
+
+TEST(SceneEdit, AMissingWearRateKeyIsAnInputErrorNamingTheKey) {
+  const std::string text = "name = \"edit\"\n[wear]\nmode = \"staged\"   # no rate\n";
+  try {
+    calibrated_scene_text(text, "edit.toml", {1e-10, "fitted", "."});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "edit.toml");
+    EXPECT_EQ(e.where, "wear.wear_rate");
+  }
+  EXPECT_THROW(calibrated_scene_text("name = \"edit\"\n", "edit.toml", {1e-10, "fitted", "."}), InputError);
+  EXPECT_THROW(calibrated_scene_text("name = = 1\n", "edit.toml", {1e-10, "fitted", "."}), InputError);
+}
+
+TEST(SceneEdit, TheProfilePathStillResolvesFromTheCopysFolder) {
+  // The lab mill's copy in a folder beside scenarios/: the profile path is rewritten so that
+  // the copy loads with the same lifter and exactly the new C (6 significant digits).
+  const std::string scene = testing::source_path("scenarios/lab-mill.toml");
+  const fs::path dir = fs::path(::testing::TempDir()) / "scene_edit_copy";
+  fs::create_directories(dir);
+  const std::string copy = (dir / "lab-mill-calibrated.toml").string();
+  io::write_file_atomic(copy, calibrated_scene_text(io::read_file(scene), scene, {2.5e-10, "test", dir.string()}));
+  const Scene a = load_scene(scene), b = load_scene(copy);
+  EXPECT_EQ(b.wear.rate_source, WearRateSource::Given);
+  EXPECT_EQ(b.wear.wear_rate_m3_per_J, 2.5e-10);
+  ASSERT_FALSE(a.mill.lifter.source_file.empty());
+  EXPECT_EQ(fs::weakly_canonical(b.mill.lifter.source_file), fs::weakly_canonical(a.mill.lifter.source_file));
+  EXPECT_EQ(b.mill.lifter.points.size(), a.mill.lifter.points.size());
+  EXPECT_EQ(b.mill.rows, a.mill.rows);
+  EXPECT_EQ(b.name, a.name);
+}
+
+}  // namespace
+}  // namespace millwear

@@ -1,0 +1,46 @@
+// What the study commands' library calls hand back and write, on small made-up inputs.
+// The commands end to end are tests/test_app_run.cpp, tests/test_calibrate_cli.cpp and
+// tests/test_tradeoff.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "study/calibration_run.hpp"
+
+namespace millwear {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("study_outputs_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d.string();
+}
+
+TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
+  const std::string out = fresh_dir("calibration");
+  validation::CalibrationResult res;
+  validation::CalibrationRun run;
+  run.run = 1;
+  run.fit.rms = 2e-6;
+  res.runs = {run};
+  res.survey_hours = {50.0, 100.0};
+  res.survey_c = {1e-10, 1.1e-10};
+  validation::write_calibration_tables(out, res, true);
+  const io::CsvData areas = io::read_csv(out + "/calibration.csv");
+  EXPECT_DOUBLE_EQ(areas.number(0, "rms_mm2"), 2.0);
+  EXPECT_EQ(io::read_csv(out + "/calibration_surveys.csv").row_count(), 2u);
+  const io::CsvData result = io::read_csv(out + "/calibration_result.csv");
+  EXPECT_EQ(result.text(0, result.column("fit_on")), "area_loss");
+  validation::write_calibration_tables(out, res, false);
+  EXPECT_NEAR(io::read_csv(out + "/calibration.csv").number(0, "rms_mm"), 0.002, 1e-15);
+}
+
+}  // namespace
+}  // namespace millwear
