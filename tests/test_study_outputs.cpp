@@ -10,6 +10,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "study/calibration_run.hpp"
+#include "study/validation_run.hpp"
 
 namespace millwear {
 namespace {
@@ -40,6 +41,12 @@ TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
   EXPECT_EQ(result.text(0, result.column("fit_on")), "area_loss");
   validation::write_calibration_tables(out, res, false);
   EXPECT_NEAR(io::read_csv(out + "/calibration.csv").number(0, "rms_mm"), 0.002, 1e-15);
+}
+
+TEST(ValidationFiles, AProfileBlockIsATitleThenMillimetrePoints) {
+  const Polyline line{{-0.01, 0.0}, {0.0025, 0.02}};
+  EXPECT_EQ(validation::profile_block("50 h", line, true), "50 h,-\n-10,0\n2.5,20\n");
+  EXPECT_EQ(validation::profile_block("100 h", line, false), "\n\n100 h,-\n-10,0\n2.5,20\n");
 }
 
 }  // namespace

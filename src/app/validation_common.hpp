@@ -3,8 +3,6 @@
 #include <cstdio>
 #include <string>
 
-#include "geometry/polyline.hpp"
-#include "io/csv.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::app {
@@ -30,15 +28,6 @@ inline WearCallbacks progress_callbacks() {
     std::fflush(stdout);
   };
   return cb;
-}
-
-// A gnuplot data block: a title line "TITLE,-" then x_mm,y_mm rows; blocks are separated by
-// two blank lines (gnuplot `index`).
-inline std::string profile_block(const std::string& title, const Polyline& line_m, bool first) {
-  std::string s = first ? "" : "\n\n";
-  s += title + ",-\n";
-  for (const Vec2& p : line_m) s += io::format_number(p.x * 1e3) + "," + io::format_number(p.y * 1e3) + "\n";
-  return s;
 }
 
 }  // namespace millwear::app

@@ -1,0 +1,194 @@
+// `millwear validate` as one call (see validation_run.hpp).
+#include "study/validation_run.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
+#include "io/stage_files.hpp"
+#include "plots/plots.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+
+namespace millwear::validation {
+
+namespace {
+
+// Checks a --from folder against the surveys; plans a fresh history otherwise.
+HistorySource history_source(const Scene& scene, const ValidateRequest& a, const Measurements& measured) {
+  HistorySource src;
+  const std::vector<double> hours = measured.hours();
+  if (!a.from.empty()) {
+    src.from_run = true;
+    src.last_stage = io::last_finished_stage(a.from, scene.name);
+    if (src.last_stage < 0)
+      throw InputError(a.from, "stages/" + scene.name + "_stage0.done",
+                       "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
+    return src;
+  }
+  const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
+  src.scene = scene_for_survey_hours(scene, hours, c, 1.0);
+  return src;
+}
+
+// The stages of the history to compare with: a finished run (--from) or a fresh one.
+std::vector<StageRecord> history_stages(const Scene& scene, const ValidateRequest& a, const Measurements& measured,
+                                        const ValidateCallbacks& cb) {
+  HistorySource src = history_source(scene, a, measured);
+  if (src.from_run) {
+    std::vector<StageRecord> stages;
+    for (int s = 0; s <= src.last_stage; ++s) stages.push_back(io::read_stage_state(a.from, scene.name, s));
+    src.reached_hours = stages.back().hours;
+    const std::vector<double> hours = measured.hours();
+    const std::vector<std::size_t> lines = measured.lines();
+    for (std::size_t i = 0; i < hours.size(); ++i)
+      if (hours[i] > src.reached_hours + 1e-6)
+        throw InputError(a.measured_file, "line " + std::to_string(lines[i]),
+                         "a survey within the " + io::format_number(src.reached_hours) + " h the run in " + a.from +
+                             " reached, found " + io::format_number(hours[i]) + " h");
+    if (cb.on_history) cb.on_history(scene, measured, src);
+    return stages;
+  }
+  if (cb.on_history) cb.on_history(scene, measured, src);
+  const WearHistory h = run_wear_history(src.scene, cb.wear);
+  if (cb.on_event)
+    for (const auto& e : h.events) cb.on_event(e);
+  throw_if_failed(h);  // a lost disk or rule 1's stop: no comparison with the surveys
+  return h.stages;
+}
+
+void check_covers(bool covers, double last_hours, double survey_hours) {
+  if (!covers)
+    throw RunError("the wear history ends at " + io::format_number(last_hours) +
+                   " h (the lifter wore out?), before the survey at " + io::format_number(survey_hours) + " h");
+}
+
+// Renders one figure; a missing gnuplot is only noted, a failing one marks the outcome.
+void render(const std::string& script, const std::map<std::string, std::string>& vars, const std::string& out,
+            ValidateOutcome& o) {
+  try {
+    o.figure_files = plots::render_figure(plots::script_path(script), vars, io::join_path(out, "plots/gnuplot.log"));
+  } catch (const std::exception& e) {
+    o.figure_error = e.what();
+    o.figure_failed = plots::gnuplot_available();
+  }
+}
+
+void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::vector<Survey>& surveys,
+                       const std::vector<StageRecord>& stages, ValidateOutcome& o) {
+  const ProfileHistory history = profile_history(stages);
+  for (const auto& v : surveys) check_covers(history.covers(v.hours), history.last_hours(), v.hours);
+  o.new_height_m = stages.front().lifter.height_m;
+  const Polyline& new_surface = stages.front().units.front().surface;
+  const double half_base = stages.front().units.front().lifter_half_base_m;
+
+  io::ensure_dir(a.out);
+  io::ensure_dir(io::join_path(a.out, "plots"));
+  io::CsvTable table({"survey", "hours", "points", "mean_mm", "max_mm", "bias_mm", "mean_pct_height",
+                      "max_pct_height", "measured_area_mm2", "simulated_area_mm2", "area_error_mm2",
+                      "area_error_pct"});
+  std::vector<Survey> simulated;
+  std::string measured_dat, simulated_dat;
+  for (std::size_t i = 0; i < surveys.size(); ++i) {
+    const auto& v = surveys[i];
+    const Polyline sim = history.profile_at(v.hours);
+    const auto c = compare_profile(v, sim, scene.radius_m(), o.new_height_m, new_surface);
+    table.add_row({static_cast<int>(i + 1), v.hours, c.points, c.mean_distance_m * 1e3, c.max_distance_m * 1e3,
+                   c.bias_m * 1e3, c.mean_pct_height, c.max_pct_height, c.measured_area_m2 * 1e6,
+                   c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct});
+    o.profiles.push_back(c);
+    // The simulated lifter region: the measured span, or the lifter and its feet.
+    const double xa = std::min(v.profile_m.front().x, -io::kProfileMargin * half_base);
+    const double xb = std::max(v.profile_m.back().x, io::kProfileMargin * half_base);
+    Survey s;
+    s.hours = v.hours;
+    for (const Vec2& p : sim)
+      if (p.x >= xa && p.x <= xb) s.profile_m.push_back(p);
+    simulated.push_back(s);
+    const std::string title = io::format_number(v.hours) + " h";
+    measured_dat += profile_block(title, v.profile_m, i == 0);
+    simulated_dat += profile_block(title, s.profile_m, i == 0);
+  }
+  table.write(io::join_path(a.out, "validation.csv"));
+  io::write_file_atomic(io::join_path(a.out, "simulated_surveys.csv"),
+                        format_surveys(simulated, "simulated by millwear validate: scene " + scene.name +
+                                                      ", at the hours of " + a.measured_file));
+  const std::string mfile = io::join_path(a.out, "plots/validate_measured.dat");
+  const std::string sfile = io::join_path(a.out, "plots/validate_simulated.dat");
+  io::write_file_atomic(mfile, measured_dat);
+  io::write_file_atomic(sfile, simulated_dat);
+  o.files_note = "validation.csv, simulated_surveys.csv";
+  render("validate_profiles",
+         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_profiles")},
+          {"title", "Measured (dashed) and simulated (solid) profiles: " + scene.name}},
+         a.out, o);
+}
+
+void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurveys& surveys,
+                    const std::vector<StageRecord>& stages, ValidateOutcome& o) {
+  const AreaHistory history = area_history(stages);
+  for (const auto& v : surveys.surveys) check_covers(history.covers(v.hours), history.last_hours(), v.hours);
+  o.areas = compare_areas(surveys, history);
+  o.new_area_m2 = history.new_area_m2();
+  o.measured_areas = measured_areas(surveys, history.new_area_m2());
+
+  io::ensure_dir(a.out);
+  io::ensure_dir(io::join_path(a.out, "plots"));
+  io::CsvTable table({"survey", "line", "hours", "measured_area_mm2", "simulated_area_mm2", "area_error_mm2",
+                      "area_error_pct", "measured_loss_mm2", "simulated_loss_mm2", "loss_error_mm2",
+                      "loss_error_pct"});
+  io::CsvTable measured_plot({"hours", "area_mm2"}), simulated_plot({"hours", "area_mm2"});
+  AreaSurveys simulated;
+  for (std::size_t i = 0; i < o.areas.size(); ++i) {
+    const auto& c = o.areas[i];
+    table.add_row({static_cast<int>(i + 1), c.line, c.hours, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6,
+                   c.area_error_m2 * 1e6, c.area_error_pct, c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6,
+                   c.loss_error_m2 * 1e6, c.loss_error_pct});
+    measured_plot.add_row({c.hours, c.measured_area_m2 * 1e6});
+    simulated.surveys.push_back({c.hours, c.simulated_area_m2, 0});
+  }
+  for (std::size_t k = 0; k < history.hours.size(); ++k)
+    simulated_plot.add_row({history.hours[k], history.area_m2[k] * 1e6});
+  table.write(io::join_path(a.out, "validation.csv"));
+  io::write_file_atomic(io::join_path(a.out, "simulated_areas.csv"),
+                        format_area_surveys(simulated, "simulated by millwear validate: scene " + scene.name +
+                                                           ", at the hours of " + a.measured_file));
+  const std::string mfile = io::join_path(a.out, "plots/validate_area_measured.csv");
+  const std::string sfile = io::join_path(a.out, "plots/validate_area_simulated.csv");
+  measured_plot.write(mfile);
+  simulated_plot.write(sfile);
+  o.files_note = "validation.csv, simulated_areas.csv";
+  render("validate_areas",
+         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_areas")},
+          {"title", "Measured (points) and simulated (line) lifter area: " + scene.name}},
+         a.out, o);
+}
+
+}  // namespace
+
+std::string profile_block(const std::string& title, const Polyline& line_m, bool first) {
+  std::string s = first ? "" : "\n\n";
+  s += title + ",-\n";
+  for (const Vec2& p : line_m) s += io::format_number(p.x * 1e3) + "," + io::format_number(p.y * 1e3) + "\n";
+  return s;
+}
+
+ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks& cb) {
+  Scene scene = load_scene(a.scene_file);
+  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  const Measurements measured = read_measurements(a.measured_file);
+  const io::FolderLock lock(a.out);  // one writer per folder, for the whole run
+  const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
+  ValidateOutcome o;
+  o.areas_only = measured.areas_only;
+  if (o.areas_only) validate_areas(scene, a, measured.areas, stages, o);
+  else validate_profiles(scene, a, measured.profiles, stages, o);
+  return o;
+}
+
+}  // namespace millwear::validation
