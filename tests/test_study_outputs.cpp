@@ -10,6 +10,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "study/calibration_run.hpp"
+#include "study/tradeoff_study.hpp"
 #include "study/validation_run.hpp"
 
 namespace millwear {
@@ -47,6 +48,38 @@ TEST(ValidationFiles, AProfileBlockIsATitleThenMillimetrePoints) {
   const Polyline line{{-0.01, 0.0}, {0.0025, 0.02}};
   EXPECT_EQ(validation::profile_block("50 h", line, true), "50 h,-\n-10,0\n2.5,20\n");
   EXPECT_EQ(validation::profile_block("100 h", line, false), "\n\n100 h,-\n-10,0\n2.5,20\n");
+}
+
+TEST(TradeoffFiles, LengthsAndAreasAreWrittenInMillimetres) {
+  const std::string out = fresh_dir("tradeoff");
+  TradeoffReport r;
+  r.scene_name = "lab";
+  r.design_names = {"lab"};
+  r.lifter_height_m = {0.02};
+  r.lifter_area_m2 = {4.3e-4};
+  TradeoffRow row;
+  row.label = "reference";
+  row.knob = "preset";
+  row.dev_max_m = 0.0015;
+  row.pareto = true;
+  TradeoffDesign d;
+  d.name = "lab";
+  d.final_area_m2 = 3.5e-4;
+  d.final_height_m = 0.018;
+  d.final_profile = {{-0.01, 0.0}, {0.0, 0.018}};
+  row.designs = {d};
+  r.rows = {row};
+  write_tradeoff_files(r, out);
+  const io::CsvData t = io::read_csv(out + "/tradeoff.csv");
+  EXPECT_DOUBLE_EQ(t.number(0, "dev_max_mm"), 1.5);
+  const io::CsvData per = io::read_csv(out + "/tradeoff_designs.csv");
+  EXPECT_DOUBLE_EQ(per.number(0, "final_area_mm2"), 350.0);
+  EXPECT_DOUBLE_EQ(per.number(0, "final_height_mm"), 18.0);
+  const io::CsvData prof = io::read_csv(out + "/tradeoff_profiles.csv");
+  ASSERT_EQ(prof.row_count(), 2u);
+  EXPECT_DOUBLE_EQ(prof.number(1, "y_mm"), 18.0);
+  EXPECT_EQ(io::read_csv(out + "/tradeoff_front.csv").row_count(), 1u);
+  EXPECT_NE(io::read_file(out + "/tradeoff.md").find("new lifter 20.0 mm high, 430 mm^2"), std::string::npos);
 }
 
 }  // namespace

@@ -315,13 +315,13 @@ std::vector<std::size_t> life_order(const std::vector<HistoryDigest>& d) {
 // Fill row's errors from its designs' digests against the reference's.
 void compare_setting(TradeoffRow& row, const std::vector<HistoryDigest>& d, const std::vector<HistoryDigest>& ref,
                      const std::vector<double>& height_m, const std::vector<double>& area_m2) {
-  row.dev_max_mm = row.dev_max_pct = row.dev_mean_mm = row.dev_mean_pct = 0.0;
+  row.dev_max_m = row.dev_max_pct = row.dev_mean_m = row.dev_mean_pct = 0.0;
   row.area_err_pct = row.power_err_pct = row.life_err_pct = 0.0;
   for (std::size_t i = 0; i < d.size(); ++i) {
     const DesignErrors e = compare_digests(d[i], ref[i], height_m[i], area_m2[i]);
-    row.dev_max_mm = std::max(row.dev_max_mm, e.dev_max_m * 1e3);
+    row.dev_max_m = std::max(row.dev_max_m, e.dev_max_m);
     row.dev_max_pct = std::max(row.dev_max_pct, 100.0 * e.dev_max_m / height_m[i]);
-    row.dev_mean_mm = std::max(row.dev_mean_mm, e.dev_mean_m * 1e3);
+    row.dev_mean_m = std::max(row.dev_mean_m, e.dev_mean_m);
     row.dev_mean_pct = std::max(row.dev_mean_pct, 100.0 * e.dev_mean_m / height_m[i]);
     row.area_err_pct = std::max(row.area_err_pct, 100.0 * e.area_err);
     row.power_err_pct = std::max(row.power_err_pct, 100.0 * e.power_err);
@@ -420,8 +420,8 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
           simulated += st.simulated_s;
         }
         out.final_hours = h.stages.back().hours;
-        out.final_area_mm2 = h.stages.back().lifter.area_m2 * 1e6;
-        out.final_height_mm = h.stages.back().lifter.height_m * 1e3;
+        out.final_area_m2 = h.stages.back().lifter.area_m2;
+        out.final_height_m = h.stages.back().lifter.height_m;
         out.life_h = h.life_h;
         out.life_extrapolated = h.life_extrapolated;
         for (const auto& e : h.events) events.push_back(scene.name + ": " + e);
@@ -456,7 +456,7 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
   for (std::size_t i = 0; i < n; ++i) {
     TradeoffRow& r = rows[i];
     if (!r.error.empty()) {
-      r.dev_max_mm = r.dev_max_pct = r.dev_mean_mm = r.dev_mean_pct = kNaN;
+      r.dev_max_m = r.dev_max_pct = r.dev_mean_m = r.dev_mean_pct = kNaN;
       r.area_err_pct = r.power_err_pct = r.life_err_pct = r.life_ratio_err_pct = kNaN;
       r.life_order_same = false;
       continue;

@@ -74,7 +74,7 @@ inline TradeoffLadder tradeoff_ladder(const Scene& scene, const TradeoffOptions&
 struct TradeoffDesign {
   std::string name;
   double final_hours = 0.0;
-  double final_area_mm2 = 0.0, final_height_mm = 0.0;
+  double final_area_m2 = 0.0, final_height_m = 0.0;  // lifter of row 0 at the last stage
   double life_h = 0.0;
   bool life_extrapolated = false;
   double dev_max_pct = 0.0;          // final profile against the reference, % of its height
@@ -92,8 +92,8 @@ struct TradeoffRow {
   std::int64_t disk_steps = 0;
   double simulated_s = 0.0;
   // Errors: the worst over the designs.
-  double dev_max_mm = 0.0, dev_max_pct = 0.0;    // final profile, % of the new lifter height
-  double dev_mean_mm = 0.0, dev_mean_pct = 0.0;
+  double dev_max_m = 0.0, dev_max_pct = 0.0;     // final profile, % of the new lifter height
+  double dev_mean_m = 0.0, dev_mean_pct = 0.0;
   double area_err_pct = 0.0;         // % of the new lifter area
   double power_err_pct = 0.0;        // % of the reference's power
   double life_err_pct = 0.0;

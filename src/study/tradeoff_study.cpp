@@ -1,0 +1,130 @@
+// `millwear tradeoff` as library calls (see tradeoff_study.hpp). Lengths and areas are SI in
+// the report and converted to mm and mm^2 here, where they are written.
+#include "study/tradeoff_study.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/folder_lock.hpp"
+#include "plots/plots.hpp"
+#include "study/plan.hpp"
+
+namespace millwear {
+
+namespace {
+
+std::string fmt(double v, const char* f = "%.2f") {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string markdown(const TradeoffReport& r) {
+  const bool several = r.design_names.size() > 1;
+  std::ostringstream md;
+  md << "Scene `" << r.scene_name << "`, " << r.stages << " stage(s) of " << r.stage_hours << " h; new lifter";
+  for (std::size_t k = 0; k < r.design_names.size(); ++k)
+    md << (k ? "," : "") << " " << (several ? r.design_names[k] + " " : "") << fmt(in_mm(r.lifter_height_m[k]), "%.1f")
+       << " mm high, " << fmt(in_mm2(r.lifter_area_m2[k]), "%.0f") << " mm^2";
+  md << ". Errors against `reference`" << (several ? ", the worst design; CPU and wall time summed over the designs" : "")
+     << ".\n\n";
+  md << "| setting | CPU (s) | wall (s) | speed-up | profile dev. max (mm / % h) | mean (mm / % h) | area err (% A0) "
+        "| power err (%) | life (h) | life err (%) | "
+     << (several ? "order same | life ratio err (%) | " : "") << "events | front |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|" << (several ? "---|---|" : "") << "---|---|\n";
+  for (const auto& row : r.rows) {
+    std::string lives;
+    for (const auto& d : row.designs)
+      lives += (lives.empty() ? "" : " / ") + fmt(d.life_h, "%.0f") + (d.life_extrapolated ? "*" : "");
+    md << "| " << row.label << " | " << fmt(row.cpu_s, "%.0f") << " | " << fmt(row.wall_s, "%.0f") << " | "
+       << fmt(row.speedup, "%.1f") << "x | " << fmt(in_mm(row.dev_max_m), "%.1f") << " / "
+       << fmt(row.dev_max_pct, "%.1f") << " | " << fmt(in_mm(row.dev_mean_m), "%.1f") << " / "
+       << fmt(row.dev_mean_pct, "%.1f") << " | " << fmt(row.area_err_pct) << " | " << fmt(row.power_err_pct, "%.1f")
+       << " | " << lives << " | " << fmt(row.life_err_pct, "%.1f") << " | ";
+    if (several)
+      md << (row.error.empty() ? (row.life_order_same ? "yes" : "NO") : "-") << " | "
+         << fmt(row.life_ratio_err_pct, "%.1f") << " | ";
+    md << (row.error.empty() ? std::to_string(row.events.size()) : "failed") << " | " << (row.pareto ? "yes" : "")
+       << " |\n";
+  }
+  md << "\nSpeed-up: reference CPU time / CPU time. * life extrapolated beyond the simulated stages.";
+  if (several)
+    md << " Life is listed per design (" << r.scene_name << "); order same: the designs come out in the "
+       << "reference's order of life; life ratio err: error of each design's life relative to the first's.";
+  md << "\n";
+  for (const auto& row : r.rows)
+    if (row.knob == "seed" && row.label.rfind("reference", 0) == 0 && row.error.empty())
+      md << "\nNoise floor: `" << row.label << "` (the reference's numerics, the charge's noise drawn again) "
+         << "deviates " << fmt(row.dev_max_pct, "%.1f") << "% of the lifter height at the worst point and "
+         << fmt(row.dev_mean_pct, "%.1f") << "% on average, area " << fmt(row.area_err_pct)
+         << "%, life " << fmt(row.life_err_pct, "%.1f")
+         << "%: a setting closer to the reference than that cannot be told from it.\n";
+  for (const auto& h : r.held_knobs) md << "\nHeld: " << h;
+  if (!r.held_knobs.empty()) md << "\n";
+  return md.str();
+}
+
+}  // namespace
+
+void write_tradeoff_files(const TradeoffReport& r, const std::string& out) {
+  io::CsvTable t({"label", "knob", "value", "wall_s", "cpu_s", "speedup", "disk_steps", "simulated_s", "dev_max_mm",
+                  "dev_max_pct", "dev_mean_mm", "dev_mean_pct", "area_err_pct", "power_err_pct", "life_err_pct",
+                  "life_order_same", "life_ratio_err_pct", "events", "error", "pareto"});
+  io::CsvTable per({"label", "design", "final_hours", "final_area_mm2", "final_height_mm", "life_h",
+                    "life_extrapolated", "dev_max_pct", "life_err_pct"});
+  io::CsvTable front({"label", "cpu_s", "wall_s", "dev_max_pct", "dev_mean_pct"});
+  io::CsvTable prof({"label", "design", "x_mm", "y_mm"});
+  std::vector<const TradeoffRow*> on_front;
+  for (const auto& row : r.rows) {
+    t.add_row({row.label, row.knob, row.value, row.wall_s, row.cpu_s, row.speedup, static_cast<long long>(row.disk_steps),
+               row.simulated_s, in_mm(row.dev_max_m), row.dev_max_pct, in_mm(row.dev_mean_m), row.dev_mean_pct,
+               row.area_err_pct, row.power_err_pct, row.life_err_pct, row.life_order_same, row.life_ratio_err_pct,
+               static_cast<long long>(row.events.size()), row.error, row.pareto});
+    if (row.pareto) on_front.push_back(&row);
+    for (const auto& d : row.designs) {
+      per.add_row({row.label, d.name, d.final_hours, in_mm2(d.final_area_m2), in_mm(d.final_height_m), d.life_h,
+                   d.life_extrapolated, d.dev_max_pct, d.life_err_pct});
+      for (const Vec2& p : d.final_profile) prof.add_row({row.label, d.name, in_mm(p.x), in_mm(p.y)});
+    }
+  }
+  std::sort(on_front.begin(), on_front.end(), [](auto* a, auto* b) { return a->cpu_s < b->cpu_s; });
+  for (const auto* row : on_front)
+    front.add_row({row->label, row->cpu_s, row->wall_s, row->dev_max_pct, row->dev_mean_pct});
+  t.write(out + "/tradeoff.csv");
+  per.write(out + "/tradeoff_designs.csv");
+  front.write(out + "/tradeoff_front.csv");
+  prof.write(out + "/tradeoff_profiles.csv");
+  io::write_file_atomic(out + "/tradeoff.md", markdown(r));
+}
+
+TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const TradeoffStudyCallbacks& cb) {
+  // A scene or a comparison file; InputError before anything is written.
+  const std::vector<Scene> designs = study::load_designs(request.scene_file);
+  const TradeoffLadder ladder = tradeoff_ladder(designs, request.options);
+  const io::FolderLock lock(request.out);  // one writer per folder, for the whole run
+  if (cb.on_ladder) cb.on_ladder(ladder);
+  TradeoffStudy study;
+  study.report = run_tradeoff(ladder, request.jobs, cb.runs);
+  write_tradeoff_files(study.report, request.out);
+  if (!request.figure) return study;
+  try {
+    study.figure_files = render_tradeoff_figure(request.out);
+  } catch (const RunError& e) {
+    study.figure_error = e.what();
+  }
+  return study;
+}
+
+std::vector<std::string> render_tradeoff_figure(const std::string& out) {
+  return plots::render_figure(plots::script_path("tradeoff"), {{"datadir", out}, {"outbase", out + "/tradeoff"}},
+                              out + "/gnuplot.log");
+}
+
+}  // namespace millwear
