@@ -7,8 +7,11 @@
 #include <filesystem>
 #include <string>
 
+#include "common/errors.hpp"
+#include "engine_fixtures.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "study/animation.hpp"
 #include "study/calibration_run.hpp"
 #include "study/tradeoff_study.hpp"
 #include "study/validation_run.hpp"
@@ -80,6 +83,33 @@ TEST(TradeoffFiles, LengthsAndAreasAreWrittenInMillimetres) {
   EXPECT_DOUBLE_EQ(prof.number(1, "y_mm"), 18.0);
   EXPECT_EQ(io::read_csv(out + "/tradeoff_front.csv").row_count(), 1u);
   EXPECT_NE(io::read_file(out + "/tradeoff.md").find("new lifter 20.0 mm high, 430 mm^2"), std::string::npos);
+}
+
+TEST(Animation, AnOutputThatIsNotAGifIsAnInputErrorBeforeAnythingRuns) {
+  study::AnimationRequest r;
+  r.scene_file = testing::source_path("tests/data/lab-quick.toml");
+  r.out = fresh_dir("animation") + "/charge.png";
+  try {
+    study::make_animation(r);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "-o");
+  }
+  r.scene_file = "no-such-scene.toml";
+  EXPECT_THROW(study::make_animation(r), InputError);
+}
+
+TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {
+  study::AnimationRequest r;
+  r.scene_file = testing::source_path("tests/data/lab-quick.toml");
+  r.out = fresh_dir("animation_history") + "/charge.gif";
+  r.history = fresh_dir("animation_empty_run");
+  try {
+    study::make_animation(r);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--history");
+  }
 }
 
 }  // namespace

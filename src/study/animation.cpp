@@ -1,0 +1,268 @@
+// The charge tumbling as an animated GIF (see animation.hpp): the liners to show, the
+// simulation that records the frames, the colour scale, the frame files, gnuplot.
+#include "study/animation.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "engine/charge_run.hpp"
+#include "engine/engine.hpp"
+#include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
+#include "io/stage_files.hpp"
+#include "plots/plots.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+#include "scene/scene.hpp"
+
+namespace millwear::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One stretch of the animation on one liner.
+struct Segment {
+  MillGeometry mill;
+  std::vector<double> edge_value;  // colour per boundary edge (history: mm/1000 h)
+  int stage = 0;
+  double hours = 0.0;
+};
+
+struct Frame {
+  std::vector<Vec2> position;
+  std::vector<double> radius;
+  std::vector<int> species;
+  double mill_angle = 0.0, time_s = 0.0, speed = 0.0;
+  std::size_t segment = 0;
+};
+
+std::string fmt(double v, const char* f = "%.6g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string gp_string(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+// Direction of rotation at an operating time (bidirectional: reverses every reverse_every).
+double direction_at_hours(const Scene& scene, double hours) {
+  if (scene.mill.direction == Direction::Reverse) return -1.0;
+  if (scene.mill.direction == Direction::Forward) return 1.0;
+  const double period = scene.mill.reverse_every_hours;
+  if (!(period > 0)) return 1.0;
+  const long n = static_cast<long>(std::floor(hours / period + 1e-9));
+  return n % 2 == 0 ? 1.0 : -1.0;
+}
+
+// The finished stages' liners of a run folder, coloured by their wear rates.
+std::vector<Segment> history_segments(const Scene& scene, const std::string& history) {
+  const int last = io::last_finished_stage(history, scene.name);
+  if (last < 0)
+    throw InputError(history, "--history",
+                     "a `millwear run` output folder with finished stages of design '" + scene.name + "' (no " +
+                         scene.name + "_stage0.done in " + io::stages_dir(history) + ")");
+  std::vector<Segment> segments;
+  for (int k = 0; k <= last; ++k) {
+    StageRecord rec = io::read_stage_state(history, scene.name, k);
+    if (rec.units.empty() || rec.edge_wear_rate_m_per_s.empty()) continue;  // worn-out marker
+    Segment s;
+    s.mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+    s.edge_value = rec.edge_wear_rate_m_per_s;
+    for (double& v : s.edge_value) v = mm_per_1000h(v);
+    s.edge_value.resize(s.mill.boundary.size(), 0.0);
+    s.stage = k;
+    s.hours = rec.hours;
+    segments.push_back(std::move(s));
+  }
+  if (segments.empty()) throw InputError(history, "--history", "stages with a liner and wear rates");
+  return segments;
+}
+
+// Settle, spin up, then record frames evenly over the animated seconds, switching to each
+// segment's liner in turn. Without a history the one segment gets the window's shear work
+// rate per unit liner area as its colour.
+std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& segments, const AnimationRequest& a,
+                                   std::size_t& disks) {
+  const ChargeState initial = fill_charge(scene, segments.front().mill);
+  disks = initial.size();
+  auto engine = make_engine(scene, segments.front().mill, initial, accounting_options_for(scene));
+  double dir = direction_at_hours(scene, segments.front().hours);
+  settle_and_spin_up(*engine, scene, dir);
+  engine->reset_window();
+  const double start_s = engine->state().time_s;
+  const int nframes = a.frames;
+  const int steps_per_frame = std::max(1, steps_for(a.seconds / nframes, engine->time_step_s()));
+  std::vector<Frame> frames;
+  frames.reserve(static_cast<std::size_t>(nframes));
+  std::size_t seg = 0;
+  for (int f = 0; f < nframes; ++f) {
+    const std::size_t want = std::min(segments.size() - 1,
+                                      static_cast<std::size_t>(f) * segments.size() / static_cast<std::size_t>(nframes));
+    if (want != seg) {
+      seg = want;
+      engine->set_liner(segments[seg].mill);
+      const double d = direction_at_hours(scene, segments[seg].hours);
+      if (d != dir) {
+        dir = d;
+        engine->set_mill_speed(dir * scene.angular_speed_rad_s());
+      }
+    }
+    engine->step(steps_per_frame);
+    const ChargeState& st = engine->state();
+    Frame fr;
+    for (std::size_t i = 0; i < st.size(); ++i) {
+      if (!st.active[i]) continue;
+      fr.position.push_back(st.position_m[i]);
+      fr.radius.push_back(st.radius_m[i]);
+      fr.species.push_back(st.species[i]);
+    }
+    fr.mill_angle = st.mill_angle_rad;
+    fr.time_s = st.time_s - start_s;  // animated seconds
+    fr.speed = st.mill_speed_rad_s;
+    fr.segment = seg;
+    frames.push_back(std::move(fr));
+  }
+  if (a.history.empty()) {
+    const Accounting& acc = engine->accounting();
+    Segment& s = segments.front();
+    s.edge_value.assign(s.mill.boundary.size(), 0.0);
+    const double t = scene.slice_thickness();
+    for (std::size_t e = 0; e < s.edge_value.size() && e < acc.shear_work_J.size(); ++e)
+      s.edge_value[e] = acc.time_s > 0 ? acc.shear_work_J[e] / acc.time_s / (s.mill.edge_length_m[e] * t) : 0.0;
+  }
+  return frames;
+}
+
+// Colour scale to the 98th percentile: a few hot edges (a lifter's leading corner) would
+// otherwise leave the rest of the liner one colour. Hotter edges show at the top colour.
+double colour_scale_max(const std::vector<Segment>& segments) {
+  std::vector<double> all;
+  for (const auto& s : segments)
+    for (double v : s.edge_value)
+      if (std::isfinite(v) && v > 0) all.push_back(v);
+  double cbmax = 1.0;
+  if (!all.empty()) {
+    const std::size_t k = std::min(all.size() - 1, static_cast<std::size_t>(0.98 * all.size()));
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end());
+    if (all[k] > 0) cbmax = all[k];
+  }
+  return cbmax;
+}
+
+// The data file (per frame: disks "x y r species", then the liner path "x y value") and the
+// meta file (frame count, radius, colour scale, titles) that plots/animate.gp reads.
+void write_frame_files(const Scene& scene, const std::vector<Segment>& segments, const std::vector<Frame>& frames,
+                       const std::string& cblabel, bool history, const std::string& datafile,
+                       const std::string& metafile) {
+  std::string data;
+  data.reserve(frames.size() * 8000);
+  std::ostringstream meta;
+  meta << "nframes = " << frames.size() << "\nR = " << fmt(scene.radius_m(), "%.17g")
+       << "\ncbmax = " << fmt(colour_scale_max(segments), "%.17g") << "\ncblabel = " << gp_string(cblabel)
+       << "\narray ftitle[" << frames.size() << "]\n";
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const Frame& fr = frames[f];
+    const Segment& s = segments[fr.segment];
+    if (f) data += "\n\n";
+    for (std::size_t i = 0; i < fr.position.size(); ++i)
+      data += fmt(fr.position[i].x) + " " + fmt(fr.position[i].y) + " " + fmt(fr.radius[i]) + " " +
+              std::to_string(fr.species[i]) + "\n";
+    if (fr.position.empty()) data += "0 0 0 0\n";
+    data += "\n\n";
+    const std::size_t n = s.mill.boundary.size();
+    // One closed path; each vertex carries the value of the edge it starts. (A path, not
+    // one vector per edge: gnuplot drops vectors shorter than a pixel, leaving gaps.)
+    for (std::size_t e = 0; e <= n; ++e) {
+      const Vec2 p = rotated(s.mill.boundary[e % n], fr.mill_angle);
+      data += fmt(p.x) + " " + fmt(p.y) + " " + fmt(s.edge_value[e % n]) + "\n";
+    }
+    const double rpm = std::fabs(fr.speed) * 60.0 / (2.0 * kPi);
+    std::string title = scene.name + "   t = " + fmt(fr.time_s, "%.2f") + " s   " + fmt(rpm, "%.1f") + " rpm " +
+                        (fr.speed >= 0 ? "(counter-clockwise)" : "(clockwise)");
+    if (history) title += "\\nliner after stage " + std::to_string(s.stage) + " (" + fmt(s.hours, "%.0f") + " h)";
+    std::string quoted;
+    for (char c : title) {
+      if (c == '"') quoted += '\\';
+      quoted += c;
+    }
+    meta << "ftitle[" << f + 1 << "] = " << "\"" << quoted << "\"\n";
+  }
+  io::write_file_atomic(datafile, data);
+  io::write_file_atomic(metafile, meta.str());
+}
+
+}  // namespace
+
+AnimationOutcome make_animation(const AnimationRequest& a) {
+  std::error_code ec;
+  if (!fs::is_regular_file(a.scene_file, ec))
+    throw InputError(a.scene_file, "", "a scene file (not found or not a regular file)");
+  Scene scene = load_scene(a.scene_file);
+  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
+    throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
+  const std::string outbase = a.out.substr(0, a.out.size() - 4);
+
+  AnimationOutcome o;
+  o.scene_name = scene.name;
+  o.from_history = !a.history.empty();
+  std::vector<Segment> segments;
+  std::string cblabel;
+  if (o.from_history) {
+    segments = history_segments(scene, a.history);
+    cblabel = "Liner wear rate (mm per 1000 h)";
+  } else {
+    Segment s;
+    s.mill = build_scene_mill(scene);
+    segments.push_back(std::move(s));
+    cblabel = "Liner shear work rate (W/m^2)";
+  }
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<Frame> frames = simulate_frames(scene, segments, a, o.disks);
+  o.frames = frames.size();
+  o.last_stage = segments.back().stage;
+
+  const fs::path work = a.keep_data ? fs::path(outbase + "_frames")
+                                    : fs::temp_directory_path() / ("millwear-animate-" + std::to_string(::getpid()));
+  fs::create_directories(work);
+  const std::string datafile = (work / "frames.dat").string(), metafile = (work / "frames_meta.gp").string();
+  write_frame_files(scene, segments, frames, cblabel, o.from_history, datafile, metafile);
+
+  const int delay = std::max(2, static_cast<int>(std::lround(100.0 * a.seconds / a.frames)));
+  const fs::path parent = fs::path(a.out).parent_path();
+  if (!parent.empty()) io::ensure_dir(parent.string());
+  try {
+    plots::render_figure(plots::script_path("animate"),
+                         {{"datafile", datafile}, {"metafile", metafile}, {"outbase", outbase}, {"formats", "gif"},
+                          {"delay", std::to_string(delay)}, {"size", std::to_string(a.size)}},
+                         (work / "gnuplot.log").string());
+  } catch (...) {
+    if (!a.keep_data) fs::remove_all(work, ec);
+    throw;
+  }
+  if (!a.keep_data) fs::remove_all(work, ec);
+  else o.data_dir = work.string();
+  o.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return o;
+}
+
+}  // namespace millwear::study

@@ -1,0 +1,41 @@
+#pragma once
+// A few seconds of the charge tumbling as an animated GIF, for a lecture
+// (`millwear animate`).
+//
+// Without a history the liner is coloured by the shear work rate it takes during the
+// animated seconds (W/m^2). With a history (a `millwear run` folder holding the scene's
+// design) the animation walks through the finished stages: each stage's worn liner in turn
+// (set_liner, the charge keeps moving), coloured by that stage's wear rate (mm per 1000 h,
+// the rates behind OUT/liner_DESIGN.csv). The frames go to plots/animate.gp as one data file
+// (disks, then the liner path, per frame) and a gnuplot file of titles and the colour scale.
+#include <cstddef>
+#include <string>
+
+namespace millwear::study {
+
+struct AnimationRequest {
+  std::string scene_file;
+  std::string out;             // FILE.gif
+  std::string history;         // a `millwear run` folder, or "" for the new liner
+  std::string fidelity;        // "": the scene's own
+  double seconds = 3.0;        // simulated seconds shown
+  int frames = 60;
+  int size = 640;              // pixels, square
+  bool keep_data = false;      // keep the frame files in FILE_frames/ (else a temporary folder)
+};
+
+struct AnimationOutcome {
+  std::string scene_name;
+  std::size_t frames = 0;
+  std::size_t disks = 0;
+  bool from_history = false;
+  int last_stage = 0;          // with a history: the last stage shown
+  std::string data_dir;        // the frame files, when kept
+  double wall_s = 0.0;
+};
+
+// Throws InputError for a bad scene (or one outside the run limits), an output name not ending in .gif, or a history folder
+// without finished stages of the scene's design; RunError when gnuplot fails.
+AnimationOutcome make_animation(const AnimationRequest& request);
+
+}  // namespace millwear::study
