@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "common/errors.hpp"
@@ -13,6 +14,7 @@
 #include "io/csv.hpp"
 #include "study/animation.hpp"
 #include "study/calibration_run.hpp"
+#include "study/run_progress.hpp"
 #include "study/tradeoff_study.hpp"
 #include "study/validation_run.hpp"
 
@@ -27,6 +29,33 @@ std::string fresh_dir(const std::string& name) {
   fs::create_directories(d);
   return d.string();
 }
+
+StageRecord stage(int k, double hours, double area_m2, double power_kW_per_m, double collision_kW_per_m) {
+  StageRecord r;
+  r.stage = k;
+  r.hours = hours;
+  r.lifter.area_m2 = area_m2;
+  r.lifter.height_m = 0.02;
+  r.charge.power_kW_per_m = power_kW_per_m;
+  r.charge.collision_kW_per_m = collision_kW_per_m;
+  return r;
+}
+
+struct OneDesignRun {
+  study::Plan plan;
+  std::unique_ptr<study::RunState> state;
+  OneDesignRun() {
+    Scene s;
+    s.mill.length_m = 2.0;
+    s.wear.stages = 4;
+    s.wear.stage_hours = 100.0;
+    plan.designs.push_back({"lab", s, {}, ""});
+    plan.reference = "lab";
+    state = std::make_unique<study::RunState>(plan);
+    state->designs.push_back(std::make_unique<study::DesignState>());
+  }
+  study::DesignState& design() { return *state->designs[0]; }
+};
 
 TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
   const std::string out = fresh_dir("calibration");
@@ -110,6 +139,56 @@ TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where, "--history");
   }
+}
+
+TEST(RunProgress, StageLinesCarryTheLossSinceNewAndPowerPerMill) {
+  OneDesignRun run;
+  study::DesignState& d = run.design();
+  d.stages[0] = stage(0, 0.0, 4e-4, 3.0, 0.75);
+  d.stages[1] = stage(1, 100.0, 3e-4, 2.0, 0.4);
+  d.have_history = true;
+  d.life_h = 1234.0;
+  d.life_extrapolated = false;
+  d.status = study::DesignStatus::Done;
+  d.events = {"an event"};
+  const std::vector<study::DesignLines> lines = study::design_lines(*run.state);
+  ASSERT_EQ(lines.size(), 1u);
+  ASSERT_EQ(lines[0].stages.size(), 2u);
+  EXPECT_EQ(lines[0].name, "lab");
+  EXPECT_EQ(lines[0].stages[0].area_loss_fraction, 0.0);
+  EXPECT_DOUBLE_EQ(lines[0].stages[1].area_loss_fraction, 0.25);
+  EXPECT_DOUBLE_EQ(lines[0].stages[1].power_kW, 4.0);      // 2 kW/m over a 2 m mill
+  EXPECT_DOUBLE_EQ(lines[0].stages[0].utilization, 0.25);
+  EXPECT_EQ(lines[0].life_h, 1234.0);
+  EXPECT_FALSE(lines[0].life_extrapolated);
+  EXPECT_EQ(lines[0].events, std::vector<std::string>{"an event"});
+}
+
+TEST(RunProgress, WithoutItsNewStageADesignHasNoLossFraction) {
+  OneDesignRun run;
+  run.design().stages[2] = stage(2, 200.0, 3e-4, 2.0, 0.4);
+  EXPECT_TRUE(std::isnan(study::design_lines(*run.state)[0].stages[0].area_loss_fraction));
+}
+
+TEST(RunProgress, ARunningDesignHasNoTimeLeftUntilItsHoursAdvance) {
+  OneDesignRun run;
+  study::DesignState& d = run.design();
+  d.status = study::DesignStatus::Running;
+  d.started = d.progress_at = study::Clock::now();
+  study::DesignProgress p = study::design_progress(*run.state, 0);
+  EXPECT_TRUE(p.measuring);
+  EXPECT_TRUE(std::isnan(p.left_s));
+  EXPECT_EQ(p.stages, 4);
+  // A report at 100 of 400 h one second in: three seconds left, less the time since.
+  d.progress.stage = 1;
+  d.progress.hours = 100.0;
+  d.progress.simulated_s = 5.0;
+  d.started = study::Clock::now() - std::chrono::seconds(1);
+  d.progress_at = study::Clock::now();
+  p = study::design_progress(*run.state, 0);
+  EXPECT_FALSE(p.measuring);
+  EXPECT_NEAR(p.left_s, 3.0, 0.2);  // the time between the report and the call: the test being descheduled
+  EXPECT_GE(p.elapsed_s, 1.0);
 }
 
 }  // namespace

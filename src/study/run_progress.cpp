@@ -1,0 +1,65 @@
+// The run as its caller shows it (see run_progress.hpp).
+#include "study/run_progress.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace millwear::study {
+
+DesignProgress design_progress(const RunState& ctx, std::size_t i) {
+  const DesignInput& d = ctx.plan.designs[i];
+  const DesignState& st = *ctx.designs[i];
+  DesignProgress p;
+  p.status = st.status;
+  p.stages = d.scene.wear.stages;
+  p.stage = st.progress.stage;
+  p.resumed_stage = std::max(0, st.resumed_up_to);
+  p.hours = st.progress.hours;
+  p.simulated_s = st.progress.simulated_s;
+  p.disk_steps_per_s = st.progress.disk_steps_per_s;
+  p.wall_s = st.wall_s;
+  p.error = st.error;
+  if (st.status != DesignStatus::Running) return p;
+  const double total = d.scene.wear.stage_hours * d.scene.wear.stages;
+  p.start_hours = st.resumed_up_to >= 0 && st.stages.count(st.resumed_up_to) ? st.stages.at(st.resumed_up_to).hours
+                                                                              : 0.0;
+  // The wear loop reports after each stage; before the first report only time runs.
+  p.measuring = st.progress.simulated_s <= 0.0;
+  const double done_h = st.progress.hours - p.start_hours, left_h = total - st.progress.hours;
+  p.elapsed_s = std::chrono::duration<double>(Clock::now() - st.started).count();
+  const double at_report = std::chrono::duration<double>(st.progress_at - st.started).count();
+  const double since = std::chrono::duration<double>(Clock::now() - st.progress_at).count();
+  p.left_s = done_h > 0 ? std::max(0.0, at_report * left_h / done_h - since) : std::nan("");
+  return p;
+}
+
+std::vector<DesignLines> design_lines(const RunState& ctx) {
+  std::vector<DesignLines> out;
+  for (std::size_t i = 0; i < ctx.plan.designs.size(); ++i) {
+    const DesignInput& d = ctx.plan.designs[i];
+    const DesignState& st = *ctx.designs[i];
+    DesignLines dl;
+    dl.name = d.name;
+    life_of(d, st, dl.life_h, dl.life_extrapolated);
+    const auto own0 = st.stages.find(0);
+    for (const auto& [k, r] : st.stages) {
+      StageLine l;
+      l.stage = k;
+      l.hours = r.hours;
+      l.area_m2 = r.lifter.area_m2;
+      l.height_m = r.lifter.height_m;
+      l.area_loss_fraction = own0 != st.stages.end() ? 1.0 - r.lifter.area_m2 / own0->second.lifter.area_m2
+                                                     : std::nan("");
+      l.power_kW = r.charge.power_kW_per_m * d.scene.mill.length_m;
+      l.utilization = r.charge.collision_kW_per_m / r.charge.power_kW_per_m;
+      dl.stages.push_back(l);
+    }
+    dl.status = st.status;
+    dl.error = st.error;
+    dl.events = st.events;
+    out.push_back(std::move(dl));
+  }
+  return out;
+}
+
+}  // namespace millwear::study
