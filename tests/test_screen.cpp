@@ -564,7 +564,7 @@ TEST(ScreenRanking, TiesWithinTwiceTheCombinedUncertainty) {
     v[i].status = "finished";
     v[i].life_h = life[i];
     v[i].life_sigma_h = sigma[i];
-    v[i].power_kw = 1.0;
+    v[i].power_W = 1e3;
     v[i].utilization = 0.5;
   }
   v.push_back(DesignResult{});  // a missing design goes last, unranked

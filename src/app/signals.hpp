@@ -18,12 +18,17 @@ inline void on_signal(int sig) {
   g_signal.store(sig);
 }
 
-// Installs the handlers for its lifetime and clears g_signal.
+// Only records the signal, every time: for the screen's pool, whose tasks stop on their own
+// (Ctrl-C reaches them from the terminal, the pool passes SIGTERM on).
+inline void record_signal(int sig) { g_signal.store(sig); }
+
+// Installs the handler (on_signal unless given) for SIGINT and SIGTERM for its lifetime and
+// clears g_signal.
 class SignalScope {
  public:
-  SignalScope() {
+  explicit SignalScope(void (*handler)(int) = on_signal) {
     struct sigaction sa {};
-    sa.sa_handler = on_signal;
+    sa.sa_handler = handler;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_int_);
     sigaction(SIGTERM, &sa, &old_term_);

@@ -7,9 +7,11 @@ namespace millwear {
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kSecondsPerHour = 3600.0;
 
-// Lengths and areas as files and the terminal give them.
+// Lengths, areas and powers as files and the terminal give them.
 inline constexpr double in_mm(double m) { return m * 1e3; }
 inline constexpr double in_mm2(double m2) { return m2 * 1e6; }
+inline constexpr double in_kW(double W) { return W / 1e3; }
+inline constexpr double watts_from_kW(double kW) { return kW * 1e3; }
 
 // A rate per second as a rate per operating hour.
 inline constexpr double per_hour(double per_second) { return per_second * kSecondsPerHour; }

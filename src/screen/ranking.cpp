@@ -22,7 +22,9 @@ double life_sigma_h(const std::vector<StageRate>& st, double life_h) {
     if (h0 >= life_h) break;
     // The last stage's rate carries the wear to the life (the extrapolation).
     const double h1 = k + 1 < st.size() ? std::min(st[k + 1].hours, life_h) : life_h;
-    double rate = st[k].rate_mm2_per_h, rel = st[k].rel_sem;
+    // sigma is a ratio of these areas, so their unit drops out; they are formed in mm^2
+    // (mm2_per_hour x hours), the unit of the areas in the stage tables.
+    double rate = mm2_per_hour(st[k].area_loss_rate_m2_per_s), rel = st[k].rel_sem;
     if (!(rate > 0.0) || !std::isfinite(rate)) continue;  // a worn-out or unmeasured stage
     if (!std::isfinite(rel)) rel = 0.0;
     const double a = rate * (h1 - h0);
@@ -81,8 +83,8 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     const std::size_t first = rows.at(0), last = rows.rbegin()->second;
     r.life_h = s.number(first, "life_h");
     r.life_extrapolated = s.number(first, "life_extrapolated") != 0.0;
-    r.power_kw = s.number(first, "power_kw");
-    r.collision_kw = s.number(first, "collision_kw");
+    r.power_W = watts_from_kW(s.number(first, "power_kw"));
+    r.collision_W = watts_from_kW(s.number(first, "collision_kw"));
     r.utilization = s.number(first, "utilization");
     const double hours = s.number(last, "hours");
     r.area_loss_mm2_per_1000h =
@@ -93,7 +95,7 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
           io::join_path(io::stages_dir(dir), c.name + "_stage" + std::to_string(k) + ".record"));
       StageRate sr;
       sr.hours = to_number(io::find_value(rec, "hours"));
-      sr.rate_mm2_per_h = mm2_per_hour(to_number(io::find_value(rec, "area_loss_rate_m2_per_s")));
+      sr.area_loss_rate_m2_per_s = to_number(io::find_value(rec, "area_loss_rate_m2_per_s"));
       sr.rel_sem = to_number(io::find_value(rec, "area_loss_rate_rel_sem"));
       rates.push_back(sr);
     }
@@ -147,7 +149,7 @@ std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power
   std::vector<double> life, power, util;
   for (const auto& r : done) {
     life.push_back(r.life_h);
-    power.push_back(r.power_kw);
+    power.push_back(r.power_W);
     util.push_back(r.utilization);
   }
   const auto fp = pareto_front(life, power, power_higher);
@@ -170,7 +172,7 @@ void write_ranking(const std::string& out, const std::vector<DesignResult>& rank
   for (const auto& r : ranked) {
     const Candidate& c = r.design;
     t.add_row({r.rank, c.name, r.status, r.life_h, r.life_sigma_h, r.life_extrapolated, r.tied_with_best,
-               r.power_kw, r.collision_kw, r.utilization, r.area_loss_mm2_per_1000h, r.pareto_power,
+               in_kW(r.power_W), in_kW(r.collision_W), r.utilization, r.area_loss_mm2_per_1000h, r.pareto_power,
                r.pareto_utilization, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg, c.rows,
                c.direction, c.area_mm2, r.reason});
   }

@@ -21,8 +21,8 @@ namespace millwear::screen {
 
 // One stage's figures needed for the life's uncertainty.
 struct StageRate {
-  double hours = 0.0;
-  double rate_mm2_per_h = 0.0;
+  double hours = 0.0;                   // operating hours of the stage
+  double area_loss_rate_m2_per_s = 0.0; // lifter area lost per operating second
   double rel_sem = 0.0;
 };
 
@@ -38,8 +38,8 @@ struct DesignResult {
   double life_h = std::nan("");
   double life_sigma_h = std::nan("");
   bool life_extrapolated = false;
-  double power_kw = std::nan(""), collision_kw = std::nan(""), utilization = std::nan("");
-  double area_loss_mm2_per_1000h = std::nan("");
+  double power_W = std::nan(""), collision_W = std::nan(""), utilization = std::nan("");  // new liner, per mill
+  double area_loss_mm2_per_1000h = std::nan("");  // over the simulated stages, from summary.csv's mm^2 and hours
   // Filled by rank_designs.
   int rank = 0;                    // 1 = longest life; 0 = not ranked
   bool tied_with_best = false;

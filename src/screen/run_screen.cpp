@@ -1,0 +1,168 @@
+// `millwear screen` as one call (see run_screen.hpp).
+#include "screen/run_screen.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/folder_lock.hpp"
+#include "io/hash.hpp"
+#include "io/run_folder.hpp"
+#include "screen/jobs.hpp"
+#include "screen/task.hpp"
+
+namespace millwear::screen {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string abs_path(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
+
+// The screen file, the base scene, the candidates' profiles and the build.
+std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& def) {
+  std::string all = std::string(MILLWEAR_VERSION) + "\n" + io::read_file(screen_file) + "\n--\n" +
+                    io::read_file(def.base_scene);
+  for (const auto& p : def.profiles) all += "\n--\n" + io::read_file(p);
+  if (!def.equal_area.empty() && def.equal_area != "base") all += "\n--\n" + io::read_file(def.equal_area);
+  return io::stable_hash_hex(all);
+}
+
+}  // namespace
+
+ScreenInputs read_screen_inputs(const ScreenRequest& a) {
+  if (a.screen_file.empty()) throw InputError("", "SCREEN", "a screen file (or --collect OUT)");
+  if (a.out.empty()) throw InputError("", "-o", "an output folder");
+  if (!a.emit.empty() && a.emit != "parallel" && a.emit != "slurm")
+    throw InputError("", "--emit", "parallel or slurm, got '" + a.emit + "'");
+  const std::string& out = a.out;
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    throw InputError(out, "-o", "an output folder, but a file of that name exists");
+
+  // Everything validated before anything is written.
+  ScreenInputs in;
+  in.def = load_screen(a.screen_file);
+  const Scene base = load_scene(in.def.base_scene);
+  in.candidates = sample_family(in.def, base);
+  in.varying = varying_parameters(in.def);
+  in.fingerprint = screen_fingerprint(a.screen_file, in.def);
+  return in;
+}
+
+ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
+  const std::string& out = a.out;
+  const ScreenDef& def = in.def;
+  const std::string& fingerprint = in.fingerprint;
+  std::vector<Candidate> cands = in.candidates;
+  std::error_code ec;
+  const std::string key_file = screen_key_path(out);
+  bool same = false;
+  if (io::file_exists(key_file)) {
+    same = io::find_value(io::read_key_values(key_file), "fingerprint") == fingerprint;
+    if (!same && (a.resume || !a.emit.empty()) && fs::exists(io::join_path(out, "designs"), ec))
+      throw InputError(key_file, "fingerprint",
+                       "the same screen file, base scene and profiles as the screen in this folder (they changed); "
+                       "use a new output folder or run without --resume/--emit to start over");
+  }
+  const bool keep = same && (a.resume || !a.emit.empty());
+  if (!keep) {
+    fs::remove_all(io::join_path(out, "designs"), ec);
+    fs::remove_all(io::join_path(out, "candidates"), ec);
+    fs::remove_all(io::join_path(out, "logs"), ec);
+    fs::remove_all(io::join_path(out, "slurm"), ec);
+    fs::remove_all(io::join_path(out, "plots"), ec);
+    for (const char* f : {"jobs.txt", "screen.sbatch", "ranking.csv"}) fs::remove(io::join_path(out, f), ec);
+  }
+  io::ensure_dir(out);
+  io::ensure_dir(io::join_path(out, "inputs"));
+  io::write_file_atomic(io::join_path(io::join_path(out, "inputs"), fs::path(a.screen_file).filename().string()),
+                        io::read_file(a.screen_file));
+  write_candidates(def, cands, out);
+  write_design_tables(out, cands);
+  std::string vary;
+  for (const auto& v : in.varying) vary += (vary.empty() ? "" : " ") + v;
+  io::write_file_atomic(key_file, io::format_key_values({{"fingerprint", fingerprint},
+                                                          {"name", def.name},
+                                                          {"screen_file", abs_path(a.screen_file)},
+                                                          {"power", def.power_higher_is_better ? "max" : "min"},
+                                                          {"varying", vary}},
+                                                         "millwear screen (for --resume, --emit, --collect)"));
+  ScreenSetup s;
+  s.name = def.name;
+  s.designs = read_designs(out);
+  s.candidates = cands.size();
+  s.rejected = cands.size() - s.designs.size();
+  if (s.designs.empty()) {
+    std::string first;
+    for (const auto& c : cands)
+      if (!c.reason.empty()) { first = c.name + ": " + c.reason; break; }
+    throw InputError(a.screen_file, "family",
+                     "at least one valid candidate; all " + std::to_string(cands.size()) + " were rejected (see " +
+                         rejected_csv(out) + "; first: " + first + ")");
+  }
+  for (std::size_t i = 0; i < s.designs.size(); ++i) {
+    if (keep && design_finished(out, s.designs[i])) ++s.already_done;
+    else s.todo.push_back(static_cast<int>(i));
+  }
+  return s;
+}
+
+EmitOutcome emit_jobs(const ScreenRequest& a, const ScreenSetup& s) {
+  EmitOutcome e;
+  const std::string& out = a.out;
+  if (s.todo.empty()) {
+    std::error_code rm;
+    fs::remove(io::join_path(out, a.emit == "parallel" ? "jobs.txt" : "screen.sbatch"), rm);
+    return e;
+  }
+  EmitOptions o;
+  o.binary = a.exe.empty() ? self_executable() : a.exe;
+  o.out = abs_path(out);
+  o.name = s.name;
+  o.chunk = std::max(1, a.chunk);
+  o.max_running = a.jobs;
+  e.binary = o.binary;
+  e.jobs = chunk_tasks(s.todo, o.chunk).size();
+  if (a.emit == "parallel") {
+    e.path = io::join_path(out, "jobs.txt");
+    io::write_file_atomic(e.path, parallel_job_list(s.todo, o));
+  } else {
+    io::ensure_dir(io::join_path(out, "slurm"));
+    std::string tasks;
+    const std::string script = slurm_script(s.todo, o, tasks);
+    io::write_file_atomic(io::join_path(io::join_path(out, "slurm"), "tasks.txt"), tasks);
+    e.path = io::join_path(out, "screen.sbatch");
+    io::write_file_atomic(e.path, script);
+  }
+  return e;
+}
+
+ScreenOutcome run_screen(const ScreenRequest& a, const std::atomic<int>* stop_signal, const ScreenCallbacks& cb) {
+  ScreenOutcome o;
+  const ScreenInputs inputs = read_screen_inputs(a);
+  const io::FolderLock lock(a.out);  // one screen per folder, from here to the ranking
+  o.setup = prepare_screen(a, inputs);
+  if (cb.on_setup) cb.on_setup(o.setup);
+  if (!a.emit.empty()) {
+    o.emitted = true;
+    o.emit = emit_jobs(a, o.setup);
+    return o;
+  }
+  if (!o.setup.todo.empty()) {
+    PoolOptions p;
+    p.exe = a.exe;
+    p.jobs = a.jobs;
+    p.stop_signal = stop_signal;
+    p.on_start = cb.on_pool_start;
+    p.on_tick = cb.on_pool_tick;
+    p.on_end = cb.on_pool_end;
+    o.signal = run_task_pool(a.out, o.setup.designs, o.setup.todo, o.setup.already_done, p).signal;
+    if (o.signal != 0) return o;
+  }
+  o.collected = collect_screen(a.out, false);  // the lock is held
+  return o;
+}
+
+}  // namespace millwear::screen

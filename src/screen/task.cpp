@@ -1,0 +1,96 @@
+// One screened design as a task (see task.hpp).
+#include "screen/task.hpp"
+
+#include <algorithm>
+#include <csignal>
+
+#include "common/errors.hpp"
+#include "io/atomic_write.hpp"
+#include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
+#include "study/plan.hpp"
+#include "study/run_designs.hpp"
+
+namespace millwear::screen {
+
+void write_task_status(const std::string& out, const Candidate& c, const std::string& status, int exit_code,
+                       const std::string& reason) {
+  io::KeyValues kv{{"design", c.name}, {"status", status}, {"exit_code", std::to_string(exit_code)}};
+  std::string r = reason;
+  std::replace(r.begin(), r.end(), '\n', ' ');
+  std::replace(r.begin(), r.end(), '\r', ' ');
+  if (!r.empty()) kv.emplace_back("reason", r);
+  io::write_file_atomic(task_status_path(out, c.name), io::format_key_values(kv, "millwear screen-task"));
+}
+
+bool design_finished(const std::string& out, const Candidate& c) {
+  if (!io::file_exists(task_status_path(out, c.name))) return false;
+  try {
+    return io::find_value(io::read_key_values(task_status_path(out, c.name)), "status") == "finished";
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>& designs, int index,
+                            const TaskOptions& options) {
+  if (index < 0 || index >= static_cast<int>(designs.size()))
+    throw InputError(designs_csv(out), "I",
+                     "a task number in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(index));
+  const Candidate& c = designs[static_cast<std::size_t>(index)];
+  const std::string dir = design_dir(out, c.name);
+  const io::FolderLock lock(dir);  // before the status: a task refused here changes nothing
+  write_task_status(out, c, "running", -1, "");
+  TaskOutcome o;
+  o.design = c.name;
+  try {
+    // The same code path as `millwear run`: the candidate's folder is what run writes. A
+    // re-run task (Slurm requeue, re-emitted job) continues its stages.
+    const study::Plan plan = study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir});
+    study::RunState state(plan);
+    study::RunOptions opt;
+    opt.out = dir;
+    opt.resume = true;
+    opt.lock_folder = false;  // held above
+    opt.jobs = 1;
+    opt.stop_signal = options.stop_signal;
+    opt.commit = options.commit;
+    const study::RunOutcome r = study::run_designs(state, opt);
+    o.exit_code = r.interrupted ? 128 + (r.signal == SIGTERM ? SIGTERM : SIGINT) : r.failed || r.figures_failed ? 1 : 0;
+    const study::DesignState& st = *state.designs[0];
+    if (o.exit_code == 1) {
+      o.reason = st.error;
+      if (o.reason.empty()) o.reason = "figures failed (see plots/gnuplot.log in the design's folder): " + r.figure_error;
+    }
+    o.ran = true;
+    o.status = study::status_name(st.status);
+    o.wall_s = r.wall_s;
+    o.error = st.error;
+    o.events = st.events;
+    o.figure_error = r.figure_error;
+  } catch (const std::exception& e) {
+    o.exit_code = dynamic_cast<const InputError*>(&e) ? 2 : 1;
+    o.reason = e.what();
+  }
+  if (o.exit_code == 0) write_task_status(out, c, "finished", 0, "");
+  else if (o.exit_code == 1 || o.exit_code == 2) write_task_status(out, c, "failed", o.exit_code, o.reason);
+  else
+    write_task_status(out, c, "interrupted", o.exit_code,
+                      "interrupted (exit " + std::to_string(o.exit_code) + "); run it again to continue");
+  return o;
+}
+
+int run_screen_tasks(const std::string& out, const std::vector<int>& indices, const TaskOptions& options,
+                     const std::function<void(const TaskOutcome&)>& on_task) {
+  const std::vector<Candidate> designs = read_designs(out);
+  int worst = 0;
+  for (int i : indices) {
+    const TaskOutcome o = run_screen_task(out, designs, i, options);
+    if (on_task) on_task(o);
+    if (o.exit_code > 1) return o.exit_code;  // bad input or interrupted: stop here
+    worst = std::max(worst, o.exit_code);
+  }
+  return worst;
+}
+
+}  // namespace millwear::screen

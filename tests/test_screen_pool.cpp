@@ -1,0 +1,149 @@
+// The screen's local worker pool and its tasks (screen/pool.hpp, screen/task.hpp,
+// screen/run_screen.hpp, screen/collect.hpp) on their own, with a stand-in for
+// `millwear screen-task`: a shell script whose exit depends on the task number. The real
+// screen end to end is tests/test_screen.cpp.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "engine_fixtures.hpp"
+#include "common/errors.hpp"
+#include "io/run_folder.hpp"
+#include "screen/collect.hpp"
+#include "screen/pool.hpp"
+#include "screen/run_screen.hpp"
+#include "screen/task.hpp"
+
+namespace millwear::screen {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder per test.
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(::testing::TempDir()) / ("screen_pool_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<Candidate> three_designs(const fs::path& out) {
+  std::vector<Candidate> v(3);
+  for (int i = 0; i < 3; ++i) {
+    v[i].name = "d00" + std::to_string(i);
+    fs::create_directories(design_dir(out.string(), v[i].name));
+  }
+  return v;
+}
+
+// `EXE screen-task OUT I`: task 0 finishes, task 1 fails, task 2 dies of SIGKILL.
+std::string fake_task(const fs::path& dir) {
+  const fs::path exe = dir / "fake-task.sh";
+  std::ofstream(exe) << "#!/bin/sh\necho \"task $3 of $2\"\ncase $3 in 0) exit 0;; 1) exit 1;; *) kill -9 $$;; esac\n";
+  fs::permissions(exe, fs::perms::owner_all);
+  return exe.string();
+}
+
+TEST(ScreenPool, EachTaskRunsInItsOwnProcessAndACrashIsAFailedStatus) {
+  const fs::path out = fresh_dir("crash");
+  const std::vector<Candidate> designs = three_designs(out);
+  PoolOptions o;
+  o.exe = fake_task(out);
+  o.jobs = 8;
+  int jobs_started = 0;
+  PoolProgress last;
+  o.on_start = [&](int jobs) { jobs_started = jobs; };
+  o.on_tick = [&](const PoolProgress& p) { last = p; };
+  const PoolOutcome r = run_task_pool(out.string(), designs, {0, 1, 2}, 0, o);
+  EXPECT_EQ(r.signal, 0);
+  EXPECT_EQ(r.jobs, 3);  // never more jobs than tasks
+  EXPECT_EQ(jobs_started, 3);
+  // The last tick comes after every task ended: its counts are final.
+  EXPECT_EQ(last.total, 3);
+  EXPECT_EQ(last.done, 1);
+  EXPECT_EQ(last.failed, 2);
+  EXPECT_EQ(last.running, 0);
+  EXPECT_FALSE(std::isnan(last.left_s));
+  // Each task's output went to its log.
+  EXPECT_EQ(testing::read_text(out / "logs/d001.log"), "task 1 of " + out.string() + "\n");
+  // Only the task that died without a word gets a status from the pool.
+  EXPECT_FALSE(fs::exists(task_status_path(out.string(), "d000")));
+  EXPECT_FALSE(fs::exists(task_status_path(out.string(), "d001")));
+  const io::KeyValues kv = io::read_key_values(task_status_path(out.string(), "d002"));
+  EXPECT_EQ(io::find_value(kv, "status"), "failed");
+  EXPECT_EQ(io::find_value(kv, "exit_code"), "137");
+  EXPECT_NE(io::find_value(kv, "reason").find("signal 9"), std::string::npos);
+}
+
+TEST(ScreenPool, AStopSignalStartsNoTask) {
+  const fs::path out = fresh_dir("stop");
+  const std::vector<Candidate> designs = three_designs(out);
+  const std::atomic<int> stop{15};
+  PoolOptions o;
+  o.exe = fake_task(out);
+  o.jobs = 1;
+  o.stop_signal = &stop;
+  PoolProgress last;
+  o.on_tick = [&](const PoolProgress& p) { last = p; };
+  const PoolOutcome r = run_task_pool(out.string(), designs, {0, 1, 2}, 1, o);
+  EXPECT_EQ(r.signal, 15);
+  EXPECT_EQ(last.done, 1);  // the design finished before, nothing more
+  EXPECT_EQ(last.failed, 0);
+  EXPECT_TRUE(std::isnan(last.left_s));  // nothing finished in this pool: no rate to go by
+  EXPECT_FALSE(fs::exists(out / "logs/d000.log"));
+}
+
+TEST(ScreenTask, StatusRoundTripsWithLineEndsInTheReasonAsSpaces) {
+  const fs::path out = fresh_dir("status");
+  const std::vector<Candidate> designs = three_designs(out);
+  write_task_status(out.string(), designs[0], "failed", 1, "first line\nsecond\rthird");
+  const io::KeyValues kv = io::read_key_values(task_status_path(out.string(), "d000"));
+  EXPECT_EQ(io::find_value(kv, "reason"), "first line second third");
+  EXPECT_FALSE(design_finished(out.string(), designs[0]));
+  write_task_status(out.string(), designs[0], "finished", 0, "");
+  EXPECT_TRUE(design_finished(out.string(), designs[0]));
+  EXPECT_FALSE(design_finished(out.string(), designs[1]));  // no status at all
+}
+
+TEST(ScreenTask, ATaskNumberOutsideTheDesignsIsAnInputError) {
+  const fs::path out = fresh_dir("range");
+  const std::vector<Candidate> designs = three_designs(out);
+  try {
+    run_screen_task(out.string(), designs, 3);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "I");
+    EXPECT_NE(std::string(e.what()).find("[0, 2]"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ScreenCollect, AFolderWithoutAScreenIsAnInputError) {
+  const fs::path out = fresh_dir("nothing");
+  EXPECT_THROW(collect_screen(out.string()), InputError);
+}
+
+TEST(ScreenRequest, AnUnknownEmitTargetIsAnInputErrorBeforeAnythingIsWritten) {
+  const fs::path out = fresh_dir("emit") / "out";
+  ScreenRequest r;
+  r.screen_file = testing::source_path("tests/data/screen-lab.toml");
+  r.out = out.string();
+  r.emit = "pbs";
+  try {
+    read_screen_inputs(r);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--emit");
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace millwear::screen
