@@ -75,10 +75,13 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
     fs::remove_all(io::join_path(out, "plots"), ec);
     for (const char* f : {"jobs.txt", "screen.sbatch", "ranking.csv"}) fs::remove(io::join_path(out, f), ec);
   }
+  const bool out_existed = fs::exists(out, ec);
+  const bool inputs_existed = fs::exists(io::join_path(out, "inputs"), ec);
   io::ensure_dir(out);
   io::ensure_dir(io::join_path(out, "inputs"));
-  io::write_file_atomic(io::join_path(io::join_path(out, "inputs"), fs::path(a.screen_file).filename().string()),
-                        io::read_file(a.screen_file));
+  const std::string input_copy =
+      io::join_path(io::join_path(out, "inputs"), fs::path(a.screen_file).filename().string());
+  io::write_file_atomic(input_copy, io::read_file(a.screen_file));
   write_candidates(def, cands, out);
   write_design_tables(out, cands);
   std::string vary;
@@ -95,12 +98,17 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
   s.candidates = cands.size();
   s.rejected = cands.size() - s.designs.size();
   if (s.designs.empty()) {
+    // Candidates are validated by writing and reading them back; a refusal takes back all of it.
     std::string first;
     for (const auto& c : cands)
       if (!c.reason.empty()) { first = c.name + ": " + c.reason; break; }
+    fs::remove_all(io::join_path(out, "candidates"), ec);
+    for (const std::string& f : {designs_csv(out), rejected_csv(out), key_file, input_copy}) fs::remove(f, ec);
+    if (!inputs_existed) fs::remove(io::join_path(out, "inputs"), ec);  // only if empty
+    if (!out_existed) fs::remove(out, ec);
     throw InputError(a.screen_file, "family",
-                     "at least one valid candidate; all " + std::to_string(cands.size()) + " were rejected (see " +
-                         rejected_csv(out) + "; first: " + first + ")");
+                     "at least one valid candidate; all " + std::to_string(cands.size()) + " were rejected (first: " +
+                         first + ")");
   }
   for (std::size_t i = 0; i < s.designs.size(); ++i) {
     if (keep && design_finished(out, s.designs[i])) ++s.already_done;
