@@ -81,7 +81,9 @@ void settle_unchecked(Engine& engine, const Scene& scene) {
   engine.set_mill_speed(0.0);
   engine.step(steps_for(scene.solver.settle_time_s, dt));
   engine.set_mill_speed(scene.angular_speed_rad_s());
-  engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
+  // A mill at rest (the settled-bed probes) has no revolution to spin up for.
+  if (scene.angular_speed_rad_s() > 0.0)
+    engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
   engine.reset_window();
 }
 
