@@ -48,12 +48,20 @@ complete_words() {  # the words offered for the command line "$@" (last word bei
            COMP_LINE="$*"; COMP_POINT=${#COMP_LINE}; _millwear millwear
            printf "%s\n" "${COMPREPLY[@]}"' _ "$p/share/bash-completion/completions/millwear" "$@"
 }
-(cd "$tmp/here" && complete_words millwear r | grep -qx run) || fail "completion: 'r' does not offer run"
-(cd "$tmp/here" && complete_words millwear run --fi | grep -qx -- --fidelity) ||
+# The words are captured before grep reads them: `grep -q` stops at the first match, and under
+# pipefail the writer's SIGPIPE would fail the pipeline whenever it loses that race.
+offers() {  # offers PATTERN WORDS...: the completion of WORDS offers a word matching PATTERN
+  local pattern="$1" words
+  shift
+  words="$(cd "$tmp/here" && complete_words "$@")"
+  grep -qxE -- "$pattern" <<<"$words"
+}
+offers run millwear r || fail "completion: 'r' does not offer run"
+offers --fidelity millwear run --fi ||
   fail "completion: 'run --fi' does not offer --fidelity"
-(cd "$tmp/here" && complete_words millwear run --fidelity d | grep -qx draft) ||
+offers draft millwear run --fidelity d ||
   fail "completion: 'run --fidelity d' does not offer draft"
-(cd "$tmp/here" && complete_words millwear run sc | grep -qxE 'scenes/?') ||
+offers 'scenes/?' millwear run sc ||
   fail "completion: 'run sc' does not offer the folder scenes/"
 
 # Every installed scene resolves its ../profiles/ from where it was installed; the screen
