@@ -348,8 +348,12 @@ void read_wear(const TableReader& r, Scene& s) {
   if (auto x = r.number("max_depth_step", open_closed(0.0, 1000.0), "mm")) w.max_depth_step_m = *x * kMm;
   if (auto x = r.number("update_interval", open_closed(0.0, 1000.0), "s of simulated time"))
     w.update_interval_s = *x;
-  if (auto x = r.number("smoothing_radius", closed(0.0, 1000.0), "mm; 0 = smallest particle radius"))
+  // Below a hundredth of a millimetre the re-smoothing works at the scale of rounding errors
+  // and a worn liner unit can vanish in it.
+  if (auto x = r.number("smoothing_radius", closed(0.0, 1000.0), "mm; 0 = smallest particle radius")) {
+    if (*x > 0.0 && *x < 0.01) r.fail("smoothing_radius", "0 (the smallest particle radius) or 0.01 to 1000 mm");
     w.smoothing_radius_m = *x * kMm;
+  }
   if (auto x = r.boolean("average_rows")) w.average_rows = *x;
   if (auto x = r.boolean("shell_wear")) w.shell_wear = *x;
   if (auto x = r.boolean("packed_wear")) w.packed_wear = *x;
