@@ -205,30 +205,5 @@ int last_finished_stage(const std::string& out, const std::string& design) {
 
 // ---- JSON ----
 
-std::string json_quote(const std::string& s) {
-  std::string q = "\"";
-  for (char c : s) {
-    unsigned char u = static_cast<unsigned char>(c);
-    switch (c) {
-      case '"': q += "\\\""; break;
-      case '\\': q += "\\\\"; break;
-      case '\n': q += "\\n"; break;
-      case '\r': q += "\\r"; break;
-      case '\t': q += "\\t"; break;
-      case '\b': q += "\\b"; break;
-      case '\f': q += "\\f"; break;
-      default:
-        if (u < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", u);
-          q += buf;
-        } else {
-          q += c;  // UTF-8 passes through unchanged
-        }
-    }
-  }
-  q += '"';
-  return q;
-}
 
 }  // namespace millwear::io

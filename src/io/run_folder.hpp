@@ -88,7 +88,5 @@ std::vector<int> list_finished_stages(const std::string& out, const std::string&
 // A resumed run continues from K + 1.
 int last_finished_stage(const std::string& out, const std::string& design);
 
-// JSON string escaping (quotes included).
-std::string json_quote(const std::string& s);
 
 }  // namespace millwear::io

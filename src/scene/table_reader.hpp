@@ -72,27 +72,28 @@ inline std::string type_name(toml::node_type t) {
   }
 }
 
+// Text as shown in a message: control characters as \xNN escapes, cut after `max` characters.
+inline std::string printable(const std::string& text, std::size_t max) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\x%02x", c);
+      out += esc;
+    } else {
+      out += text[i];
+    }
+  }
+  return text.size() > max ? out + "..." : out;
+}
+
 // "got a string 'ten'" / "got -3" / "got an array [0.5, 0.4]"; long values are shortened.
 inline std::string value_text(const toml::node& n) {
   if (n.is_integer()) return std::to_string(n.as_integer()->get());
   if (n.is_floating_point()) return num_text(n.as_floating_point()->get());
   if (n.is_boolean()) return n.as_boolean()->get() ? "true" : "false";
-  if (n.is_string()) {
-    // Shown in a message: cut long strings, and show control characters as escapes.
-    const std::string& v = n.as_string()->get();
-    std::string out = "'";
-    for (std::size_t i = 0; i < v.size() && i < 40; ++i) {
-      const unsigned char c = static_cast<unsigned char>(v[i]);
-      if (c < 0x20 || c == 0x7f) {
-        char esc[8];
-        std::snprintf(esc, sizeof esc, "\\x%02x", c);
-        out += esc;
-      } else {
-        out += v[i];
-      }
-    }
-    return out + (v.size() > 40 ? "..." : "") + "'";
-  }
+  if (n.is_string()) return "'" + printable(n.as_string()->get(), 40) + "'";
   if (n.is_array()) {
     std::string out = "[";
     for (std::size_t i = 0; i < n.as_array()->size(); ++i)
@@ -129,21 +130,8 @@ inline std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// A key as shown in a message: control characters escaped, cut after 64 characters.
-inline std::string printable_key(const std::string& key) {
-  std::string out;
-  for (std::size_t i = 0; i < key.size() && i < 64; ++i) {
-    const unsigned char c = static_cast<unsigned char>(key[i]);
-    if (c < 0x20 || c == 0x7f) {
-      char esc[8];
-      std::snprintf(esc, sizeof esc, "\\x%02x", c);
-      out += esc;
-    } else {
-      out += key[i];
-    }
-  }
-  return key.size() > 64 ? out + "..." : out;
-}
+// A key as shown in a message.
+inline std::string printable_key(const std::string& key) { return printable(key, 64); }
 
 // One TOML table with a dotted prefix and its list of allowed keys. Every accessor checks
 // the type and range and records the key in the scene's explicit keys.
