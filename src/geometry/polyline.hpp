@@ -53,6 +53,22 @@ double thinnest_part(const Polyline& surface, double spacing);
 // Whether p lies inside a polygon (even-odd rule; a point on the boundary may go either way).
 bool contains(const Polygon& ring, Vec2 p);
 
+// Sutherland-Hodgman clip of a ring against the half-plane keep(p) >= 0, with keep linear.
+// For a convex clip window the signed area and moments of the output are exactly those of the
+// clipped region (any zero-width bridges contribute nothing).
+template <class F>
+Polygon clip_half_plane(const Polygon& ring, F keep) {
+  Polygon out;
+  const std::size_t n = ring.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 a = ring[i], b = ring[(i + 1) % n];
+    const double fa = keep(a), fb = keep(b);
+    if (fa >= 0.0) out.push_back(a);
+    if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+  }
+  return out;
+}
+
 // Morphological smoothing of a simple polygon with a disk of radius r (a regular 32-gon,
 // exact Minkowski sums): an opening (erode r, dilate r) rounds convex corners to radius r and
 // removes ridges narrower than 2r, never adding metal; then a closing (dilate r, erode r)

@@ -36,22 +36,6 @@ void append_straight(Polyline& out, Vec2 a, Vec2 b, double target, bool include_
   out.push_back(b);
 }
 
-// Sutherland-Hodgman clip of a ring against the half-plane keep(p) >= 0, with keep linear.
-// The clip windows here are convex, so the signed area and moments of the output are
-// exactly those of the clipped region (any zero-width bridges contribute nothing).
-template <class F>
-Polygon clip_half_plane(const Polygon& ring, F keep) {
-  Polygon out;
-  const std::size_t n = ring.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 a = ring[i], b = ring[(i + 1) % n];
-    const double fa = keep(a), fb = keep(b);
-    if (fa >= 0.0) out.push_back(a);
-    if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
-  }
-  return out;
-}
-
 // The part of an open polyline inside x in [x0, x1], assuming x is monotone enough that the
 // strip cuts it once at each side (true for a liner unit: shell, lifter, shell).
 Polyline clip_polyline_x(const Polyline& line, double x0, double x1) {

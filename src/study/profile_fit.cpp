@@ -40,20 +40,6 @@ Vec2 vertex_normal_into_metal(const Polyline& s, std::size_t i) {
   return normalized(n);
 }
 
-// Sutherland-Hodgman clip of a polygon to the half plane f(p) >= 0 (f linear).
-template <class F>
-Polygon clip_half_plane(const Polygon& poly, F f) {
-  Polygon out;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 a = poly[i], b = poly[(i + 1) % n];
-    const double fa = f(a), fb = f(b);
-    if (fa >= 0.0) out.push_back(a);
-    if ((fa >= 0.0) != (fb >= 0.0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
-  }
-  return out;
-}
-
 }  // namespace
 
 Polyline interpolate_profile(const Polyline& a, const Polyline& b, double f) {
