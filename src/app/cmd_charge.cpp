@@ -47,8 +47,13 @@ int run_charge(const ChargeArgs& args) {
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
   std::printf("  collisions   %10.1f kW/m   liner %.1f kW/m, solver %.1f kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
-  std::printf("  toe %.0f deg, shoulder %.0f deg (from 6 o'clock, + on the rising side)\n",
-              f.summary.toe_deg, f.summary.shoulder_deg);
+  const double com_deg = f.summary.centre_of_mass_deg;
+  if (f.summary.centrifuged)
+    std::printf("  centrifuged: the charge covers the whole shell (no toe or shoulder); centre of mass %.0f deg\n",
+                com_deg);
+  else
+    std::printf("  toe %.0f deg, shoulder %.0f deg, centre of mass %.0f deg (from 6 o'clock, + on the rising side)\n",
+                f.summary.toe_deg, f.summary.shoulder_deg, com_deg);
   if (f.summary.mean_packed_disks > 0.0)
     std::printf("  packed: %.1f disks on average rode the liner for over a revolution; their slip, %.1f%%\n"
                 "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"

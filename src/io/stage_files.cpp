@@ -53,6 +53,7 @@ std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
       {"summary.mass_kg", &s.mass_kg},
       {"summary.centre_of_mass_x_m", &s.centre_of_mass_m.x},
       {"summary.centre_of_mass_y_m", &s.centre_of_mass_m.y},
+      {"summary.centre_of_mass_deg", &s.centre_of_mass_deg},
       {"summary.toe_deg", &s.toe_deg},
       {"summary.shoulder_deg", &s.shoulder_deg},
       {"summary.shear_work_rate_W", &s.shear_work_rate_W},
@@ -167,6 +168,7 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, format_exact(*p));
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
+  kv.emplace_back("summary.centrifuged", rec.charge.summary.centrifuged ? "1" : "0");
   if (carried) {
     kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
     kv.emplace_back("start.mill_speed_rad_s", format_exact(rec.start_charge.mill_speed_rad_s));
@@ -198,6 +200,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   for (auto& [k, p] : double_fields(rec)) *p = r.number(k);
   for (auto& [k, p] : integer_fields(rec)) *p = r.integer(k);
   rec.worn_out = r.integer("worn_out") != 0;
+  rec.charge.summary.centrifuged = r.integer("summary.centrifuged") != 0;
 
   io::CsvData units = read_csv(base + ".units.csv");
   {
