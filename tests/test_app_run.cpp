@@ -541,3 +541,28 @@ TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
     EXPECT_NE(svg.find(text), std::string::npos) << text;
   fs::remove_all(out);
 }
+
+// Without a terminal (a log, cron, Slurm) `run` prints plain progress lines, each with the
+// time of day, at every stage and when a design finishes; --quiet prints none.
+TEST(AppRunProgress, PlainLinesWithoutATerminalAndNoneWhenQuiet) {
+  const fs::path out = fs::temp_directory_path() / "millwear-test-plain-progress";
+  fs::remove_all(out);
+  const Result r = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --progress-every 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("progress every 1s"), std::string::npos) << r.output;
+  // "YYYY-MM-DD HH:MM:SS  lab-quick  stage 2/2" and "... lab-quick  finished in".
+  std::istringstream lines(r.output);
+  int stage_lines = 0, finished_lines = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.size() < 21 || line[4] != '-' || line[13] != ':' || line.compare(19, 2, "  ") != 0) continue;
+    if (line.find("lab-quick  stage ") != std::string::npos) ++stage_lines;
+    if (line.find("lab-quick  finished in") != std::string::npos) ++finished_lines;
+  }
+  EXPECT_GE(stage_lines, 2) << r.output;  // at least one line in each of the two stages
+  EXPECT_EQ(finished_lines, 1) << r.output;
+  fs::remove_all(out);
+  const Result quiet = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --quiet");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("finished in"), std::string::npos) << quiet.output;
+  fs::remove_all(out);
+}
