@@ -48,7 +48,8 @@ bool has_magic(const fs::path& p, const std::string& magic) {
 const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct",
                                 "height_mm", "power_kw", "power_norm", "collision_kw",
                                 "collision_norm", "utilization", "utilization_norm", "life_h",
-                                "life_extrapolated", "packed_shear_pct"};
+                                "life_extrapolated", "packed_shear_pct", "charge_t", "specific_power_kw_per_t",
+                                "liner_wear_g_per_kwh"};
 
 }  // namespace
 
