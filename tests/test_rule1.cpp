@@ -59,6 +59,29 @@ TEST(Rule1Statistics, TheWorstStationIsTheMostSignificantOne) {
   EXPECT_EQ(row.verdict, Rule1Verdict::Deviates);
 }
 
+// Rule 1 asks for the same profile, so the same spread: a factor whose seeds scatter far more
+// than the reference's does not agree even when its mean does. Four seeds each: a variance
+// ratio of 25 has a chance of 1.27% under equal spreads (F with 3 and 3 degrees of
+// freedom); a ratio of 2, about 29%.
+TEST(Rule1Statistics, SeedsThatScatterFarMoreThanTheReferencesDoNotAgree) {
+  Rule1Row ref = row_with({1e-3, 2e-3}, {0.1e-3, 0.1e-3});
+  ref.replicates.resize(4);
+  ref.scatter_m = 0.2e-3;
+  Rule1Row wide = row_with({1e-3, 2e-3}, {0.5e-3, 0.5e-3});
+  wide.replicates.resize(4);
+  wide.scatter_m = 1.0e-3;
+  compare_rule1_row(wide, ref, 1e-3);
+  EXPECT_EQ(wide.verdict, Rule1Verdict::Scatters);
+  EXPECT_NEAR(wide.scatter_ratio, 25.0, 1e-12);
+  EXPECT_NEAR(wide.scatter_p, 0.01266, 1e-4);
+  Rule1Row close = row_with({1e-3, 2e-3}, {0.1e-3, 0.1e-3});
+  close.replicates.resize(4);
+  close.scatter_m = 0.2e-3 * std::sqrt(2.0);
+  compare_rule1_row(close, ref, 1e-3);
+  EXPECT_EQ(close.verdict, Rule1Verdict::Agrees);
+  EXPECT_NEAR(close.scatter_p, 0.2918, 1e-3);
+}
+
 // The same factor twice is pure noise (its replicates run with other seeds): the largest
 // factor tried is recommended. Lab mill at draft, 3 seeds each.
 TEST(Rule1Statistics, TheSameFactorTwiceIsNoiseAndTheLargestIsRecommended) {

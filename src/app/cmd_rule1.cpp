@@ -2,6 +2,7 @@
 // each factor replicated over seeds so that a deviation is told from seed-to-seed noise.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -64,8 +65,12 @@ int run_rule1(const Rule1Args& a) {
         std::snprintf(dev, sizeof dev, "%.2f +- %.2f", row.deviation_m * h, row.deviation_se_m * h);
       else
         std::snprintf(dev, sizeof dev, "%.2f", row.deviation_m * h);
-      std::printf("%12.3g %10.2f %20s %12.2f %13.0f%%  %s\n", row.factor, sim, dev, row.noise_floor_m * h,
+      std::printf("%12.3g %10.2f %20s %12.2f %13.0f%%  %s", row.factor, sim, dev, row.noise_floor_m * h,
                   100.0 * row.chance_within, verdict_name(row.verdict));
+      if (row.verdict == Rule1Verdict::Scatters)
+        std::printf(" (seeds spread %.1fx the smallest factor's, p = %.3f)", std::sqrt(row.scatter_ratio),
+                    row.scatter_p);
+      std::printf("\n");
     }
     for (const auto& rep : row.replicates)
       for (const auto& e : rep.events) std::printf("    seed %llu: %s\n", static_cast<unsigned long long>(rep.seed), e.c_str());

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <thread>
 
+#include <boost/math/distributions/fisher_f.hpp>
+
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "plots/plots.hpp"
@@ -28,6 +30,9 @@ constexpr double kStationsPerHeight = 40.0;
 // A deviation is significant when it exceeds the tolerance by more than this many of its
 // standard errors.
 constexpr double kSignificance = 2.0;
+// A factor's seeds scatter more than the reference's when equal spreads would give a variance
+// ratio this large less often than this (one-sided).
+constexpr double kScatterLevel = 0.05;
 
 Scene factor_scene(const Scene& scene, double factor, std::uint64_t seed) {
   Scene s = scene;
@@ -76,6 +81,7 @@ void depth_statistics(Rule1Row& row, const Polyline& stations) {
   const std::size_t n = row.replicates.size();
   row.depth_mean_m.assign(stations.size(), 0.0);
   row.depth_se_m.assign(stations.size(), 0.0);
+  double var_sum = 0.0;
   for (std::size_t s = 0; s < stations.size(); ++s) {
     double sum = 0.0, sum_sq = 0.0;
     for (const auto& rep : row.replicates) {
@@ -88,8 +94,10 @@ void depth_statistics(Rule1Row& row, const Polyline& stations) {
     if (n > 1) {
       const double var = std::max(0.0, (sum_sq - n * mean * mean) / (n - 1));
       row.depth_se_m[s] = std::sqrt(var / n);
+      var_sum += var;
     }
   }
+  if (!stations.empty()) row.scatter_m = std::sqrt(var_sum / stations.size());
 }
 
 std::string fmt(double v) {
@@ -125,6 +133,13 @@ void compare_rule1_row(Rule1Row& row, const Rule1Row& ref, double tolerance_m) {
     row.chance_within = row.deviation_m <= tolerance_m ? 1.0 : 0.0;
     row.verdict = row.deviation_m <= tolerance_m ? Rule1Verdict::Agrees : Rule1Verdict::Deviates;
   }
+  const std::size_t n = row.replicates.size(), n_ref = ref.replicates.size();
+  if (n > 1 && n_ref > 1 && ref.scatter_m > 0.0) {
+    row.scatter_ratio = (row.scatter_m / ref.scatter_m) * (row.scatter_m / ref.scatter_m);
+    const boost::math::fisher_f f(static_cast<double>(n - 1), static_cast<double>(n_ref - 1));
+    row.scatter_p = boost::math::cdf(boost::math::complement(f, row.scatter_ratio));
+    if (row.verdict == Rule1Verdict::Agrees && row.scatter_p < kScatterLevel) row.verdict = Rule1Verdict::Scatters;
+  }
 }
 
 const char* verdict_name(Rule1Verdict v) {
@@ -132,6 +147,7 @@ const char* verdict_name(Rule1Verdict v) {
     case Rule1Verdict::Reference: return "reference";
     case Rule1Verdict::Agrees: return "agrees";
     case Rule1Verdict::Deviates: return "deviates";
+    case Rule1Verdict::Scatters: return "scatters";
     case Rule1Verdict::Failed: return "failed";
   }
   return "?";
@@ -208,8 +224,8 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
   const double height = r.lifter_height_m;
   std::ostringstream csv;
   csv << "scene,factor,replicates,simulated_s,verdict,deviation_mm,deviation_se_mm,deviation_pct_height,"
-         "deviation_se_pct_height,max_deviation_mm,noise_floor_mm,tolerance_pct_height,chance_within,"
-         "recommended\n";
+         "deviation_se_pct_height,max_deviation_mm,noise_floor_mm,scatter_ratio,scatter_p,tolerance_pct_height,"
+         "chance_within,recommended\n";
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const Rule1Row& row = r.rows[i];
     double sim = 0.0;
@@ -217,12 +233,14 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
     csv << scene.name << ',' << fmt(row.factor) << ',' << row.replicates.size() << ','
         << fmt(sim / row.replicates.size()) << ',' << verdict_name(row.verdict) << ',';
     // A comparison only for the factors compared; the reference and failed rows leave it empty.
-    if (row.verdict == Rule1Verdict::Agrees || row.verdict == Rule1Verdict::Deviates)
+    if (row.verdict == Rule1Verdict::Agrees || row.verdict == Rule1Verdict::Deviates ||
+        row.verdict == Rule1Verdict::Scatters)
       csv << fmt(row.deviation_m * 1e3) << ',' << fmt(row.deviation_se_m * 1e3) << ','
           << fmt(100.0 * row.deviation_m / height) << ',' << fmt(100.0 * row.deviation_se_m / height) << ','
-          << fmt(row.max_deviation_m * 1e3) << ',' << fmt(row.noise_floor_m * 1e3) << ',';
+          << fmt(row.max_deviation_m * 1e3) << ',' << fmt(row.noise_floor_m * 1e3) << ','
+          << fmt(row.scatter_ratio) << ',' << fmt(row.scatter_p) << ',';
     else
-      csv << ",,,,,,";
+      csv << ",,,,,,,,";
     csv << fmt(r.tolerance_pct_height) << ',' << fmt(row.chance_within) << ','
         << (static_cast<int>(i) == r.recommended_row ? 1 : 0) << '\n';
   }

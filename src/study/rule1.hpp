@@ -12,8 +12,14 @@
 // mean depth from the smallest factor's; its error, the two standard errors combined in
 // quadrature. The noise floor, what seed-to-seed scatter alone gives, is twice that error.
 // A factor agrees when at no station the deviation exceeds the tolerance by more than twice
-// its error (not significantly above noise plus tolerance). The recommendation is the
-// largest factor that agrees with every smaller one agreeing too.
+// its error (not significantly above noise plus tolerance), and its seeds do not scatter
+// significantly more than the smallest factor's: rule 1 asks for the same profile, so the
+// same spread too. (A factor so large that a stage is a fraction of a revolution wears each
+// seed by the few charge configurations it happens to meet; its mean may agree while single
+// seeds gouge the lifter.) The scatter is the root mean square over the stations of the
+// replicates' standard deviation; the test, the ratio of the two variances against Fisher's
+// F distribution with N - 1 degrees of freedom each, one-sided at 5%. The recommendation is
+// the largest factor that agrees, with every smaller one agreeing too.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -42,6 +48,7 @@ enum class Rule1Verdict {
   Reference,    // the smallest factor: what the others are compared with
   Agrees,       // deviation not significantly above the tolerance
   Deviates,     // deviation significantly above the tolerance
+  Scatters,     // the mean agrees, but the seeds scatter significantly more than the reference's
   Failed,       // a replicate failed or reported events (rule 1's bound, a lost disk)
 };
 const char* verdict_name(Rule1Verdict v);
@@ -57,6 +64,9 @@ struct Rule1Row {
   double deviation_se_m = 0.0;        // its standard error
   double max_deviation_m = 0.0;       // largest |difference| over all stations
   double noise_floor_m = 0.0;         // largest 2 x standard error over all stations
+  double scatter_m = 0.0;             // rms over the stations of the replicates' standard deviation
+  double scatter_ratio = 0.0;         // (scatter / the smallest factor's)^2
+  double scatter_p = 1.0;             // chance of a ratio this large from equal spreads
   // Chance that the true deviation at that station is within the tolerance (normal
   // approximation); 1 or 0 with one replicate, where no error is known.
   double chance_within = 0.0;
@@ -76,7 +86,8 @@ struct Rule1Report {
 };
 
 // The statistic on two rows whose depth_mean_m and depth_se_m are filled: sets row's
-// deviation, error, noise floor, chance_within and verdict (Agrees or Deviates) against ref.
+// deviation, error, noise floor, chance_within and verdict (Agrees, Deviates or, with
+// replicates and scatter_m filled on both, Scatters) against ref.
 void compare_rule1_row(Rule1Row& row, const Rule1Row& ref, double tolerance_m);
 
 // Every factor's scene is checked against the run limits (InputError) before anything runs.
