@@ -50,7 +50,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   DesignInput d;
   d.name = scene.name;
   d.files.push_back(scene_file);
-  profile_files(scene.mill.lifter.source_file, d.files);
+  for (int k = 0; k < scene.mill.kind_count(); ++k) profile_files(scene.mill.kind(k).source_file, d.files);
   std::string all = scene.fidelity;
   for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);
   d.fingerprint = io::stable_hash_hex(all);
