@@ -7,6 +7,7 @@
 // (wear step -> reshape -> next window, until the stage's hours) -> finish_stage.
 #include "wear/history.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -91,9 +92,11 @@ std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vec
   return sum;
 }
 
-bool any_worn_out(const std::vector<LifterMetrics>& now, const std::vector<LifterMetrics>& start) {
-  for (std::size_t k = 0; k < now.size() && k < start.size(); ++k)
-    if (lifter_worn_out(now[k], start[k])) return true;
+// Worn to the shell: the first row of any kind (row 0 for a plain liner, as ever).
+bool any_worn_out(const std::vector<LinerUnit>& units, int kinds, double radius_m,
+                  const std::vector<LifterMetrics>& start) {
+  for (std::size_t k = 0; k < start.size() && k < units.size() && k < static_cast<std::size_t>(kinds); ++k)
+    if (lifter_worn_out(measure_lifter(units[k], radius_m), start[k])) return true;
   return false;
 }
 
@@ -186,7 +189,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   rec.snapshot = run.engine->state();
   rec.mill_angle_rad = run.engine->state().mill_angle_rad;
   rec.start_charge = run.start;
-  rec.worn_out = any_worn_out(rec.kinds, liner.kinds);
+  rec.worn_out = any_worn_out(mill.units, mill.kinds, mill.radius_m, liner.kinds);
   return rec;
 }
 
@@ -225,7 +228,7 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
                                   scene.mill.mesh, liner.lifter.area_m2, run.stage + 1),
                           run.mill.kinds);
     run.hours += step.hours;
-    if (any_worn_out(kind_metrics(run.mill.units, run.mill.kinds, run.mill.radius_m), liner.kinds))
+    if (any_worn_out(run.mill.units, run.mill.kinds, run.mill.radius_m, liner.kinds))
       return StageEnd::WornOut;
     if (run.hours >= target_h - 1e-9) return StageEnd::Finished;
     run.engine->set_liner(run.mill);
@@ -348,9 +351,26 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
 }
 
 std::vector<LifterMetrics> kind_metrics(const std::vector<LinerUnit>& units, int kinds, double radius_m) {
-  std::vector<LifterMetrics> m;
-  for (int k = 0; k < kinds && static_cast<std::size_t>(k) < units.size(); ++k)
-    m.push_back(measure_lifter(units[static_cast<std::size_t>(k)], radius_m));
+  // One unit per kind, or one per row (row r of kind r % kinds): the mean over its rows.
+  const std::size_t n = static_cast<std::size_t>(std::max(kinds, 1));
+  std::vector<LifterMetrics> m(std::min(n, units.size()));
+  std::vector<double> count(m.size(), 0.0);
+  for (std::size_t u = 0; u < units.size(); ++u) {
+    const LifterMetrics one = measure_lifter(units[u], radius_m);
+    LifterMetrics& sum = m[u % n];
+    sum.area_m2 += one.area_m2;
+    sum.height_m += one.height_m;
+    sum.leading_face_angle_rad += one.leading_face_angle_rad;
+    sum.trailing_face_angle_rad += one.trailing_face_angle_rad;
+    count[u % n] += 1.0;
+  }
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    if (count[k] == 1.0) continue;  // a shared unit: its own metrics, exactly
+    m[k].area_m2 /= count[k];
+    m[k].height_m /= count[k];
+    m[k].leading_face_angle_rad /= count[k];
+    m[k].trailing_face_angle_rad /= count[k];
+  }
   return m;
 }
 

@@ -21,8 +21,8 @@ struct StageRecord {
   std::vector<LinerUnit> units;   // exact geometry (resume restarts from it)
   LifterMetrics lifter;           // of row 0 (or the shared unit; the first kind of a pattern)
   // A pattern of kinds of lifter ([lifters] pattern): each kind's metrics (its shared unit,
-  // or its first row) and its lifters' area loss rate (m^2 per operating s, at this
-  // geometry). One entry for a plain liner.
+  // or the mean over its rows when rows wear on their own) and its lifters' area loss rate
+  // (m^2 per operating s, at this geometry). One entry for a plain liner.
   std::vector<LifterMetrics> kinds;
   std::vector<double> kind_area_loss_rate_m2_per_s;
   ChargeFigures charge;           // measured on this geometry
@@ -61,7 +61,7 @@ struct WearHistory {
 };
 
 // Metrics of every kind of lifter of a liner (units: one per kind, or one per row with
-// row k of kind k % kinds).
+// row k of kind k % kinds: then the mean over the rows of each kind).
 std::vector<LifterMetrics> kind_metrics(const std::vector<LinerUnit>& units, int kinds, double radius_m);
 
 // Throws RunError(history.failure) if the history has one.
