@@ -3,6 +3,7 @@
 // Every file is read and validated before anything is printed or written.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -56,6 +57,18 @@ int run_profile(const ProfileArgs& args) {
                   m.trailing_face_angle_rad * kRadToDeg);
     std::cout << row;
   }
+  // Measured profiles: what was read, and what lies outside the lifter.
+  for (const LifterProfile& p : profiles) {
+    if (p.measured.empty()) continue;
+    double lowest = 0.0;
+    for (const Vec2& v : p.measured) lowest = std::min(lowest, v.y);
+    std::snprintf(row, sizeof row,
+                  "%s: measured surface of %zu points (%d repeated or looping dropped), x from %.1f to %.1f mm, "
+                  "lowest y %.1f mm; the lifter is its part above y = 0\n",
+                  p.name.c_str(), p.measured.size(), p.dropped_points, p.measured.front().x * 1e3,
+                  p.measured.back().x * 1e3, lowest * 1e3);
+    std::cout << row;
+  }
 
   if (!args.csv_dir.empty()) {
     namespace fs = std::filesystem;
@@ -80,7 +93,7 @@ void register_profile(CLI::App& app, Action* action) {
   auto args = std::make_shared<ProfileArgs>();
   CLI::App* sub = app.add_subcommand(
       "profile", "Print lifter profile metrics (area, height, widths, face angles)");
-  sub->add_option("files", args->files, "Profile files (TOML)")->required();
+  sub->add_option("files", args->files, "Profile files (TOML, or measured x_mm,y_mm CSV)")->required();
   sub->add_option("--csv", args->csv_dir, "Write each profile's polyline to DIR/<name>.csv (mm)")
       ->check(output_folder());
   sub->callback([args, action] { *action = [args] { return run_profile(*args); }; });

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 
@@ -40,6 +41,26 @@ void print_final_summary(const study::RunState& state, double wall) {
     std::printf("%-*s %s%s%s\n", 16, d.stages.empty() ? d.name.c_str() : "", study::status_name(d.status),
                 d.error.empty() ? "" : ": ", d.error.c_str());
     for (const auto& e : d.events) std::printf("%-*s event: %s\n", 16, "", e.c_str());
+    if (!d.continued_from.empty()) {
+      std::printf("%-*s continued from %s; changed: %s\n", 16, "", d.continued_from.c_str(),
+                  d.changes.empty() ? "nothing" : "");
+      for (const auto& c : d.changes) std::printf("%-*s   %s\n", 16, "", c.c_str());
+    }
+    if (d.life_from_hours != 0.0 && std::isfinite(d.life_h))
+      std::printf("%-*s life %.0f h, %.0f h from %.6g h\n", 16, "", d.life_h, d.life_h - d.life_from_hours,
+                  d.life_from_hours);
+    // A pattern: each kind of lifter on its own.
+    for (std::size_t k = 0; k < d.kind_names.size(); ++k) {
+      std::printf("%-*s kind %zu (%s): area_mm2", 16, "", k, d.kind_names[k].c_str());
+      for (const study::StageLine& l : d.stages)
+        if (k < l.kind_area_m2.size()) std::printf(" %.1f", in_mm2(l.kind_area_m2[k]));
+      std::printf("; loss mm2/1000h");
+      for (const study::StageLine& l : d.stages)
+        if (k < l.kind_area_loss_rate_m2_per_s.size())
+          std::printf(" %.1f", in_mm2(l.kind_area_loss_rate_m2_per_s[k]) * kSecondsPerHour * 1000.0);
+      const double life = k < d.kind_life_h.size() ? d.kind_life_h[k] : std::nan("");
+      std::printf("; life %.0f h%s\n", life, k < d.kind_life_extrapolated.size() && d.kind_life_extrapolated[k] ? "*" : "");
+    }
   }
   std::printf("(* life extrapolated from the stage trend; normalised to %s new; wall time %s)\n",
               state.plan.reference.c_str(), duration_text(wall).c_str());
@@ -49,7 +70,8 @@ void print_final_summary(const study::RunState& state, double wall) {
 
 int run_command(const RunArgs& args) {
   // Every scene validated; nothing written yet.
-  const study::Plan plan = study::make_plan({args.scenes, args.fidelity, args.reference, args.out});
+  const study::Plan plan =
+      study::make_plan({args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage});
   if (args.check) {
     for (const auto& d : plan.designs)
       std::printf("%s: %s (fidelity %s, %d stages of %g h)%s\n", d.name.c_str(), d.files.front().c_str(),
@@ -133,6 +155,13 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
       ->check(CLI::Range(1, 1024));
+  cmd->add_option("--continue", args->continue_from,
+                  "go on from a finished run's stage (its exact liner and charge) under these scenes' "
+                  "conditions (a new speed, filling); stages up to it are copied into OUT");
+  auto* stage_opt = cmd->add_option("--stage", args->continue_stage,
+                                    "with --continue: the stage to go on from (default: each design's last)")
+                        ->check(CLI::Range(0, 10000));
+  stage_opt->needs("--continue");
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));

@@ -19,6 +19,8 @@ struct RunArgs {
   bool check = false;
   int jobs = 0;
   int stop_after_stage = -1;
+  std::string continue_from;   // --continue RUN
+  int continue_stage = -1;     // --stage N (-1: each design's last finished stage)
 };
 
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.

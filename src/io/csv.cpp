@@ -244,4 +244,23 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
 
 CsvData read_csv(const std::string& path) { return parse_csv(read_file(path), path); }
 
+std::string strip_comment_lines(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  // A byte-order mark (spreadsheets' "CSV UTF-8") would hide a first line's '#'.
+  std::size_t pos = text.compare(0, 3, kUtf8Bom) == 0 ? 3 : 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    const bool last = end == std::string::npos;
+    if (last) end = text.size();
+    const std::string line = text.substr(pos, end - pos);
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] != '#') out += line;
+    if (!last) out += '\n';
+    pos = end + 1;
+  }
+  return out;
+}
+
+
 }  // namespace millwear::io

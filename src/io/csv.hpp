@@ -108,4 +108,8 @@ CsvData parse_csv(const std::string& text, const std::string& name);
 // Reads and parses a CSV file. Throws InputError(path, "", "a readable file") if missing.
 CsvData read_csv(const std::string& path);
 
+// Blank out '#' comment lines (keeping the line count, so later errors name the right
+// line) for the CSV reader, which knows no comments. A leading byte-order mark is dropped.
+std::string strip_comment_lines(const std::string& text);
+
 }  // namespace millwear::io

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "common/errors.hpp"
 #include "common/units.hpp"
 #include "engine/accounting.hpp"
 #include "io/atomic_write.hpp"
@@ -43,6 +44,11 @@ Json scene_settings(const Scene& s) {
       {"reverse_every_hours", s.mill.reverse_every_hours},
       {"rows", s.mill.rows},
       {"lifter_profile", s.mill.lifter.name},
+      {"lifter_pattern", [&s] {
+         Json names = Json::array();
+         for (const auto& p : s.mill.pattern) names.push_back(p.name);
+         return names;
+       }()},
       {"shell_edge_m", s.mill.mesh.shell_edge_m},
       {"lifter_edge_m", s.mill.mesh.lifter_edge_m}};
   j["charge"] = Json{
@@ -77,6 +83,8 @@ Json scene_settings(const Scene& s) {
       {"smoothing_radius_m", w.smoothing_radius_m},
       {"average_rows", w.average_rows},
       {"shell_wear", w.shell_wear},
+      {"shell_wear_rate_m3_per_J", w.shell_wear_rate_m3_per_J},
+      {"start_hours", w.start_hours},
       {"replacement_height_m", w.replacement_height_m},
       {"liner_density_kg_m3", w.liner_density_kg_m3},
       {"target_rel_uncertainty", w.target_rel_uncertainty}};
@@ -129,6 +137,63 @@ void write_summary(const RunReport& report) {
   t.write(summary_path(report.out));
 }
 
+std::string kinds_path(const std::string& out) { return join_path(out, "kinds.csv"); }
+
+void write_kinds(const RunReport& report) {
+  bool any = false;
+  for (const DesignReport& d : report.designs) any = any || d.scene->mill.kind_count() > 1;
+  if (!any) return;
+  CsvTable t({"design", "kind", "profile", "stage", "hours", "area_mm2", "area_loss_pct", "height_mm",
+              "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"});
+  for (const DesignReport& d : report.designs) {
+    const int kinds = d.scene->mill.kind_count();
+    if (kinds < 2) continue;
+    const auto own0 = d.stages.find(0);
+    for (int k = 0; k < kinds; ++k) {
+      const auto idx = static_cast<std::size_t>(k);
+      const double area0 = own0 != d.stages.end() && idx < own0->second.kinds.size()
+                               ? own0->second.kinds[idx].area_m2 * 1e6 : std::nan("");
+      const double life = idx < d.kind_life_h.size() ? d.kind_life_h[idx] : std::nan("");
+      const bool extrapolated = idx < d.kind_life_extrapolated.size() ? d.kind_life_extrapolated[idx] : true;
+      for (const auto& [stage, r] : d.stages) {
+        if (idx >= r.kinds.size()) continue;
+        const double area = r.kinds[idx].area_m2 * 1e6;
+        const double rate = idx < r.kind_area_loss_rate_m2_per_s.size()
+                                ? r.kind_area_loss_rate_m2_per_s[idx] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
+        t.add_row({d.name, k, d.scene->mill.kind(k).name, stage, r.hours, area, 100.0 * (1.0 - area / area0),
+                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated});
+      }
+    }
+  }
+  t.write(kinds_path(report.out));
+}
+
+std::vector<std::string> settings_changes(const std::string& run, const std::string& design, const Scene& scene) {
+  const std::string path = manifest_path(run);
+  Json old_settings;
+  try {
+    const Json m = Json::parse(read_file(path));
+    for (const auto& d : m.at("designs"))
+      if (d.at("name") == design) old_settings = d.at("settings");
+  } catch (const std::exception& e) {
+    throw InputError(path, "designs", std::string("a manifest of `millwear run` that reads: ") + e.what());
+  }
+  if (old_settings.is_null())
+    throw InputError(path, "designs", "a design named '" + design + "' (the scene's name)");
+  const Json now = scene_settings(scene);
+  std::vector<std::string> changes;
+  for (const auto& [section, keys] : now.items())
+    for (const auto& [key, value] : keys.items()) {
+      const bool had = old_settings.contains(section) && old_settings[section].contains(key);
+      const Json before = had ? old_settings[section][key] : Json();
+      // Numbers compared as numbers (a JSON integer and a float of one value are the same).
+      const bool same = had && (before == value || (before.is_number() && value.is_number() &&
+                                                    before.get<double>() == value.get<double>()));
+      if (!same) changes.push_back(section + "." + key + ": " + (had ? before.dump() : "(none)") + " -> " + value.dump());
+    }
+  return changes;
+}
+
 // spectrum.csv: the new stage's collision spectrum of each design.
 void write_spectrum(const RunReport& report) {
   CsvTable t({"design", "stage", "hours", "energy_J_lower", "energy_J_upper", "count_per_s", "energy_W"});
@@ -176,6 +241,27 @@ void write_manifest(const RunReport& r) {
     j["resumed_stages"] = d.resumed_stages;
     j["life_h"] = number(d.life_h);
     j["life_extrapolated"] = d.life_extrapolated;
+    // Life on the stages' clock, and what is left of it from where this history started.
+    j["life_from_hours"] = d.life_from_hours;
+    j["remaining_life_h"] = number(d.life_h - d.life_from_hours);
+    if (d.scene->mill.kind_count() > 1) {
+      Json kinds = Json::array();
+      for (int k = 0; k < d.scene->mill.kind_count(); ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        const double life = i < d.kind_life_h.size() ? d.kind_life_h[i] : std::nan("");
+        kinds.push_back(Json{{"kind", k},
+                             {"profile", d.scene->mill.kind(k).name},
+                             {"life_h", number(life)},
+                             {"remaining_life_h", number(life - d.life_from_hours)},
+                             {"life_extrapolated", i < d.kind_life_extrapolated.size() ? bool(d.kind_life_extrapolated[i]) : true}});
+      }
+      j["kinds"] = kinds;
+    }
+    if (!d.continue_run.empty())
+      j["continued_from"] = Json{{"run", d.continue_run},
+                                 {"stage", d.continue_stage},
+                                 {"hours", d.continue_hours},
+                                 {"changes", d.changes}};
     j["wear_rate_m3_per_J"] = number(d.wear_rate_m3_per_J);
     j["settings"] = scene_settings(*d.scene);
     Json stages = Json::array();

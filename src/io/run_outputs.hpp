@@ -24,6 +24,14 @@ struct DesignReport {
   double wear_rate_m3_per_J = 0.0;
   std::map<int, StageRecord> stages;                   // light records (no charge state)
   std::vector<std::string> events;
+  // Life counted from: the scene's start_hours, or the stage a continued run went on from.
+  double life_from_hours = 0.0;
+  std::vector<double> kind_life_h;                     // per kind of a pattern
+  std::vector<bool> kind_life_extrapolated;
+  std::string continue_run;                            // `run --continue`: RUN, its stage, hours
+  int continue_stage = -1;
+  double continue_hours = 0.0;
+  std::vector<std::string> changes;                    // settings changed from RUN's
 };
 
 struct RunReport {
@@ -41,6 +49,14 @@ struct RunReport {
 };
 
 void write_summary(const RunReport& report);
+// OUT/kinds.csv, when a design has a pattern of kinds of lifter: one row per design, kind and
+// stage (design,kind,profile,stage,hours,area_mm2,area_loss_pct,height_mm,
+// area_loss_rate_mm2_per_1000h,life_h,life_extrapolated). Not written otherwise.
+void write_kinds(const RunReport& report);
+std::string kinds_path(const std::string& out);
+// The settings of `design` in run folder RUN's manifest.json that differ from `scene`'s, as
+// "section.key: old -> new". Throws InputError(RUN/manifest.json) if it has no such design.
+std::vector<std::string> settings_changes(const std::string& run, const std::string& design, const Scene& scene);
 void write_spectrum(const RunReport& report);
 void write_manifest(const RunReport& report);
 

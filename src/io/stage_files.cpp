@@ -82,6 +82,11 @@ const io::CsvOptions kExact{10, true};
 struct Reader {
   io::KeyValues kv;
   std::string path;
+  bool has(const std::string& key) const {
+    for (const auto& [k, v] : kv)
+      if (k == key) return true;
+    return false;
+  }
   std::string get(const std::string& key) const {
     for (const auto& [k, v] : kv)
       if (k == key) return v;
@@ -170,6 +175,16 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
   kv.emplace_back("summary.centrifuged", rec.charge.summary.centrifuged ? "1" : "0");
+  kv.emplace_back("kinds", std::to_string(rec.kinds.size()));
+  for (std::size_t k = 0; k < rec.kinds.size(); ++k) {
+    const std::string pre = "kind." + std::to_string(k) + ".";
+    kv.emplace_back(pre + "area_m2", format_exact(rec.kinds[k].area_m2));
+    kv.emplace_back(pre + "height_m", format_exact(rec.kinds[k].height_m));
+    kv.emplace_back(pre + "leading_face_angle_rad", format_exact(rec.kinds[k].leading_face_angle_rad));
+    kv.emplace_back(pre + "trailing_face_angle_rad", format_exact(rec.kinds[k].trailing_face_angle_rad));
+    kv.emplace_back(pre + "area_loss_rate_m2_per_s",
+                    format_exact(k < rec.kind_area_loss_rate_m2_per_s.size() ? rec.kind_area_loss_rate_m2_per_s[k] : 0.0));
+  }
   if (carried) {
     kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
     kv.emplace_back("start.mill_speed_rad_s", format_exact(rec.start_charge.mill_speed_rad_s));
@@ -202,6 +217,18 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   for (auto& [k, p] : integer_fields(rec)) *p = r.integer(k);
   rec.worn_out = r.integer("worn_out") != 0;
   rec.charge.summary.centrifuged = r.integer("summary.centrifuged") != 0;
+  const long long kinds = r.has("kinds") ? r.integer("kinds") : 0;
+  if (kinds < 0 || kinds > nunits) throw InputError(r.path, "kinds", "a count of kinds of lifter up to the unit count");
+  for (long long k = 0; k < kinds; ++k) {
+    const std::string pre = "kind." + std::to_string(k) + ".";
+    LifterMetrics m;
+    m.area_m2 = r.number(pre + "area_m2");
+    m.height_m = r.number(pre + "height_m");
+    m.leading_face_angle_rad = r.number(pre + "leading_face_angle_rad");
+    m.trailing_face_angle_rad = r.number(pre + "trailing_face_angle_rad");
+    rec.kinds.push_back(m);
+    rec.kind_area_loss_rate_m2_per_s.push_back(r.number(pre + "area_loss_rate_m2_per_s"));
+  }
 
   io::CsvData units = read_csv(base + ".units.csv");
   {

@@ -153,18 +153,74 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
   return unit;
 }
 
-MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units) {
-  if (rows < 1 || !(units.size() == 1 || units.size() == static_cast<std::size_t>(rows)))
-    throw InputError("", "lifters.rows", "expected one liner unit, or one per row");
+LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_local, double radius_m, int rows,
+                             const MillMeshDef& mesh) {
+  if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");
+  if (!(radius_m > 0.0)) throw InputError("", "mill.radius", "expected a radius > 0");
+  validate_lifter_polyline(lifter_local, "", "lifters.profile");
+  // Centred on the lifter's base, as a new lifter is.
+  const double shift = -0.5 * (lifter_local.front().x + lifter_local.back().x);
+  Polyline s = surface;
+  double half_extent = 0.0, height = 0.0;
+  for (Vec2& p : s) p.x += shift;
+  for (const Vec2& p : lifter_local) {
+    half_extent = std::max(half_extent, std::abs(p.x + shift));
+    height = std::max(height, p.y);
+  }
+  const double pitch = 2.0 * kPi * radius_m / rows;
+  const double half_pitch = 0.5 * pitch;
+  // A scan of a whole unit is the pitch wide up to the gauge's accuracy: 1% of the pitch.
+  const double slack = 0.01 * pitch;
+  if (s.front().x < -half_pitch - slack || s.back().x > half_pitch + slack)
+    throw InputError("", "lifters.rows",
+                     "expected a measured profile no wider than the pitch, centred on its lifter: " +
+                         std::to_string(rows) + " rows give a pitch of " + fmt_num(pitch * 1e3) +
+                         " mm, the profile reaches from " + fmt_num(s.front().x * 1e3) + " to " +
+                         fmt_num(s.back().x * 1e3) + " mm about its lifter's centre");
+  if (!(2.0 * half_extent < pitch))
+    throw InputError("", "lifters.rows",
+                     "expected lifters that fit the pitch: " + std::to_string(rows) + " rows give a pitch of " +
+                         fmt_num(pitch * 1e3) + " mm along the shell, the lifter is " +
+                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
+  if (!(height < 0.5 * radius_m))
+    throw InputError("", "lifters.profile",
+                     "expected a lifter lower than half the mill radius (" + fmt_num(0.5 * radius_m * 1e3) +
+                         " mm), got " + fmt_num(height * 1e3) + " mm");
+  // Within the pitch (a whole unit's scan may overrun it by the slack).
+  s = clip_polyline_x(s, -half_pitch, half_pitch);
+  // The unit's ends sit at one height so the rows join without a step: the mean of the
+  // surface's ends. A scan that stops short of the pitch continues along the shell.
+  const double y_end = 0.5 * (s.front().y + s.back().y);
+  const Polyline fine = resample(s, mesh.lifter_edge_m, 5.0);
+  LinerUnit unit;
+  unit.lifter_half_base_m = half_extent;
+  const Vec2 left{-half_pitch, y_end}, right{half_pitch, y_end};
+  const double min_run = 1e-3 * mesh.shell_edge_m;
+  if (fine.front().x - left.x > min_run) append_straight(unit.surface, left, fine.front(), mesh.shell_edge_m, true);
+  else unit.surface.push_back(left);
+  unit.surface.insert(unit.surface.end(), fine.begin() + 1, fine.end() - 1);
+  if (right.x - fine.back().x > min_run) append_straight(unit.surface, fine.back(), right, mesh.shell_edge_m, true);
+  else unit.surface.push_back(right);
+  if (!is_simple_open(unit.surface))
+    throw InputError("", "lifters.profile", "expected a measured surface that does not cross itself");
+  return unit;
+}
+
+MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units, int kinds) {
+  if (kinds <= 0) kinds = units.size() < static_cast<std::size_t>(rows) ? static_cast<int>(units.size()) : 1;
+  if (rows < 1 || kinds < 1 || rows % kinds != 0 ||
+      !(units.size() == static_cast<std::size_t>(kinds) || units.size() == static_cast<std::size_t>(rows)))
+    throw InputError("", "lifters.rows", "expected one liner unit per kind of lifter, or one per row");
   MillGeometry g;
   g.radius_m = radius_m;
   g.rows = rows;
+  g.kinds = kinds;
   g.units = std::move(units);
 
   // Ring: every unit's surface mapped into the mill frame, minus its last point (which is
   // the next unit's first point: both sit at the half-way angle between two lifters).
   for (int k = 0; k < rows; ++k) {
-    const LinerUnit& u = g.units[g.units.size() == 1 ? 0 : k];
+    const LinerUnit& u = g.units[g.unit_of_row(k)];
     const double hb = u.lifter_half_base_m + kOwnerTolM;
     for (std::size_t j = 0; j + 1 < u.surface.size(); ++j) {
       g.boundary.push_back(local_to_mill(u.surface[j], k, rows, radius_m));

@@ -39,10 +39,16 @@ struct MillGeometry {
   std::vector<LinerEdgeInfo> edges;
   std::vector<Vec2> normal_out;      // unit outward normal per edge (into the liner metal)
   std::vector<double> edge_length_m;
-  std::vector<LinerUnit> units;      // one per row, or one shared by every row
+  // One per row, or one per kind of lifter shared by every row of that kind (a pattern of
+  // `kinds` lifters repeats over the rows: row k is of kind k % kinds; plain liners have 1).
+  std::vector<LinerUnit> units;
+  int kinds = 1;
+  std::size_t unit_of_row(int row) const {
+    return units.size() == static_cast<std::size_t>(rows) ? static_cast<std::size_t>(row)
+                                                          : static_cast<std::size_t>(row) % units.size();
+  }
   int unit_edge_count(int row) const {
-    const auto& u = units[units.size() == 1 ? 0 : row];
-    return static_cast<int>(u.surface.size()) - 1;
+    return static_cast<int>(units[unit_of_row(row)].surface.size()) - 1;
   }
 };
 
@@ -61,8 +67,17 @@ Vec2 mill_to_local(Vec2 mill, int row, int rows, double radius_m);
 LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
                           const MillMeshDef& mesh = {});
 
-// Build the whole boundary from one unit per row (or a single unit for all rows).
-MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units);
+// The liner unit of a measured surface (profiles/profile.hpp: `measured`, with its lifter
+// `lifter`): centred on the lifter's base, resampled to the mesh, continued along the shell
+// at the height of its ends out to the pitch. Throws InputError if it is wider than the
+// pitch or the lifter is taller than the mill allows.
+LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter, double radius_m, int rows,
+                             const MillMeshDef& mesh = {});
+
+// Build the whole boundary from one unit per row, or one unit per kind of lifter (`kinds`
+// of them repeating over the rows; rows a multiple of kinds). kinds = 0: as many kinds as
+// units when there are fewer units than rows, else 1.
+MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units, int kinds = 0);
 
 // Metrics of a (possibly worn) liner unit against the original shell circle.
 struct LifterMetrics {

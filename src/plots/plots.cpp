@@ -396,6 +396,13 @@ std::vector<std::string> figure_data_files(const std::string& out, const std::ve
       const std::string f = io::join_path(io::plots_data_dir(out), d + suffix);
       if (io::file_exists(f)) files.push_back(f);
     }
+  // A pattern's kinds (kinds_area figure): DESIGN_kind0.csv, DESIGN_kind1.csv, ...
+  for (const auto& d : designs)
+    for (int k = 0;; ++k) {
+      const std::string f = io::join_path(io::plots_data_dir(out), d + "_kind" + std::to_string(k) + ".csv");
+      if (!io::file_exists(f)) break;
+      files.push_back(f);
+    }
   return files;
 }
 
@@ -600,6 +607,30 @@ std::vector<std::string> render_all_figures(const std::string& out,
   }
   if (auto s = subset(with_spectrum); !s.empty())
     draw("spectrum", {{"designs", join_words(s)}}, "spectrum");
+
+  // kinds.csv (a pattern of lifters) -> DESIGN_kindK.csv, one curve per design and kind.
+  const std::string kinds = io::join_path(out, "kinds.csv");
+  if (io::file_exists(kinds)) {
+    io::CsvData data = io::read_csv(kinds);
+    const std::size_t dc = data.column("design"), kc = data.column("kind"), hc = data.column("hours");
+    for (const char* c : {"hours", "area_mm2", "area_loss_rate_mm2_per_1000h"}) data.numbers(c);
+    std::map<std::string, std::vector<std::pair<double, std::size_t>>> rows;  // series -> (hours, row)
+    std::vector<std::string> series;
+    for (std::size_t r = 0; r < data.row_count(); ++r) {
+      const std::string& d = data.rows[r][dc];
+      if (!io::is_valid_design_name(d)) continue;
+      const std::string s = d + "_kind" + std::to_string(std::lround(data.number(r, kc)));
+      if (!rows.count(s)) series.push_back(s);
+      rows[s].emplace_back(data.number(r, hc), r);
+    }
+    for (auto& [s, key] : rows) {
+      std::stable_sort(key.begin(), key.end());
+      std::vector<std::vector<std::string>> sorted;
+      for (const auto& k : key) sorted.push_back(data.rows[k.second]);
+      write_rows(io::join_path(data_dir, s + ".csv"), data.header, sorted);
+    }
+    if (!series.empty()) draw("kinds_area", {{"series", join_words(series)}}, "kinds_area");
+  }
 
   // Snapshots share one colour scale so designs compare by colour. The scale ends at the 95th
   // percentile of every design's edges, not at the largest: a few edges at a lifter's corner

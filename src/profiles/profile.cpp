@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,8 @@
 
 #include "common/errors.hpp"
 #include "common/names.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
 
 namespace millwear {
 
@@ -307,7 +310,99 @@ void validate_lifter_polyline(const Polyline& pts, const std::string& file,
     throw InputError(file, key, "expected a polyline that does not cross or touch itself");
 }
 
+namespace {
+
+std::string trimmed(const std::string& t) {
+  const auto b = t.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  return t.substr(b, t.find_last_not_of(" \t") - b + 1);
+}
+
+// Points closer than this are one point measured twice: a micrometre is far below any
+// gauge's resolution and far above the rounding of a millimetre written with 10 digits.
+constexpr double kSamePointM = 1e-6;
+// The ends of a measured surface may lie this far above the shell line and still count as on
+// it (the rounding of a file written in mm).
+constexpr double kEndTolM = 1e-6;
+
+}  // namespace
+
+Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std::string& key) {
+  if (s.size() < 3) throw InputError(file, key, "expected at least 3 points along the surface");
+  std::size_t top = 0;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (s[i].y > s[top].y) top = i;
+  if (!(s[top].y > kEndTolM))
+    throw InputError(file, key, "expected a lifter: some point above the shell line, y > 0");
+  if (s.front().y > kEndTolM || s.back().y > kEndTolM)
+    throw InputError(file, key,
+                     "expected both ends of the surface at or below the shell line, y <= 0 (a profile from "
+                     "shell to shell; the first point is at y = " + fmt_num(s.front().y * 1e3) +
+                         " mm, the last at y = " + fmt_num(s.back().y * 1e3) + " mm)");
+  // From the top outwards to the first point at or below the shell line on either side.
+  std::size_t left = top, right = top;
+  while (left > 0 && s[left - 1].y > 0.0) --left;
+  while (right + 1 < s.size() && s[right + 1].y > 0.0) ++right;
+  auto crossing = [](Vec2 below, Vec2 above) {  // the point at y = 0 on [below, above]
+    const double t = below.y / (below.y - above.y);
+    return Vec2{below.x + t * (above.x - below.x), 0.0};
+  };
+  // An end just above the shell line (rounding) is its own foot.
+  const Vec2 foot_l = left == 0 ? Vec2{s[0].x, 0.0} : crossing(s[left - 1], s[left]);
+  const Vec2 foot_r = right + 1 == s.size() ? Vec2{s.back().x, 0.0} : crossing(s[right + 1], s[right]);
+  const std::size_t first = left == 0 ? 1 : left;
+  const std::size_t last = right + 1 == s.size() ? right - 1 : right;
+  Polyline lifter{foot_l};
+  for (std::size_t i = first; i <= last; ++i) lifter.push_back(s[i]);
+  lifter.push_back(foot_r);
+  validate_lifter_polyline(lifter, file, key);
+  return lifter;
+}
+
+LifterProfile parse_measured_profile(const std::string& text, const std::string& name) {
+  io::CsvData d = io::parse_csv(io::strip_comment_lines(text), name);
+  for (auto& h : d.header) h = trimmed(h);
+  const std::size_t cx = d.column("x_mm"), cy = d.column("y_mm");
+  Polyline raw;
+  for (std::size_t r = 0; r < d.row_count(); ++r) {
+    const double x = d.number(r, cx), y = d.number(r, cy);
+    if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
+      throw InputError(name, "line " + std::to_string(d.row_line[r]),
+                       "x_mm and y_mm finite and within +-100000 mm");
+    raw.push_back({x * kMmToM, y * kMmToM});
+  }
+  if (raw.size() < 3)
+    throw InputError(name, "line " + std::to_string(d.header_line + 1),
+                     "at least 3 points x_mm,y_mm after the header");
+  LifterProfile prof;
+  prof.source_file = name;
+  prof.form = ProfileForm::Measured;
+  prof.name = fs::path(name).stem().string();
+  check_name(prof.name, name, true);
+  // Points in order along the surface; a scan from the leading side is turned round.
+  if (raw.front().x > raw.back().x) std::reverse(raw.begin(), raw.end());
+  Polyline s;
+  for (const Vec2& p : raw)
+    if (s.empty() || length(p - s.back()) > kSamePointM) s.push_back(p);
+  // Noise on a steep face can step back over the points before it: cut such loops out.
+  s = without_loops(s);
+  prof.dropped_points = static_cast<int>(raw.size() - s.size());
+  if (!is_simple_open(s))
+    throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
+  prof.measured = s;
+  prof.points = lifter_of_surface(s, name, "x_mm,y_mm");
+  return prof;
+}
+
 LifterProfile load_profile(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".csv") {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+      throw InputError(path, "", "expected an existing, readable profile file");
+    return parse_measured_profile(io::read_file(path), path);
+  }
   std::vector<std::string> chain;
   return load_profile_impl(path, chain);
 }

@@ -4,6 +4,10 @@
 // so the leading face is at +x and the trailing face at -x; y runs radially inward from the
 // shell surface. The polyline goes from the shell at the trailing foot to the shell at the
 // leading foot, both feet at y = 0.
+//
+// A profile is a TOML file (a trapezoid or a polyline) or a measured profile, a CSV file
+// x_mm,y_mm of points in order along the surface (a laser scan, a template gauge, a stage
+// profile millwear wrote): see load_measured_profile.
 #include <string>
 #include <vector>
 
@@ -11,7 +15,7 @@
 
 namespace millwear {
 
-enum class ProfileForm { Trapezoid, Polyline };
+enum class ProfileForm { Trapezoid, Polyline, Measured };
 
 // Parameters of a parametric trapezoid (SI: metres, radians).
 struct TrapezoidDef {
@@ -27,6 +31,12 @@ struct LifterProfile {
   ProfileForm form = ProfileForm::Trapezoid;
   TrapezoidDef trapezoid;   // meaningful when form == Trapezoid
   Polyline points;          // lifter-local, m, trailing foot -> leading foot
+  // Measured profiles only: the surface as measured (lifter-local, m), from the trailing
+  // side to the leading side, repeated points dropped and loops cut out. Its ends lie at or
+  // below the shell line, and it may take in the shell plates either side of the lifter;
+  // `points` is then its lifter, the part above y = 0 around its highest point.
+  Polyline measured;
+  int dropped_points = 0;   // repeated points, and points of loops cut out, on reading
 };
 
 // Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
@@ -47,9 +57,23 @@ double top_width_for_area(const TrapezoidDef& t, double area_m2, const std::stri
 
 ProfileMetrics measure_profile(const Polyline& lifter_local);
 
-// Read a profile file (TOML). Throws InputError naming the file, key and expectation.
-// match_area_of is resolved relative to the file's folder.
+// Read a profile file: TOML, or a measured profile when the name ends in .csv. Throws
+// InputError naming the file, key (or line) and expectation. match_area_of is resolved
+// relative to the file's folder.
 LifterProfile load_profile(const std::string& path);
+
+// A measured profile, CSV (io/csv.hpp's dialect: '#' comment lines, a byte-order mark, ';'
+// with decimal commas and CRLF line ends are all read):
+//   x_mm,y_mm        lifter-local mm, the coordinates of OUT/profiles/*.csv and of surveys
+//   -40.0,-5.0       points in order along the surface (either direction), ends at or
+//   ...              below the shell line y = 0; one lifter, or a whole liner unit
+// Repeated points are dropped and loops (noise on a steep face) cut out; the lifter is the
+// part above y = 0 around the highest point. `name` names the file in errors.
+LifterProfile parse_measured_profile(const std::string& text, const std::string& name);
+
+// The lifter of a measured surface: from where it last rises through y = 0 before its
+// highest point to where it first falls through it after. Throws InputError(file, key).
+Polyline lifter_of_surface(const Polyline& surface, const std::string& file, const std::string& key);
 
 // Check a lifter polyline: at least 3 points, feet on y = 0, trailing foot left of the
 // leading foot, every other point above the shell, simple. Throws InputError.

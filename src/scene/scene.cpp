@@ -101,18 +101,25 @@ double Scene::largest_particle_radius_m() const {
   return 0.5 * d;
 }
 
-LinerUnit new_liner_unit(const Scene& scene) {
+LinerUnit new_liner_unit(const Scene& scene, int kind) {
+  const LifterProfile& lifter = scene.mill.kind(kind);
   try {
-    return make_liner_unit(scene.mill.lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
+    if (!lifter.measured.empty())
+      return make_measured_unit(lifter.measured, lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
+    return make_liner_unit(lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
   } catch (const InputError& e) {
     // The mill module does not know which file asked for this lifter; say it.
     if (!e.file.empty()) throw;
-    throw InputError(scene.source_file, e.where.empty() ? "lifters" : e.where, e.expected);
+    std::string where = e.where.empty() ? "lifters" : e.where;
+    if (!scene.mill.pattern.empty() && where == "lifters.profile") where = "lifters.pattern[" + std::to_string(kind) + "]";
+    throw InputError(scene.source_file, where, e.expected + " (profile '" + lifter.name + "')");
   }
 }
 
 MillGeometry build_scene_mill(const Scene& scene) {
-  return build_mill(scene.radius_m(), scene.mill.rows, {new_liner_unit(scene)});
+  std::vector<LinerUnit> units;
+  for (int k = 0; k < scene.mill.kind_count(); ++k) units.push_back(new_liner_unit(scene, k));
+  return build_mill(scene.radius_m(), scene.mill.rows, std::move(units), scene.mill.kind_count());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -177,16 +184,40 @@ void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
   if (auto v = r.number("lifter_edge", closed(0.1, 10000.0), "mm, target edge length on the lifters"))
     s.mill.mesh.lifter_edge_m = *v * kMm;
 
-  const auto rel = r.string("profile");
-  if (!rel) r.missing("profile", "a profile file, relative to the scene file");
-  if (rel->empty()) r.fail("profile", "a profile file name");
-  const fs::path resolved =
-      (fs::path(file).parent_path() / fs::path(*rel)).lexically_normal();
-  std::error_code ec;
-  if (!fs::is_regular_file(resolved, ec))
-    throw InputError(file, "lifters.profile",
-                     "expected an existing profile file; tried '" + resolved.string() + "'" + line_text(*r.raw().get("profile")));
-  s.mill.lifter = load_profile(resolved.string());  // its errors name the profile file
+  // A worn liner measured at a known time: the history's clock starts there.
+  if (auto v = r.number("start_hours", closed(0.0, kMaxHours), "operating hours of the liner the history starts from"))
+    s.wear.start_hours = *v;
+
+  exactly_one(r, "profile", "pattern", "one profile for every row, or a pattern of profiles");
+  auto load = [&](const std::string& rel, const std::string& key, const toml::node& at) {
+    if (rel.empty()) throw InputError(file, key, "expected a profile file name" + line_text(at));
+    const fs::path resolved = (fs::path(file).parent_path() / fs::path(rel)).lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(resolved, ec))
+      throw InputError(file, key, "expected an existing profile file; tried '" + resolved.string() + "'" + line_text(at));
+    return load_profile(resolved.string());  // its errors name the profile file
+  };
+  if (r.has("profile")) {
+    const auto rel = r.string("profile");
+    s.mill.lifter = load(*rel, "lifters.profile", *r.raw().get("profile"));
+    return;
+  }
+  const toml::node& node = *r.raw().get("pattern");
+  const toml::array* arr = node.as_array();
+  // 64 kinds: far more than any liner pattern (hi-lo is 2, hi-mid-lo 3).
+  if (!arr || arr->empty() || arr->size() > 64)
+    throw InputError(file, "lifters.pattern",
+                     "expected an array of 1 to 64 profile files, e.g. [\"hi.toml\", \"lo.toml\"]" + line_text(node));
+  for (std::size_t k = 0; k < arr->size(); ++k) {
+    const toml::node& e = *arr->get(k);
+    const std::string key = "lifters.pattern[" + std::to_string(k) + "]";
+    if (!e.is_string()) throw InputError(file, key, "expected a profile file name (a string), " + got_text(e) + line_text(e));
+    s.mill.pattern.push_back(load(*e.value<std::string>(), key, e));
+  }
+  if (s.mill.rows % static_cast<int>(arr->size()) != 0)
+    r.fail("rows", "a multiple of the pattern's " + std::to_string(arr->size()) +
+                       " kinds, so the pattern repeats evenly around the mill");
+  s.mill.lifter = s.mill.pattern.front();
 }
 
 SpeciesDef read_species(const TableReader& r) {
@@ -327,6 +358,9 @@ void read_wear(const TableReader& r, Scene& s) {
     w.rate_source = WearRateSource::Given;
     w.wear_rate_m3_per_J = *x;
   }
+  // Shell plates of their own material; bounds as for wear_rate.
+  if (auto x = r.number("shell_wear_rate", closed(1e-20, 1e-6), "m^3/J, Archard C of the shell plates"))
+    w.shell_wear_rate_m3_per_J = *x;
   if (auto x = r.number("area_loss_rate", open_closed(0.0, 1e9), "mm^2 of lifter area per 1000 h, new lifter")) {
     w.rate_source = WearRateSource::AreaLossRate;
     w.calibration_value = *x;
@@ -373,7 +407,10 @@ void read_outputs(const TableReader& r, Scene& s) {
 // Checks across sections, once everything is read (profile loaded, preset applied).
 void check_scene(const Scene& s, const std::string& file) {
   const double R = s.radius_m();
-  const auto& pts = s.mill.lifter.points;
+  if (s.wear.shell_wear_rate_m3_per_J > 0.0 && !s.wear.shell_wear)
+    throw InputError(file, "wear.shell_wear_rate", "no shell_wear_rate with wear.shell_wear = false");
+  for (int kind = 0; kind < s.mill.kind_count(); ++kind) {
+  const auto& pts = s.mill.kind(kind).points;
   if (!pts.empty()) {
     double xmin = kInf, xmax = -kInf, ymax = 0.0;
     for (const Vec2& p : pts) {
@@ -402,6 +439,9 @@ void check_scene(const Scene& s, const std::string& file) {
       throw InputError(file, "wear.replacement_height",
                        "expected a height below the new lifter's (" + num_text(ymax / kMm) + " mm), got " +
                            num_text(s.wear.replacement_height_m / kMm) + " mm");
+    // A measured surface must fit the pitch as a whole (its shell plates too).
+    if (!s.mill.kind(kind).measured.empty()) new_liner_unit(s, kind);
+  }
   }
   const auto placed = s.species_as_placed();
   for (std::size_t i = 0; i < placed.size(); ++i) {
@@ -472,12 +512,13 @@ Scene load_scene(const std::string& path) {
     read_wear(section("wear", false,
                       {"mode", "wear_rate", "area_loss_rate", "height_loss_rate", "factor",
                        "stage_hours", "stages", "window_revolutions", "max_depth_step",
-                       "update_interval", "smoothing_radius", "average_rows", "shell_wear",
+                       "update_interval", "smoothing_radius", "average_rows", "shell_wear", "shell_wear_rate",
                        "packed_wear", "replacement_height", "liner_density", "target_uncertainty"}),
               s);
   read_outputs(section("outputs", false, {"collision_spectrum", "shell_work", "snapshot", "contact_log"}), s);
   // The profile last: every key of the scene is checked before another file is opened.
-  read_lifters(section("lifters", true, {"rows", "profile", "shell_edge", "lifter_edge"}), s, path);
+  read_lifters(section("lifters", true, {"rows", "profile", "pattern", "start_hours", "shell_edge", "lifter_edge"}),
+               s, path);
 
   apply_fidelity(s, fidelity);
   check_scene(s, path);

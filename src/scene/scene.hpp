@@ -46,8 +46,14 @@ struct MillDef {
   Direction direction = Direction::Forward;
   double reverse_every_hours = 750.0;     // bidirectional only
   int rows = 48;                          // lifter rows
-  LifterProfile lifter;
+  LifterProfile lifter;                   // every row's, or the first kind of a pattern
+  // [lifters] pattern: kinds of lifter repeating over the rows (row k is of kind
+  // k % pattern.size(); rows a multiple of it), e.g. a high and a low lifter. Empty: every
+  // row is `lifter`.
+  std::vector<LifterProfile> pattern;
   MillMeshDef mesh;
+  int kind_count() const { return pattern.empty() ? 1 : static_cast<int>(pattern.size()); }
+  const LifterProfile& kind(int k) const { return pattern.empty() ? lifter : pattern[static_cast<std::size_t>(k)]; }
 };
 
 struct ChargeDef {
@@ -85,6 +91,12 @@ struct WearDef {
   WearRateSource rate_source = WearRateSource::Given;
   double wear_rate_m3_per_J = 1e-12;      // C = K/H (real); 0 until calibrated when
                                           // rate_source is not Given
+  // Shell plates of another material than the lifter bars (rubber plates between steel
+  // bars): their own C, m^3/J. 0: the shell wears at the lifters' rate.
+  double shell_wear_rate_m3_per_J = 0.0;
+  // Operating hours of the liner the history starts from ([lifters] start_hours: a worn
+  // liner measured at that time). Stage k is at start_hours + k * stage_hours.
+  double start_hours = 0.0;
   double calibration_value = 0.0;         // mm^2/1000 h or mm/h, per rate_source
   double factor = 1e6;                    // C_model = factor * C
   double stage_hours = 750.0;
@@ -152,9 +164,10 @@ constexpr double kGravity = 9.81;  // m/s^2
 // Read and validate a scene file. Every problem throws InputError naming the file, the key
 // and what was expected; profile paths are relative to the scene file.
 Scene load_scene(const std::string& path);
-// A scene's built mill geometry (new lifters, one unit shared by every row), and the new
-// liner unit alone: the one place a scene's lifter becomes geometry.
+// A scene's built mill geometry (the lifters it starts from, one unit per kind shared by
+// every row of that kind), and one kind's liner unit alone: the one place a scene's lifter
+// becomes geometry. A measured profile's unit is its surface as measured (resampled).
 MillGeometry build_scene_mill(const Scene& scene);
-LinerUnit new_liner_unit(const Scene& scene);
+LinerUnit new_liner_unit(const Scene& scene, int kind = 0);
 
 }  // namespace millwear

@@ -12,6 +12,8 @@
 #include "io/atomic_write.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
+#include "io/run_outputs.hpp"
+#include "io/stage_files.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "wear/reshape.hpp"
@@ -50,7 +52,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   DesignInput d;
   d.name = scene.name;
   d.files.push_back(scene_file);
-  profile_files(scene.mill.lifter.source_file, d.files);
+  for (int k = 0; k < scene.mill.kind_count(); ++k) profile_files(scene.mill.kind(k).source_file, d.files);
   std::string all = scene.fidelity;
   for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);
   d.fingerprint = io::stable_hash_hex(all);
@@ -126,6 +128,35 @@ void add_comparison(Plan& plan, const std::string& file, const toml::table& root
 
 }  // namespace
 
+// --continue: each design's stage in RUN, its hours and what changed since.
+void continue_designs(Plan& plan, const PlanArgs& args) {
+  const std::string& run = args.continue_from;
+  std::error_code ec;
+  if (!fs::is_directory(run, ec) || !io::file_exists(io::manifest_path(run)))
+    throw InputError(run, "--continue", "a run folder of `millwear run` (with manifest.json)");
+  if (!args.out.empty() && fs::exists(args.out, ec) && fs::equivalent(run, args.out, ec))
+    throw InputError(args.out, "-o", "an output folder other than the run it continues (" + run + ")");
+  for (DesignInput& d : plan.designs) {
+    const int last = io::last_finished_stage(run, d.name);
+    if (last < 0)
+      throw InputError(run, "--continue", "finished stages of design '" + d.name + "' (the scene's name)");
+    const int k = args.continue_stage >= 0 ? args.continue_stage : last;
+    if (k > last)
+      throw InputError(run, "--stage", "a stage of design '" + d.name + "' finished in the run (0 to " +
+                                           std::to_string(last) + "), got " + std::to_string(k));
+    if (k >= d.scene.wear.stages)
+      throw InputError(d.files.front(), "wear.stages",
+                       "more stages than the one the run continues from (" + std::to_string(k) + ")");
+    d.continue_run = run;
+    d.continue_stage = k;
+    d.continue_hours = io::read_stage_state(run, d.name, k).hours;
+    // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
+    d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
+    d.changes = io::settings_changes(run, d.name, d.scene);
+    d.fingerprint = io::stable_hash_hex(d.fingerprint + "\n--continue " + run + " --stage " + std::to_string(k));
+  }
+}
+
 Plan make_plan(const PlanArgs& args) {
   if (!args.fidelity.empty()) fidelity_preset(args.fidelity);  // InputError for a bad name
   Plan plan;
@@ -157,6 +188,7 @@ Plan make_plan(const PlanArgs& args) {
   std::error_code ec;
   if (!args.out.empty() && fs::exists(args.out, ec) && !fs::is_directory(args.out, ec))
     throw InputError(args.out, "-o", "an output folder, but a file of that name exists");
+  if (!args.continue_from.empty()) continue_designs(plan, args);
   return plan;
 }
 

@@ -22,6 +22,13 @@ struct DesignInput {
   Scene scene;
   std::vector<std::string> files;  // scene file, profile file(s) it reads
   std::string fingerprint;         // of the file contents and fidelity (resume check)
+  // `run --continue RUN [--stage N]`: the design goes on from stage N of RUN (its exact
+  // state), under this scene's conditions; the scene's clock is set so stage N falls at the
+  // hours RUN recorded for it. Empty continue_run: a history from stage 0.
+  std::string continue_run;
+  int continue_stage = -1;
+  double continue_hours = 0.0;
+  std::vector<std::string> changes;  // settings that differ from RUN's ("mill.speed...: a -> b")
 };
 
 struct Plan {
@@ -36,6 +43,8 @@ struct PlanArgs {
   std::string fidelity;             // preset applied to every design ("": each scene's own)
   std::string reference;            // design that normalises ("": the comparison's, else the first)
   std::string out;                  // output folder ("": not checked)
+  std::string continue_from;        // a finished run folder whose stage continue_stage each
+  int continue_stage = -1;          // design continues from (-1: its last finished stage)
 };
 
 // Throws InputError naming the file and key for anything wrong; nothing is written.

@@ -106,6 +106,18 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
     dr.wear_rate_m3_per_J = st.wear_rate_m3_per_J;
     dr.stages = st.stages;
     dr.events = st.events;
+    dr.continue_run = d.continue_run;
+    dr.continue_stage = d.continue_stage;
+    dr.continue_hours = d.continue_hours;
+    dr.changes = d.changes;
+    dr.life_from_hours = d.continue_run.empty() ? d.scene.wear.start_hours : d.continue_hours;
+    if (d.scene.mill.kind_count() > 1 && !st.stages.empty()) {
+      WearHistory h;
+      for (const auto& [k, rec] : st.stages) h.stages.push_back(rec);
+      compute_life(h, d.scene.wear.replacement_height_m);
+      dr.kind_life_h = h.kind_life_h;
+      dr.kind_life_extrapolated = h.kind_life_extrapolated;
+    }
     r.designs.push_back(std::move(dr));
   }
   // The files on disk now (a file of an earlier stage may since have been replaced).
@@ -119,8 +131,13 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
 void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
   note(ctx, opt.out, io::summary_path(opt.out));
   note(ctx, opt.out, io::spectrum_path(opt.out));
-  const io::RunReport r = report_of(ctx, opt, final_write);
+  io::RunReport r = report_of(ctx, opt, final_write);
   io::write_summary(r);
+  io::write_kinds(r);
+  if (io::file_exists(io::kinds_path(opt.out))) {
+    note(ctx, opt.out, io::kinds_path(opt.out));
+    if (std::find(r.files.begin(), r.files.end(), "kinds.csv") == r.files.end()) r.files.push_back("kinds.csv");
+  }
   io::write_spectrum(r);
   io::write_manifest(r);
 }
@@ -132,7 +149,9 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   DesignState& st = *ctx.designs[i];
   const std::string& out = opt.out;
   io::write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
-  if (rec.stage > st.resumed_up_to) io::write_stage_state(out, d.name, rec);  // then the marker
+  // Stages read back from OUT are on disk; those of the run --continue names are copied.
+  if (rec.stage > st.resumed_up_to || rec.stage <= st.copied_up_to)
+    io::write_stage_state(out, d.name, rec);  // then the marker
   bool latest;
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
@@ -382,6 +401,16 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     }
   }
 
+  // --continue: the stages of the run it continues, up to the one it goes on from (a resumed
+  // continuation reads them from OUT, above).
+  if (!resuming)
+    for (std::size_t i = 0; i < plan.designs.size(); ++i) {
+      const DesignInput& d = plan.designs[i];
+      if (d.continue_run.empty()) continue;
+      for (int s = 0; s <= d.continue_stage; ++s) resume[i].push_back(io::read_stage_state(d.continue_run, d.name, s));
+      ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
+    }
+
   // The folder.
   io::create_run_folder(out);
   for (const std::string& dir : {out, io::stages_dir(out), io::profiles_dir(out), io::plots_out_dir(out),
@@ -397,6 +426,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     std::error_code ec;
     fs::remove(io::summary_path(out), ec);
     fs::remove(io::spectrum_path(out), ec);
+    fs::remove(io::kinds_path(out), ec);
   }
   io::write_file_atomic(resume_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
   ctx.written.insert(io::relative_to(out, resume_key_path(out)));

@@ -32,6 +32,7 @@ struct DesignState {
   std::string error;
   std::map<int, StageRecord> stages;  // light copies: no charge state, no edge rates
   int resumed_up_to = -1;             // stages 0..K were read back from disk
+  int copied_up_to = -1;              // of which 0..K came from the run --continue names
   int latest_written = -1;            // stage of the snapshot/liner files
   bool have_history = false;
   double life_h = std::nan("");

@@ -1,6 +1,10 @@
 // The run as its caller shows it (see run_progress.hpp).
 #include "study/run_progress.hpp"
 
+#include <cstdio>
+
+#include "wear/life.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -52,7 +56,29 @@ std::vector<DesignLines> design_lines(const RunState& ctx) {
                                                      : std::nan("");
       l.power_kW = r.charge.power_kW_per_m * d.scene.mill.length_m;
       l.utilization = r.charge.collision_kW_per_m / r.charge.power_kW_per_m;
+      if (d.scene.mill.kind_count() > 1)
+        for (std::size_t k = 0; k < r.kinds.size(); ++k) {
+          l.kind_area_m2.push_back(r.kinds[k].area_m2);
+          l.kind_height_m.push_back(r.kinds[k].height_m);
+          l.kind_area_loss_rate_m2_per_s.push_back(
+              k < r.kind_area_loss_rate_m2_per_s.size() ? r.kind_area_loss_rate_m2_per_s[k] : std::nan(""));
+        }
       dl.stages.push_back(l);
+    }
+    dl.life_from_hours = d.continue_run.empty() ? d.scene.wear.start_hours : d.continue_hours;
+    if (d.scene.mill.kind_count() > 1) {
+      for (int k = 0; k < d.scene.mill.kind_count(); ++k) dl.kind_names.push_back(d.scene.mill.kind(k).name);
+      WearHistory h;
+      for (const auto& [k, r] : st.stages) h.stages.push_back(r);
+      compute_life(h, d.scene.wear.replacement_height_m);
+      dl.kind_life_h = h.kind_life_h;
+      dl.kind_life_extrapolated = h.kind_life_extrapolated;
+    }
+    if (!d.continue_run.empty()) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, " stage %d (%.6g h)", d.continue_stage, d.continue_hours);
+      dl.continued_from = d.continue_run + buf;
+      dl.changes = d.changes;
     }
     dl.status = st.status;
     dl.error = st.error;

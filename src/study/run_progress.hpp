@@ -38,6 +38,9 @@ struct StageLine {
   double area_loss_fraction = 0.0;       // since the design's own stage 0 (NaN without it)
   double power_kW = 0.0;                 // per mill, from the charge's per-metre figure
   double utilization = 0.0;              // collision / power
+  // Each kind of lifter of a pattern (empty for a plain liner): area, height, and the
+  // lifters' area loss rate at this stage's geometry (m^2 per operating s).
+  std::vector<double> kind_area_m2, kind_height_m, kind_area_loss_rate_m2_per_s;
 };
 
 struct DesignLines {
@@ -45,6 +48,12 @@ struct DesignLines {
   std::vector<StageLine> stages;
   double life_h = 0.0;
   bool life_extrapolated = true;
+  double life_from_hours = 0.0;          // the start (or continued-from stage) the life counts from
+  std::vector<std::string> kind_names;   // profiles of a pattern's kinds (empty: plain liner)
+  std::vector<double> kind_life_h;
+  std::vector<bool> kind_life_extrapolated;
+  std::string continued_from;            // "RUN stage N (H h)" for `run --continue`
+  std::vector<std::string> changes;      // settings changed from that run's
   DesignStatus status = DesignStatus::Waiting;
   std::string error;
   std::vector<std::string> events;

@@ -24,26 +24,8 @@ std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + st
 
 }  // namespace
 
-std::string strip_comment_lines(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  // A byte-order mark (spreadsheets' "CSV UTF-8") would hide a first line's '#'.
-  std::size_t pos = text.compare(0, 3, io::kUtf8Bom) == 0 ? 3 : 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    const bool last = end == std::string::npos;
-    if (last) end = text.size();
-    const std::string line = text.substr(pos, end - pos);
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] != '#') out += line;
-    if (!last) out += '\n';
-    pos = end + 1;
-  }
-  return out;
-}
-
 SurveyCsv parse_survey_csv(const std::string& text, const std::string& name) {
-  const std::string stripped = strip_comment_lines(text);
+  const std::string stripped = io::strip_comment_lines(text);
   // Comment lines become blank lines, so parse_csv's line numbers are the file's.
   SurveyCsv csv{io::parse_csv(stripped, name), 1};
   csv.header_line = csv.data.header_line;

@@ -58,8 +58,6 @@ struct SurveyCsv {
 };
 SurveyCsv parse_survey_csv(const std::string& text, const std::string& name);
 
-// Blank out '#' comment lines (keeping the line count, so later errors name the right
-// line) for the CSV reader, which knows no comments. Shared by the hardness reader.
-std::string strip_comment_lines(const std::string& text);
+using io::strip_comment_lines;  // io/csv.hpp
 
 }  // namespace millwear::validation

@@ -17,15 +17,17 @@ bool is_lifter_edge(const LinerUnit& u, int j) {
 std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
                                                 const std::vector<double>& edge_work,
                                                 bool average_rows) {
-  const bool shared = average_rows || mill.units.size() == 1;
-  const std::size_t n_units = shared ? 1 : static_cast<std::size_t>(mill.rows);
+  const std::size_t kinds = static_cast<std::size_t>(mill.kinds);
+  const bool shared = average_rows || mill.units.size() == kinds;
+  const std::size_t n_units = shared ? kinds : static_cast<std::size_t>(mill.rows);
   std::vector<std::vector<double>> out(n_units);
   for (std::size_t u = 0; u < n_units; ++u)
     out[u].assign(static_cast<std::size_t>(mill.unit_edge_count(static_cast<int>(u))), 0.0);
-  const double scale = shared ? 1.0 / mill.rows : 1.0;
+  // Each kind has rows / kinds rows: the mean over them.
+  const double scale = shared ? static_cast<double>(kinds) / mill.rows : 1.0;
   for (std::size_t e = 0; e < edge_work.size(); ++e) {
     const LinerEdgeInfo& info = mill.edges[e];
-    const std::size_t u = shared ? 0 : static_cast<std::size_t>(info.row);
+    const std::size_t u = shared ? static_cast<std::size_t>(info.row) % kinds : static_cast<std::size_t>(info.row);
     out[u][static_cast<std::size_t>(info.unit_edge)] += scale * edge_work[e];
   }
   return out;
@@ -40,31 +42,38 @@ std::vector<double> unit_edge_lengths(const LinerUnit& u, double radius_m) {
 
 std::vector<double> edge_depths(const LinerUnit& unit, const std::vector<double>& work_J,
                                 const std::vector<double>& len_m, double min_length_m, double thickness_m,
-                                double rate_m3_per_J, bool shell_wear) {
+                                double rate_m3_per_J, bool shell_wear, double shell_rate_m3_per_J) {
+  if (shell_rate_m3_per_J < 0.0) shell_rate_m3_per_J = rate_m3_per_J;
   const std::size_t n = len_m.size();
   std::vector<double> depth(n, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
-    if (!shell_wear && !is_lifter_edge(unit, static_cast<int>(j))) continue;
+    const bool lifter = is_lifter_edge(unit, static_cast<int>(j));
+    if (!shell_wear && !lifter) continue;
     double work = work_J[j], len = len_m[j];
     for (std::size_t a = j, b = j; len < min_length_m && (a > 0 || b + 1 < n);) {
       if (a > 0) { --a; work += work_J[a]; len += len_m[a]; }
       if (len < min_length_m && b + 1 < n) { ++b; work += work_J[b]; len += len_m[b]; }
     }
-    depth[j] = archard_depth_m(work, len, thickness_m, rate_m3_per_J);
+    depth[j] = archard_depth_m(work, len, thickness_m, lifter ? rate_m3_per_J : shell_rate_m3_per_J);
   }
   return depth;
 }
 
+double shell_wear_rate(const Scene& scene, double c_real) {
+  return scene.wear.shell_wear_rate_m3_per_J > 0.0 ? scene.wear.shell_wear_rate_m3_per_J : c_real;
+}
+
 std::vector<std::vector<double>> archard_depths(const Scene& scene, const MillGeometry& mill,
                                                 const std::vector<std::vector<double>>& unit_work,
-                                                double rate_m3_per_J) {
+                                                double c_real, double factor) {
   std::vector<std::vector<double>> depths(unit_work.size());
   const double t = scene.slice_thickness();
   // Half a lifter edge: the shortest edge whose own work is more signal than noise.
   const double min_length_m = 0.5 * scene.mill.mesh.lifter_edge_m;
   for (std::size_t u = 0; u < depths.size(); ++u)
     depths[u] = edge_depths(mill.units[u], unit_work[u], unit_edge_lengths(mill.units[u], mill.radius_m),
-                            min_length_m, t, rate_m3_per_J, scene.wear.shell_wear);
+                            min_length_m, t, factor * c_real, scene.wear.shell_wear,
+                            factor * shell_wear_rate(scene, c_real));
   return depths;
 }
 

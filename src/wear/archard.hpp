@@ -21,8 +21,8 @@ inline double archard_depth_m(double shear_work_J, double edge_length_m, double 
 bool is_lifter_edge(const LinerUnit& unit, int j);
 
 // Work (or power) per edge of the liner unit(s) in lifter-local order, from the values per
-// mill boundary edge: averaged over rows (one unit) or one vector per row when the scene
-// wears rows on their own.
+// mill boundary edge: averaged over the rows of each kind of lifter (one unit per kind) or
+// one vector per row when the scene wears rows on their own.
 std::vector<std::vector<double>> unit_edge_work(const MillGeometry& mill,
                                                 const std::vector<double>& edge_work,
                                                 bool average_rows);
@@ -35,15 +35,21 @@ std::vector<double> unit_edge_lengths(const LinerUnit& unit, double radius_m);
 // edges around it that is min_length_m long, as one contact's work divided by a sliver's
 // length would be all noise. Longer edges keep their own. Shell edges are zero unless the
 // shell wears.
+// Shell edges wear at shell_rate_m3_per_J (negative: at rate_m3_per_J).
 std::vector<double> edge_depths(const LinerUnit& unit, const std::vector<double>& work_J,
                                 const std::vector<double>& length_m, double min_length_m,
-                                double thickness_m, double rate_m3_per_J, bool shell_wear);
+                                double thickness_m, double rate_m3_per_J, bool shell_wear,
+                                double shell_rate_m3_per_J = -1.0);
 
-// edge_depths for every unit of the mill at the scene's mesh resolution; with work in J
-// the depths are m, with power in W they are m per second.
+// The real wear rate of the shell plates: wear.shell_wear_rate, else the lifters' c_real.
+double shell_wear_rate(const Scene& scene, double c_real_m3_per_J);
+
+// edge_depths for every unit of the mill at the scene's mesh resolution, at the real rate
+// c_real (lifters; the shell at shell_wear_rate) times `factor` (continuous mode's
+// C_model = factor * C); with work in J the depths are m, with power in W m per second.
 std::vector<std::vector<double>> archard_depths(const Scene& scene, const MillGeometry& mill,
                                                 const std::vector<std::vector<double>>& unit_work,
-                                                double rate_m3_per_J);
+                                                double c_real_m3_per_J, double factor = 1.0);
 
 // The largest depth of any unit edge.
 double deepest(const std::vector<std::vector<double>>& depths);

@@ -28,7 +28,7 @@ WearStep continuous_step(const Scene& scene, const MillGeometry& mill, Engine& e
   step.disk_steps = acc.steps * static_cast<std::int64_t>(engine.state().size());
   step.hours = acc.time_s * w.factor / kSecondsPerHour;
   const auto work = unit_edge_work(mill, acc.shear_work_J, w.average_rows);
-  step.depths = archard_depths(scene, mill, work, w.factor * rate_m3_per_J);
+  step.depths = archard_depths(scene, mill, work, rate_m3_per_J, w.factor);
   const double worst = deepest(step.depths);
   if (worst > kMaxUpdateHeightFraction * new_height_m) {
     char buf[256];

@@ -7,8 +7,10 @@
 // (wear step -> reshape -> next window, until the stage's hours) -> finish_stage.
 #include "wear/history.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "common/errors.hpp"
@@ -25,23 +27,77 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// What every stage compares against: the new liner, derived once from the scene.
+// What every stage compares against: the liner the history starts from (new, or a measured
+// worn one), derived once from the scene.
 struct NewLiner {
-  MillGeometry mill;        // every row new
-  LifterMetrics lifter;
+  MillGeometry mill;        // every row as it starts
+  LifterMetrics lifter;     // the first kind's
+  std::vector<LifterMetrics> kinds;
   double smoothing_m = 0.0;
+  std::vector<std::string> notes;  // what re-smoothing a measured profile changed
 };
 
 NewLiner new_liner(const Scene& scene) {
   NewLiner n;
-  const MillGeometry one = build_scene_mill(scene);
-  n.lifter = measure_lifter(one.units[0], one.radius_m);
   n.smoothing_m = smoothing_radius(scene);
-  n.mill = scene.wear.average_rows
-               ? one
-               : build_mill(one.radius_m, one.rows, std::vector<LinerUnit>(static_cast<std::size_t>(one.rows),
-                                                                           one.units[0]));
+  const double R = scene.radius_m();
+  const int kinds = scene.mill.kind_count(), rows = scene.mill.rows;
+  std::vector<LinerUnit> units;
+  for (int k = 0; k < kinds; ++k) {
+    units.push_back(starting_unit(scene, k, n.smoothing_m));
+    const LifterProfile& p = scene.mill.kind(k);
+    if (p.measured.empty()) continue;
+    // The file's own lifter area (its points as read, on the unit's centring) against the
+    // resampled, re-smoothed unit the history starts from.
+    const LinerUnit built = new_liner_unit(scene, k);
+    LinerUnit as_read;
+    as_read.lifter_half_base_m = built.lifter_half_base_m;
+    const double shift = -0.5 * (p.points.front().x + p.points.back().x);
+    for (const Vec2& q : p.measured) as_read.surface.push_back({q.x + shift, q.y});
+    const double a_file = measure_lifter(as_read, R).area_m2, a_start = measure_lifter(units.back(), R).area_m2;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "measured profile '%s': resampled and re-smoothed at %.3g mm, its lifter area went from %.6g mm^2 "
+                  "(the file's) to %.6g mm^2 (%+.3g mm^2, %+.2f%%)%s",
+                  p.name.c_str(), n.smoothing_m * 1e3, a_file * 1e6, a_start * 1e6, (a_start - a_file) * 1e6,
+                  100.0 * (a_start - a_file) / a_file,
+                  p.dropped_points > 0 ? (", " + std::to_string(p.dropped_points) + " repeated or looping points dropped").c_str()
+                                       : "");
+    n.notes.push_back(buf);
+  }
+  for (const LinerUnit& u : units) n.kinds.push_back(measure_lifter(u, R));
+  n.lifter = n.kinds.front();
+  if (scene.wear.average_rows) {
+    n.mill = build_mill(R, rows, std::move(units), kinds);
+  } else {
+    std::vector<LinerUnit> per_row;
+    for (int r = 0; r < rows; ++r) per_row.push_back(units[static_cast<std::size_t>(r % kinds)]);
+    n.mill = build_mill(R, rows, std::move(per_row), kinds);
+  }
   return n;
+}
+
+// Shear power on the lifters of each kind, per row of that kind (W).
+std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
+  const std::size_t kinds = static_cast<std::size_t>(mill.kinds);
+  std::vector<double> sum(kinds, 0.0), count(kinds, 0.0);
+  for (std::size_t u = 0; u < unit_power.size(); ++u) {
+    double p = 0.0;
+    for (std::size_t j = 0; j < unit_power[u].size(); ++j)
+      if (is_lifter_edge(mill.units[u], static_cast<int>(j))) p += unit_power[u][j];
+    sum[u % kinds] += p;
+    count[u % kinds] += 1.0;
+  }
+  for (std::size_t k = 0; k < kinds; ++k) sum[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
+  return sum;
+}
+
+// Worn to the shell: the first row of any kind (row 0 for a plain liner, as ever).
+bool any_worn_out(const std::vector<LinerUnit>& units, int kinds, double radius_m,
+                  const std::vector<LifterMetrics>& start) {
+  for (std::size_t k = 0; k < start.size() && k < units.size() && k < static_cast<std::size_t>(kinds); ++k)
+    if (lifter_worn_out(measure_lifter(units[k], radius_m), start[k])) return true;
+  return false;
 }
 
 // One stage being worn: the geometry the charge turns in, its engine, the window measured on
@@ -84,7 +140,7 @@ StageRun start_stage(const Scene& scene, int k, MillGeometry mill, ChargeState s
   StageRun run;
   run.started = Clock::now();
   run.stage = k;
-  run.hours = k * scene.wear.stage_hours;
+  run.hours = scene.wear.start_hours + k * scene.wear.stage_hours;
   run.mill = std::move(mill);
   check_stop(cb);
   run.direction = direction_at(scene, run.hours);
@@ -111,9 +167,12 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   rec.hours = run.hours;
   rec.units = mill.units;
   rec.lifter = measure_lifter(mill.units[0], mill.radius_m);
+  rec.kinds = kind_metrics(mill.units, mill.kinds, mill.radius_m);
   rec.charge = charge_figures(w.accounting, scene, run.direction * scene.angular_speed_rad_s());
   const double t = scene.slice_thickness();
   rec.area_loss_rate_m2_per_s = c_real * w.lifter_power_mean_W / t;
+  for (double p : kind_lifter_power_W(mill, w.unit_power_W)) rec.kind_area_loss_rate_m2_per_s.push_back(c_real * p / t);
+  const double c_shell = shell_wear_rate(scene, c_real);
   rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
   rec.spectrum_count_per_s.resize(kSpectrumBins);
   rec.spectrum_energy_W.resize(kSpectrumBins);
@@ -125,13 +184,13 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
     const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
     rec.edge_wear_rate_m_per_s[e] = (shell && !scene.wear.shell_wear) ? 0.0
-        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real);
+        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, shell ? c_shell : c_real);
     rec.liner_loss_rate_m2_per_s += rec.edge_wear_rate_m_per_s[e] * mill.edge_length_m[e];
   }
   rec.snapshot = run.engine->state();
   rec.mill_angle_rad = run.engine->state().mill_angle_rad;
   rec.start_charge = run.start;
-  rec.worn_out = lifter_worn_out(rec.lifter, liner.lifter);
+  rec.worn_out = any_worn_out(mill.units, mill.kinds, mill.radius_m, liner.kinds);
   return rec;
 }
 
@@ -151,7 +210,7 @@ enum class StageEnd { Finished, WornOut, StoppedByRule };
 StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun& run, double c_real,
                             WearHistory& history, const WearCallbacks& cb) {
   const bool staged = scene.wear.mode == WearMode::Staged;
-  const double target_h = (run.stage + 1) * scene.wear.stage_hours;
+  const double target_h = scene.wear.start_hours + (run.stage + 1) * scene.wear.stage_hours;
   while (run.hours < target_h - 1e-9) {
     check_stop(cb);
     const double max_hours = std::min(target_h, next_reversal(scene, run.hours)) - run.hours;
@@ -167,9 +226,11 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
     }
     run.mill = build_mill(run.mill.radius_m, run.mill.rows,
                           reshape(run.mill.units, step.depths, run.mill.radius_m, liner.smoothing_m,
-                                  scene.mill.mesh, liner.lifter.area_m2, run.stage + 1));
+                                  scene.mill.mesh, liner.lifter.area_m2, run.stage + 1),
+                          run.mill.kinds);
     run.hours += step.hours;
-    if (lifter_worn_out(measure_lifter(run.mill.units[0], run.mill.radius_m), liner.lifter)) return StageEnd::WornOut;
+    if (any_worn_out(run.mill.units, run.mill.kinds, run.mill.radius_m, liner.kinds))
+      return StageEnd::WornOut;
     if (run.hours >= target_h - 1e-9) return StageEnd::Finished;
     run.engine->set_liner(run.mill);
     const double direction = direction_at(scene, run.hours);
@@ -194,6 +255,7 @@ void record_worn_out(WearHistory& history, const StageRun& run, const WearCallba
   rec.hours = run.hours;
   rec.units = run.mill.units;
   rec.lifter = measure_lifter(run.mill.units[0], run.mill.radius_m);
+  rec.kinds = kind_metrics(run.mill.units, run.mill.kinds, run.mill.radius_m);
   rec.worn_out = true;
   rec.charge = history.stages.empty() ? ChargeFigures{} : history.stages.back().charge;
   history.stages.push_back(rec);
@@ -206,8 +268,9 @@ void record_worn_out(WearHistory& history, const StageRun& run, const WearCallba
 double wear_rate_for(const Scene& scene, const NewLiner& liner, const StageRun& run, bool resumed) {
   if (scene.wear.rate_source == WearRateSource::Given) return scene.wear.wear_rate_m3_per_J;
   if (run.stage != 0 && !resumed) throw RunError("wear-rate calibration needs stage 0");
-  return real_wear_rate(scene, run.stage == 0 ? run.mill : build_mill(liner.mill.radius_m, liner.mill.rows,
-                                                                      {liner.mill.units[0]}),
+  if (run.stage == 0) return real_wear_rate(scene, run.mill, run.window.edge_power_W);
+  const std::vector<LinerUnit> kinds(liner.mill.units.begin(), liner.mill.units.begin() + liner.mill.kinds);
+  return real_wear_rate(scene, build_mill(liner.mill.radius_m, liner.mill.rows, kinds, liner.mill.kinds),
                         run.window.edge_power_W);
 }
 
@@ -220,7 +283,10 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
   const bool resumed = !resume_from.empty();
   WearHistory history;
   history.stages = resume_from;
-  MillGeometry mill = resumed ? build_mill(liner.mill.radius_m, liner.mill.rows, resume_from.back().units) : liner.mill;
+  MillGeometry mill = resumed ? build_mill(liner.mill.radius_m, liner.mill.rows, resume_from.back().units, liner.mill.kinds)
+                              : liner.mill;
+  history.start_hours = resumed ? resume_from.front().hours : scene.wear.start_hours;
+  history.events = liner.notes;
   // The charge as the last stage's wear ended (a resumed run: the one its stage started from).
   ChargeState carry = resumed ? resume_from.back().start_charge : ChargeState{};
   const int first_stage = resumed ? resume_from.back().stage : 0;
@@ -283,6 +349,30 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
   }
   compute_life(history, scene.wear.replacement_height_m);
   return history;
+}
+
+std::vector<LifterMetrics> kind_metrics(const std::vector<LinerUnit>& units, int kinds, double radius_m) {
+  // One unit per kind, or one per row (row r of kind r % kinds): the mean over its rows.
+  const std::size_t n = static_cast<std::size_t>(std::max(kinds, 1));
+  std::vector<LifterMetrics> m(std::min(n, units.size()));
+  std::vector<double> count(m.size(), 0.0);
+  for (std::size_t u = 0; u < units.size(); ++u) {
+    const LifterMetrics one = measure_lifter(units[u], radius_m);
+    LifterMetrics& sum = m[u % n];
+    sum.area_m2 += one.area_m2;
+    sum.height_m += one.height_m;
+    sum.leading_face_angle_rad += one.leading_face_angle_rad;
+    sum.trailing_face_angle_rad += one.trailing_face_angle_rad;
+    count[u % n] += 1.0;
+  }
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    if (count[k] == 1.0) continue;  // a shared unit: its own metrics, exactly
+    m[k].area_m2 /= count[k];
+    m[k].height_m /= count[k];
+    m[k].leading_face_angle_rad /= count[k];
+    m[k].trailing_face_angle_rad /= count[k];
+  }
+  return m;
 }
 
 void throw_if_failed(const WearHistory& history) {

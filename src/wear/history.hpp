@@ -19,7 +19,12 @@ struct StageRecord {
   int stage = 0;                  // 0 = new
   double hours = 0.0;
   std::vector<LinerUnit> units;   // exact geometry (resume restarts from it)
-  LifterMetrics lifter;           // of row 0 (or the shared unit)
+  LifterMetrics lifter;           // of row 0 (or the shared unit; the first kind of a pattern)
+  // A pattern of kinds of lifter ([lifters] pattern): each kind's metrics (its shared unit,
+  // or the mean over its rows when rows wear on their own) and its lifters' area loss rate
+  // (m^2 per operating s, at this geometry). One entry for a plain liner.
+  std::vector<LifterMetrics> kinds;
+  std::vector<double> kind_area_loss_rate_m2_per_s;
   ChargeFigures charge;           // measured on this geometry
   double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
@@ -43,8 +48,12 @@ struct StageRecord {
 
 struct WearHistory {
   std::vector<StageRecord> stages;
-  double life_h = 0.0;            // hours to the replacement height
+  double start_hours = 0.0;       // operating hours of its first stage
+  double life_h = 0.0;            // hours to the replacement height (on the stages' clock)
   bool life_extrapolated = false;
+  // Per kind of a pattern (one entry for a plain liner): life of that kind's lifters.
+  std::vector<double> kind_life_h;
+  std::vector<bool> kind_life_extrapolated;
   double wear_rate_m3_per_J = 0.0;   // real C used
   std::vector<std::string> events;   // worn flat, escaped disks, NaN, rule-1 bound
   // The first event that makes the history's figures suspect (a disk lost, rule 1's bound
@@ -52,6 +61,10 @@ struct WearHistory {
   // keeps every stage finished before it; a caller reports it as a failed run (exit 1).
   std::string failure;
 };
+
+// Metrics of every kind of lifter of a liner (units: one per kind, or one per row with
+// row k of kind k % kinds: then the mean over the rows of each kind).
+std::vector<LifterMetrics> kind_metrics(const std::vector<LinerUnit>& units, int kinds, double radius_m);
 
 // Throws RunError(history.failure) if the history has one.
 void throw_if_failed(const WearHistory& history);

@@ -178,11 +178,30 @@ double smoothing_radius(const Scene& scene) {
                                              : scene.smallest_particle_radius_m();
 }
 
-SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m) {
+LinerUnit starting_unit(const Scene& scene, int kind, double smoothing_m) {
+  const LinerUnit unit = new_liner_unit(scene, kind);
+  if (scene.mill.kind(kind).measured.empty()) return unit;
+  try {
+    return apply_wear(unit, std::vector<double>(unit.surface.size() - 1, 0.0), scene.radius_m(), smoothing_m,
+                      scene.mill.mesh);
+  } catch (const RunError& e) {
+    throw InputError(scene.mill.kind(kind).source_file, "x_mm,y_mm",
+                     std::string("a measured surface that survives re-smoothing at ") +
+                         std::to_string(smoothing_m * 1e3) + " mm (wear.smoothing_radius): " + e.what());
+  }
+}
+
+SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind) {
   const double R = scene.radius_m();
-  const LinerUnit unit = new_liner_unit(scene);
-  const LifterMetrics before = measure_lifter(unit, R);
   SmoothingLoss loss;
+  LinerUnit unit;
+  try {
+    unit = starting_unit(scene, kind, smoothing_m);
+  } catch (const InputError&) {
+    loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
+    return loss;
+  }
+  const LifterMetrics before = measure_lifter(unit, R);
   try {
     const LinerUnit after = apply_wear(unit, std::vector<double>(unit.surface.size() - 1, 0.0), R, smoothing_m,
                                        scene.mill.mesh);
@@ -205,9 +224,33 @@ double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, cons
 }
 
 void check_smoothing_radius(const Scene& scene, const std::string& file) {
+  for (int kind = 0; kind < scene.mill.kind_count(); ++kind) check_smoothing_radius(scene, file, kind);
+}
+
+// A measured profile's lifter once re-smoothed: no part thinner than the smallest particle
+// radius (scene/limits.cpp checks a drawn profile as read).
+void check_measured_features(const Scene& scene, const std::string& file, int kind) {
+  const LifterProfile& p = scene.mill.kind(kind);
+  const double needed = scene.smallest_particle_radius_m();
+  if (p.measured.empty() || !(needed > 0.0)) return;
+  const LinerUnit unit = starting_unit(scene, kind, smoothing_radius(scene));
+  const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
+  if (thinnest >= needed) return;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a lifter whose every part is at least %.3g mm thick (the smallest particle radius) once re-smoothed "
+                "at wear.smoothing_radius: measured profile '%s' has a part about %.3g mm thick, so a disk can touch "
+                "both of its faces at once and pass through the liner",
+                needed * 1e3, p.name.c_str(), thinnest * 1e3);
+  throw InputError(file, scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]",
+                   buf);
+}
+
+void check_smoothing_radius(const Scene& scene, const std::string& file, int kind) {
+  check_measured_features(scene, file, kind);
   const double r = smoothing_radius(scene);
   auto too_much = [&](double radius) {
-    const SmoothingLoss l = smoothing_loss(scene, radius);
+    const SmoothingLoss l = smoothing_loss(scene, radius, kind);
     return l.area_fraction > kMaxSmoothingAreaLoss || l.height_fraction > kMaxSmoothingHeightLoss;
   };
   if (r <= 0.0 || !too_much(r)) return;
@@ -217,7 +260,7 @@ void check_smoothing_radius(const Scene& scene, const std::string& file) {
     const double mid = 0.5 * (lo + hi);
     (too_much(mid) ? hi : lo) = mid;
   }
-  const SmoothingLoss l = smoothing_loss(scene, r);
+  const SmoothingLoss l = smoothing_loss(scene, r, kind);
   char buf[512];
   if (lo <= 0.0) {
     // Not a radius problem: the lifter as meshed does not survive any re-smoothing.

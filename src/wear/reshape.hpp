@@ -25,13 +25,18 @@ LinerUnit apply_wear(const LinerUnit& unit, const std::vector<double>& edge_dept
 // radius (a disk cannot reach into a hollow narrower than itself).
 double smoothing_radius(const Scene& scene);
 
-// What one re-smoothing at smoothing_m does to the new lifter (apply_wear with no wear):
-// the share of its area and of its height it removes. Corners round off a little; a
-// feature narrower than 2 x smoothing_m goes entirely.
+// The liner unit of kind `kind` the wear history starts from: new_liner_unit, and for a
+// measured profile that, resampled and re-smoothed at smoothing_m as the wear loop does
+// after every update (apply_wear with no wear), so its noise is not taken for wear.
+LinerUnit starting_unit(const Scene& scene, int kind, double smoothing_m);
+
+// What one re-smoothing at smoothing_m does to the starting lifter of a kind (apply_wear
+// with no wear): the share of its area and of its height it removes. Corners round off a
+// little; a feature narrower than 2 x smoothing_m goes entirely.
 struct SmoothingLoss {
   double area_fraction = 0.0, height_fraction = 0.0;
 };
-SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m);
+SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind = 0);
 
 // The largest share of the new lifter one re-smoothing may remove before the scene is
 // refused: more means the radius is wider than the lifter's narrowest part and would wear
@@ -46,6 +51,8 @@ constexpr double kSliverEdgeFraction = 0.01;
 // scene's radius removes more than the bounds above; the message gives the largest radius
 // that keeps within them.
 void check_smoothing_radius(const Scene& scene, const std::string& file);
+// The same for one kind of lifter of a pattern.
+void check_smoothing_radius(const Scene& scene, const std::string& file, int kind);
 
 // Lifter area one wear update removed beyond its Archard depths (m^2): the area the
 // re-smoothing took (the corners it rounded; negative: Archard's edge strips overstate what

@@ -455,16 +455,27 @@ const Source* find_source(const std::vector<Source>& sources, const fs::path& p)
 }
 
 // Rewrites a relative path key to the copy's bare file name (the copies sit side by side).
+// A profile file: TOML, or a measured profile (CSV).
+bool is_profile_path(const std::string& s) {
+  return is_toml_path(s) || (s.size() > 4 && s.compare(s.size() - 4, 4, ".csv") == 0);
+}
+
 void rebase(toml::table& root, const char* table, const char* key) {
   toml::table* t = table ? root[table].as_table() : &root;
   if (!t) return;
-  if (auto v = (*t)[key].value<std::string>(); v && is_toml_path(*v))
+  if (auto v = (*t)[key].value<std::string>(); v && is_profile_path(*v))
     t->insert_or_assign(key, fs::path(*v).filename().string());
 }
 
 void rebase_paths(Kind kind, toml::table& root) {
   switch (kind) {
-    case Kind::Scene: rebase(root, "lifters", "profile"); break;
+    case Kind::Scene: {
+      rebase(root, "lifters", "profile");
+      if (toml::array* a = root["lifters"]["pattern"].as_array())
+        for (auto& n : *a)
+          if (auto v = n.value<std::string>(); v && is_profile_path(*v)) n.as_string()->get() = fs::path(*v).filename().string();
+      break;
+    }
     case Kind::Profile: rebase(root, nullptr, "match_area_of"); break;
     case Kind::Screen: {
       rebase(root, "screen", "base");
@@ -610,6 +621,13 @@ Staged stage_case(const Case& c, const std::vector<Source>& sources, const fs::p
   // Every shipped profile beside the case: they refer to each other by bare file names.
   for (const Source& p : sources)
     if (p.kind == Kind::Profile) copy_rebased(p, dir);
+  // The shipped measured profiles (CSV) too, as they are.
+  {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(fs::path(MILLWEAR_SOURCE_DIR) / "profiles", ec))
+      if (e.is_regular_file() && e.path().extension() == ".csv")
+        fs::copy_file(e.path(), dir / e.path().filename(), fs::copy_options::overwrite_existing, ec);
+  }
   Staged st;
   st.primary = dir / s.path.filename();
   if (s.doc) {

@@ -361,7 +361,7 @@ void Box2DEngine::check_inside_liner() {
     int row = static_cast<int>(std::lround(theta / pitch_angle));
     row = ((row % rows) + rows) % rows;
     const Vec2 local = mill_to_local(pm, row, rows, radius_m_);
-    const Polyline& surf = mill_.units[mill_.units.size() == 1 ? 0 : row].surface;
+    const Polyline& surf = mill_.units[mill_.unit_of_row(row)].surface;
     for (std::size_t k = 0; k + 1 < surf.size(); ++k) {
       const Vec2 a = surf[k], b = surf[k + 1];
       if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;

@@ -172,7 +172,7 @@ void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disk
     int row = static_cast<int>(std::lround(theta / pitch_angle));
     row = ((row % rows) + rows) % rows;
     const Vec2 local = mill_to_local(pm, row, rows, radius);
-    const auto unit = mill.units.size() == 1 ? 0 : static_cast<std::size_t>(row);
+    const auto unit = mill.unit_of_row(row);
     const Polyline& surf = mill.units[unit].surface;
     for (std::size_t e = 0; e + 1 < surf.size(); ++e) {
       const Vec2 a = surf[e], b = surf[e + 1];

@@ -1,0 +1,370 @@
+// A plant's own liner as input: measured profiles (CSV), a history started from a worn liner,
+// `run --continue`, lifter patterns (hi-lo) and a separate shell wear rate. Histories run the
+// lab mill at draft fidelity with one or a few stages.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "engine_fixtures.hpp"
+#include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "io/stage_files.hpp"
+#include "wear/wear.hpp"
+
+namespace fs = std::filesystem;
+
+namespace millwear {
+namespace {
+
+using testing::source_path;
+
+// A scratch folder per test, removed afterwards.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag)
+      : path_(fs::temp_directory_path() / ("millwear-liner-input-" + tag + "-" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path& path() const { return path_; }
+  std::string file(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name, std::ios::binary) << text;
+    return (path_ / name).string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+// The lab-mill scene with its [lifters] table replaced and `extra` lines appended to [wear]
+// (absolute paths, so the scene can live anywhere).
+std::string lab_scene_text(const std::string& lifters, const std::string& wear_extra = "", int stages = 2) {
+  std::ifstream in(source_path("scenarios/lab-mill.toml"));
+  std::ostringstream out;
+  bool in_lifters = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("[", 0) == 0) in_lifters = line == "[lifters]";
+    if (in_lifters) {
+      if (line == "[lifters]") out << "[lifters]\n" << lifters << "\nshell_edge = 10.0\nlifter_edge = 2.0\n";
+      continue;
+    }
+    if (line.rfind("stages = ", 0) == 0) line = "stages = " + std::to_string(stages);
+    out << line << "\n";
+    if (line == "[wear]") out << wear_extra;
+  }
+  return out.str();
+}
+
+// The lab lifter (20 mm high, 10 mm top, 30/30 deg) as a scan: points every 0.5 mm in x, a
+// shell 5 mm below the original line out to 3 mm past the feet, Gaussian noise of sigma_mm on
+// y, every tenth point written twice. Returns the file text; `repeats` counts the doubles.
+std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7) {
+  const double h = 20.0, top = 10.0, run = h * std::tan(30.0 * kPi / 180.0), hb = 0.5 * top + run;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_mm);
+  std::string text = "# a laser scan: the lab lifter, shell 5 mm below its original line\nx_mm,y_mm\n";
+  repeats = 0;
+  char line[64];
+  for (double x = -hb - 3.0; x <= hb + 3.0 + 1e-9; x += 0.5) {
+    const double ax = std::fabs(x);
+    double y = ax <= 0.5 * top ? h : h * (hb - ax) / run;  // the face continues below the line
+    y = std::max(y, -5.0) + noise(rng);
+    std::snprintf(line, sizeof line, "%.3f,%.3f\n", x, y);
+    text += line;
+    if (static_cast<int>(std::lround(2.0 * (x + hb + 3.0))) % 10 == 0) {
+      text += line;
+      ++repeats;
+    }
+  }
+  return text;
+}
+
+// ---- measured profiles ----------------------------------------------------------------
+
+TEST(MeasuredProfile, NoisyScanWithRepeatsGivesALifterWithFeetOnTheShell) {
+  int repeats = 0;
+  const LifterProfile p = parse_measured_profile(noisy_scan(0.5, repeats), "scan.csv");
+  EXPECT_EQ(p.form, ProfileForm::Measured);
+  EXPECT_GE(p.dropped_points, repeats);  // every repeat, and any loop the noise made
+  EXPECT_DOUBLE_EQ(p.points.front().y, 0.0);
+  EXPECT_DOUBLE_EQ(p.points.back().y, 0.0);
+  EXPECT_LT(p.measured.front().y, -0.003);  // the worn shell stays in the surface
+  // The trapezoid's area is 20 * (10 + 33.09) / 2 = 430.9 mm^2; noise of 0.5 mm over the
+  // ~57 mm outline moves it by at most sigma x outline (28 mm^2).
+  const double area_mm2 = measure_profile(p.points).area_m2 * 1e6;
+  EXPECT_NEAR(area_mm2, 430.9, 0.5 * 57.0);
+}
+
+TEST(MeasuredProfile, SpreadsheetDialectsReadTheSamePoints) {
+  const std::string plain = "x_mm,y_mm\n-20,-1\n-10,10\n0,12.5\n10,10\n20,-1\n";
+  std::string semicolon = "x_mm;y_mm\n-20;-1\n-10;10\n0;12,5\n10;10\n20;-1\n";
+  std::string crlf_bom = std::string(io::kUtf8Bom) + "# gauge 3\r\nx_mm,y_mm\r\n-20,-1\r\n-10,10\r\n0,12.5\r\n10,10\r\n20,-1\r\n";
+  const LifterProfile a = parse_measured_profile(plain, "a.csv");
+  for (const std::string& text : {semicolon, crlf_bom}) {
+    const LifterProfile b = parse_measured_profile(text, "b.csv");
+    ASSERT_EQ(a.measured.size(), b.measured.size());
+    for (std::size_t i = 0; i < a.measured.size(); ++i) EXPECT_TRUE(a.measured[i] == b.measured[i]) << i;
+  }
+}
+
+TEST(MeasuredProfile, ReversedScanIsTurnedRound) {
+  const LifterProfile a = parse_measured_profile("x_mm,y_mm\n-20,0\n-10,10\n10,10\n20,0\n", "a.csv");
+  const LifterProfile b = parse_measured_profile("x_mm,y_mm\n20,0\n10,10\n-10,10\n-20,0\n", "b.csv");
+  EXPECT_DOUBLE_EQ(measure_profile(a.points).area_m2, measure_profile(b.points).area_m2);
+  EXPECT_LT(b.points.front().x, b.points.back().x);
+}
+
+TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
+  auto message = [](const std::string& text) {
+    try {
+      parse_measured_profile(text, "s.csv");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("x_mm,y_mm\n-20,0\n0,10\n20,3\n").find("at or below the shell line"), std::string::npos);
+  EXPECT_NE(message("x_mm,y_mm\n-20,0\n0,abc\n20,0\n").find("line 3"), std::string::npos);
+  EXPECT_NE(message("x,y\n-20,0\n0,10\n20,0\n").find("x_mm"), std::string::npos);
+  EXPECT_NE(message("x_mm,y_mm\n-20,-1\n0,-0.5\n20,-1\n").find("above the shell line"), std::string::npos);
+}
+
+TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
+  TempDir dir("wide");
+  // The lab mill's pitch is 157 mm: a scan 300 mm wide cannot be one liner unit.
+  dir.file("wide.csv", "x_mm,y_mm\n-150,0\n-10,0\n-5,15\n5,15\n10,0\n150,0\n");
+  const std::string scene = dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"wide.csv\""));
+  try {
+    load_scene(scene);
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "lifters.rows");
+    EXPECT_NE(std::string(e.what()).find("no wider than the pitch"), std::string::npos);
+  }
+}
+
+// The noisy scan at 2000 h: the history starts there, its stage 0 is the file's lifter
+// re-smoothed (area within the reported change), later stages are valid profiles again.
+TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
+  TempDir dir("worn");
+  int repeats = 0;
+  const std::string scan = dir.file("survey-2000h.csv", noisy_scan(0.5, repeats));
+  const std::string scene_file =
+      dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"survey-2000h.csv\"\nstart_hours = 2000", "", 1));
+  const Scene scene = load_scene(scene_file);
+  const WearHistory h = run_wear_history(scene);
+  ASSERT_TRUE(h.failure.empty()) << h.failure;
+  ASSERT_EQ(h.stages.size(), 2u);
+  EXPECT_DOUBLE_EQ(h.stages[0].hours, 2000.0);
+  EXPECT_DOUBLE_EQ(h.stages[1].hours, 2100.0);
+  EXPECT_DOUBLE_EQ(h.start_hours, 2000.0);
+  EXPECT_GT(h.life_h, 2100.0);  // counted on the survey's clock
+
+  // The file's own lifter area, measured as the mill measures a unit (polar map), on the
+  // points as written.
+  const LifterProfile p = load_profile(scan);
+  const LinerUnit built = new_liner_unit(scene);
+  LinerUnit as_read;
+  as_read.lifter_half_base_m = built.lifter_half_base_m;
+  const double shift = -0.5 * (p.points.front().x + p.points.back().x);
+  for (const Vec2& q : p.measured) as_read.surface.push_back({q.x + shift, q.y});
+  const double a_file = measure_lifter(as_read, scene.radius_m()).area_m2 * 1e6;
+  // The reported change: "... went from A mm^2 (the file's) to B mm^2 (C mm^2, ...".
+  ASSERT_FALSE(h.events.empty());
+  const std::string& note = h.events.front();
+  double from = 0, to = 0, change = 0;
+  const auto at = note.find("went from ");
+  ASSERT_NE(at, std::string::npos) << note;
+  ASSERT_EQ(std::sscanf(note.c_str() + at, "went from %lf mm^2 (the file's) to %lf mm^2 (%lf", &from, &to, &change), 3)
+      << note;
+  const double a0 = h.stages[0].lifter.area_m2 * 1e6;
+  // Printed to 6 significant digits: equal to that precision.
+  EXPECT_NEAR(from, a_file, 1e-5 * a_file);
+  EXPECT_NEAR(to, a0, 1e-5 * a0);
+  EXPECT_LE(std::fabs(a0 - a_file), std::fabs(change) + 1e-5 * a0);
+  // Re-smoothing takes the noise, not the lifter: at most sigma x the ~57 mm outline.
+  EXPECT_LT(std::fabs(change), 0.5 * 57.0);
+  EXPECT_LT(h.stages[1].lifter.area_m2, h.stages[0].lifter.area_m2);
+
+  // Round trip: each stage profile as a scene's profile gives the stage's metrics (0.1%).
+  for (const StageRecord& rec : h.stages) {
+    io::write_profile_csv(dir.path().string(), "trip", rec);
+    const std::string csv = io::profile_path(dir.path().string(), "trip", rec.stage);
+    const Scene again = load_scene(
+        dir.file("again.toml", lab_scene_text("rows = 12\nprofile = \"" + csv + "\"", "", 1)));
+    const LifterMetrics m = measure_lifter(new_liner_unit(again), again.radius_m());
+    EXPECT_NEAR(m.area_m2, rec.lifter.area_m2, 1e-3 * rec.lifter.area_m2) << "stage " << rec.stage;
+    EXPECT_NEAR(m.height_m, rec.lifter.height_m, 1e-3 * rec.lifter.height_m) << "stage " << rec.stage;
+  }
+}
+
+// ---- patterns and shell rate ---------------------------------------------------------
+
+TEST(Pattern, RowsOfAKindAreAveragedTogether) {
+  TempDir dir("avg");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                      "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  const Scene s = load_scene(dir.file(
+      "s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]")));
+  const MillGeometry mill = build_scene_mill(s);
+  ASSERT_EQ(mill.kinds, 2);
+  ASSERT_EQ(mill.units.size(), 2u);
+  EXPECT_NE(mill.units[0].surface.size(), mill.units[1].surface.size());
+  // Work equal to the row number on every edge: kind 0 averages rows 0, 2, ..., 10 (5),
+  // kind 1 rows 1, 3, ..., 11 (6).
+  std::vector<double> work(mill.edges.size());
+  for (std::size_t e = 0; e < work.size(); ++e) work[e] = mill.edges[e].row;
+  const auto per_unit = unit_edge_work(mill, work, true);
+  ASSERT_EQ(per_unit.size(), 2u);
+  for (double w : per_unit[0]) EXPECT_NEAR(w, 5.0, 1e-12);
+  for (double w : per_unit[1]) EXPECT_NEAR(w, 6.0, 1e-12);
+}
+
+TEST(Pattern, BadPatternsAreRefused) {
+  TempDir dir("bad");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  auto where = [&](const std::string& lifters) {
+    try {
+      load_scene(dir.file("s.toml", lab_scene_text(lifters)));
+    } catch (const InputError& e) {
+      return e.where;
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\", \"" + lab + "\", \"" + lab + "\", \"" +
+                  lab + "\"]"),
+            "lifters.rows");  // 12 rows do not take a pattern of 5
+  EXPECT_EQ(where("rows = 12\nprofile = \"" + lab + "\"\npattern = [\"" + lab + "\"]"), "lifters.pattern");
+  EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", 3]"), "lifters.pattern[1]");
+  EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"missing.toml\"]"), "lifters.pattern[1]");
+}
+
+TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {
+  const Scene s = testing::lab_mill();
+  const LinerUnit unit = new_liner_unit(s);
+  const std::size_t n = unit.surface.size() - 1;
+  const std::vector<double> work(n, 2.0), len(n, 0.01);
+  // A dh = C dw on every edge, lifter edges at C = 1e-9 m^3/J, shell edges at 4e-9.
+  const auto d = edge_depths(unit, work, len, 0.0, 0.025, 1e-9, true, 4e-9);
+  for (std::size_t j = 0; j < n; ++j)
+    EXPECT_DOUBLE_EQ(d[j], is_lifter_edge(unit, static_cast<int>(j)) ? archard_depth_m(2.0, 0.01, 0.025, 1e-9)
+                                                                      : archard_depth_m(2.0, 0.01, 0.025, 4e-9));
+}
+
+// Two identical kinds are the plain liner: the same geometry gives the same charge (stage 0
+// bit for bit), and each kind's wear is the plain liner's within the window's statistics.
+TEST(Pattern, TwoIdenticalKindsEqualThePlainLiner) {
+  TempDir dir("same");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const Scene plain = load_scene(dir.file("plain.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1)));
+  const Scene twice = load_scene(
+      dir.file("twice.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]", "", 1)));
+  const WearHistory a = run_wear_history(plain), b = run_wear_history(twice);
+  ASSERT_EQ(a.stages.size(), 2u);
+  ASSERT_EQ(b.stages.size(), 2u);
+  EXPECT_EQ(a.stages[0].charge.power_kW_per_m, b.stages[0].charge.power_kW_per_m);
+  ASSERT_EQ(b.stages[0].kind_area_loss_rate_m2_per_s.size(), 2u);
+  // The plain rate is the mean over all 12 rows, each kind's over 6 of them: the mean of the
+  // two kinds' rates is the plain rate (to rounding).
+  const double plain_rate = a.stages[0].area_loss_rate_m2_per_s;
+  const double k0 = b.stages[0].kind_area_loss_rate_m2_per_s[0], k1 = b.stages[0].kind_area_loss_rate_m2_per_s[1];
+  EXPECT_NEAR(0.5 * (k0 + k1), plain_rate, 1e-9 * plain_rate);
+  // After a stage of wear each kind has lost what the plain liner lost, within the
+  // statistics: a kind's rate differs from the plain one by (k0 - k1) / 2, whose standard
+  // error is the plain rate's (half the rows, sqrt 2 the error, halved); 4 of them.
+  const double sem = a.stages[0].area_loss_rate_rel_sem * plain_rate;
+  const double lost_plain = a.stages[0].lifter.area_m2 - a.stages[1].lifter.area_m2;
+  const double hours_s = (a.stages[1].hours - a.stages[0].hours) * kSecondsPerHour;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const double lost = b.stages[0].kinds[k].area_m2 - b.stages[1].kinds[k].area_m2;
+    EXPECT_NEAR(lost, lost_plain, 4.0 * sem * hours_s) << "kind " << k;
+  }
+}
+
+// A hi-lo liner on the lab mill: the high lifters take the charge's lift and lose more area
+// per hour than the low ones; each kind's life is reported.
+TEST(Pattern, HighLiftersWearFasterThanLowOnes) {
+  TempDir dir("hilo");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                      "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  const Scene s = load_scene(
+      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1)));
+  const WearHistory h = run_wear_history(s);
+  ASSERT_TRUE(h.failure.empty()) << h.failure;
+  const StageRecord& r = h.stages[0];
+  ASSERT_EQ(r.kind_area_loss_rate_m2_per_s.size(), 2u);
+  EXPECT_GT(r.kind_area_loss_rate_m2_per_s[0], r.kind_area_loss_rate_m2_per_s[1]);
+  EXPECT_GT(r.kinds[0].height_m, r.kinds[1].height_m);
+  ASSERT_EQ(h.kind_life_h.size(), 2u);
+  for (double life : h.kind_life_h) EXPECT_GT(life, 0.0);
+}
+
+// ---- run --continue --------------------------------------------------------------------
+
+std::string slurp(const fs::path& p) { return millwear::testing::read_text(p); }
+
+TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
+  TempDir dir("cont");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.file("lab4.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4));
+  std::string fast_text = lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4);
+  fast_text.replace(fast_text.find("speed = 0.75"), 12, "speed = 0.85");
+  const std::string fast = dir.file("lab4fast.toml", fast_text);
+  const fs::path first = dir.path() / "first", again = dir.path() / "again", faster = dir.path() / "faster";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(again) + " --continue " + quoted(first) + " --stage 2 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const std::string f : {"profiles/lab-mill_stage3.csv", "profiles/lab-mill_stage4.csv",
+                              "stages/lab-mill_stage3.units.csv", "stages/lab-mill_stage4.units.csv",
+                              "stages/lab-mill_stage3.edges.csv", "stages/lab-mill_stage4.charge.csv"}) {
+    ASSERT_TRUE(fs::exists(again / f)) << f;
+    EXPECT_EQ(slurp(first / f), slurp(again / f)) << f;
+  }
+  const auto m = nlohmann::json::parse(slurp(again / "manifest.json"));
+  EXPECT_EQ(m["designs"][0]["continued_from"]["stage"], 2);
+  EXPECT_TRUE(m["designs"][0]["continued_from"]["changes"].empty());
+
+  // A new speed: recorded, and the life counted from stage 2's hours.
+  r = run_millwear("run " + quoted(fast) + " -o " + quoted(faster) + " --continue " + quoted(first) + " --stage 2 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto f = nlohmann::json::parse(slurp(faster / "manifest.json"))["designs"][0];
+  bool speed_recorded = false;
+  for (const auto& c : f["continued_from"]["changes"])
+    speed_recorded = speed_recorded || c.get<std::string>().rfind("mill.speed_fraction_critical: 0.75 -> 0.85", 0) == 0;
+  EXPECT_TRUE(speed_recorded) << f["continued_from"].dump();
+  EXPECT_DOUBLE_EQ(f["continued_from"]["hours"].get<double>(), 200.0);
+  EXPECT_DOUBLE_EQ(f["life_from_hours"].get<double>(), 200.0);
+  EXPECT_NEAR(f["remaining_life_h"].get<double>(), f["life_h"].get<double>() - 200.0, 1e-9);
+  // Stages 0-2 are the first run's; stage 3 was worn at the new speed.
+  EXPECT_EQ(slurp(first / "profiles/lab-mill_stage2.csv"), slurp(faster / "profiles/lab-mill_stage2.csv"));
+  EXPECT_NE(slurp(first / "profiles/lab-mill_stage3.csv"), slurp(faster / "profiles/lab-mill_stage3.csv"));
+
+  // A stage the first run did not finish is refused (exit 2, naming --stage).
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "x") + " --continue " + quoted(first) +
+                   " --stage 7 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--stage"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace millwear
