@@ -19,9 +19,8 @@ constexpr double kLinerReachHeadroom = 1.5;
 constexpr double kRestMargins = 2.0;
 
 // The gap of a new disk-pair contact (all that the skip test of the passes reads).
-void add_pair_contact(const Disks& disks, PairSet& pairs, int i, int j) {
+void add_pair_contact(const Disks& disks, PairSet& pairs, std::size_t q, int i, int j) {
   const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
-  const std::size_t q = pairs.add();
   PairGap& g = pairs.gap[q];
   ContactKey& key = pairs.key[q];
   g.a = i;
@@ -63,8 +62,10 @@ void fit_liner_search(const Model& model, const LinerModel& liner, const StepBou
 // which holds every partner it can have. The pairs are then bucketed by their lower index
 // and each bucket sorted, so the list comes out in key order.
 void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
-                const StepBounds& bounds, PairSearch& search, PairSet& pairs) {
+                const StepBounds& bounds, PairSearch& search, PairSet& pairs,
+                Workers& workers) {
   using Candidate = PairSearch::Candidate;
+  constexpr std::size_t kPerRange = 1024;  // candidates (disks) per range of the scan
   pairs.clear();
   const int nx = grid.nx;
   const int* start = grid.start.data();
@@ -74,69 +75,100 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
   const double* margin = disks.margin.data();
   const int placed = grid.placed();
   search.candidates.resize(static_cast<std::size_t>(placed));
-  for (int k = 0; k < placed; ++k) {
-    const int j = grid.order[static_cast<std::size_t>(k)];
-    search.candidates[static_cast<std::size_t>(k)] = {x[j], y[j], r[j] + margin[j], j};
+  const int ranges = range_count(static_cast<std::size_t>(placed), kPerRange);
+  if (search.found_keys.size() < static_cast<std::size_t>(ranges)) {
+    search.found_keys.resize(static_cast<std::size_t>(ranges));
+    search.found.resize(static_cast<std::size_t>(ranges));
   }
+  workers.run(ranges, [&](int rg) {
+    const std::size_t k0 = static_cast<std::size_t>(rg) * kPerRange;
+    const std::size_t k1 = std::min(static_cast<std::size_t>(placed), k0 + kPerRange);
+    for (std::size_t k = k0; k < k1; ++k) {
+      const int j = grid.order[k];
+      search.candidates[k] = {x[j], y[j], r[j] + margin[j], j};
+    }
+  });
   const Candidate* cd = search.candidates.data();
   // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
   // the edge of the box from being lost to the rounding of the box.
   const double reach_max = model.r_max_m + bounds.margin_max_m + 1e-6 * model.r_min_m;
-  std::vector<std::uint64_t>& keys = search.found_keys;
-  std::size_t found = 0;
-  // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn, so
-  // every one is tested and stored, and only counted if it passes (room for a whole range
-  // is made first).
-  auto scan = [&](const Candidate& p, int k0, int k1) {
-    if (keys.size() < found + static_cast<std::size_t>(k1 - k0))
-      keys.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
-    std::uint64_t* out = keys.data();
-    for (int k = k0; k < k1; ++k) {
-      const Candidate& q = cd[k];
-      const double dx = p.x - q.x, dy = p.y - q.y;
-      // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever disk
-      // scans, so the pair set does not depend on the grid.
-      const double reach = p.reach + q.reach;
-      const bool p_low = p.j < q.j;
-      const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
-      const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
-      out[found] = (lo << 32) | hi;
-      found += dx * dx + dy * dy < reach * reach ? 1 : 0;
+  workers.run(ranges, [&](int rg) {
+    std::vector<std::uint64_t>& keys = search.found_keys[static_cast<std::size_t>(rg)];
+    std::size_t found = 0;
+    // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn,
+    // so every one is tested and stored, and only counted if it passes (room for a whole
+    // range is made first).
+    auto scan = [&](const Candidate& p, int k0, int k1) {
+      if (keys.size() < found + static_cast<std::size_t>(k1 - k0))
+        keys.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
+      std::uint64_t* out = keys.data();
+      for (int k = k0; k < k1; ++k) {
+        const Candidate& q = cd[k];
+        const double dx = p.x - q.x, dy = p.y - q.y;
+        // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever
+        // disk scans, so the pair set does not depend on the grid.
+        const double reach = p.reach + q.reach;
+        const bool p_low = p.j < q.j;
+        const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
+        const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
+        out[found] = (lo << 32) | hi;
+        found += dx * dx + dy * dy < reach * reach ? 1 : 0;
+      }
+    };
+    const int k_end = static_cast<int>(std::min(static_cast<std::size_t>(placed),
+                                                (static_cast<std::size_t>(rg) + 1) * kPerRange));
+    for (int k = rg * static_cast<int>(kPerRange); k < k_end; ++k) {
+      const Candidate& p = cd[k];
+      const double box = p.reach + reach_max;
+      const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
+      const int row = grid.row(p.y);
+      // The rest of this row: the disks after p in its own cell, then the cells to its right.
+      scan(p, k + 1, start[row * nx + x_hi + 1]);
+      for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
+        scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
     }
-  };
-  for (int k = 0; k < placed; ++k) {
-    const Candidate& p = cd[k];
-    const double box = p.reach + reach_max;
-    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
-    const int row = grid.row(p.y);
-    // The rest of this row: the disks after p in its own cell, then the cells to its right.
-    scan(p, k + 1, start[row * nx + x_hi + 1]);
-    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
-      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
-  }
+    search.found[static_cast<std::size_t>(rg)] = found;
+  });
   // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
   const auto n = static_cast<std::size_t>(disks.n);
   std::vector<int>& bucket = search.bucket_end;
   bucket.assign(n + 1, 0);
-  for (std::size_t t = 0; t < found; ++t) bucket[(keys[t] >> 32) + 1] += 1;
+  std::size_t total = 0;
+  for (int rg = 0; rg < ranges; ++rg) {
+    const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+    const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+    for (std::size_t t = 0; t < found; ++t) bucket[(keys[t] >> 32) + 1] += 1;
+    total += found;
+  }
   for (std::size_t i = 0; i < n; ++i) bucket[i + 1] += bucket[i];
-  if (search.upper.size() < found) search.upper.resize(keys.size());
-  for (std::size_t t = 0; t < found; ++t) {
-    const std::uint64_t key = keys[t];
-    const auto slot = static_cast<std::size_t>(bucket[key >> 32]++);
-    search.upper[slot] = static_cast<int>(key & 0xffffffffu);
+  if (search.upper.size() < total) search.upper.resize(2 * total);
+  for (int rg = 0; rg < ranges; ++rg) {
+    const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+    const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+    for (std::size_t t = 0; t < found; ++t) {
+      const std::uint64_t key = keys[t];
+      const auto slot = static_cast<std::size_t>(bucket[key >> 32]++);
+      search.upper[slot] = static_cast<int>(key & 0xffffffffu);
+    }
   }
-  // bucket[i] is now the end of bucket i, and the start of bucket i + 1.
+  // bucket[i] is now the end of bucket i, and the start of bucket i + 1; a pair's slot is
+  // its index in the key-ordered list.
+  pairs.resize(total);
   int* upper = search.upper.data();
-  int b0 = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int b1 = bucket[i];
-    // A handful per disk: insertion sort.
-    for (int p = b0 + 1; p < b1; ++p)
-      for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
-    for (int p = b0; p < b1; ++p) add_pair_contact(disks, pairs, static_cast<int>(i), upper[p]);
-    b0 = b1;
-  }
+  workers.run(range_count(n, kPerRange), [&](int rg) {
+    const std::size_t i0 = static_cast<std::size_t>(rg) * kPerRange;
+    const std::size_t i1 = std::min(n, i0 + kPerRange);
+    int b0 = i0 == 0 ? 0 : bucket[i0 - 1];
+    for (std::size_t i = i0; i < i1; ++i) {
+      const int b1 = bucket[i];
+      // A handful per disk: insertion sort.
+      for (int p = b0 + 1; p < b1; ++p)
+        for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
+      for (int p = b0; p < b1; ++p)
+        add_pair_contact(disks, pairs, static_cast<std::size_t>(p), static_cast<int>(i), upper[p]);
+      b0 = b1;
+    }
+  });
 }
 
 void find_liner_contacts(const Model& model, const LinerModel& liner,

@@ -15,6 +15,7 @@
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -27,7 +28,10 @@ struct PairSearch {
     int j;
   };
   std::vector<Candidate> candidates;
-  std::vector<std::uint64_t> found_keys;   // pairs as found (key: lower << 32 | upper)
+  // Pairs as found (key: lower << 32 | upper), per range of candidates, each range's at its
+  // high-water size.
+  std::vector<std::vector<std::uint64_t>> found_keys;
+  std::vector<std::size_t> found;
   std::vector<int> bucket_end, upper;      // the pairs bucketed by lower index
   void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
 };
@@ -46,8 +50,11 @@ void fit_liner_search(const Model& model, const LinerModel& liner, const StepBou
                       double mill_speed_rad_s, LinerSearch& search);
 
 // Pairs within the sum of their reaches (radius + margin), in key order, rows unbuilt.
+// The scan runs in ranges of candidates, each into its own list; the lists are bucketed by
+// lower disk and each bucket sorted, so the result is the same whoever found what.
 void find_pairs(const Model& model, const Disks& disks, const Grid& pair_grid,
-                const StepBounds& bounds, PairSearch& search, PairSet& pairs);
+                const StepBounds& bounds, PairSearch& search, PairSet& pairs,
+                Workers& workers);
 
 // Disk-liner contacts through the mill-frame lookup, rows built; the liner's velocity at
 // a contact is omega x r.
