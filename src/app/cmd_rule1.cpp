@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -19,12 +20,14 @@ struct Rule1Args {
   std::vector<double> factors;
   double tolerance_pct = 5.0;
   int stages = 1;
+  int threads = 0;
 };
 
 int run_rule1(const Rule1Args& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
+  scene.solver.threads = step_threads(a.threads);
   check_run_limits(scene, a.scene);  // before anything is filled or written
   std::vector<double> factors = a.factors;
   if (factors.empty()) {
@@ -60,6 +63,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(CLI::Range(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  add_threads_option(cmd, args->threads);
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }
 

@@ -65,6 +65,7 @@ int run_command(const RunArgs& args) {
   opt.resume = args.resume;
   opt.force = args.force;
   opt.jobs = args.jobs;
+  opt.threads = args.threads;
   opt.stop_after_stage = args.stop_after_stage;
   opt.stop_signal = &g_signal;
   opt.commit = MILLWEAR_COMMIT;
@@ -122,6 +123,10 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
       ->check(CLI::Range(1, 1024));
+  cmd->add_option("--threads", args->threads,
+                  "threads of each design's engine step (default: the cores the designs at once leave, "
+                  "at least 1; the results are the same bits for any count)")
+      ->check(CLI::Range(1, 256));
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));

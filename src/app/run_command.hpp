@@ -17,6 +17,7 @@ struct RunArgs {
   bool quiet = false;
   bool check = false;
   int jobs = 0;
+  int threads = 0;  // --threads: each design's engine step (0: the cores the designs leave)
   int stop_after_stage = -1;
 };
 

@@ -225,35 +225,68 @@ void find_liner_contacts(const Model& model, const LinerModel& liner,
   }
 }
 
-void match_warm_start(Contacts& contacts, Accounting& accounting) {
+void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& scratch,
+                      Workers& workers) {
+  constexpr std::size_t kPerRange = 2048;
   const bool spectrum = accounting.options.collision_spectrum;
   auto merge = [&](auto& now, const auto& old, bool events) {
-    std::size_t p = 0;
-    const std::size_t m = old.size();
-    for (std::size_t q = 0; q < now.size(); ++q) {
-      ContactKey& c = now.key[q];
-      while (p < m && old.key[p].key < c.key) {
-        if (events && old.key[p].event_J > 0.0)
-          account_collision_event(accounting, old.key[p].event_J);
-        ++p;
-      }
-      if (p < m && old.key[p].key == c.key) {
-        // Only a live row carries impulses (an unbuilt one stores none).
-        if (old.state[p] & kLive) {
-          auto& row = now.row[q];
-          const auto& prev = old.row[p];
-          row.ln = prev.ln;
-          row.lt = prev.lt;
-          row.lr = prev.lr;
-          now.state[q] |= kLive;
-        }
-        c.event_J = old.key[p].event_J;
-        ++p;
-      }
+    const std::size_t m = old.size(), count = now.size();
+    const int ranges = std::max(1, range_count(count, kPerRange));
+    if (scratch.ended.size() < static_cast<std::size_t>(ranges)) {
+      scratch.ended.resize(static_cast<std::size_t>(ranges));
+      scratch.count.resize(static_cast<std::size_t>(ranges));
     }
-    for (; p < m; ++p)
-      if (events && old.key[p].event_J > 0.0)
-        account_collision_event(accounting, old.key[p].event_J);
+    // Where this step's key k falls in last step's list (the first old key not below it).
+    auto old_from = [&](std::size_t q) -> std::size_t {
+      if (q >= count) return m;
+      const std::uint64_t k = now.key[q].key;
+      std::size_t lo = 0, hi = m;
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (old.key[mid].key < k) lo = mid + 1; else hi = mid;
+      }
+      return lo;
+    };
+    workers.run(ranges, [&](int r) {
+      const std::size_t q0 = static_cast<std::size_t>(r) * kPerRange;
+      const std::size_t q1 = std::min(count, q0 + kPerRange);
+      // The first range also takes the old keys below this step's first; the last, those
+      // above its last.
+      std::size_t p = r == 0 ? 0 : old_from(q0);
+      const std::size_t p_end = r == ranges - 1 ? m : old_from(q1);
+      std::vector<double>& ended = scratch.ended[static_cast<std::size_t>(r)];
+      std::size_t ended_n = 0;
+      auto end_event = [&](double energy_J) {
+        if (ended_n == ended.size()) ended.resize(2 * ended_n + 16);
+        ended[ended_n++] = energy_J;
+      };
+      for (std::size_t q = q0; q < q1; ++q) {
+        ContactKey& c = now.key[q];
+        while (p < p_end && old.key[p].key < c.key) {
+          if (events && old.key[p].event_J > 0.0) end_event(old.key[p].event_J);
+          ++p;
+        }
+        if (p < p_end && old.key[p].key == c.key) {
+          // Only a live row carries impulses (an unbuilt one stores none).
+          if (old.state[p] & kLive) {
+            auto& row = now.row[q];
+            const auto& prev = old.row[p];
+            row.ln = prev.ln;
+            row.lt = prev.lt;
+            row.lr = prev.lr;
+            now.state[q] |= kLive;
+          }
+          c.event_J = old.key[p].event_J;
+          ++p;
+        }
+      }
+      for (; p < p_end; ++p)
+        if (events && old.key[p].event_J > 0.0) end_event(old.key[p].event_J);
+      scratch.count[static_cast<std::size_t>(r)] = ended_n;
+    });
+    for (int r = 0; r < ranges; ++r)
+      for (std::size_t e = 0; e < scratch.count[static_cast<std::size_t>(r)]; ++e)
+        account_collision_event(accounting, scratch.ended[static_cast<std::size_t>(r)][e]);
   };
   merge(contacts.pairs, contacts.pairs_old, spectrum);
   merge(contacts.liner, contacts.liner_old, false);

@@ -62,9 +62,18 @@ void find_liner_contacts(const Model& model, const LinerModel& liner,
                          const LinerSearch& search, const Disks& disks,
                          double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts);
 
-// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists).
+// Scratch of the matching: per range, the collision events that ended (energies, in key
+// order), booked after the ranges ran in range order.
+struct MatchScratch {
+  std::vector<std::vector<double>> ended;
+  std::vector<std::size_t> count;
+};
+
+// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists,
+// in ranges of this step's list, each starting where its first key falls in last step's).
 // A disk-pair contact that ended closes its collision event for the spectrum.
-void match_warm_start(Contacts& contacts, Accounting& accounting);
+void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& scratch,
+                      Workers& workers);
 
 // Everything of a disk-pair row beyond its gap, from the state at the start of the step
 // (positions and velocities of StepStart; masses and materials do not change within a

@@ -75,6 +75,7 @@ class SoftEngine final : public Engine {
   PairSearch pair_search_;
   LinerSearch liner_search_;
   SolverRows rows_;
+  MatchScratch match_;
   FinishScratch finish_;
   Workers workers_;
 };
@@ -123,7 +124,7 @@ void SoftEngine::step_once() {
   const StepBounds bounds = update_margins(model_, disks_, broad_, workers_);
   if (reorder_due(accounting_.steps, disks_))
     reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
-  record_step_start(model_, disks_, start_);
+  record_step_start(model_, disks_, start_, workers_);
   build_pair_grid(model_, bounds, disks_, broad_);
   timing_.broad_s += watch.lap();
 
@@ -131,7 +132,7 @@ void SoftEngine::step_once() {
   find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs, workers_);
   find_liner_contacts(model_, liner_, liner_search_, disks_, charge_.mill_angle_rad, omega,
                       contacts_.liner);
-  match_warm_start(contacts_, accounting_);
+  match_warm_start(contacts_, accounting_, match_, workers_);
   timing_.collide_s += watch.lap();
 
   const double h = model_.substep_s;
