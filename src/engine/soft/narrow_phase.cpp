@@ -171,30 +171,60 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
   });
 }
 
-void find_liner_contacts(const Model& model, const LinerModel& liner,
-                         const LinerSearch& search, const Disks& disks,
-                         double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts) {
-  contacts.clear();
+void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearch& search,
+                         const Disks& disks, double mill_angle_rad, double mill_speed_rad_s,
+                         LinerSet& contacts, Workers& workers) {
+  constexpr std::size_t kPerRange = 1024;  // disks per range
   const double omega = mill_speed_rad_s;
   const double cs = std::cos(mill_angle_rad), sn = std::sin(mill_angle_rad);
   const double liner_travel = std::fabs(omega) * liner.max_r_m * model.dt_s;
   const Materials& mat = model.materials;
-  LinerHit hits[kMaxLinerHits];
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks.active[k]) continue;
-    const double margin = disks.margin[k] + liner_travel;
-    const double r = disks.radius[k];
-    const double x = disks.x[k], y = disks.y[k];
-    // Into the mill frame (rotate by -theta).
-    const Vec2 pm{cs * x + sn * y, -sn * x + cs * y};
-    if (!search.lookup.may_touch(pm, r + margin)) continue;
-    const int count = search.lookup.query(pm, r, margin, hits, kMaxLinerHits);
-    const Body& A = disks.body[k];
-    const std::uint8_t sp = disks.species[k];
-    for (int h = 0; h < count; ++h) {
-      const LinerHit& hit = hits[h];
-      const std::size_t q = contacts.add();
+  const auto n = static_cast<std::size_t>(disks.n);
+  const int ranges = range_count(n, kPerRange);
+  if (search.found.size() < static_cast<std::size_t>(ranges)) {
+    search.found.resize(static_cast<std::size_t>(ranges));
+    search.count.resize(static_cast<std::size_t>(ranges));
+    search.offset.resize(static_cast<std::size_t>(ranges));
+  }
+  // The hits of each range of disks.
+  workers.run(ranges, [&](int r) {
+    std::vector<LinerSearch::Found>& found = search.found[static_cast<std::size_t>(r)];
+    std::size_t count = 0;
+    LinerHit hits[kMaxLinerHits];
+    const std::size_t k0 = static_cast<std::size_t>(r) * kPerRange, k1 = std::min(n, k0 + kPerRange);
+    for (std::size_t k = k0; k < k1; ++k) {
+      if (!disks.active[k]) continue;
+      const double margin = disks.margin[k] + liner_travel;
+      const double rad = disks.radius[k];
+      const double x = disks.x[k], y = disks.y[k];
+      // Into the mill frame (rotate by -theta).
+      const Vec2 pm{cs * x + sn * y, -sn * x + cs * y};
+      if (!search.lookup.may_touch(pm, rad + margin)) continue;
+      const int hit_n = search.lookup.query(pm, rad, margin, hits, kMaxLinerHits);
+      if (found.size() < count + static_cast<std::size_t>(hit_n)) found.resize(2 * (count + static_cast<std::size_t>(kMaxLinerHits)));
+      for (int h = 0; h < hit_n; ++h) found[count++] = {static_cast<int>(k), hits[h]};
+    }
+    search.count[static_cast<std::size_t>(r)] = count;
+  });
+  std::size_t total = 0;
+  for (int r = 0; r < ranges; ++r) {
+    search.offset[static_cast<std::size_t>(r)] = total;
+    total += search.count[static_cast<std::size_t>(r)];
+  }
+  contacts.resize(total);
+  // The contacts, in disk order (each range at its offset).
+  workers.run(ranges, [&](int r) {
+    const LinerSearch::Found* found = search.found[static_cast<std::size_t>(r)].data();
+    const std::size_t count = search.count[static_cast<std::size_t>(r)];
+    std::size_t q = search.offset[static_cast<std::size_t>(r)];
+    for (std::size_t t = 0; t < count; ++t, ++q) {
+      const int i = found[t].disk;
+      const LinerHit& hit = found[t].hit;
+      const auto k = static_cast<std::size_t>(i);
+      const double rad = disks.radius[k];
+      const double x = disks.x[k], y = disks.y[k];
+      const Body& A = disks.body[k];
+      const std::uint8_t sp = disks.species[k];
       LinerGap& g = contacts.gap[q];
       LinerRow& c = contacts.row[q];
       ContactInfo& info = contacts.info[q];
@@ -208,7 +238,7 @@ void find_liner_contacts(const Model& model, const LinerModel& liner,
       g.nx = cs * hit.normal.x - sn * hit.normal.y;  // back to the world frame
       g.ny = sn * hit.normal.x + cs * hit.normal.y;
       g.s0 = hit.gap;
-      c.alpha = r + 0.5 * g.s0;
+      c.alpha = rad + 0.5 * g.s0;
       info.px = x - c.alpha * g.nx;
       info.py = y - c.alpha * g.ny;
       g.vlx = -omega * info.py;
@@ -219,10 +249,10 @@ void find_liner_contacts(const Model& model, const LinerModel& liner,
       c.mr = A.ii > 0.0 ? 1.0 / A.ii : 0.0;
       c.mu = mat.liner_friction[sp];
       info.e = mat.liner_restitution[sp];
-      c.lever = mat.rolling[sp] * r;
+      c.lever = mat.rolling[sp] * rad;
       info.vn0 = (A.vx - g.vlx) * g.nx + (A.vy - g.vly) * g.ny;
     }
-  }
+  });
 }
 
 void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& scratch,

@@ -36,10 +36,17 @@ struct PairSearch {
   void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
 };
 
-// The liner's angle-bin lookup and the reach it must cover.
+// The liner's angle-bin lookup and the reach it must cover, and the hits of each range of
+// disks (the search runs in ranges; the contacts are then written in disk order).
 struct LinerSearch {
   LinerLookup lookup;
   double reach_needed_m = 0.0;  // grown (never shrunk) when a fast disk needed more
+  struct Found {
+    int disk;
+    LinerHit hit;
+  };
+  std::vector<std::vector<Found>> found;  // per range, at its high-water size
+  std::vector<std::size_t> count, offset;
 };
 
 // After set_liner: bins for the reach of the largest disk at rest, or more if a step
@@ -58,9 +65,9 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& pair_grid,
 
 // Disk-liner contacts through the mill-frame lookup, rows built; the liner's velocity at
 // a contact is omega x r.
-void find_liner_contacts(const Model& model, const LinerModel& liner,
-                         const LinerSearch& search, const Disks& disks,
-                         double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts);
+void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearch& search,
+                         const Disks& disks, double mill_angle_rad, double mill_speed_rad_s,
+                         LinerSet& contacts, Workers& workers);
 
 // Scratch of the matching: per range, the collision events that ended (energies, in key
 // order), booked after the ranges ran in range order.

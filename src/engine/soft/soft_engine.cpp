@@ -131,7 +131,7 @@ void SoftEngine::step_once() {
   fit_liner_search(model_, liner_, bounds, omega, liner_search_);
   find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs, workers_);
   find_liner_contacts(model_, liner_, liner_search_, disks_, charge_.mill_angle_rad, omega,
-                      contacts_.liner);
+                      contacts_.liner, workers_);
   match_warm_start(contacts_, accounting_, match_, workers_);
   timing_.collide_s += watch.lap();
 
