@@ -13,11 +13,11 @@
 //   build/bench_backends --compare scene.toml [revolutions] [batches] [box2d|soft]
 //     Runs a scene on both backends and prints power, torque arm, toe and shoulder, energy
 //     shares and the lifter shear work, each with its batch-means standard error.
-//   build/bench_backends --snapshot [rest-]1k|3k|10k|eq1k|eq3k|eq10k FILE
+//   build/bench_backends --snapshot [rest-]1k|3k|10k|eq1k|eq3k|eq10k|eq30k|eq100k FILE [--threads N]
 //     Settles and spins up the probe scene on the soft backend and writes the charge state
 //     (exact bits) to FILE, so a profiler can start from a running mill; eq*: the
 //     --equal-size mills; rest-: the mill at rest (the settled bed).
-//   build/bench_backends --run FILE steps [box2d|soft]
+//   build/bench_backends --run FILE steps [box2d|soft] [--threads N]
 //     Loads a snapshot, runs that many steps and prints a fingerprint (a hash of the final
 //     state and of the accounting sums; equal fingerprints = bit-identical results) and the
 //     rate. Short and repeatable: the target for valgrind --tool=callgrind and perf stat.
@@ -40,6 +40,8 @@
 using namespace millwear;
 
 namespace {
+
+int g_threads = 1;  // --threads
 
 // CPU time of this thread: on a shared machine the wall clock counts the time other jobs
 // hold the core; the CPU time is what one core gives this run.
@@ -148,6 +150,7 @@ Scene equal_size_scene(double k) {
   scene.mill.diameter_m *= k;
   scene.mill.rows = static_cast<int>(std::lround(24 * k));
   scene.solver.backend = Backend::Soft;
+  scene.solver.threads = g_threads;
   return scene;
 }
 
@@ -274,12 +277,15 @@ SnapshotScene snapshot_scene(const std::string& size) {
   if (size == "eq1k") return {0.0287, 1.0};
   if (size == "eq3k") return {0.0287, std::sqrt(3.0)};
   if (size == "eq10k") return {0.0287, std::sqrt(10.0)};
-  std::fprintf(stderr, "size must be 1k, 3k, 10k, eq1k, eq3k or eq10k\n");
+  if (size == "eq30k") return {0.0287, std::sqrt(30.0)};
+  if (size == "eq100k") return {0.0287, 10.0};
+  std::fprintf(stderr, "size must be 1k, 3k, 10k, eq1k, eq3k, eq10k, eq30k or eq100k\n");
   std::exit(2);
 }
 Scene scene_of(const SnapshotScene& at) {
   Scene scene = at.mill_scale == 1.0 ? probe_scene(at.radius_m) : equal_size_scene(at.mill_scale);
   scene.solver.backend = Backend::Soft;
+  scene.solver.threads = g_threads;
   return scene;
 }
 
@@ -384,6 +390,15 @@ int run_snapshot(const std::string& path, int steps, const char* backend) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // --threads N anywhere: the threads of one soft engine's step (default 1).
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::strcmp(argv[i], "--threads") != 0) continue;
+    g_threads = std::atoi(argv[i + 1]);
+    if (g_threads < 1) { std::fprintf(stderr, "--threads must be at least 1\n"); return 2; }
+    for (int j = i; j + 2 < argc; ++j) argv[j] = argv[j + 2];
+    argc -= 2;
+    break;
+  }
   if (argc > 3 && std::strcmp(argv[1], "--snapshot") == 0) return snapshot(argv[2], argv[3]);
   if (argc > 3 && std::strcmp(argv[1], "--run") == 0)
     return run_snapshot(argv[2], std::atoi(argv[3]), argc > 4 ? argv[4] : nullptr);

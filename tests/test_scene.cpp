@@ -382,6 +382,48 @@ TEST_F(SceneUnits, SizeCutoffDropsSmallRockSizesOnly) {
   EXPECT_DOUBLE_EQ(s.smallest_particle_radius_m(), 0.010);
 }
 
+TEST_F(SceneUnits, GatesGaudinSchuhmannGivesEachClassItsShareOfThePassingCurve) {
+  const Scene s = load_scene(scene_with("sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]",
+                                        "sizes = [20.0, 10.0, 5.0]\ndistribution = \"gates-gaudin-schuhmann\"\n"
+                                        "top_size = 40.0\nexponent = 0.5"));
+  // P(d) = sqrt(d / 40); classes split at sqrt(20 x 10) and sqrt(10 x 5); below 5 mm left out.
+  auto p = [](double d) { return std::sqrt(d / 40.0); };
+  const double b1 = std::sqrt(200.0), b2 = std::sqrt(50.0);
+  const double total = 1.0 - p(5.0);
+  const auto& f = s.charge.species[1].mass_fractions;
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_NEAR(f[0], (1.0 - p(b1)) / total, 1e-12);
+  EXPECT_NEAR(f[1], (p(b1) - p(b2)) / total, 1e-12);
+  EXPECT_NEAR(f[2], (p(b2) - p(5.0)) / total, 1e-12);
+}
+
+TEST_F(SceneUnits, RosinRammlerGivesEachClassItsShareOfThePassingCurve) {
+  const Scene s = load_scene(scene_with("sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]",
+                                        "sizes = [5.0, 20.0]\ndistribution = \"rosin-rammler\"\n"
+                                        "size_63 = 12.0\nexponent = 1.2"));
+  auto p = [](double d) { return 1.0 - std::exp(-std::pow(d / 12.0, 1.2)); };
+  const double b = std::sqrt(100.0);
+  const double total = 1.0 - p(5.0);
+  const auto& f = s.charge.species[1].mass_fractions;
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_NEAR(f[0], (p(b) - p(5.0)) / total, 1e-12);  // in the order the sizes are given
+  EXPECT_NEAR(f[1], (1.0 - p(b)) / total, 1e-12);
+}
+
+TEST_F(SceneUnits, ADistributionNeedsItsScaleAndNoListedFractions) {
+  const std::string base = "sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]";
+  std::string f = scene_with(base, "sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]\n"
+                                   "distribution = \"rosin-rammler\"\nsize_63 = 12.0\nexponent = 1.0");
+  expect_names(load_error(f), f, "charge.species[1].mass_fractions");
+  f = scene_with(base, "sizes = [10.0, 20.0]\ndistribution = \"gates-gaudin-schuhmann\"\n"
+                       "top_size = 15.0\nexponent = 0.8");
+  expect_names(load_error(f), f, "charge.species[1].top_size");
+  f = scene_with(base, "sizes = [10.0, 20.0]\ndistribution = \"gates-gaudin-schuhmann\"\nexponent = 0.8");
+  expect_names(load_error(f), f, "charge.species[1].top_size");
+  f = scene_with(base, "sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]\nexponent = 0.8");
+  expect_names(load_error(f), f, "charge.species[1].exponent");
+}
+
 // ---------------------------------------------------------------------------------------
 // Fidelity presets
 // ---------------------------------------------------------------------------------------

@@ -184,5 +184,21 @@ TEST(TradeoffCli, BadSceneIsExitTwoAndWritesNothing) {
   EXPECT_FALSE(std::ifstream(out + "/tradeoff.csv").good());
 }
 
+TEST(TradeoffLadder, AFineChargeLaddersTheFiftyMillimetreCutOff) {
+  const Scene fine = load_scene(source_path("scenarios/sag-2x30-fine.toml"));
+  TradeoffOptions o;
+  o.stages = 2;
+  std::set<std::string> cuts;
+  for (const auto& s : tradeoff_ladder(fine, o).settings)
+    if (s.knob == "size_cutoff") cuts.insert(s.label);
+  // Rocks from 25 mm: 1.25 and 1.5 x the smallest, and 50 mm (25 mm would cut nothing).
+  EXPECT_EQ(cuts, (std::set<std::string>{"size_cutoff=31.25mm", "size_cutoff=37.5mm", "size_cutoff=50mm"}));
+  // The default comparison's rocks start at 100 mm: no absolute rows there.
+  std::set<std::string> coarse;
+  for (const auto& s : tradeoff_ladder(load_scene(source_path("scenarios/sag-2x30.toml")), o).settings)
+    if (s.knob == "size_cutoff") coarse.insert(s.label);
+  EXPECT_EQ(coarse, (std::set<std::string>{"size_cutoff=125mm", "size_cutoff=150mm"}));
+}
+
 }  // namespace
 }  // namespace millwear

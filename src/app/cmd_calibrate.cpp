@@ -9,6 +9,7 @@
 
 #include <cstdio>
 
+#include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
@@ -21,10 +22,12 @@ namespace {
 struct CalibrateArgs {
   validation::CalibrateRequest request;
   double tolerance_pct = 1.0;
+  int threads = 0;
 };
 
 int run_calibrate(CalibrateArgs a) {
   a.request.options.rel_tol = a.tolerance_pct / 100.0;
+  a.request.threads = step_threads(a.threads);
   validation::CalibrateCallbacks cb;
   bool areas = false;
   cb.on_start = [&](const Scene& scene, const validation::Measurements& m, const validation::CalibrationOptions& o) {
@@ -86,6 +89,7 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", r.out, "output folder (default: the calibrated scene goes next to SCENE)")
       ->check(output_folder());
   cmd->add_option("--fidelity", r.fidelity, "draft | standard | reference");
+  add_threads_option(cmd, args->threads);
   cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));
   cmd->add_option("--min-runs", r.options.min_runs,
                   "wear histories at least (default 2); every history after the first is an estimate, and C is "

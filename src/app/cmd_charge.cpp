@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
@@ -27,12 +28,14 @@ struct ChargeArgs {
   std::string fidelity;
   double revolutions = 0.0;
   bool quiet = false;
+  int threads = 0;
 };
 
 int run_charge(const ChargeArgs& args) {
   Scene scene = load_scene(args.scene);
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
+  scene.solver.threads = step_threads(args.threads);
   check_run_limits(scene, args.scene);
   const io::FolderLock lock(args.out);  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
@@ -89,6 +92,7 @@ void register_charge(CLI::App& app, Action* action) {
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  add_threads_option(cmd, args->threads);
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
       ->check(CLI::Range(1e-6, 1e4));
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });

@@ -2,12 +2,14 @@
 // each factor replicated over seeds so that a deviation is told from seed-to-seed noise.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
+#include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -27,12 +29,18 @@ struct Rule1Args {
   int stages = 1;
   int replicates = 4;
   int jobs = 0;
+  int threads = 0;
 };
 
 int run_rule1(const Rule1Args& a) {
   Scene scene = load_scene(a.scene);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
+  // The histories run side by side on the cores; each step gets the cores they leave.
+  const int cores = step_threads(0);
+  const int factors_given = a.factors.empty() ? 4 : static_cast<int>(a.factors.size());
+  const int at_once = std::min(a.jobs > 0 ? a.jobs : cores, factors_given * a.replicates);
+  scene.solver.threads = a.threads > 0 ? a.threads : std::max(1, cores / std::max(1, at_once));
   check_run_limits(scene, a.scene);  // before anything is filled or written
   Rule1Options opt;
   opt.factors = a.factors;
@@ -118,6 +126,10 @@ void register_rule1(CLI::App& app, Action* action) {
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("-j,--jobs", args->jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->add_option("--threads", args->threads,
+                  "threads of each history's engine step (default: the cores the histories at once leave, at "
+                  "least 1; the results are the same bits for any count)")
+      ->check(CLI::Range(1, 256));
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }
 

@@ -88,6 +88,7 @@ int run_command(const RunArgs& args) {
   opt.resume = args.resume;
   opt.force = args.force;
   opt.jobs = args.jobs;
+  opt.threads = args.threads;
   opt.stop_after_stage = args.stop_after_stage;
   opt.stop_signal = &g_signal;
   opt.commit = MILLWEAR_COMMIT;
@@ -162,6 +163,10 @@ void register_run(CLI::App& app, Action* action) {
                                     "with --continue: the stage to go on from (default: each design's last)")
                         ->check(CLI::Range(0, 10000));
   stage_opt->needs("--continue");
+  cmd->add_option("--threads", args->threads,
+                  "threads of each design's engine step (default: the cores the designs at once leave, "
+                  "at least 1; the results are the same bits for any count)")
+      ->check(CLI::Range(1, 256));
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 
+#include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
@@ -82,6 +83,7 @@ int run_validate(const validation::ValidateRequest& a) {
 
 void register_validate(CLI::App& app, Action* action) {
   auto args = std::make_shared<validation::ValidateRequest>();
+  args->threads = 0;  // not given: every core
   CLI::App* cmd = app.add_subcommand(
       "validate", "Compare measured lifter profiles or areas with the simulated wear history (paper Fig. 4)");
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required()->check(CLI::ExistingFile);
@@ -92,10 +94,20 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->add_option("--threads", args->threads,
+                  "threads of the soft engine's step (default: the hardware's cores; the results are "
+                  "the same bits for any count)")
+      ->check(CLI::Range(1, 256));
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: normal distances (mm, % of the lifter height) and area error per survey.\n"
               "Areas only: area and area-loss error per row (simulated - measured).");
-  cmd->callback([args, action] { *action = [args] { return run_validate(*args); }; });
+  cmd->callback([args, action] {
+    *action = [args] {
+      validation::ValidateRequest request = *args;
+      request.threads = step_threads(request.threads);
+      return run_validate(request);
+    };
+  });
 }
 
 }  // namespace millwear::app

@@ -9,6 +9,27 @@
 
 namespace millwear {
 
+std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
+                                                double scale_m, double exponent) {
+  auto passing = [&](double d) {
+    if (form == SizeForm::GatesGaudinSchuhmann) return d >= scale_m ? 1.0 : std::pow(d / scale_m, exponent);
+    return 1.0 - std::exp(-std::pow(d / scale_m, exponent));
+  };
+  std::vector<double> sorted = sizes_m;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<double> out(sizes_m.size(), 0.0);
+  double total = 0.0;
+  for (std::size_t i = 0; i < sizes_m.size(); ++i) {
+    const auto at = static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), sizes_m[i]) - sorted.begin());
+    const double lower = at == 0 ? sorted[0] : std::sqrt(sorted[at - 1] * sorted[at]);
+    const double upper_p = at + 1 == sorted.size() ? 1.0 : passing(std::sqrt(sorted[at] * sorted[at + 1]));
+    out[i] = upper_p - passing(lower);
+    total += out[i];
+  }
+  for (double& f : out) f /= total;
+  return out;
+}
+
 double species_area_m2(const Scene& scene, std::size_t k) {
   const ChargeDef& c = scene.charge;
   const double mill_area_m2 = kPi * scene.radius_m() * scene.radius_m();

@@ -14,6 +14,18 @@
 
 namespace millwear {
 
+// A rock size distribution given by its cumulative mass passing P(d):
+//   Gates-Gaudin-Schuhmann  P(d) = (d / d_top)^m            (d <= d_top; 1 above)
+//   Rosin-Rammler           P(d) = 1 - exp(-(d / d_63)^m)   (d_63: 63.2% passing)
+// Each listed size stands for the class between the geometric means with its neighbours
+// among the listed sizes; the largest class reaches up to every size (P = 1), the smallest
+// down to its own size (what is finer is left out of the slice, as with a cut-off). The
+// classes' masses, P(upper) - P(lower), normalised to sum to 1, are the mass fractions, in
+// the order the sizes are given.
+enum class SizeForm { GatesGaudinSchuhmann, RosinRammler };
+std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
+                                                double scale_m, double exponent);
+
 // Solid area (m^2 of the slice) species k of scene.species_as_placed() is to fill.
 double species_area_m2(const Scene& scene, std::size_t k);
 

@@ -20,6 +20,7 @@
 #include "common/errors.hpp"
 #include "common/names.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/filling.hpp"
 #include "scene/table_reader.hpp"
 
 namespace millwear {
@@ -235,10 +236,37 @@ SpeciesDef read_species(const TableReader& r) {
     r.fail("size_range", "only one of 'sizes' (with mass_fractions) and 'size_range'");
   if (!r.has("sizes") && !r.has("size_range"))
     r.missing("sizes", "'sizes' (mm, with 'mass_fractions') or 'size_range' = [min, max] (mm)");
+  if (!r.has("distribution"))
+    for (const char* key : {"top_size", "size_63", "exponent"})
+      if (r.has(key)) r.fail(key, "only with 'distribution' (gates-gaudin-schuhmann or rosin-rammler)");
   // 0.1 mm: fine rock; below it a charge would hold far more disks than any run can take.
   if (auto sizes = r.numbers("sizes", closed(0.1, 20000.0), "mm, diameters", 1)) {
     for (double d : *sizes) sp.diameters_m.push_back(d * kMm);
-    if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
+    if (r.has("distribution")) {
+      // A size distribution's form gives the fractions (filling.hpp).
+      if (r.has("mass_fractions"))
+        r.fail("mass_fractions", "only one of 'mass_fractions' and 'distribution'");
+      const auto form = *r.choice("distribution", {"gates-gaudin-schuhmann", "rosin-rammler"});
+      const bool ggs = form == 0;
+      const char* scale_key = ggs ? "top_size" : "size_63";
+      const char* other_key = ggs ? "size_63" : "top_size";
+      if (r.has(other_key))
+        r.fail(other_key, std::string("'") + scale_key + "' with distribution = \"" +
+                              (ggs ? "gates-gaudin-schuhmann" : "rosin-rammler") + "\"");
+      const double scale_mm = r.need_number(scale_key, closed(0.1, 20000.0),
+                                            ggs ? "mm, the size all rock passes" : "mm, 63.2% passing");
+      // 0.1-5: measured mill feeds and products lie within 0.5-1.5 (both forms).
+      const double exponent = r.need_number("exponent", closed(0.1, 5.0), "distribution modulus");
+      double largest = 0.0;
+      for (double d : *sizes) largest = std::max(largest, d);
+      if (ggs && largest > scale_mm)
+        r.fail("top_size", "a top size at least the largest of 'sizes' (" + num_text(largest) + " mm)");
+      for (std::size_t i = 0; i < sizes->size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if ((*sizes)[i] == (*sizes)[j]) r.fail("sizes", "distinct sizes with 'distribution'");
+      sp.mass_fractions = distribution_mass_fractions(
+          ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent);
+    } else if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
       if (f->size() != sizes->size())
         r.fail("mass_fractions", "one fraction per size (" + std::to_string(sizes->size()) + ")");
       double sum = 0.0;
@@ -255,6 +283,8 @@ SpeciesDef read_species(const TableReader& r) {
   } else {
     if (r.has("mass_fractions"))
       r.fail("mass_fractions", "no mass_fractions with size_range (they go with 'sizes')");
+    if (r.has("distribution"))
+      r.fail("distribution", "a distribution with 'sizes' (its classes), not with 'size_range'");
     const auto range = *r.numbers("size_range", closed(0.1, 20000.0), "mm, diameters", 2);
     if (range.size() != 2 || !(range[0] < range[1]))
       r.fail("size_range", "[min, max] with 0 < min < max (mm)");
@@ -289,8 +319,9 @@ void read_charge(const TableReader& r, Scene& s, const std::string& file) {
     if (!n.is_table())
       throw InputError(file, prefix, "expected a table [[charge.species]], " + got_text(n) + line_text(n));
     TableReader sr(*n.as_table(), prefix, file, &s.explicit_keys,
-                   {"name", "ball", "density", "sizes", "mass_fractions", "size_range", "friction",
-                    "restitution", "friction_liner", "restitution_liner", "rolling_resistance"});
+                   {"name", "ball", "density", "sizes", "mass_fractions", "size_range", "distribution",
+                    "top_size", "size_63", "exponent", "friction", "restitution", "friction_liner",
+                    "restitution_liner", "rolling_resistance"});
     c.species.push_back(read_species(sr));
     for (std::size_t j = 0; j + 1 < c.species.size(); ++j)
       if (c.species[j].name == c.species.back().name)

@@ -81,6 +81,9 @@ struct SolverDef {
   double spinup_revolutions = 1.0;   // turning before anything is measured
   std::uint64_t seed = 1;
   double size_cutoff_m = 0.0;        // drop rock sizes below this (0: keep all)
+  // Threads of one soft engine's step (not read from scene files: the command line's
+  // --threads sets it). The results do not depend on it, bit for bit.
+  int threads = 1;
 };
 
 enum class WearMode { Staged, Continuous };

@@ -53,6 +53,8 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
     opt.resume = true;
     opt.lock_folder = false;  // held above
     opt.jobs = 1;
+    // One thread per task: the pool (or GNU parallel, or Slurm) already runs a task per core.
+    opt.threads = 1;
     opt.stop_signal = options.stop_signal;
     opt.commit = options.commit;
     const study::RunOutcome r = study::run_designs(state, opt);

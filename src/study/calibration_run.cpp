@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallbacks& cb) {
   Scene scene = load_scene(a.scene_file);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
+  scene.solver.threads = a.threads;
   check_run_limits(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
   bool worn = false;

@@ -22,6 +22,7 @@ struct CalibrateRequest {
   std::string scene_file, measured_file;
   std::string out;               // "": the copy goes next to the scene, no tables
   std::string fidelity;          // "": the scene's own
+  int threads = 1;               // threads of the engine's step (results do not depend on it)
   CalibrationOptions options;    // min_runs is capped at max_runs
 };
 

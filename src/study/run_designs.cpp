@@ -217,7 +217,9 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
         history.wear_rate_m3_per_J = d.scene.wear.wear_rate_m3_per_J;
       compute_life(history, d.scene.wear.replacement_height_m);
     } else {
-      history = run_wear_history(d.scene, cb, resume_from);
+      Scene scene = d.scene;
+      scene.solver.threads = ctx.engine_threads;
+      history = run_wear_history(scene, cb, resume_from);
     }
     have = true;
     // Stopped by rule 1 or a lost disk: the finished stages stay, the design failed.
@@ -369,6 +371,8 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   for (std::size_t i = 0; i < plan.designs.size(); ++i) ctx.designs.push_back(std::make_unique<DesignState>());
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : hw, plan.designs.size()));
+  // The cores the designs at once leave go to their steps (bit-identical for any count).
+  ctx.engine_threads = opt.threads > 0 ? opt.threads : std::max(1, static_cast<int>(hw) / std::max(1, ctx.jobs));
 
   // One run per folder, for the whole run: a second one is refused here, before it reads
   // or deletes anything.

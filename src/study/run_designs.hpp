@@ -56,6 +56,9 @@ struct RunOptions {
   // Hold OUT's lock (io/folder_lock.hpp) for the whole run; false when the caller holds it.
   bool lock_folder = true;
   int jobs = 0;                         // designs at once (0: the hardware's cores)
+  // Threads of each design's engine step (0: the cores the designs at once leave, shared
+  // out: cores / jobs, at least 1). The results do not depend on it.
+  int threads = 0;
   int stop_after_stage = -1;            // >= 0: stop cleanly after that stage, as if interrupted
   const std::atomic<int>* stop_signal = nullptr;  // non-zero: stop at the next window (a signal number)
   bool figures = true;                  // render the figures at the end
@@ -73,6 +76,7 @@ struct RunState {
   std::string started_text;
   Clock::time_point t0 = Clock::now();
   int jobs = 1;
+  int engine_threads = 1;  // threads of each design's engine step
   bool resumed = false;
   std::map<std::string, std::vector<std::string>> copied;  // design -> inputs/ names
   std::set<std::string> written;  // files of the run, relative to OUT (the manifest's list)

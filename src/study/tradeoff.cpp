@@ -200,7 +200,9 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     knob("factor", {"wear.factor"}, {factor_value(draft.factor), factor_value(reference.factor)});
   }
   // Size cut-off: relative to the smallest rock, as an absolute size means nothing across
-  // scenes. Only values that keep part of every rock species of every design are laddered.
+  // scenes; and, for a fine charge (rocks finer than 50 mm, e.g. a size distribution down to
+  // 25 mm), the cut-offs 25 and 50 mm that SAG scenes use. Only values that cut something and
+  // keep part of every rock species of every design are laddered.
   {
     double smallest_rock = INFINITY, largest_rock_min = INFINITY;
     for (const Scene& d : std_scenes)
@@ -210,12 +212,18 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
           largest_rock_min = std::min(largest_rock_min, sp.largest_diameter_m());
         }
     std::vector<std::pair<std::string, Setter>> values;
-    if (std::isfinite(smallest_rock))
-      for (double f : {1.25, 1.5}) {
-        const double cut = f * smallest_rock;
-        if (cut >= largest_rock_min) continue;
+    if (std::isfinite(smallest_rock)) {
+      std::vector<double> cuts;
+      for (double mm : {25.0, 50.0})
+        if (mm * 1e-3 > smallest_rock) cuts.push_back(mm * 1e-3);
+      for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
+      std::sort(cuts.begin(), cuts.end());
+      for (std::size_t i = 0; i < cuts.size(); ++i) {
+        const double cut = cuts[i];
+        if (cut >= largest_rock_min || (i > 0 && cut == cuts[i - 1])) continue;
         values.push_back({num(cut * 1e3) + "mm", [cut](Scene& s) { s.solver.size_cutoff_m = cut; }});
       }
+    }
     if (!values.empty()) knob("size_cutoff", {"solver.size_cutoff"}, values);
   }
   auto mesh_value = [](double shell_m, double lifter_m) {

@@ -30,22 +30,40 @@ void BroadPhase::reserve(int disks) {
   bodies.resize(n + 1);  // its last body (a dummy) is never written by the reordering
 }
 
-StepBounds update_margins(const Model& model, Disks& disks) {
+StepBounds update_margins(const Model& model, Disks& disks, BroadPhase& broad, Workers& workers) {
   const double g = kGravity;
   const double dt = model.dt_s;
+  constexpr std::size_t kPerRange = 1024;
+  const int ranges = range_count(static_cast<std::size_t>(disks.n), kPerRange);
+  if (broad.partial_bounds.size() < static_cast<std::size_t>(ranges))
+    broad.partial_bounds.resize(static_cast<std::size_t>(ranges));
+  workers.run(ranges, [&](int r) {
+    const std::size_t i0 = static_cast<std::size_t>(r) * kPerRange;
+    const std::size_t i1 = std::min(static_cast<std::size_t>(disks.n), i0 + kPerRange);
+    double margin_max = 0.0;
+    double bx0 = kUnbounded, by0 = kUnbounded, bx1 = -kUnbounded, by1 = -kUnbounded;
+    for (std::size_t k = i0; k < i1; ++k) {
+      if (!disks.active[k]) continue;
+      const Body& b = disks.body[k];
+      const double speed = std::sqrt(b.vx * b.vx + b.vy * b.vy);
+      disks.margin[k] = model.margin_base_m + kMarginSpeedFactor * (speed + g * dt) * dt;
+      margin_max = std::max(margin_max, disks.margin[k]);
+      bx0 = std::min(bx0, disks.x[k]);
+      bx1 = std::max(bx1, disks.x[k]);
+      by0 = std::min(by0, disks.y[k]);
+      by1 = std::max(by1, disks.y[k]);
+    }
+    broad.partial_bounds[static_cast<std::size_t>(r)] = {margin_max, bx0, by0, bx1, by1};
+  });
   StepBounds bounds;
   double bx0 = kUnbounded, by0 = kUnbounded, bx1 = -kUnbounded, by1 = -kUnbounded;
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks.active[k]) continue;
-    const Body& b = disks.body[k];
-    const double speed = std::sqrt(b.vx * b.vx + b.vy * b.vy);
-    disks.margin[k] = model.margin_base_m + kMarginSpeedFactor * (speed + g * dt) * dt;
-    bounds.margin_max_m = std::max(bounds.margin_max_m, disks.margin[k]);
-    bx0 = std::min(bx0, disks.x[k]);
-    bx1 = std::max(bx1, disks.x[k]);
-    by0 = std::min(by0, disks.y[k]);
-    by1 = std::max(by1, disks.y[k]);
+  for (int r = 0; r < ranges; ++r) {
+    const StepBounds& p = broad.partial_bounds[static_cast<std::size_t>(r)];
+    bounds.margin_max_m = std::max(bounds.margin_max_m, p.margin_max_m);
+    bx0 = std::min(bx0, p.x0);
+    by0 = std::min(by0, p.y0);
+    bx1 = std::max(bx1, p.x1);
+    by1 = std::max(by1, p.y1);
   }
   if (bx0 > bx1) bx0 = bx1 = by0 = by1 = 0.0;  // no active disk
   bounds.x0 = bx0;
@@ -63,6 +81,11 @@ void reorder_by_cell(const Model& model, const LinerModel& liner, const StepBoun
   grid.fit(-0.5 * side, -0.5 * side, side, side,
            kReorderCellRanges * (model.r_max_m + bounds.margin_max_m));
   grid.build(disks.x.data(), disks.y.data(), disks.active.data(), disks.n);
+  int most_in_row = 0;
+  for (int row = 0; row < grid.ny; ++row)
+    most_in_row = std::max(most_in_row, grid.start[static_cast<std::size_t>((row + 1) * grid.nx)] -
+                                            grid.start[static_cast<std::size_t>(row * grid.nx)]);
+  broad.block_disks = std::max(kMinBlockDisks, 2 * most_in_row);
 
   const auto n = static_cast<std::size_t>(disks.n);
   std::vector<int>& perm = broad.new_to_old;

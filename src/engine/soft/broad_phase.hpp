@@ -21,6 +21,7 @@
 #include "engine/soft/disks.hpp"
 #include "engine/soft/grid.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -34,9 +35,17 @@ struct StepBounds {
   double x0 = 0, y0 = 0, x1 = 0, y1 = 0; // box of the active disks' centres
 };
 
+// Smallest block of the threaded solve (contact_solver.hpp, "Threads").
+constexpr int kMinBlockDisks = 256;
+
 struct BroadPhase {
   Grid mill_grid;  // square cells over the whole mill, for the reordering
   Grid pair_grid;  // cells over the disks' box, for the pair search
+  // Disks per block of the threaded solve, set at each reordering from the positions alone:
+  // twice the most disks in one row of reordering cells (at least kMinBlockDisks), so that
+  // right after a reordering every pair's disks lie in one block or two neighbouring ones.
+  int block_disks = kMinBlockDisks;
+  std::vector<StepBounds> partial_bounds;  // per range of update_margins
   // Reordering buffers, at their size from the start.
   std::vector<int> new_to_old, old_to_new, ids;
   std::vector<double> doubles;
@@ -46,7 +55,9 @@ struct BroadPhase {
 };
 
 // Every active disk's margin from its speed, and the box and largest margin they give.
-StepBounds update_margins(const Model& model, Disks& disks);
+// Ranges of disks in parallel; the box and largest margin are minima and maxima, which do
+// not depend on the order they are taken in.
+StepBounds update_margins(const Model& model, Disks& disks, BroadPhase& broad, Workers& workers);
 
 inline bool reorder_due(std::int64_t step, const Disks& disks) {
   return step % kReorderInterval == 0 && disks.n > 0;

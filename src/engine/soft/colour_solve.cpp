@@ -305,7 +305,7 @@ void ColouredRows::begin(int bodies, std::size_t contacts) {
 
 void ColouredRows::layout() {
   // Each colour starts on a chunk boundary: a chunk never mixes colours.
-  std::size_t first[kMaxColours + 1];
+  std::size_t* first = first_;
   std::size_t chunk = 0;
   colours_ = 0;
   for (int c = 0; c < kMaxColours; ++c) {

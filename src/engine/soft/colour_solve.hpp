@@ -102,6 +102,9 @@ class ColouredRows {
   std::size_t coloured_slot(std::size_t t) const { return added_[t].slot; }
   std::size_t chunks() const { return chunks_; }
   int colours() const { return colours_; }
+  // Chunks [colour_begin(c), colour_begin(c + 1)) hold colour c: they share no body, so
+  // they may be solved in any order, or at once, with the same bits.
+  std::size_t colour_begin(int c) const { return first_[c]; }
   WideRows* rows() { return wide_.data(); }
   WideSums* sums() { return sums_.data(); }
   WideRows& chunk_of(std::size_t slot) { return wide_[slot / kLanes]; }
@@ -120,6 +123,7 @@ class ColouredRows {
   int count_[kMaxColours] = {};
   std::size_t chunks_ = 0;
   int colours_ = 0;
+  std::size_t first_[kMaxColours + 1] = {};
   std::vector<WideRows> wide_;
   std::vector<WideSums> sums_;
 };

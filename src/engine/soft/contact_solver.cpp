@@ -32,21 +32,20 @@ double solve_normal(Row& c, double s, double vn, const Softness& sf, double inv_
 // reloads that possible aliasing would force. The tangent of a contact is left_perp(n);
 // r_a = -alpha n gives r_a x t = -alpha.
 
-// The serial disk-pair rows, key order, built lazily. The relax also lists the rows left
-// live for the next warm start and adds the impulses to the step sums.
+// Serial disk-pair rows (one list: a block's phase, key order), built lazily. The relax
+// also lists the rows left live for the next warm start and adds the impulses to the step
+// sums.
 template <bool kBias>
 void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& start,
-                       PairSet& pairs, SolverRows& rows, Body* body) {
+                       PairSet& pairs, const int* rest, std::size_t nrest, int* warm,
+                       int& warm_count, Body* body) {
   const double inv_h = 1.0 / model.substep_s;
   const double push = model.push_out_m_s;
   const Softness& soft = model.pair_softness;
-  const std::size_t nrest = rows.serial_n;
-  const int* rest = rows.serial.data();
   const PairGap* gaps = pairs.gap.data();
   PairRow* row_of = pairs.row.data();
   std::uint8_t* state = pairs.state.data();
   StepSum* sums = pairs.sum.data();
-  int* warm = rows.warm.data();
   std::size_t warm_n = 0;
   for (std::size_t t = 0; t < nrest; ++t) {
     const auto q = static_cast<std::size_t>(rest[t]);
@@ -108,23 +107,22 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
       sums[q].pr += c.lr;
     }
   }
-  if (!kBias) rows.warm_n = warm_n;
+  if (!kBias) warm_count = static_cast<int>(warm_n);
 }
 
 // The disk-liner rows. The liner's contact point moves with the mill: its share of the
 // separation is its velocity times the time since the step began.
 template <bool kBias>
 void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& liner,
-                Body* body) {
+                std::size_t q0, std::size_t q1, Body* body) {
   const double inv_h = 1.0 / model.substep_s;
   const double push = model.push_out_m_s;
   const Softness& soft = model.liner_softness;
-  const std::size_t npl = liner.size();
   const LinerGap* lgaps = liner.gap.data();
   LinerRow* lrows = liner.row.data();
   std::uint8_t* lstate = liner.state.data();
   StepSum* lsums = liner.sum.data();
-  for (std::size_t q = 0; q < npl; ++q) {
+  for (std::size_t q = q0; q < q1; ++q) {
     const LinerGap& g = lgaps[q];
     Body& A = body[g.a];
     const double s = g.s0 + g.nx * (A.dpx - g.vlx * elapsed_s) + g.ny * (A.dpy - g.vly * elapsed_s);
@@ -165,8 +163,8 @@ void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& li
 
 // The coloured rows into their lanes in key order (the padding lanes are filled by the
 // layout), with zero step sums.
-void load_lanes(const PairSet& pairs, ColouredRows& coloured) {
-  for (std::size_t t = 0; t < coloured.coloured(); ++t) {
+void load_lanes(const PairSet& pairs, ColouredRows& coloured, std::size_t t0, std::size_t t1) {
+  for (std::size_t t = t0; t < t1; ++t) {
     const int q = coloured.coloured_contact(t);
     const std::size_t slot = coloured.coloured_slot(t);
     const PairGap& g = pairs.gap[static_cast<std::size_t>(q)];
@@ -193,130 +191,298 @@ void load_lanes(const PairSet& pairs, ColouredRows& coloured) {
   }
 }
 
+// Rows per range of the liner passes, chunks per range of a colour, coloured rows per
+// range of the lane loading: enough work to outweigh handing a range out.
+constexpr std::size_t kLinerRowsPerRange = 512;
+constexpr std::size_t kChunksPerRange = 32;
+constexpr std::size_t kColouredPerRange = 2048;
+
+// fn(phase, block) for every block's list of every phase, in the order and with the
+// concurrency of "Threads" (contact_solver.hpp).
+template <class Fn>
+void for_phases(Workers& workers, const SolverRows& rows, const Fn& fn) {
+  const int blocks = rows.blocks;
+  workers.run(blocks, [&](int k) { fn(kInside, k); });
+  workers.run((blocks + 1) / 2, [&](int r) { fn(kNext, 2 * r); });
+  workers.run(blocks / 2, [&](int r) { fn(kNext, 2 * r + 1); });
+  for (int k = 0; k < blocks; ++k) fn(kFar, k);
+}
+
+// fn(chunk0, chunk1) over the chunks of each colour in turn, a colour's ranges at once.
+template <class Fn>
+void for_colours(Workers& workers, const ColouredRows& coloured, const Fn& fn) {
+  for (int c = 0; c < coloured.colours(); ++c) {
+    const std::size_t c0 = coloured.colour_begin(c), c1 = coloured.colour_begin(c + 1);
+    workers.run(range_count(c1 - c0, kChunksPerRange), [&](int r) {
+      const std::size_t k0 = c0 + static_cast<std::size_t>(r) * kChunksPerRange;
+      fn(k0, std::min(c1, k0 + kChunksPerRange));
+    });
+  }
+}
+
+template <class Fn>
+void for_liner_ranges(Workers& workers, const SolverRows& rows, const Fn& fn) {
+  const int ranges = static_cast<int>(rows.liner_first.size()) - 1;
+  workers.run(ranges, [&](int r) {
+    fn(rows.liner_first[static_cast<std::size_t>(r)], rows.liner_first[static_cast<std::size_t>(r) + 1]);
+  });
+}
+
+template <class Fn>
+void for_disk_ranges(Workers& workers, int n, const Fn& fn) {
+  const auto count = static_cast<std::size_t>(n);
+  workers.run(range_count(count, kDisksPerRange), [&](int r) {
+    const std::size_t i0 = static_cast<std::size_t>(r) * kDisksPerRange;
+    fn(static_cast<int>(i0), static_cast<int>(std::min(count, i0 + kDisksPerRange)));
+  });
+}
+
+// A row of a pair whose lower disk is in block k: which phase it belongs to.
+Phase phase_of(int b, int k, int block_disks) {
+  const int kb = b / block_disks;
+  return kb == k ? kInside : kb == k + 1 ? kNext : kFar;
+}
+
+// State bit of a row placed in a lane this step (the colouring's; store_lanes rewrites the
+// state of every lane row at the end of the step).
+constexpr std::uint8_t kInLane = 8;
+
 }  // namespace
 
 // Why only the live rows go into lanes: they act in nearly every pass of the step, where
 // most of the others are margins that never act and that the serial pass skips after
 // reading their gap; a lane has no skip, so colouring every contact would solve three
 // times as many rows. A live row that finds no free colour stays serial and goes into the
-// serial warm-start list.
+// serial warm-start list. The colouring itself is greedy in key order (one thread); the
+// building of the rows, the lanes' loading and the phase lists run by block or range.
 void colour_live_rows(const Model& model, const Disks& disks, const StepStart& start,
-                      PairSet& pairs, SolverRows& rows) {
+                      int block_disks, Contacts& contacts, SolverRows& rows, Workers& workers) {
+  PairSet& pairs = contacts.pairs;
   const std::size_t m = pairs.size();
-  if (rows.serial.size() < m) rows.serial.resize(pairs.row.size());
-  if (rows.warm.size() < m) rows.warm.resize(pairs.row.size());
-  rows.coloured.begin(disks.n, m);
-  rows.serial_n = 0;
-  rows.warm_n = 0;
-  for (std::size_t q = 0; q < m; ++q) {
-    const auto qi = static_cast<int>(q);
-    if (pairs.state[q] & kLive) {
-      build_pair_row(model, disks, start, pairs, q);
-      if (rows.coloured.add(qi, pairs.gap[q].a, pairs.gap[q].b)) continue;
-      rows.warm[rows.warm_n++] = qi;
-    }
-    rows.serial[rows.serial_n++] = qi;
+  const std::size_t capacity = pairs.row.size();
+  for (int p = 0; p < kPhases; ++p) {
+    if (rows.list[p].size() < m) rows.list[p].resize(capacity);
+    if (rows.warm[p].size() < m) rows.warm[p].resize(capacity);
   }
-  rows.live_n = m - rows.serial_n + rows.warm_n;  // coloured + live ones left serial
-  rows.coloured.layout();
-  load_lanes(pairs, rows.coloured);
+  if (rows.live.size() < m) rows.live.resize(capacity);
+  // Blocks and where their rows start (the rows are in key order: by lower disk).
+  rows.block_disks = std::max(1, block_disks);
+  rows.blocks = std::max(1, (disks.n + rows.block_disks - 1) / rows.block_disks);
+  const auto blocks = static_cast<std::size_t>(rows.blocks);
+  rows.first.resize(blocks + 1);
+  for (int p = 0; p < kPhases; ++p) {
+    rows.n[p].assign(blocks, 0);
+    rows.warm_n[p].assign(blocks, 0);
+  }
+  rows.live_count.assign(blocks, 0);
+  const PairGap* gap = pairs.gap.data();
+  for (std::size_t k = 0; k <= blocks; ++k) {
+    const int a0 = static_cast<int>(std::min<std::size_t>(k * static_cast<std::size_t>(rows.block_disks),
+                                                          static_cast<std::size_t>(disks.n)));
+    rows.first[k] = static_cast<std::size_t>(
+        std::lower_bound(gap, gap + m, a0, [](const PairGap& g, int a) { return g.a < a; }) - gap);
+  }
+  rows.first[blocks] = m;
+  // Build the live rows, block by block.
+  workers.run(rows.blocks, [&](int k) {
+    const std::size_t q0 = rows.first[static_cast<std::size_t>(k)], q1 = rows.first[static_cast<std::size_t>(k) + 1];
+    int count = 0;
+    for (std::size_t q = q0; q < q1; ++q) {
+      if (!(pairs.state[q] & kLive)) continue;
+      build_pair_row(model, disks, start, pairs, q);
+      rows.live[q0 + static_cast<std::size_t>(count++)] = static_cast<int>(q);
+    }
+    rows.live_count[static_cast<std::size_t>(k)] = count;
+  });
+  // Colour them in key order.
+  ColouredRows& coloured = rows.coloured;
+  coloured.begin(disks.n, m);
+  std::size_t live_n = 0;
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const int* live = rows.live.data() + rows.first[k];
+    for (int t = 0; t < rows.live_count[k]; ++t) {
+      const auto q = static_cast<std::size_t>(live[t]);
+      if (coloured.add(live[t], gap[q].a, gap[q].b)) pairs.state[q] |= kInLane;
+    }
+    live_n += static_cast<std::size_t>(rows.live_count[k]);
+  }
+  rows.live_n = live_n;
+  coloured.layout();
+  workers.run(range_count(coloured.coloured(), kColouredPerRange), [&](int r) {
+    const std::size_t t0 = static_cast<std::size_t>(r) * kColouredPerRange;
+    load_lanes(pairs, coloured, t0, std::min(coloured.coloured(), t0 + kColouredPerRange));
+  });
+  // The other rows into their block's phase lists (the live ones also into the warm lists).
+  workers.run(rows.blocks, [&](int k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
+    int count[kPhases] = {}, warm_count[kPhases] = {};
+    for (std::size_t q = q0; q < q1; ++q) {
+      const std::uint8_t st = pairs.state[q];
+      if (st & kInLane) continue;
+      const int p = phase_of(gap[q].b, k, rows.block_disks);
+      rows.list[p][q0 + static_cast<std::size_t>(count[p]++)] = static_cast<int>(q);
+      if (st & kLive) rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
+    }
+    for (int p = 0; p < kPhases; ++p) {
+      rows.n[p][kk] = count[p];
+      rows.warm_n[p][kk] = warm_count[p];
+    }
+  });
+  // Liner ranges: about kLinerRowsPerRange rows each, cut only where the disk changes.
+  const LinerSet& liner = contacts.liner;
+  const std::size_t nl = liner.size();
+  rows.liner_first.clear();
+  rows.liner_first.push_back(0);
+  for (std::size_t q = kLinerRowsPerRange; q < nl; q += kLinerRowsPerRange) {
+    std::size_t cut = q;
+    while (cut < nl && liner.gap[cut].a == liner.gap[cut - 1].a) ++cut;
+    if (cut >= nl) break;
+    if (cut > rows.liner_first.back()) rows.liner_first.push_back(cut);
+  }
+  rows.liner_first.push_back(nl);
 }
 
-void integrate_velocities(const Model& model, Disks& disks) {
+void integrate_velocities(const Model& model, Disks& disks, Workers& workers) {
   const double gh = kGravity * model.substep_s;
   Body* body = disks.body.data();
-  for (int i = 0; i < disks.n; ++i)
-    if (body[i].im > 0.0) body[i].vy -= gh;
+  for_disk_ranges(workers, disks.n, [&](int i0, int i1) {
+    for (int i = i0; i < i1; ++i)
+      if (body[i].im > 0.0) body[i].vy -= gh;
+  });
 }
 
-void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks) {
+void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
   Body* body = disks.body.data();
-  wide_warm_start(body, rows.coloured.rows(), rows.coloured.chunks());
+  WideRows* wide = rows.coloured.rows();
+  for_colours(workers, rows.coloured,
+              [&](std::size_t k0, std::size_t k1) { wide_warm_start(body, wide + k0, k1 - k0); });
   // Of the serial rows only the live ones: a row without impulse applies nothing (adding its
   // zero impulses would leave every velocity as it was), and most rows are such margins.
   const PairSet& pairs = contacts.pairs;
-  for (std::size_t t = 0; t < rows.warm_n; ++t) {
-    const auto q = static_cast<std::size_t>(rows.warm[t]);
-    const PairGap& g = pairs.gap[q];
-    const PairRow& c = pairs.row[q];
-    Body& A = body[g.a];
-    Body& B = body[g.b];
-    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
-    A.vx += A.im * px;
-    A.vy += A.im * py;
-    A.w += A.ii * (c.lr - c.alpha * c.lt);
-    B.vx -= B.im * px;
-    B.vy -= B.im * py;
-    B.w += B.ii * (-c.lr - c.beta * c.lt);
-  }
+  for_phases(workers, rows, [&](int p, int k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const int* warm = rows.warm[p].data() + rows.first[kk];
+    const int count = rows.warm_n[p][kk];
+    for (int t = 0; t < count; ++t) {
+      const auto q = static_cast<std::size_t>(warm[t]);
+      const PairGap& g = pairs.gap[q];
+      const PairRow& c = pairs.row[q];
+      Body& A = body[g.a];
+      Body& B = body[g.b];
+      const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
+      A.vx += A.im * px;
+      A.vy += A.im * py;
+      A.w += A.ii * (c.lr - c.alpha * c.lt);
+      B.vx -= B.im * px;
+      B.vy -= B.im * py;
+      B.w += B.ii * (-c.lr - c.beta * c.lt);
+    }
+  });
   const LinerSet& liner = contacts.liner;
-  for (std::size_t q = 0; q < liner.size(); ++q) {
-    const LinerGap& g = liner.gap[q];
-    const LinerRow& c = liner.row[q];
-    Body& A = body[g.a];
-    const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
-    A.vx += A.im * px;
-    A.vy += A.im * py;
-    A.w += A.ii * (c.lr - c.alpha * c.lt);
-  }
+  for_liner_ranges(workers, rows, [&](std::size_t q0, std::size_t q1) {
+    for (std::size_t q = q0; q < q1; ++q) {
+      const LinerGap& g = liner.gap[q];
+      const LinerRow& c = liner.row[q];
+      Body& A = body[g.a];
+      const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
+      A.vx += A.im * px;
+      A.vy += A.im * py;
+      A.w += A.ii * (c.lr - c.alpha * c.lt);
+    }
+  });
 }
+
+namespace {
+
+// The serial phases, the colours, then the liner: one pass of the solve (kBias) or relax.
+template <bool kBias>
+void pass(const Model& model, const StepStart& start, double elapsed_s, double omega,
+          Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
+  Body* body = disks.body.data();
+  for_phases(workers, rows, [&](int p, int k) {
+    const auto kk = static_cast<std::size_t>(k);
+    const std::size_t q0 = rows.first[kk];
+    int unused = 0;
+    pass_serial_pairs<kBias>(model, disks, start, contacts.pairs, rows.list[p].data() + q0,
+                             static_cast<std::size_t>(rows.n[p][kk]), rows.warm[p].data() + q0,
+                             kBias ? unused : rows.warm_n[p][kk], body);
+  });
+  WideRows* wide = rows.coloured.rows();
+  if (kBias) {
+    const Softness& soft = model.pair_softness;
+    WideSoftness sf;
+    sf.inv_h = 1.0 / model.substep_s;
+    sf.bias_rate = soft.bias_rate;
+    sf.mass_scale = soft.mass_scale;
+    sf.impulse_scale = soft.impulse_scale;
+    sf.push = model.push_out_m_s;
+    for_colours(workers, rows.coloured,
+                [&](std::size_t k0, std::size_t k1) { wide_solve(body, wide + k0, k1 - k0, sf); });
+  } else {
+    WideSums* sums = rows.coloured.sums();
+    const double inv_h = 1.0 / model.substep_s;
+    for_colours(workers, rows.coloured, [&](std::size_t k0, std::size_t k1) {
+      wide_relax(body, wide + k0, sums + k0, k1 - k0, inv_h);
+    });
+  }
+  for_liner_ranges(workers, rows, [&](std::size_t q0, std::size_t q1) {
+    pass_liner<kBias>(model, elapsed_s, omega, contacts.liner, q0, q1, body);
+  });
+}
+
+}  // namespace
 
 void solve(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks) {
-  Body* body = disks.body.data();
-  pass_serial_pairs<true>(model, disks, start, contacts.pairs, rows, body);
-  const Softness& soft = model.pair_softness;
-  WideSoftness wide;
-  wide.inv_h = 1.0 / model.substep_s;
-  wide.bias_rate = soft.bias_rate;
-  wide.mass_scale = soft.mass_scale;
-  wide.impulse_scale = soft.impulse_scale;
-  wide.push = model.push_out_m_s;
-  wide_solve(body, rows.coloured.rows(), rows.coloured.chunks(), wide);
-  pass_liner<true>(model, elapsed_s, mill_speed_rad_s, contacts.liner, body);
+           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
+           Workers& workers) {
+  pass<true>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers);
 }
 
-void integrate_positions(const Model& model, Disks& disks) {
+void integrate_positions(const Model& model, Disks& disks, Workers& workers) {
   const double h = model.substep_s;
   Body* body = disks.body.data();
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks.active[k]) continue;
-    Body& b = body[i];
-    const double ddx = h * b.vx, ddy = h * b.vy;
-    disks.x[k] += ddx;
-    disks.y[k] += ddy;
-    b.dpx += ddx;
-    b.dpy += ddy;
-    disks.angle[k] += h * b.w;
-  }
+  for_disk_ranges(workers, disks.n, [&](int i0, int i1) {
+    for (int i = i0; i < i1; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (!disks.active[k]) continue;
+      Body& b = body[i];
+      const double ddx = h * b.vx, ddy = h * b.vy;
+      disks.x[k] += ddx;
+      disks.y[k] += ddy;
+      b.dpx += ddx;
+      b.dpy += ddy;
+      disks.angle[k] += h * b.w;
+    }
+  });
 }
 
 void relax(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks) {
-  Body* body = disks.body.data();
-  pass_serial_pairs<false>(model, disks, start, contacts.pairs, rows, body);
-  wide_relax(body, rows.coloured.rows(), rows.coloured.sums(), rows.coloured.chunks(),
-             1.0 / model.substep_s);
-  pass_liner<false>(model, elapsed_s, mill_speed_rad_s, contacts.liner, body);
+           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
+           Workers& workers) {
+  pass<false>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers);
 }
 
-void store_lanes(SolverRows& rows, PairSet& pairs) {
+void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {
   ColouredRows& coloured = rows.coloured;
-  for (std::size_t t = 0; t < coloured.coloured(); ++t) {
-    const int q = coloured.coloured_contact(t);
-    const std::size_t slot = coloured.coloured_slot(t);
-    const auto k = static_cast<std::size_t>(q);
-    const WideRows& w = coloured.chunk_of(slot);
-    const std::size_t l = slot % kLanes;
-    PairRow& c = pairs.row[k];
-    c.ln = w.ln[l];
-    c.lt = w.lt[l];
-    c.lr = w.lr[l];
-    const WideSums& p = coloured.sums_of(slot);
-    pairs.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
-    pairs.state[k] = (pairs.state[k] & kBounce) | kBuilt | has_impulse(c);
-  }
+  workers.run(range_count(coloured.coloured(), kColouredPerRange), [&](int r) {
+    const std::size_t t0 = static_cast<std::size_t>(r) * kColouredPerRange;
+    const std::size_t t1 = std::min(coloured.coloured(), t0 + kColouredPerRange);
+    for (std::size_t t = t0; t < t1; ++t) {
+      const int q = coloured.coloured_contact(t);
+      const std::size_t slot = coloured.coloured_slot(t);
+      const auto k = static_cast<std::size_t>(q);
+      const WideRows& w = coloured.chunk_of(slot);
+      const std::size_t l = slot % kLanes;
+      PairRow& c = pairs.row[k];
+      c.ln = w.ln[l];
+      c.lt = w.lt[l];
+      c.lr = w.lr[l];
+      const WideSums& p = coloured.sums_of(slot);
+      pairs.sum[k] = {p.pn[l], p.pt[l], p.pr[l]};
+      pairs.state[k] = (pairs.state[k] & kBounce) | kBuilt | has_impulse(c);
+    }
+  });
 }
 
 void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {

@@ -15,12 +15,21 @@
 //
 // Order. The disk-pair rows live at the start of a step (they carried an impulse out of
 // the last one: a third of the pairs, and nearly all that act in a pass) are coloured and
-// solved four at a time in vector lanes (colour_solve.hpp); the serial pass keeps the rest,
-// with its skip of inert rows and lazy building. In each pass the serial rows go first,
+// solved four at a time in vector lanes (colour_solve.hpp); the serial passes keep the rest,
+// with their skip of inert rows and lazy building. In each pass the serial rows go first,
 // then the colours in order, then the liner contacts (last, so that they win: the liner
-// must not be pushed through). Gauss-Seidel order is therefore not key order; it is still
-// fixed by the contact list, so results are bit-identical run to run, and the same with
-// four (AVX2) or two (SSE2) lanes per register.
+// must not be pushed through).
+//
+// Threads (workers.hpp). The disks are cut into blocks of a fixed size (broad_phase.hpp:
+// from the positions, never from the thread count), and the serial rows are listed by the
+// block of their lower disk a in three phases: rows whose disks are both in that block
+// (the blocks run at once), rows reaching into the next block (even blocks at once, then
+// odd ones: two such rows of one parity never share a disk), and the few reaching further
+// (one after another). Within a list, key order. The chunks of one colour share no disk
+// and run at once; the liner rows run in ranges that never split one disk's rows. Every
+// Gauss-Seidel order is therefore fixed by the contact list and the block size alone: the
+// bits are the same for any thread count, run to run, and with four (AVX2) or two (SSE2)
+// lanes per register.
 #include <cstddef>
 #include <vector>
 
@@ -28,40 +37,58 @@
 #include "engine/soft/contact_set.hpp"
 #include "engine/soft/disks.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
+
+// The serial rows' phases (see "Threads" above).
+enum Phase { kInside = 0, kNext = 1, kFar = 2, kPhases = 3 };
 
 // Which disk-pair rows are solved how, this step.
 struct SolverRows {
   ColouredRows coloured;          // the live rows that found a colour, in lanes
-  std::vector<int> serial;        // the others, key order
-  std::size_t serial_n = 0;
-  // The live rows among the serial ones, key order, for the warm start: set by the
-  // colouring for the first substep and by each relax for the next.
-  std::vector<int> warm;
-  std::size_t warm_n = 0;
+  // Blocks of block_disks disks; block k's rows (lower disk in it) are contacts
+  // [first[k], first[k + 1]) of the key-ordered list.
+  int block_disks = 1, blocks = 0;
+  std::vector<std::size_t> first;
+  // Per phase, the serial rows of block k at list[p][first[k] ..], n[p][k] of them; and
+  // the live ones among them for the warm start (set by the colouring for the first
+  // substep and by each relax for the next), at warm[p][first[k] ..], warm_n[p][k].
+  std::vector<int> list[kPhases], warm[kPhases];
+  std::vector<int> n[kPhases], warm_n[kPhases];
+  // Scratch of the colouring: the live rows of each block, at live[first[k] ..].
+  std::vector<int> live, live_count;
+  // The liner rows' ranges: [liner_first[r], liner_first[r + 1]), never splitting a disk's.
+  std::vector<std::size_t> liner_first;
   std::size_t live_n = 0;         // pair rows carrying an impulse into the step (timing)
 };
 
-// Colour the live rows (building them: the warm start applies them) and fill the lanes.
+// Plan the step's rows: the blocks and their phase lists, the colouring of the live rows
+// (built here: the warm start applies them) in lanes, the liner ranges. block_disks comes
+// from the broad phase.
 void colour_live_rows(const Model& model, const Disks& disks, const StepStart& start,
-                      PairSet& pairs, SolverRows& rows);
+                      int block_disks, Contacts& contacts, SolverRows& rows, Workers& workers);
 // Gravity's share of the substep.
-void integrate_velocities(const Model& model, Disks& disks);
+void integrate_velocities(const Model& model, Disks& disks, Workers& workers);
 // Apply the impulses carried into the substep.
-void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks);
+void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers);
 // One soft Gauss-Seidel pass; elapsed_s is the time since the step began (liner travel).
 void solve(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks);
+           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
+           Workers& workers);
 // Symplectic Euler with the new velocity; dp accumulates the displacement of the step.
-void integrate_positions(const Model& model, Disks& disks);
+void integrate_positions(const Model& model, Disks& disks, Workers& workers);
 // One rigid pass without bias; adds the substep's impulses to the step sums.
 void relax(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks);
+           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
+           Workers& workers);
 // The lanes' impulses, step sums and live bits back to the contact arrays.
-void store_lanes(SolverRows& rows, PairSet& pairs);
+void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // Contacts that closed faster than the threshold and carried load get the impulse that
 // sends them apart at e times that speed.
 void apply_restitution(const Model& model, Contacts& contacts, Disks& disks);
+
+// Disks per range of the per-disk stages (integration, margins, write-back).
+constexpr std::size_t kDisksPerRange = 1024;
 
 }  // namespace millwear::soft

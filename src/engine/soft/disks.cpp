@@ -1,5 +1,7 @@
 #include "engine/soft/disks.hpp"
 
+#include <algorithm>
+
 namespace millwear::soft {
 
 Disks load_disks(const ChargeState& charge) {
@@ -39,20 +41,24 @@ StepStart make_step_start(int n) {
   return s;
 }
 
-void record_step_start(const Model& model, Disks& disks, StepStart& start) {
+void record_step_start(const Model& model, Disks& disks, StepStart& start, Workers& workers) {
   const double g = kGravity;
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    Body& b = disks.body[k];
-    start.x[k] = disks.x[k];
-    start.y[k] = disks.y[k];
-    start.vx[k] = b.vx;
-    start.vy[k] = b.vy;
-    start.w[k] = b.w;
-    start.vy_before[k] = disks.active[k] ? b.vy - g * model.dt_s : b.vy;
-    b.dpx = 0.0;
-    b.dpy = 0.0;
-  }
+  constexpr std::size_t kPerRange = 1024;
+  const auto n = static_cast<std::size_t>(disks.n);
+  workers.run(range_count(n, kPerRange), [&](int r) {
+    const std::size_t k0 = static_cast<std::size_t>(r) * kPerRange;
+    for (std::size_t k = k0; k < std::min(n, k0 + kPerRange); ++k) {
+      Body& b = disks.body[k];
+      start.x[k] = disks.x[k];
+      start.y[k] = disks.y[k];
+      start.vx[k] = b.vx;
+      start.vy[k] = b.vy;
+      start.w[k] = b.w;
+      start.vy_before[k] = disks.active[k] ? b.vy - g * model.dt_s : b.vy;
+      b.dpx = 0.0;
+      b.dpy = 0.0;
+    }
+  });
 }
 
 }  // namespace millwear::soft

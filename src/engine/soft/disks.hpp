@@ -10,6 +10,7 @@
 #include "engine/charge.hpp"
 #include "engine/soft/body.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -40,6 +41,6 @@ struct StepStart {
 Disks load_disks(const ChargeState& charge);
 StepStart make_step_start(int n);
 // Record what the step starts from and zero the displacements; after any reordering.
-void record_step_start(const Model& model, Disks& disks, StepStart& start);
+void record_step_start(const Model& model, Disks& disks, StepStart& start, Workers& workers);
 
 }  // namespace millwear::soft

@@ -32,88 +32,132 @@ void remove_disk(Disks& disks, int i, const std::string& why, Report& report) {
 }  // namespace
 
 void write_back_and_check(const Model& model, const LinerModel& liner, const StepStart& start,
-                          Disks& disks, Report report) {
+                          Disks& disks, Report report, FinishScratch& scratch,
+                          Workers& workers) {
+  constexpr std::size_t kPerRange = 1024;
   const double g = kGravity;
   ChargeState& charge = report.charge;
   Accounting& acc = report.accounting;
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks.active[k]) continue;
-    const auto id = static_cast<std::size_t>(disks.id[k]);
-    const double x = disks.x[k], y = disks.y[k];
-    const Body& b = disks.body[k];
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(b.vx) || !std::isfinite(b.vy) ||
-        !std::isfinite(b.w)) {
-      acc.non_finite += 1;
-      remove_disk(disks, i, "went non-finite", report);
-      continue;
+  const auto n = static_cast<std::size_t>(disks.n);
+  const int ranges = range_count(n, kPerRange);
+  scratch.position_J.resize(static_cast<std::size_t>(ranges));
+  scratch.flagged.resize(static_cast<std::size_t>(ranges));
+  scratch.verdict.resize(n);
+  workers.run(ranges, [&](int r) {
+    const std::size_t i0 = static_cast<std::size_t>(r) * kPerRange, i1 = std::min(n, i0 + kPerRange);
+    double position_J = 0.0;
+    std::uint8_t flagged = 0;
+    for (std::size_t k = i0; k < i1; ++k) {
+      scratch.verdict[k] = 0;
+      if (!disks.active[k]) continue;
+      const auto id = static_cast<std::size_t>(disks.id[k]);
+      const double x = disks.x[k], y = disks.y[k];
+      const Body& b = disks.body[k];
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(b.vx) ||
+          !std::isfinite(b.vy) || !std::isfinite(b.w)) {
+        scratch.verdict[k] = 1;
+        flagged = 1;
+        continue;
+      }
+      // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the
+      // final velocity): its potential energy is the solver's share of the energy balance.
+      const double corr_y = (y - start.y[k]) - model.dt_s * b.vy;
+      position_J -= disks.mass[k] * g * corr_y;
+      charge.position_m[id] = {x, y};
+      charge.velocity_m_s[id] = {b.vx, b.vy};
+      charge.angle_rad[id] = disks.angle[k];
+      charge.spin_rad_s[id] = b.w;
+      const double escape_r = liner.max_r_m + kLostDepthRadii * disks.radius[k];
+      if (x * x + y * y > escape_r * escape_r) {
+        scratch.verdict[k] = 2;
+        flagged = 1;
+      }
     }
-    // What the soft bias moved beyond x0 + dt v1 (the symplectic-Euler step with the final
-    // velocity): its potential energy is the solver's share of the energy balance.
-    const double corr_y = (y - start.y[k]) - model.dt_s * b.vy;
-    acc.solver_position_J -= disks.mass[k] * g * corr_y;
-    charge.position_m[id] = {x, y};
-    charge.velocity_m_s[id] = {b.vx, b.vy};
-    charge.angle_rad[id] = disks.angle[k];
-    charge.spin_rad_s[id] = b.w;
-    const double escape_r = liner.max_r_m + kLostDepthRadii * disks.radius[k];
-    if (x * x + y * y > escape_r * escape_r) {
-      acc.escaped += 1;
-      remove_disk(disks, i, "escaped through the shell", report);
+    scratch.position_J[static_cast<std::size_t>(r)] = position_J;
+    scratch.flagged[static_cast<std::size_t>(r)] = flagged;
+  });
+  for (int r = 0; r < ranges; ++r) {
+    acc.solver_position_J += scratch.position_J[static_cast<std::size_t>(r)];
+    if (!scratch.flagged[static_cast<std::size_t>(r)]) continue;
+    const std::size_t i0 = static_cast<std::size_t>(r) * kPerRange, i1 = std::min(n, i0 + kPerRange);
+    for (std::size_t k = i0; k < i1; ++k) {
+      if (scratch.verdict[k] == 1) {
+        acc.non_finite += 1;
+        remove_disk(disks, static_cast<int>(k), "went non-finite", report);
+      } else if (scratch.verdict[k] == 2) {
+        acc.escaped += 1;
+        remove_disk(disks, static_cast<int>(k), "escaped through the shell", report);
+      }
     }
   }
 }
 
 void account_contacts(const LinerModel& liner, const Disks& disks, const StepStart& start,
-                      double mill_speed_rad_s, Contacts& contacts, Accounting& accounting) {
+                      double mill_speed_rad_s, Contacts& contacts, Accounting& accounting,
+                      FinishScratch& scratch, Workers& workers) {
+  constexpr std::size_t kPerRange = 2048;
   const double omega = mill_speed_rad_s;
   const bool spectrum = accounting.options.collision_spectrum;
   const Body* body = disks.body.data();
   const double* vx0 = start.vx.data();
   const double* vy0 = start.vy_before.data();
   const double* w0 = start.w.data();
-  ContactRecord rec;
   PairSet& pairs = contacts.pairs;
-  for (std::size_t q = 0; q < pairs.size(); ++q) {
-    const StepSum& sum = pairs.sum[q];
-    ContactKey& key = pairs.key[q];
-    // An unbuilt row never acted: its sums are zero.
-    if (!(pairs.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
-      // Apart all step: a collision that was going on has ended.
-      if (spectrum && key.event_J > 0.0) account_collision_event(accounting, key.event_J);
-      key.event_J = 0.0;
-      continue;
+  const int ranges = range_count(pairs.size(), kPerRange);
+  if (scratch.pairs.size() < static_cast<std::size_t>(ranges))
+    scratch.pairs.resize(static_cast<std::size_t>(ranges));
+  workers.run(ranges, [&](int r) {
+    FinishScratch::PairSums& part = scratch.pairs[static_cast<std::size_t>(r)];
+    part.normal_J = part.tangent_J = 0.0;
+    part.ended = 0;
+    auto end_event = [&](double energy_J) {
+      if (part.ended == part.ended_J.size()) part.ended_J.resize(2 * part.ended + 16);
+      part.ended_J[part.ended++] = energy_J;
+    };
+    const std::size_t q0 = static_cast<std::size_t>(r) * kPerRange;
+    const std::size_t q1 = std::min(pairs.size(), q0 + kPerRange);
+    for (std::size_t q = q0; q < q1; ++q) {
+      const StepSum& sum = pairs.sum[q];
+      ContactKey& key = pairs.key[q];
+      // An unbuilt row never acted: its sums are zero.
+      if (!(pairs.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
+        // Apart all step: a collision that was going on has ended.
+        if (spectrum && key.event_J > 0.0) end_event(key.event_J);
+        key.event_J = 0.0;
+        continue;
+      }
+      const PairGap& g = pairs.gap[q];
+      const PairRow& c = pairs.row[q];
+      const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
+      if (!disks.active[a] || !disks.active[b]) continue;
+      const double tx = -g.ny, ty = g.nx;
+      const double dx0 = vx0[a] - vx0[b], dy0 = vy0[a] - vy0[b];
+      const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
+      const double vn_before = g.nx * dx0 + g.ny * dy0;
+      const double vn_after = g.nx * dx1 + g.ny * dy1;
+      const double vt_before = tx * dx0 + ty * dy0 - c.alpha * w0[a] - c.beta * w0[b];
+      const double vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
+      // What account_contact books for a disk pair (dissipation only), and the rolling
+      // couple's dissipation (no field of its own in the record).
+      const double normal_loss = -sum.pn * (0.5 * (vn_before + vn_after));
+      const double tangent_loss = -sum.pt * (0.5 * (vt_before + vt_after));
+      const double rolling_loss = -sum.pr * 0.5 * ((w0[a] - w0[b]) + (body[a].w - body[b].w));
+      part.normal_J += normal_loss;
+      part.tangent_J += tangent_loss;
+      part.tangent_J += rolling_loss;
+      if (spectrum) {
+        key.event_J += -sum.pn * 0.5 * (vn_before + vn_after) -
+                       sum.pt * 0.5 * (vt_before + vt_after) + rolling_loss;
+      }
     }
-    const ContactInfo& info = pairs.info[q];
-    const PairGap& g = pairs.gap[q];
-    const PairRow& c = pairs.row[q];
-    const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-    if (!disks.active[a] || !disks.active[b]) continue;
-    const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vx0[a] - vx0[b], dy0 = vy0[a] - vy0[b];
-    const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
-    rec.a = disks.id[a];
-    rec.b = disks.id[b];
-    rec.edge = -1;
-    rec.point_m = {info.px, info.py};
-    rec.normal = {g.nx, g.ny};
-    rec.normal_impulse = sum.pn;
-    rec.tangent_impulse = sum.pt;
-    rec.vn_before = g.nx * dx0 + g.ny * dy0;
-    rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * w0[a] - c.beta * w0[b];
-    rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
-    // The accounting's key is by the caller's ids, which the reordering does not change.
-    rec.key = pair_key(std::min(rec.a, rec.b), std::max(rec.a, rec.b));
-    account_contact(accounting, rec, omega, false);
-    // The rolling couple's dissipation (no field of its own in the record).
-    const double rolling_loss = -sum.pr * 0.5 * ((w0[a] - w0[b]) + (body[a].w - body[b].w));
-    accounting.pp_tangent_J += rolling_loss;
-    if (spectrum) {
-      key.event_J += -sum.pn * 0.5 * (rec.vn_before + rec.vn_after) -
-                     sum.pt * 0.5 * (rec.vt_before + rec.vt_after) + rolling_loss;
-    }
+  });
+  for (int r = 0; r < ranges; ++r) {
+    const FinishScratch::PairSums& part = scratch.pairs[static_cast<std::size_t>(r)];
+    accounting.pp_normal_J += part.normal_J;
+    accounting.pp_tangent_J += part.tangent_J;
+    for (std::size_t e = 0; e < part.ended; ++e) account_collision_event(accounting, part.ended_J[e]);
   }
+  ContactRecord rec;
   const LinerSet& liner_contacts = contacts.liner;
   for (std::size_t q = 0; q < liner_contacts.size(); ++q) {
     const StepSum& sum = liner_contacts.sum[q];

@@ -19,6 +19,7 @@
 #include "engine/soft/contact_set.hpp"
 #include "engine/soft/disks.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -35,15 +36,35 @@ struct Report {
   std::vector<EngineEvent>& events;
 };
 
+// Scratch of the threaded finish: per range, partial sums (added in range order, so the
+// totals do not depend on the thread count) and the collision events that ended; per disk,
+// what the check found.
+struct FinishScratch {
+  struct PairSums {
+    double normal_J = 0, tangent_J = 0;
+    std::size_t ended = 0;           // events ended, at the front of ended_J
+    std::vector<double> ended_J;
+  };
+  std::vector<PairSums> pairs;       // per range of disk-pair contacts
+  std::vector<double> position_J;    // per range of disks: the solver's position correction
+  std::vector<std::uint8_t> flagged; // per range of disks: some disk to remove
+  std::vector<std::uint8_t> verdict; // per disk: 0 kept, 1 non-finite, 2 escaped
+};
+
 // Positions, velocities, angles and spins back to the charge by id; the solver's position
-// correction into the energy balance; non-finite and escaped disks removed.
+// correction into the energy balance; non-finite and escaped disks removed (in disk order,
+// after the ranges ran).
 void write_back_and_check(const Model& model, const LinerModel& liner, const StepStart& start,
-                          Disks& disks, Report report);
+                          Disks& disks, Report report, FinishScratch& scratch,
+                          Workers& workers);
 
 // Every contact that carried an impulse this step, as a ContactRecord, to the accounting;
-// collision events closed for the spectrum.
+// collision events closed for the spectrum. Disk pairs in ranges (partial sums added in
+// range order); the liner contacts in order, on one thread (per-edge sums and packing
+// streaks).
 void account_contacts(const LinerModel& liner, const Disks& disks, const StepStart& start,
-                      double mill_speed_rad_s, Contacts& contacts, Accounting& accounting);
+                      double mill_speed_rad_s, Contacts& contacts, Accounting& accounting,
+                      FinishScratch& scratch, Workers& workers);
 
 // The step's time and the mill's turn.
 void advance_clock(const Model& model, ChargeState& charge);

@@ -15,6 +15,7 @@
 #include "engine/soft/grid.hpp"
 #include "engine/soft/liner_lookup.hpp"
 #include "engine/soft/model.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -27,15 +28,25 @@ struct PairSearch {
     int j;
   };
   std::vector<Candidate> candidates;
-  std::vector<std::uint64_t> found_keys;   // pairs as found (key: lower << 32 | upper)
+  // Pairs as found (key: lower << 32 | upper), per range of candidates, each range's at its
+  // high-water size.
+  std::vector<std::vector<std::uint64_t>> found_keys;
+  std::vector<std::size_t> found;
   std::vector<int> bucket_end, upper;      // the pairs bucketed by lower index
   void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
 };
 
-// The liner's angle-bin lookup and the reach it must cover.
+// The liner's angle-bin lookup and the reach it must cover, and the hits of each range of
+// disks (the search runs in ranges; the contacts are then written in disk order).
 struct LinerSearch {
   LinerLookup lookup;
   double reach_needed_m = 0.0;  // grown (never shrunk) when a fast disk needed more
+  struct Found {
+    int disk;
+    LinerHit hit;
+  };
+  std::vector<std::vector<Found>> found;  // per range, at its high-water size
+  std::vector<std::size_t> count, offset;
 };
 
 // After set_liner: bins for the reach of the largest disk at rest, or more if a step
@@ -46,18 +57,30 @@ void fit_liner_search(const Model& model, const LinerModel& liner, const StepBou
                       double mill_speed_rad_s, LinerSearch& search);
 
 // Pairs within the sum of their reaches (radius + margin), in key order, rows unbuilt.
+// The scan runs in ranges of candidates, each into its own list; the lists are bucketed by
+// lower disk and each bucket sorted, so the result is the same whoever found what.
 void find_pairs(const Model& model, const Disks& disks, const Grid& pair_grid,
-                const StepBounds& bounds, PairSearch& search, PairSet& pairs);
+                const StepBounds& bounds, PairSearch& search, PairSet& pairs,
+                Workers& workers);
 
 // Disk-liner contacts through the mill-frame lookup, rows built; the liner's velocity at
 // a contact is omega x r.
-void find_liner_contacts(const Model& model, const LinerModel& liner,
-                         const LinerSearch& search, const Disks& disks,
-                         double mill_angle_rad, double mill_speed_rad_s, LinerSet& contacts);
+void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearch& search,
+                         const Disks& disks, double mill_angle_rad, double mill_speed_rad_s,
+                         LinerSet& contacts, Workers& workers);
 
-// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists).
+// Scratch of the matching: per range, the collision events that ended (energies, in key
+// order), booked after the ranges ran in range order.
+struct MatchScratch {
+  std::vector<std::vector<double>> ended;
+  std::vector<std::size_t> count;
+};
+
+// Carry last step's impulses to the contacts that persist (merge of two key-sorted lists,
+// in ranges of this step's list, each starting where its first key falls in last step's).
 // A disk-pair contact that ended closes its collision event for the spectrum.
-void match_warm_start(Contacts& contacts, Accounting& accounting);
+void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& scratch,
+                      Workers& workers);
 
 // Everything of a disk-pair row beyond its gap, from the state at the start of the step
 // (positions and velocities of StepStart; masses and materials do not change within a

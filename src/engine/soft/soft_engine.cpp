@@ -24,6 +24,7 @@
 #include "engine/soft/finish.hpp"
 #include "engine/soft/model.hpp"
 #include "engine/soft/narrow_phase.hpp"
+#include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
 
@@ -74,6 +75,9 @@ class SoftEngine final : public Engine {
   PairSearch pair_search_;
   LinerSearch liner_search_;
   SolverRows rows_;
+  MatchScratch match_;
+  FinishScratch finish_;
+  Workers workers_;
 };
 
 SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const ChargeState& initial,
@@ -81,7 +85,8 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
     : model_(build_model(scene, mill, initial)),
       charge_(initial),
       disks_(load_disks(initial)),
-      start_(make_step_start(disks_.n)) {
+      start_(make_step_start(disks_.n)),
+      workers_(scene.solver.threads) {
   accounting_.options = opts;
   broad_.reserve(disks_.n);
   contacts_.reserve(disks_.n);
@@ -116,36 +121,36 @@ void SoftEngine::step_once() {
   Stopwatch watch;
 
   contacts_.begin_step();
-  const StepBounds bounds = update_margins(model_, disks_);
+  const StepBounds bounds = update_margins(model_, disks_, broad_, workers_);
   if (reorder_due(accounting_.steps, disks_))
     reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
-  record_step_start(model_, disks_, start_);
+  record_step_start(model_, disks_, start_, workers_);
   build_pair_grid(model_, bounds, disks_, broad_);
   timing_.broad_s += watch.lap();
 
   fit_liner_search(model_, liner_, bounds, omega, liner_search_);
-  find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs);
+  find_pairs(model_, disks_, broad_.pair_grid, bounds, pair_search_, contacts_.pairs, workers_);
   find_liner_contacts(model_, liner_, liner_search_, disks_, charge_.mill_angle_rad, omega,
-                      contacts_.liner);
-  match_warm_start(contacts_, accounting_);
+                      contacts_.liner, workers_);
+  match_warm_start(contacts_, accounting_, match_, workers_);
   timing_.collide_s += watch.lap();
 
   const double h = model_.substep_s;
-  colour_live_rows(model_, disks_, start_, contacts_.pairs, rows_);
+  colour_live_rows(model_, disks_, start_, broad_.block_disks, contacts_, rows_, workers_);
   for (int sub = 0; sub < model_.substeps; ++sub) {
-    integrate_velocities(model_, disks_);
-    warm_start(contacts_, rows_, disks_);
-    solve(model_, start_, sub * h, omega, contacts_, rows_, disks_);
-    integrate_positions(model_, disks_);
-    relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_);
+    integrate_velocities(model_, disks_, workers_);
+    warm_start(contacts_, rows_, disks_, workers_);
+    solve(model_, start_, sub * h, omega, contacts_, rows_, disks_, workers_);
+    integrate_positions(model_, disks_, workers_);
+    relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_, workers_);
   }
-  store_lanes(rows_, contacts_.pairs);
+  store_lanes(rows_, contacts_.pairs, workers_);
   apply_restitution(model_, contacts_, disks_);
   timing_.solve_s += watch.lap();
   count_rows();
 
-  write_back_and_check(model_, liner_, start_, disks_, report());
-  account_contacts(liner_, disks_, start_, omega, contacts_, accounting_);
+  write_back_and_check(model_, liner_, start_, disks_, report(), finish_, workers_);
+  account_contacts(liner_, disks_, start_, omega, contacts_, accounting_, finish_, workers_);
   advance_clock(model_, charge_);
   if (inside_liner_check_due(accounting_.steps))
     check_inside_liner(model_, liner_, disks_, report());

@@ -1,0 +1,23 @@
+#pragma once
+// --threads of the commands that run one design: the threads of its engine step. The
+// results do not depend on the count, bit for bit (docs/soft-solver.md, "Threads").
+#include <algorithm>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+namespace millwear::app {
+
+inline void add_threads_option(CLI::App* cmd, int& threads) {
+  cmd->add_option("--threads", threads,
+                  "threads of the soft engine's step (default: the hardware's cores; the results are "
+                  "the same bits for any count)")
+      ->check(CLI::Range(1, 256));
+}
+
+// 0 (not given): every core.
+inline int step_threads(int requested) {
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+}  // namespace millwear::app

@@ -1,0 +1,127 @@
+// See workers.hpp.
+#include "engine/soft/workers.hpp"
+
+#include <algorithm>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define MW_PAUSE() _mm_pause()
+#else
+#define MW_PAUSE() ((void)0)
+#endif
+
+namespace millwear::soft {
+
+namespace {
+
+// Claim word: generation in the top 24 bits, range count in the next 20, next range in the
+// low 20.
+constexpr int kCountBits = 20;
+constexpr std::uint64_t kCountMask = (1ull << kCountBits) - 1;
+constexpr int kMaxRanges = static_cast<int>(kCountMask);
+std::uint64_t generation_of(std::uint64_t w) { return w >> (2 * kCountBits); }
+int ranges_of(std::uint64_t w) { return static_cast<int>((w >> kCountBits) & kCountMask); }
+int next_of(std::uint64_t w) { return static_cast<int>(w & kCountMask); }
+std::uint64_t pack(std::uint64_t gen, int ranges) {
+  return (gen << (2 * kCountBits)) | (static_cast<std::uint64_t>(ranges) << kCountBits);
+}
+
+// A helper between stages: pure spinning first (a step hands out a stage every few
+// microseconds), then yielding, then sleeping until woken.
+constexpr int kSpinPauses = 1 << 14;
+constexpr int kYields = 1 << 12;
+
+}  // namespace
+
+Workers::Workers(int threads) {
+  const int helpers = std::max(1, threads) - 1;
+  helpers_.reserve(static_cast<std::size_t>(helpers));
+  for (int t = 0; t < helpers; ++t) helpers_.emplace_back([this] { helper_loop(); });
+}
+
+Workers::~Workers() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_.store(true);
+  }
+  wake_.notify_all();
+  for (std::thread& t : helpers_) t.join();
+}
+
+void Workers::work_on_ranges(std::uint64_t gen) {
+  std::uint64_t w = claim_.load(std::memory_order_acquire);
+  for (;;) {
+    if (generation_of(w) != gen || next_of(w) >= ranges_of(w)) return;
+    if (!claim_.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel,
+                                      std::memory_order_acquire))
+      continue;
+    // The range is ours and unfinished: the stage cannot change under us.
+    job_(ctx_, next_of(w));
+    done_.fetch_add(1, std::memory_order_release);
+    w = claim_.load(std::memory_order_acquire);
+  }
+}
+
+void Workers::dispatch(int ranges, Job job, const void* ctx) {
+  if (ranges > kMaxRanges) {
+    // Far beyond any stage of a mill slice; split rather than overflow the claim word.
+    for (int r0 = 0; r0 < ranges; r0 += kMaxRanges) {
+      struct Offset {
+        Job job;
+        const void* ctx;
+        int r0;
+      } off{job, ctx, r0};
+      dispatch(std::min(kMaxRanges, ranges - r0),
+               [](const void* c, int r) {
+                 const auto* o = static_cast<const Offset*>(c);
+                 o->job(o->ctx, o->r0 + r);
+               },
+               &off);
+    }
+    return;
+  }
+  // Generations wrap at 2^24; a helper compares them for equality only.
+  const std::uint64_t gen =
+      (generation_of(claim_.load(std::memory_order_relaxed)) + 1) & ((1ull << 24) - 1);
+  job_ = job;
+  ctx_ = ctx;
+  done_.store(0, std::memory_order_relaxed);
+  claim_.store(pack(gen, ranges), std::memory_order_seq_cst);
+  if (sleeping_.load(std::memory_order_seq_cst) > 0) {
+    { std::lock_guard<std::mutex> lock(mutex_); }
+    wake_.notify_all();
+  }
+  work_on_ranges(gen);
+  for (int spins = 0; done_.load(std::memory_order_acquire) < ranges; ++spins) {
+    if (spins < kSpinPauses) MW_PAUSE();
+    else std::this_thread::yield();  // a helper was descheduled: give it the core
+  }
+}
+
+void Workers::helper_loop() {
+  std::uint64_t seen = 0;
+  for (;;) {
+    std::uint64_t gen = generation_of(claim_.load(std::memory_order_acquire));
+    for (int spins = 0; gen == seen && !stop_.load(std::memory_order_relaxed); ++spins) {
+      if (spins < kSpinPauses) {
+        MW_PAUSE();
+      } else if (spins < kSpinPauses + kYields) {
+        std::this_thread::yield();
+      } else {
+        std::unique_lock<std::mutex> lock(mutex_);
+        sleeping_.fetch_add(1, std::memory_order_seq_cst);
+        wake_.wait(lock, [&] {
+          return stop_.load() || generation_of(claim_.load(std::memory_order_seq_cst)) != seen;
+        });
+        sleeping_.fetch_sub(1, std::memory_order_seq_cst);
+        spins = 0;
+      }
+      gen = generation_of(claim_.load(std::memory_order_acquire));
+    }
+    if (stop_.load()) return;
+    seen = gen;
+    work_on_ranges(gen);
+  }
+}
+
+}  // namespace millwear::soft

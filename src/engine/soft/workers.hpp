@@ -1,0 +1,80 @@
+#pragma once
+// The soft backend's worker pool: a few persistent threads that run the ranges of one stage
+// (Box2D v3's approach, written for our step; no Box2D code is used).
+//
+// Determinism. Work is cut into ranges whose bounds depend only on the data (a fixed number
+// of disks or rows per range), never on the thread count. Within a stage every range writes
+// only its own outputs: disks or rows of its own, or its own slot of a partial sum. Which
+// thread runs a range, and when, therefore changes nothing; reductions add the ranges'
+// partial sums afterwards in range order. The same scene and seed give the same bits with
+// 1, 2, 3 or 4 threads (tests/test_engine.cpp, "ThreadCountDoesNotChangeTheBits").
+//
+// Cost. A stage is handed out by bumping a generation counter that the helpers spin on
+// (then yield, then sleep on a condition variable after a long idle spell), and the ranges
+// are claimed through one atomic counter. Nothing is allocated per stage: the job is a
+// function pointer and a context pointer. With one thread, or a stage of one range, the
+// ranges run inline on the caller, in order.
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace millwear::soft {
+
+class Workers {
+ public:
+  // threads: the caller plus threads - 1 helpers (at least 1).
+  explicit Workers(int threads);
+  ~Workers();
+  Workers(const Workers&) = delete;
+  Workers& operator=(const Workers&) = delete;
+
+  int threads() const { return static_cast<int>(helpers_.size()) + 1; }
+
+  // Calls fn(r) for every r in [0, ranges) and returns when all have run. fn must not
+  // depend on which thread runs it.
+  template <class F>
+  void run(int ranges, const F& fn) {
+    if (ranges <= 0) return;
+    if (ranges == 1 || helpers_.empty()) {
+      for (int r = 0; r < ranges; ++r) fn(r);
+      return;
+    }
+    dispatch(ranges, &call<F>, &fn);
+  }
+
+ private:
+  using Job = void (*)(const void*, int);
+  template <class F>
+  static void call(const void* ctx, int r) {
+    (*static_cast<const F*>(ctx))(r);
+  }
+  void dispatch(int ranges, Job job, const void* ctx);
+  // Claims and runs ranges of generation gen until none is left.
+  void work_on_ranges(std::uint64_t gen);
+  void helper_loop();
+
+  std::vector<std::thread> helpers_;
+  // The stage being run.
+  // The stage being run. The claim word packs the stage's generation, its range count and
+  // the next range to claim: a thread claims a range by compare-and-swap, so a helper late
+  // from an earlier stage can never claim a range of a later one (its generation differs),
+  // and the job it then reads cannot change before that range is done.
+  Job job_ = nullptr;
+  const void* ctx_ = nullptr;
+  std::atomic<std::uint64_t> claim_{0};
+  std::atomic<int> done_{0};     // ranges of the current stage finished
+  std::atomic<int> sleeping_{0};
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::condition_variable wake_;
+};
+
+// The count of ranges of a stage over n items, size items a range (the last may be shorter).
+inline int range_count(std::size_t n, std::size_t size) {
+  return static_cast<int>((n + size - 1) / size);
+}
+
+}  // namespace millwear::soft
