@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
 #include "study/charge_outputs.hpp"
@@ -26,10 +27,14 @@ struct ChargeArgs {
   std::string fidelity;
   double revolutions = 0.0;
   bool quiet = false;
+  bool vtk = false;
+  std::vector<std::string> overrides;
 };
 
 int run_charge(const ChargeArgs& args) {
-  Scene scene = load_scene(args.scene);
+  std::vector<std::string> overrides = args.overrides;
+  if (args.vtk) overrides.push_back("outputs.vtk=true");
+  Scene scene = load_scene(args.scene, overrides);
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
   check_run_limits(scene, args.scene);
@@ -77,6 +82,8 @@ void register_charge(CLI::App& app, Action* action) {
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
       ->check(CLI::Range(1e-6, 1e4));
+  add_set_option(cmd, &args->overrides);
+  cmd->add_flag("--vtk", args->vtk, "ParaView files of the measured window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "study/rule1.hpp"
@@ -19,10 +20,11 @@ struct Rule1Args {
   std::vector<double> factors;
   double tolerance_pct = 5.0;
   int stages = 1;
+  std::vector<std::string> overrides;
 };
 
 int run_rule1(const Rule1Args& a) {
-  Scene scene = load_scene(a.scene);
+  Scene scene = load_scene(a.scene, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
   check_run_limits(scene, a.scene);  // before anything is filled or written
@@ -60,6 +62,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(CLI::Range(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  add_set_option(cmd, &args->overrides);
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }
 

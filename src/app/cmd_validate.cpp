@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "study/validation_run.hpp"
@@ -92,6 +93,7 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  add_set_option(cmd, &args->overrides);
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: normal distances (mm, % of the lifter height) and area error per survey.\n"
               "Areas only: area and area-loss error per row (simulated - measured).");

@@ -18,6 +18,8 @@ struct RunArgs {
   bool check = false;
   int jobs = 0;
   int stop_after_stage = -1;
+  bool vtk = false;                    // as --set outputs.vtk=true
+  std::vector<std::string> overrides;  // --set KEY=VALUE on every design
 };
 
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.

@@ -22,6 +22,9 @@ struct CalibrateRequest {
   std::string scene_file, measured_file;
   std::string out;               // "": the copy goes next to the scene, no tables
   std::string fidelity;          // "": the scene's own
+  // --set KEY=VALUE (scene/scene.hpp); not the wear rate, which the calibration finds. The
+  // calibrated copy is the file's text: its header comment lists them, they are not in it.
+  std::vector<std::string> overrides;
   CalibrationOptions options;    // min_runs is capped at max_runs
 };
 

@@ -1,7 +1,8 @@
 #pragma once
 // The files of `millwear charge`: charge_summary.csv (quantity, value, unit), liner_work.csv
-// (shear and impact power per liner edge), spectrum.csv, contacts.csv and snapshot.csv as the
-// scene's outputs ask (docs/run.md lists their columns).
+// (shear and impact power per liner edge), spectrum.csv, contacts.csv, snapshot.csv and the
+// ParaView files vtk/NAME.pvd (study/vtk_output.hpp) as the scene's outputs ask (docs/run.md
+// lists their columns).
 #include <string>
 
 #include "engine/charge_run.hpp"

@@ -36,6 +36,7 @@ struct PlanArgs {
   std::string fidelity;             // preset applied to every design ("": each scene's own)
   std::string reference;            // design that normalises ("": the comparison's, else the first)
   std::string out;                  // output folder ("": not checked)
+  std::vector<std::string> overrides;  // --set KEY=VALUE, applied to every design's scene
 };
 
 // Throws InputError naming the file and key for anything wrong; nothing is written.
@@ -43,6 +44,6 @@ Plan make_plan(const PlanArgs& args);
 
 // The designs a scene or comparison file names, loaded and checked as make_plan does. Their
 // own fidelity is kept.
-std::vector<Scene> load_designs(const std::string& path);
+std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace millwear::study

@@ -38,6 +38,7 @@ struct ValidateRequest {
   std::string scene_file, measured_file, out;
   std::string from;        // a finished `millwear run` folder, or "" to run the history
   std::string fidelity;    // "": the scene's own
+  std::vector<std::string> overrides;  // --set KEY=VALUE (scene/scene.hpp)
 };
 
 // Where the history comes from, known before it is read or run.
