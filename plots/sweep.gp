@@ -2,7 +2,8 @@
 # bars of one standard error (batch means over each point's measured window).
 # Inputs (see common.gp for the shared variables):
 #   OUT/sweep.csv   columns used: value, power_kW, specific_power_kW_per_t, toe_deg,
-#                   shoulder_deg, collision_power_kW, liner_shear_power_kW, their *_sem, lost_disks
+#                   shoulder_deg, collision_power_kW, liner_shear_power_kW, their *_sem, lost_disks,
+#                   centrifuged (toe and shoulder read "centrifuged" there: marked at 0 deg)
 #   figure          which figure: power | toe_shoulder | collision_shear      [power]
 #   key             the varied key, for the x label                            [value]
 # Output: outbase.png, outbase.svg (default outbase = OUT/plots/sweep_FIGURE).
@@ -40,9 +41,14 @@ do for [fmt in formats] {
     set title "Toe and shoulder against " . key . " (error bars: one standard error)" font ",13"
     set xlabel xlabel
     set ylabel "Angle from 6 o'clock (deg, + on the rising side)"
-    set key top left
+    set key bottom center
+    set yrange [-190:190]
+    set ytics 45
     plot table using "value":(ok("shoulder_deg")):"shoulder_deg_sem" with yerrorlines ls 1 title "shoulder", \
-         table using "value":(ok("toe_deg")):"toe_deg_sem" with yerrorlines ls 2 title "toe"
+         table using "value":(ok("toe_deg")):"toe_deg_sem" with yerrorlines ls 2 title "toe", \
+         table using "value":(column("centrifuged") > 0 ? 0 : NaN) with points pt 4 ps 2.5 lc rgb '#000000' \
+           title "centrifuged: the charge covers the shell, no toe or shoulder"
+    unset yrange
   }
   if (figure eq "collision_shear") {
     eval term_cmd(fmt, 900, 600)

@@ -2,6 +2,7 @@
 // cataracting, centrifuging) and filling from an empty mill to 50% of the mill area.
 // Every run must be sound: finite, no escaped disk, speeds under the bound of
 // stability_run.hpp (bench/stability_sweep prints the figures, docs/stability.md).
+#include "metrics/charge_summary.hpp"
 #include "stability_common.hpp"
 
 namespace millwear::stability {
@@ -30,6 +31,26 @@ TEST(StabilityOperating, AboveCriticalTheChargeCentrifuges) {
     if (st.active[i]) mean_r += length(st.position_m[i]), n += 1.0;
   ASSERT_GT(n, 0.0);
   EXPECT_GT(mean_r / n, 0.8 * s.radius_m());
+  // The charge summary says so: the shell band is full all round, no toe or shoulder.
+  engine->reset_window();
+  engine->step(steps_for(s.revolution_time_s(), engine->time_step_s()));
+  EXPECT_TRUE(summarize(engine->accounting(), s.angular_speed_rad_s(), kGravity).centrifuged);
+}
+
+// The same mill at 75% of critical cascades: a bed with its toe on the falling side and its
+// shoulder on the rising side, the centre of mass between them.
+TEST(StabilityOperating, BelowCriticalTheChargeHasAToeAndAShoulder) {
+  Scene s = tiny_mill();
+  const MillGeometry mill = build_scene_mill(s);
+  auto engine = make_engine(s, mill, fill_charge(s, mill), accounting_options_for(s));
+  settle_and_spin_up(*engine, s, 1.0);
+  engine->step(steps_for(s.revolution_time_s(), engine->time_step_s()));
+  const ChargeSummary sum = summarize(engine->accounting(), s.angular_speed_rad_s(), kGravity);
+  EXPECT_FALSE(sum.centrifuged);
+  EXPECT_LT(sum.toe_deg, 0.0);
+  EXPECT_GT(sum.shoulder_deg, 0.0);
+  EXPECT_GT(sum.centre_of_mass_deg, sum.toe_deg);
+  EXPECT_LT(sum.centre_of_mass_deg, sum.shoulder_deg);
 }
 
 // A filling too small for one disk is refused before anything is placed, naming the filling

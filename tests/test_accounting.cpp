@@ -159,5 +159,50 @@ TEST(Accounting, ContactLogKeepsLinerContactsUpToItsLimit) {
   EXPECT_TRUE(off.contact_log.empty());
 }
 
+// A bed filling the bottom of the shell band from 60 deg on the falling side to 120 deg on the
+// rising side (5 deg bins, bin k covers [5k, 5k+5) deg counter-clockwise from 6 o'clock).
+Accounting bed_occupancy(double outside) {
+  Accounting acc;
+  for (int k = 0; k < kShapeAngleBins; ++k) {
+    const double lo = 5.0 * k;
+    const bool rising = lo < 120.0, falling = lo >= 300.0;
+    acc.shell_band_occupancy[k] = (rising || falling) ? 1.0 : outside;
+  }
+  acc.time_s = 1.0;
+  return acc;
+}
+
+TEST(ChargeShape, ABedHasItsToeAndShoulderWhereTheBandEmpties) {
+  const ChargeSummary s = summarize(bed_occupancy(0.1), 1.0, 9.81);
+  EXPECT_FALSE(s.centrifuged);
+  EXPECT_DOUBLE_EQ(s.shoulder_deg, 120.0);  // first bin under half the bed's value, rising side
+  EXPECT_DOUBLE_EQ(s.toe_deg, -60.0);
+}
+
+TEST(ChargeShape, TheRisingSideFollowsTheDirectionOfRotation) {
+  // Turning clockwise, the side at negative angles rises: the same bed reads mirrored.
+  const ChargeSummary s = summarize(bed_occupancy(0.1), -1.0, 9.81);
+  EXPECT_DOUBLE_EQ(s.shoulder_deg, 60.0);
+  EXPECT_DOUBLE_EQ(s.toe_deg, -120.0);
+}
+
+TEST(ChargeShape, ABandFullAllRoundIsCentrifuged) {
+  // Over half the bed's value in every bin: the charge rides the whole shell.
+  const ChargeSummary s = summarize(bed_occupancy(0.6), 1.0, 9.81);
+  EXPECT_TRUE(s.centrifuged);
+  // Just under half somewhere is a bed again.
+  EXPECT_FALSE(summarize(bed_occupancy(0.49), 1.0, 9.81).centrifuged);
+}
+
+TEST(ChargeShape, TheCentreOfMassAngleIsMeasuredFrom6OClockTowardTheRisingSide) {
+  Accounting acc;
+  acc.time_s = 1.0;
+  acc.shape_samples = 1.0;
+  acc.mass_time_kg_s = 2.0;
+  acc.moment_time_kg_m_s = {2.0 * 0.1, -2.0 * 0.1};  // at (0.1, -0.1): 45 deg up the +x side
+  EXPECT_NEAR(summarize(acc, 1.0, 9.81).centre_of_mass_deg, 45.0, 1e-12);
+  EXPECT_NEAR(summarize(acc, -1.0, 9.81).centre_of_mass_deg, -45.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace millwear

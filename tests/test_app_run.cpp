@@ -525,3 +525,19 @@ TEST_F(FolderRuns, AFileAsTheOutputFolderExits2ForEveryCommand) {
   }
   EXPECT_EQ(slurp(file), "not a folder\n");
 }
+
+// `millwear charge` draws its own figures: the collision spectrum and the snapshot, whose
+// legend names the scene's species and which marks the toe and shoulder it measured.
+TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
+  const fs::path out = fs::temp_directory_path() / "millwear-test-charge-figures";
+  fs::remove_all(out);
+  const Result r = run("charge " + src("scenarios/lab-mill.toml") + " -o " + q(out) + " --revolutions 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"spectrum.png", "spectrum.svg", "snapshot_lab-mill.png", "snapshot_lab-mill.svg"})
+    EXPECT_TRUE(fs::exists(out / "plots" / f)) << f;
+  EXPECT_TRUE(has_magic(out / "plots" / "snapshot_lab-mill.png", "\x89PNG"));
+  const std::string svg = slurp(out / "plots" / "snapshot_lab-mill.svg");
+  for (const char* text : {"ball", "toe", "shoulder", "turning counter-clockwise"})
+    EXPECT_NE(svg.find(text), std::string::npos) << text;
+  fs::remove_all(out);
+}

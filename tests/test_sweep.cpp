@@ -87,13 +87,14 @@ TEST(SweepCharge, FramesAndBatchesDoNotChangeTheFigures) {
 
 // Power against speed on the lab mill: at half critical the charge cascades; near 0.85 it
 // cataracts and draws the most; at 1.6 of critical it rides round with the shell and the
-// drive does almost no work. The margins are three standard errors of the difference.
+// drive does almost no work. The margins are three standard errors of the difference. (Three
+// revolutions of spin-up: at 1.6 of critical the charge takes over one to settle on the shell.)
 TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) {
   const fs::path out = temp_dir("speed");
   const auto r = millwear::testing::run_millwear(
       "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
       millwear::testing::quoted(out) + " --vary mill.speed=0.5,0.85,1.6 --revolutions 2 --fidelity draft " +
-      "--set solver.seed=2 -j 2 --no-plot -q");
+      "--set solver.seed=2 --set solver.spinup_revolutions=3 -j 2 --no-plot -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const io::CsvData t = io::read_csv((out / "sweep.csv").string());
   ASSERT_EQ(t.rows.size(), 3u);
@@ -104,6 +105,15 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
   };
   EXPECT_GT(p_mid - p_low, margin(0, 1)) << r.output;
   EXPECT_GT(p_mid - p_high, margin(1, 2)) << r.output;
+  // Past critical the charge covers the whole shell: no toe or shoulder, and the table says so.
+  EXPECT_EQ(t.text(2, t.column("toe_deg")), "centrifuged");
+  EXPECT_EQ(t.text(2, t.column("shoulder_deg")), "centrifuged");
+  EXPECT_EQ(t.text(2, t.column("centrifuged")), "1");
+  for (std::size_t row : {0u, 1u}) {
+    EXPECT_EQ(t.text(row, t.column("centrifuged")), "0");
+    EXPECT_LT(col("toe_deg", row), 0.0);        // the toe on the falling side of 6 o'clock
+    EXPECT_GT(col("shoulder_deg", row), 90.0);  // the shoulder above 3 o'clock on the rising side
+  }
   // Specific power is power over the same charge mass at every speed.
   EXPECT_NEAR(col("charge_t", 0), col("charge_t", 2), 0.01 * col("charge_t", 0));
   EXPECT_NEAR(col("specific_power_kW_per_t", 1) * col("charge_t", 1), p_mid, 1e-6 * p_mid);

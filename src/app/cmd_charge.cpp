@@ -11,6 +11,7 @@
 #include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
+#include "plots/plots.hpp"
 #include "study/charge_outputs.hpp"
 #include "io/folder_lock.hpp"
 #include "scene/fidelity.hpp"
@@ -52,8 +53,13 @@ int run_charge(const ChargeArgs& args) {
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
   std::printf("  collisions   %10.1f kW/m   liner %.1f kW/m, solver %.1f kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
-  std::printf("  toe %.0f deg, shoulder %.0f deg (from 6 o'clock, + on the rising side)\n",
-              f.summary.toe_deg, f.summary.shoulder_deg);
+  const double com_deg = f.summary.centre_of_mass_deg;
+  if (f.summary.centrifuged)
+    std::printf("  centrifuged: the charge covers the whole shell (no toe or shoulder); centre of mass %.0f deg\n",
+                com_deg);
+  else
+    std::printf("  toe %.0f deg, shoulder %.0f deg, centre of mass %.0f deg (from 6 o'clock, + on the rising side)\n",
+                f.summary.toe_deg, f.summary.shoulder_deg, com_deg);
   if (f.summary.mean_packed_disks > 0.0)
     std::printf("  packed: %.1f disks on average rode the liner for over a revolution; their slip, %.1f%%\n"
                 "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"
@@ -61,6 +67,14 @@ int run_charge(const ChargeArgs& args) {
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
   std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
               args.out.c_str());
+  bool figures_failed = false;
+  try {
+    const auto figs = render_charge_figures(args.out, scene);
+    if (!figs.empty()) std::printf("  figures in %s/plots (spectrum, snapshot_%s)\n", args.out.c_str(), scene.name.c_str());
+  } catch (const std::exception& e) {
+    std::cerr << "millwear: warning: figures: " << e.what() << "\n";
+    figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
+  }
   // A disk lost at any time (settling and spin-up included) makes every figure suspect.
   if (result.lost_disks > 0) {
     std::cerr << "millwear: run failed: " << result.lost_disks << " of " << result.disks
@@ -68,7 +82,7 @@ int run_charge(const ChargeArgs& args) {
               << " s: " << result.events.front().what << ")\n";
     return 1;
   }
-  return 0;
+  return figures_failed ? 1 : 0;
 }
 
 }  // namespace

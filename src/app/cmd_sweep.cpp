@@ -29,13 +29,16 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
   const study::SweepResult r = study::run_sweep(q, cb);
   std::printf("%s: %s over %zu values (%d job(s), %.1f s wall); per mill, +- one standard error\n",
               r.scene_name.c_str(), r.axis.key.c_str(), r.points.size(), r.jobs, r.wall_s);
-  std::printf("%12s %7s %16s %14s %16s %16s %13s %13s\n", "value", "crit", "power_kW", "kW/t", "collision_kW",
+  std::printf("%10s %6s %20s %18s %20s %20s %13s %13s\n", "value", "crit", "power_kW", "kW/t", "collision_kW",
               "shear_kW", "toe_deg", "shoulder_deg");
   for (const study::SweepPoint& p : r.points) {
-    std::printf("%12s %7.3f %9.1f +- %-4.0f %7.2f +- %-4.2f %9.1f +- %-4.0f %9.2f +- %-4.2f %6.0f +- %-4.0f %6.0f +- %-4.0f%s\n",
-                p.text.c_str(), p.speed_fraction_critical, p.power_kW, p.power_kW_sem, p.specific_kW_per_t,
-                p.specific_kW_per_t_sem, p.collision_kW, p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, p.toe_deg,
-                p.toe_deg_sem, p.shoulder_deg, p.shoulder_deg_sem, p.error.empty() ? "" : "  FAILED");
+    char toe[32], shoulder[32];
+    std::snprintf(toe, sizeof toe, "%5.0f +- %-4.0f", p.toe_deg, p.toe_deg_sem);
+    std::snprintf(shoulder, sizeof shoulder, "%5.0f +- %-4.0f", p.shoulder_deg, p.shoulder_deg_sem);
+    std::printf("%10s %6.3f %9.4g +- %-8.2g %7.4g +- %-7.2g %9.4g +- %-8.2g %9.4g +- %-8.2g %13s %13s%s\n", p.text.c_str(),
+                p.speed_fraction_critical, p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem,
+                p.collision_kW, p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, p.centrifuged ? "centrifuged" : toe,
+                p.centrifuged ? "centrifuged" : shoulder, p.error.empty() ? "" : "  FAILED");
   }
   std::printf("results in %s (sweep.csv, manifest.json, points/); figures in %s/plots\n", q.out.c_str(), q.out.c_str());
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());

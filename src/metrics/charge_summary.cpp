@@ -3,17 +3,23 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+
+#include "common/units.hpp"
 
 namespace millwear {
 
 namespace {
+
+// A bin is part of the bed while its solids are at least this share of the fullest bin's.
+constexpr double kBedThreshold = 0.5;
 
 // Walk from the bottom bin in direction dir (+1 rising side) until occupancy drops under
 // half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge.
 double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) {
   const double peak = *std::max_element(occ.begin(), occ.end());
   if (!(peak > 0.0)) return 0.0;
-  const double threshold = 0.5 * peak;
+  const double threshold = kBedThreshold * peak;
   const double bin_deg = 360.0 / kShapeAngleBins;
   for (int k = 0; k < kShapeAngleBins; ++k) {
     const int bin = ((dir > 0 ? k : -k - 1) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
@@ -54,8 +60,13 @@ ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double g
   }
   // Toe and shoulder in the frame where the charge rises on the + side.
   const int dir = mill_speed_rad_s < 0 ? -1 : 1;
+  const Vec2 c = s.centre_of_mass_m;
+  // Counter-clockwise from 6 o'clock is toward +x at the bottom.
+  if (c.x != 0.0 || c.y != 0.0) s.centre_of_mass_deg = dir * std::atan2(c.x, -c.y) * 180.0 / kPi;
   s.shoulder_deg = dir * charge_edge_deg(acc.shell_band_occupancy, dir);
   s.toe_deg = dir * charge_edge_deg(acc.shell_band_occupancy, -dir);
+  const auto [lo, hi] = std::minmax_element(acc.shell_band_occupancy.begin(), acc.shell_band_occupancy.end());
+  s.centrifuged = *hi > 0.0 && *lo >= kBedThreshold * *hi;
   return s;
 }
 

@@ -2,6 +2,16 @@
 // What a measured window says about the charge: power, torque, the energy shares, the centre
 // of mass, toe and shoulder (from the shell-band occupancy), the packing share; per slice in
 // SI (ChargeSummary) and per metre of mill (ChargeFigures). Pure functions of the window's sums.
+//
+// Toe and shoulder, defined: the shell band is the annulus from the shell inward to a few of
+// the largest particle diameters inside the lifter tips (the engine's shape band). Each step
+// adds every disk's area inside the band to its 5 deg angle bin, so a bin's sum over the
+// window is its time-averaged solids area. The bed's value is the fullest bin. Walking from
+// 6 o'clock up the rising side, the shoulder is the first bin whose solids fall under half the
+// bed's value; walking down the falling side, the toe likewise. A charge whose band holds more
+// than half the bed's value all the way round covers the whole shell: it is centrifuged, and
+// has no toe or shoulder (toe_deg and shoulder_deg then read -180 and 180 in the rising-side
+// frame, and `centrifuged` says why).
 #include <cstdint>
 
 #include "engine/accounting.hpp"
@@ -22,8 +32,10 @@ struct ChargeSummary {
   double kinetic_change_W = 0.0;        // (KE+PE change) / time
   double mass_kg = 0.0;                 // mean active charge mass
   Vec2 centre_of_mass_m;
+  double centre_of_mass_deg = 0.0;  // its angle from 6 o'clock, + toward the rising side
   double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side
   double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
+  bool centrifuged = false;   // the band is full all round: no toe or shoulder
   double shear_work_rate_W = 0.0;       // total on the liner
   double packed_shear_share = 0.0;      // of all liner slip work (packed included), packed disks'
   double mean_packed_disks = 0.0;       // disks riding the liner for over a revolution

@@ -6,6 +6,9 @@
 
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "io/stage_files.hpp"
+#include "plots/plots.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/archard.hpp"
 
@@ -43,8 +46,9 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "collision_power_per_m," << fmt(f.collision_kW_per_m) << ",kW/m\n"
       << "liner_dissipation_per_m," << fmt(f.liner_kW_per_m) << ",kW/m\n"
       << "solver_dissipation_per_m," << fmt(f.solver_kW_per_m) << ",kW/m\n"
-      << "toe_angle," << fmt(s.toe_deg) << ",deg from 6 o'clock (+ rising side)\n"
-      << "shoulder_angle," << fmt(s.shoulder_deg) << ",deg from 6 o'clock (+ rising side)\n"
+      << "toe_angle," << (s.centrifuged ? "centrifuged" : fmt(s.toe_deg)) << ",deg from 6 o'clock (+ rising side)\n"
+      << "shoulder_angle," << (s.centrifuged ? "centrifuged" : fmt(s.shoulder_deg)) << ",deg from 6 o'clock (+ rising side)\n"
+      << "centre_of_mass_angle," << fmt(s.centre_of_mass_deg) << ",deg from 6 o'clock (+ rising side)\n"
       << "charge_mass_per_m," << fmt(s.mass_kg / t) << ",kg/m\n"
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
@@ -105,15 +109,20 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     write_vtk_series(out + "/vtk", scene.name, scene, r.mill, r.frames, liner_fields(scene, r.mill, r.accounting, c));
   }
   if (scene.outputs.snapshot) {
-    std::ostringstream snap;
-    snap << "x_m,y_m,radius_m,species\n";
+    // The charge and the liner at the window's end, in the world frame; the liner coloured by
+    // the shear power it took over the window.
     const ChargeState& st = r.final_state;
-    for (std::size_t i = 0; i < st.size(); ++i)
-      if (st.active[i])
-        snap << fmt(st.position_m[i].x) << ',' << fmt(st.position_m[i].y) << ',' << fmt(st.radius_m[i])
-             << ',' << scene.charge.species[st.species[i]].name << '\n';
-    io::write_file_atomic(out + "/snapshot.csv", snap.str());
+    io::write_snapshot_table(io::snapshot_path(out, scene.name), st, scene.charge.species);
+    std::vector<double> shear(n);
+    for (std::size_t e = 0; e < n && e < r.accounting.shear_work_J.size(); ++e)
+      shear[e] = r.accounting.shear_work_J[e] / s.time_s / (r.mill.edge_length_m[e] * t);
+    io::write_liner_table(io::liner_path(out, scene.name), r.mill, st.mill_angle_rad, "shear_power_W_per_m2", shear,
+                          0, 0.0, io::snapshot_marks(s, st.mill_speed_rad_s));
   }
+}
+
+std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
+  return plots::render_all_figures(out, {scene.name});
 }
 
 }  // namespace millwear

@@ -100,6 +100,7 @@ SweepPoint measure_point(const Scene& scene, int index, const SweepAxis& axis, c
   p.shear_kW = shear_kW(f);
   p.toe_deg = f.summary.toe_deg;
   p.shoulder_deg = f.summary.shoulder_deg;
+  p.centrifuged = f.summary.centrifuged;
   const auto sem = [&](auto of) {
     std::vector<double> v;
     for (const ChargeFigures& b : r.batches) v.push_back(of(b));
@@ -123,12 +124,16 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
                   "power_kW", "power_kW_sem", "specific_power_kW_per_t", "specific_power_kW_per_t_sem",
                   "collision_power_kW", "collision_power_kW_sem", "liner_shear_power_kW",
                   "liner_shear_power_kW_sem", "toe_deg", "toe_deg_sem", "shoulder_deg", "shoulder_deg_sem",
-                  "simulated_s", "wall_s", "lost_disks", "error"});
+                  "centrifuged", "simulated_s", "wall_s", "lost_disks", "error"});
+  // A centrifuged charge has no toe or shoulder: the cells say so (a plot skips them).
+  const auto angle = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("centrifuged") : io::CsvCell(v); };
+  const auto angle_sem = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("") : io::CsvCell(v); };
   for (const SweepPoint& p : r.points)
     t.add_row({r.axis.key, p.value, p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
                p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
-               p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, p.toe_deg, p.toe_deg_sem, p.shoulder_deg,
-               p.shoulder_deg_sem, p.simulated_s, p.wall_s, p.lost_disks, p.error});
+               p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
+               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, p.simulated_s, p.wall_s,
+               p.lost_disks, p.error});
   t.write(io::join_path(out, "sweep.csv"));
 }
 

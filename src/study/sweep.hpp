@@ -5,7 +5,8 @@
 //   OUT/sweep.csv         one row per value: the key's value, speed, charge mass, power per
 //                         mill and specific power (kW/t of charge), toe and shoulder, collision
 //                         power, liner shear power, each with its standard error (batch means
-//                         over the measured window, metrics/batch_means.hpp)
+//                         over the measured window, metrics/batch_means.hpp); toe and shoulder
+//                         read "centrifuged" where the charge covers the whole shell
 //   OUT/points/NN/        each point's `millwear charge` files (charge_summary.csv, ...)
 //   OUT/plots/            sweep_power, sweep_toe_shoulder, sweep_collision_shear (PNG, SVG)
 //   OUT/manifest.json     program, scene, key, values, --set overrides, fidelity, points
@@ -57,6 +58,7 @@ struct SweepPoint {
   double shear_kW = 0.0, shear_kW_sem = 0.0;            // liner shear (Archard) power
   double toe_deg = 0.0, toe_deg_sem = 0.0;              // from 6 o'clock, + rising side
   double shoulder_deg = 0.0, shoulder_deg_sem = 0.0;
+  bool centrifuged = false;   // over the window: no toe or shoulder (metrics/charge_summary.hpp)
   double simulated_s = 0.0, wall_s = 0.0;
   std::string error;                           // a lost disk or a failed run: figures suspect
 };

@@ -2,7 +2,7 @@
 millwear) and checks the counts and fields against the run's own CSV files.
 
 usage: check_vtk.py CHARGE_OUT RUN_OUT DESIGN
-  CHARGE_OUT  a `millwear charge --vtk` folder (vtk/NAME.pvd, snapshot.csv, liner_work.csv)
+  CHARGE_OUT  a `millwear charge --vtk` folder (vtk/NAME.pvd, snapshot_NAME.csv, liner_work.csv)
   RUN_OUT     a `millwear run --vtk` folder (vtk/DESIGN_stageK.pvd, snapshot_DESIGN.csv, ...)
 """
 import csv
@@ -89,7 +89,7 @@ def main(charge_out, run_out, design):
     s = check_series(os.path.join(charge_out, "vtk", name + ".pvd"), 8)
     last_p = [f for t, p, f in s if p == 0][-1]
     m = check_particles(last_p)
-    snap = rows(os.path.join(charge_out, "snapshot.csv"))
+    snap = rows(os.path.join(charge_out, "snapshot_%s.csv" % name))
     check(len(m.points) == len(snap), "charge: %d particles, snapshot.csv has %d" % (len(m.points), len(snap)))
     check(all(abs(float(r["x_m"]) - p[0]) < 1e-6 and abs(float(r["radius_m"]) - rad) < 1e-9
               for r, p, rad in zip(snap, m.points, m.point_data["radius_m"])),
