@@ -13,12 +13,12 @@
 
 #include "cli_support.hpp"
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
-using millwear::testing::quoted;
 using millwear::testing::run_millwear;
 
 namespace {
@@ -172,7 +172,7 @@ TEST_F(Overrides, MalformedOverridesAreRefused) {
 
 TEST_F(Overrides, TheCommandLineExitsTwoNamingTheKeyBeforeWritingAnything) {
   const fs::path out = dir_ / "out";
-  const auto r = run_millwear("charge " + quoted(scene_) + " -o " + quoted(out) + " --set charge.filing=0.3");
+  const auto r = run_millwear("charge " + millwear::testing::quoted(fs::path(scene_)) + " -o " + millwear::testing::quoted(out) + " --set charge.filing=0.3");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--set charge.filing=0.3: charge.filing: unknown key (did you mean 'filling'?)"),
             std::string::npos)
@@ -180,11 +180,11 @@ TEST_F(Overrides, TheCommandLineExitsTwoNamingTheKeyBeforeWritingAnything) {
   EXPECT_FALSE(fs::exists(out));
   // Every command that reads a scene takes --set and checks it before any work.
   for (const std::string cmd : {"run", "sweep", "animate", "rule1", "tradeoff", "validate", "calibrate"}) {
-    std::string args = cmd + " " + quoted(scene_) + " --set mill.speed=fast";
-    if (cmd == "animate") args += " -o " + quoted(dir_ / "a.gif");
-    if (cmd == "run" || cmd == "tradeoff" || cmd == "validate" || cmd == "sweep") args += " -o " + quoted(out);
+    std::string args = cmd + " " + millwear::testing::quoted(fs::path(scene_)) + " --set mill.speed=fast";
+    if (cmd == "animate") args += " -o " + millwear::testing::quoted(dir_ / "a.gif");
+    if (cmd == "run" || cmd == "tradeoff" || cmd == "validate" || cmd == "sweep") args += " -o " + millwear::testing::quoted(out);
     if (cmd == "sweep") args += " --vary charge.filling=0.2,0.3";
-    if (cmd == "validate" || cmd == "calibrate") args += " --measured " + quoted(scene_);
+    if (cmd == "validate" || cmd == "calibrate") args += " --measured " + millwear::testing::quoted(fs::path(scene_));
     const auto c = run_millwear(args);
     EXPECT_EQ(c.exit_code, 2) << cmd << ": " << c.output;
     EXPECT_NE(c.output.find("--set mill.speed=fast: mill.speed: expected a number"), std::string::npos)
