@@ -8,6 +8,7 @@
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/sweep.hpp"
 
 namespace millwear::app {
@@ -75,6 +76,7 @@ void register_sweep(CLI::App& app, Action* action) {
   cmd->add_flag("-q,--quiet", *quiet, "no progress lines, only the final table");
   cmd->callback([args, quiet, no_plot, action] {
     args->figures = !*no_plot;
+    args->commit = MILLWEAR_COMMIT;
     *action = [args, quiet] { return run_sweep_cmd(*args, *quiet); };
   });
 }

@@ -142,6 +142,7 @@ void write_sweep_manifest(const std::string& out, const SweepRequest& q, const S
   nlohmann::ordered_json m;
   m["program"] = "millwear";
   m["version"] = MILLWEAR_VERSION;
+  m["commit"] = q.commit;
   m["command"] = "sweep";
   m["scene_file"] = q.scene_file;
   m["scene"] = r.scene_name;

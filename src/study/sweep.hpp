@@ -42,6 +42,7 @@ struct SweepRequest {
   double revolutions = 0.0;            // measured revolutions per point (0: the scene's)
   int jobs = 0;                        // points at once (0: the hardware's cores)
   bool figures = true;
+  std::string commit;                  // the program's git commit, for the manifest
 };
 
 // One value's results, per mill (kW, t), with standard errors (*_sem) from batch means.
