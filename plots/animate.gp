@@ -7,7 +7,8 @@
 #                                    value of the edge starting at the vertex)
 #             blocks separated by two blank lines
 #   metafile  gnuplot commands setting: nframes, R (mill radius, m), cbmax, cblabel and
-#             array ftitle[nframes] (one title per frame)
+#             array ftitle[nframes] (one title per frame); nspecies and the arrays
+#             sp_rgb[nspecies] (colours as numbers) and sp_name[nspecies]
 #   outbase   output path without extension; writes outbase.gif
 #   delay     frame delay in 1/100 s ["5"]
 #   size      image size in pixels (square) ["640"]
@@ -32,9 +33,8 @@ if (exists("frame")) {
   first = 0; last = nframes - 1
 }
 
-# Species colours: steel-blue balls/rock greys, muted so the liner colours stand out.
-species_rgb(s) = (s == 0) ? 0x7f8fa6 : (s == 1) ? 0xa08c70 : (s == 2) ? 0xb07d48 : \
-                 (s == 3) ? 0x6b8e5a : 0x7d7d7d
+# Species colours and names from the meta file (sp_rgb, sp_name: as the snapshot figures).
+species_rgb(s) = (s >= 0 && s < nspecies) ? sp_rgb[s + 1] : 0x7d7d7d
 set palette defined (0 '#2c7bb6', 0.25 '#abd9e9', 0.5 '#ffffbf', 0.75 '#fdae61', 1 '#d7191c')
 set cbrange [0 : cbmax]
 set cblabel cblabel
@@ -47,12 +47,13 @@ set yrange [-1.05 * R : 1.05 * R]
 set xlabel "x (m)"
 set ylabel "y (m)"
 set style fill solid 1.0 noborder
-unset key
+set key at screen 0.46, screen 0.02 center bottom horizontal
 unset grid
 
 do for [i = first : last] {
   set title ftitle[i + 1]
-  plot datafile index (2 * i) using 1:2:3:(species_rgb(int($4))) with circles lc rgb variable, \
-       datafile index (2 * i + 1) using 1:2:3 with lines lw 4 lc palette
+  plot datafile index (2 * i) using 1:2:3:(species_rgb(int($4))) with circles lc rgb variable notitle, \
+       datafile index (2 * i + 1) using 1:2:3 with lines lw 4 lc palette notitle, \
+       for [s = 0:nspecies-1] keyentry with circles fs solid 1.0 lc rgb sprintf("#%06x", sp_rgb[s + 1]) title sp_name[s + 1]
 }
 set output

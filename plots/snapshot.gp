@@ -9,8 +9,8 @@
 #                               colour)
 #   lvalue, cblabel             the liner column to colour by and its label
 #                               [wear_rate_mm_per_1000h, "Liner wear rate (mm per 1000 h)"]
-#   species_names, species_balls  one word per species index: its name ("-" for none) and 1
-#                               for balls, 0 for rocks [species 0, 1, ... as rocks]
+#   species_names, species_colours  one word per species index: its name ("-" for none) and
+#                               its colour "#rrggbb" [species_0, ...; grey]
 #   toe_deg, shoulder_deg, centrifuged, com_x_m, com_y_m, turning
 #                               optional marks: angles from 6 o'clock, + toward the rising
 #                               side; turning +1 counter-clockwise, -1 clockwise, 0 at rest
@@ -29,23 +29,19 @@ linerfile = datadir . "/liner_" . design . ".csv"
 stats snapfile using "species" nooutput
 nspecies = int(STATS_max) + 1
 if (!exists("species_names")) { species_names = ""; do for [s = 0:nspecies-1] { species_names = species_names . sprintf(" species_%d", s) } }
-if (!exists("species_balls")) { species_balls = ""; do for [s = 0:nspecies-1] { species_balls = species_balls . " 0" } }
+if (!exists("species_colours")) { species_colours = ""; do for [s = 0:nspecies-1] { species_colours = species_colours . " #8f8f7a" } }
 stats linerfile using lvalue nooutput
 wmax = STATS_max > 0 ? STATS_max : 1
 if (exists("cbmax")) { if (real(cbmax) > 0) { wmax = real(cbmax) } }
 stats linerfile using (sqrt(column("x1_m")**2 + column("y1_m")**2)) nooutput
 R = STATS_max
 
-# Species colours, muted so the liner's colours stand out: balls in steel blues, rocks in
-# earth tones, the k-th species of a kind one shade further along.
-ball_num(k) = (k % 4 == 0) ? 0x4f6d8f : (k % 4 == 1) ? 0x7d9bbd : (k % 4 == 2) ? 0x2f4a66 : 0x9fb6cf
-rock_num(k) = (k % 4 == 0) ? 0xa08c70 : (k % 4 == 1) ? 0xc2b59b : (k % 4 == 2) ? 0x7a6548 : 0x8f8f7a
-is_ball(s) = int(word(species_balls, s + 1)) == 1
-nth_of_kind(s) = (s == 0) ? 0 : sum [j = 0:s-1] (is_ball(j) == is_ball(s) ? 1 : 0)
-species_num(s) = is_ball(s) ? ball_num(nth_of_kind(s)) : rock_num(nth_of_kind(s))
-species_col(s) = sprintf("#%06x", species_num(s))
+# Species colours as numbers for `lc rgb variable`, one per species index.
+hexdigit(c) = strstrt("0123456789abcdef", c) - 1
+hexnum(c) = sum [i = 2:7] hexdigit(c[i:i]) * 16**(7 - i)
+species_col(s) = word(species_colours, s + 1)
 array species_rgb[nspecies]
-do for [s = 0:nspecies-1] { species_rgb[s + 1] = species_num(s) }
+do for [s = 0:nspecies-1] { species_rgb[s + 1] = hexnum(species_col(s)) }
 
 set palette defined (0 '#2c7bb6', 0.25 '#abd9e9', 0.5 '#ffffbf', 0.75 '#fdae61', 1 '#d7191c')
 set cbrange [0 : wmax]

@@ -12,6 +12,7 @@
 #include "engine_fixtures.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "plots/plots.hpp"
 #include "study/animation.hpp"
 #include "study/calibration_run.hpp"
 #include "study/run_progress.hpp"
@@ -139,6 +140,25 @@ TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where, "--history");
   }
+}
+
+// The frames name the species as the scene does and colour them as the snapshots do.
+TEST(Animation, TheFramesNameAndColourTheScenesSpecies) {
+  const std::string dir = fresh_dir("animation_species");
+  study::AnimationRequest r;
+  r.scene_file = testing::source_path("tests/data/lab-quick.toml");
+  r.out = dir + "/charge.gif";
+  r.frames = 10;
+  r.seconds = 0.2;
+  r.size = 200;
+  r.keep_data = true;
+  study::make_animation(r);
+  const std::string meta = io::read_file(dir + "/charge_frames/frames_meta.gp");
+  EXPECT_NE(meta.find("sp_name[1] = \"ball\""), std::string::npos) << meta;
+  // Balls take the first ball colour, #4f6d8f.
+  EXPECT_NE(meta.find("sp_rgb[1] = " + std::to_string(0x4f6d8f)), std::string::npos) << meta;
+  EXPECT_EQ(plots::species_colours({true, false, false, true}),
+            (std::vector<std::string>{"#4f6d8f", "#a08c70", "#c2b59b", "#7d9bbd"}));
 }
 
 TEST(RunProgress, StageLinesCarryTheLossSinceNewAndPowerPerMill) {

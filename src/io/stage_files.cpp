@@ -61,6 +61,7 @@ std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
       {"summary.mean_packed_disks", &s.mean_packed_disks},
       {"area_loss_rate_m2_per_s", &r.area_loss_rate_m2_per_s},
       {"area_loss_rate_rel_sem", &r.area_loss_rate_rel_sem},
+      {"liner_loss_rate_m2_per_s", &r.liner_loss_rate_m2_per_s},
       {"mill_angle_rad", &r.mill_angle_rad},
       {"wall_s", &r.wall_s},
       {"simulated_s", &r.simulated_s},

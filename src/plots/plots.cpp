@@ -181,6 +181,15 @@ std::string script_path(const std::string& figure) {
   return io::join_path(plots_dir(), figure + ".gp");
 }
 
+std::vector<std::string> species_colours(const std::vector<bool>& is_ball) {
+  static const char* const kBalls[] = {"#4f6d8f", "#7d9bbd", "#2f4a66", "#9fb6cf"};
+  static const char* const kRocks[] = {"#a08c70", "#c2b59b", "#7a6548", "#8f8f7a"};
+  std::vector<std::string> out;
+  int balls = 0, rocks = 0;
+  for (bool b : is_ball) out.push_back(b ? kBalls[balls++ % 4] : kRocks[rocks++ % 4]);
+  return out;
+}
+
 bool gnuplot_available() {
   const char* path = std::getenv("PATH");
   if (!path) return false;
@@ -432,14 +441,16 @@ SnapshotInputs read_snapshot_inputs(const std::string& out, const std::string& d
                 balls ? static_cast<int>(snap.number(r, snap.column("ball"))) : 0};
   }
   if (!kinds.empty()) {
-    std::string names, ball_flags;
+    std::string names, colours;
+    std::vector<bool> balls;
     for (int k = 0; k <= kinds.rbegin()->first; ++k) {
       const auto it = kinds.find(k);
       names += (k ? " " : "") + (it == kinds.end() ? std::string("-") : label_word(it->second.first));
-      ball_flags += (k ? " " : "") + std::to_string(it == kinds.end() ? 0 : it->second.second);
+      balls.push_back(it != kinds.end() && it->second.second == 1);
     }
+    for (const std::string& c : species_colours(balls)) colours += (colours.empty() ? "" : " ") + c;
     in.vars["species_names"] = names;
-    in.vars["species_balls"] = ball_flags;
+    in.vars["species_colours"] = colours;
   }
   // The marks: the first row carries the stage's toe, shoulder, centre of mass and sense.
   if (liner.row_count() > 0 && liner.has_column("turning")) {

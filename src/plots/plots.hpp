@@ -24,6 +24,11 @@ std::string plots_dir();
 // Path of a script in plots_dir(), e.g. script_path("fig7_area") -> ".../plots/fig7_area.gp".
 std::string script_path(const std::string& figure);
 
+// The colour of each species in the charge figures ("#rrggbb"), muted so the liner's colours
+// stand out: balls in steel blues, rocks in earth tones, the k-th species of a kind one shade
+// further along (four shades, then again).
+std::vector<std::string> species_colours(const std::vector<bool>& is_ball);
+
 // True if a `gnuplot` executable is on PATH.
 bool gnuplot_available();
 

@@ -120,8 +120,11 @@ std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& seg
       engine->set_liner(segments[seg].mill);
       const double d = direction_at_hours(scene, segments[seg].hours);
       if (d != dir) {
+        // A reversal: the charge falls back and is lifted the other way. Let it settle into
+        // its new shape (the scene's spin-up) before the next frame is drawn.
         dir = d;
         engine->set_mill_speed(dir * scene.angular_speed_rad_s());
+        engine->step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), engine->time_step_s()));
       }
     }
     engine->step(steps_per_frame);
@@ -177,6 +180,16 @@ void write_frame_files(const Scene& scene, const std::vector<Segment>& segments,
   meta << "nframes = " << frames.size() << "\nR = " << fmt(scene.radius_m(), "%.17g")
        << "\ncbmax = " << fmt(colour_scale_max(segments), "%.17g") << "\ncblabel = " << gp_string(cblabel)
        << "\narray ftitle[" << frames.size() << "]\n";
+  // The species as the figures name and colour them (plots::species_colours).
+  const auto& species = scene.charge.species;
+  std::vector<bool> balls;
+  for (const auto& sp : species) balls.push_back(sp.is_ball);
+  const std::vector<std::string> colours = plots::species_colours(balls);
+  meta << "nspecies = " << species.size() << "\narray sp_rgb[" << species.size() << "]\narray sp_name["
+       << species.size() << "]\n";
+  for (std::size_t k = 0; k < species.size(); ++k)
+    meta << "sp_rgb[" << k + 1 << "] = " << std::stol(colours[k].substr(1), nullptr, 16) << "\nsp_name[" << k + 1
+         << "] = " << gp_string(species[k].name) << "\n";
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const Frame& fr = frames[f];
     const Segment& s = segments[fr.segment];
