@@ -10,10 +10,11 @@ MILLWEAR_PACKAGES=(
   libgnuplot-iostream-dev gnuplot-nox
   libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-  help2man dpkg-dev file
+  help2man dpkg-dev file python3-meshio
 )
 # help2man writes the man page from the built program; dpkg-dev (dpkg-shlibdeps) and file let
-# `cpack -G DEB` compute the package's library dependencies.
+# `cpack -G DEB` compute the package's library dependencies. python3-meshio reads the ParaView
+# files back in the tests (a VTK reader independent of millwear).
 # Extra packages the caller may add (test.sh adds GNU parallel, Slurm, munge).
 MILLWEAR_PACKAGES+=(${MILLWEAR_EXTRA_PACKAGES:-})
 

@@ -11,6 +11,7 @@
 
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "study/calibration_run.hpp"
@@ -90,6 +91,7 @@ void register_calibrate(CLI::App& app, Action* action) {
       ->check(output_folder());
   cmd->add_option("--fidelity", r.fidelity, "draft | standard | reference");
   add_threads_option(cmd, args->threads);
+  add_set_option(cmd, &r.overrides);
   cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));
   cmd->add_option("--min-runs", r.options.min_runs,
                   "wear histories at least (default 2); every history after the first is an estimate, and C is "

@@ -9,6 +9,7 @@
 
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
 #include "plots/plots.hpp"
@@ -29,10 +30,14 @@ struct ChargeArgs {
   double revolutions = 0.0;
   bool quiet = false;
   int threads = 0;
+  bool vtk = false;
+  std::vector<std::string> overrides;
 };
 
 int run_charge(const ChargeArgs& args) {
-  Scene scene = load_scene(args.scene);
+  std::vector<std::string> overrides = args.overrides;
+  if (args.vtk) overrides.push_back("outputs.vtk=true");
+  Scene scene = load_scene(args.scene, overrides);
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
   scene.solver.threads = step_threads(args.threads);
@@ -95,6 +100,8 @@ void register_charge(CLI::App& app, Action* action) {
   add_threads_option(cmd, args->threads);
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
       ->check(CLI::Range(1e-6, 1e4));
+  add_set_option(cmd, &args->overrides);
+  cmd->add_flag("--vtk", args->vtk, "ParaView files of the measured window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });
 }
 

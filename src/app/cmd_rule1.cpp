@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
@@ -27,13 +28,14 @@ struct Rule1Args {
   std::vector<double> factors;
   double tolerance_pct = 5.0;
   int stages = 1;
+  std::vector<std::string> overrides;
   int replicates = 4;
   int jobs = 0;
   int threads = 0;
 };
 
 int run_rule1(const Rule1Args& a) {
-  Scene scene = load_scene(a.scene);
+  Scene scene = load_scene(a.scene, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
   // The histories run side by side on the cores; each step gets the cores they leave.
@@ -130,6 +132,7 @@ void register_rule1(CLI::App& app, Action* action) {
                   "threads of each history's engine step (default: the cores the histories at once leave, at "
                   "least 1; the results are the same bits for any count)")
       ->check(CLI::Range(1, 256));
+  add_set_option(cmd, &args->overrides);
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }
 

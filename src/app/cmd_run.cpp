@@ -15,6 +15,7 @@
 #include <cstdio>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/duration_text.hpp"
 #include "app/output_folder.hpp"
 #include "app/run_command.hpp"
@@ -70,8 +71,10 @@ void print_final_summary(const study::RunState& state, double wall) {
 
 int run_command(const RunArgs& args) {
   // Every scene validated; nothing written yet.
-  const study::Plan plan =
-      study::make_plan({args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage});
+  std::vector<std::string> overrides = args.overrides;
+  if (args.vtk) overrides.push_back("outputs.vtk=true");
+  const study::Plan plan = study::make_plan(
+      {args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage, overrides});
   if (args.check) {
     for (const auto& d : plan.designs)
       std::printf("%s: %s (fidelity %s, %d stages of %g h)%s\n", d.name.c_str(), d.files.front().c_str(),
@@ -170,6 +173,8 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));
+  add_set_option(cmd, &args->overrides);
+  cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });
 }
 

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "common/units.hpp"
@@ -103,6 +104,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_option("-j,--jobs", r.jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-plot", *no_plot, "skip the figure");
+  add_set_option(cmd, &r.overrides);
   cmd->add_option("--only", r.options.only,
                   "run only these settings, by label (comma-separated, e.g. \"standard,standard seed=2\"); "
                   "the reference always runs")

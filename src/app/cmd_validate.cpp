@@ -9,6 +9,7 @@
 
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
+#include "app/set_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "study/validation_run.hpp"
@@ -98,6 +99,7 @@ void register_validate(CLI::App& app, Action* action) {
                   "threads of the soft engine's step (default: the hardware's cores; the results are "
                   "the same bits for any count)")
       ->check(CLI::Range(1, 256));
+  add_set_option(cmd, &args->overrides);
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: normal distances (mm, % of the lifter height) and area error per survey.\n"
               "Areas only: area and area-loss error per row (simulated - measured).");

@@ -22,6 +22,8 @@ struct RunArgs {
   int stop_after_stage = -1;
   std::string continue_from;   // --continue RUN
   int continue_stage = -1;     // --stage N (-1: each design's last finished stage)
+  bool vtk = false;                    // as --set outputs.vtk=true
+  std::vector<std::string> overrides;  // --set KEY=VALUE on every design
 };
 
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.

@@ -3,10 +3,46 @@
 #include <chrono>
 #include <cmath>
 
+#include "metrics/batch_means.hpp"
+
 namespace millwear {
 
 double initial_direction_sign(const Scene& scene) {
   return scene.mill.direction == Direction::Reverse ? -1.0 : 1.0;
+}
+
+Accounting accounting_since(const Accounting& now, const Accounting& before) {
+  Accounting d = now;
+  for (std::size_t e = 0; e < d.shear_work_J.size() && e < before.shear_work_J.size(); ++e) {
+    d.shear_work_J[e] -= before.shear_work_J[e];
+    d.impact_energy_J[e] -= before.impact_energy_J[e];
+    d.contacts[e] -= before.contacts[e];
+  }
+  d.time_s -= before.time_s;
+  d.steps -= before.steps;
+  d.drive_work_J -= before.drive_work_J;
+  d.torque_impulse_Nms -= before.torque_impulse_Nms;
+  d.pp_normal_J -= before.pp_normal_J;
+  d.pp_tangent_J -= before.pp_tangent_J;
+  d.pl_normal_J -= before.pl_normal_J;
+  d.pl_tangent_J -= before.pl_tangent_J;
+  d.solver_position_J -= before.solver_position_J;
+  d.kinetic_J_start = before.kinetic_J_end;
+  d.potential_J_start = before.potential_J_end;
+  for (int k = 0; k < kSpectrumBins; ++k) {
+    d.spectrum_count[k] -= before.spectrum_count[k];
+    d.spectrum_energy_J[k] -= before.spectrum_energy_J[k];
+  }
+  d.mass_time_kg_s -= before.mass_time_kg_s;
+  d.moment_time_kg_m_s = d.moment_time_kg_m_s - before.moment_time_kg_m_s;
+  for (int k = 0; k < kShapeAngleBins; ++k) d.shell_band_occupancy[k] -= before.shell_band_occupancy[k];
+  d.shape_samples -= before.shape_samples;
+  d.packed_shear_work_J -= before.packed_shear_work_J;
+  d.packed_disk_steps -= before.packed_disk_steps;
+  d.escaped -= before.escaped;
+  d.non_finite -= before.non_finite;
+  d.contact_log.clear();
+  return d;
 }
 
 ChargeRunResult run_charge_only(const Scene& scene) {
@@ -17,7 +53,23 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   const double sign = initial_direction_sign(scene);
   settle_and_spin_up(*engine, scene, sign);
   const auto t0 = std::chrono::steady_clock::now();
-  engine->step(steps_for(scene.run.revolutions * scene.revolution_time_s(), engine->time_step_s()));
+  const long long steps = steps_for(scene.run.revolutions * scene.revolution_time_s(), engine->time_step_s());
+  // Pieces: kWindowBatches batches, each cut into frames_per_batch when frames are kept.
+  const int frames_per_batch =
+      scene.outputs.vtk ? (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches : 1;
+  const long long pieces = static_cast<long long>(kWindowBatches) * frames_per_batch;
+  Accounting batch_start = engine->accounting();
+  long long done = 0;
+  for (long long k = 1; k <= pieces; ++k) {
+    const long long upto = steps * k / pieces;
+    engine->step(static_cast<int>(upto - done));
+    done = upto;
+    if (scene.outputs.vtk) r.frames.push_back(engine->state());
+    if (k % frames_per_batch != 0) continue;
+    r.batches.push_back(charge_figures(accounting_since(engine->accounting(), batch_start), scene,
+                                       sign * scene.angular_speed_rad_s()));
+    batch_start = engine->accounting();
+  }
   r.window_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.accounting = engine->accounting();
   r.figures = charge_figures(r.accounting, scene, sign * scene.angular_speed_rad_s());

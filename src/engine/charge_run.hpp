@@ -11,6 +11,12 @@ namespace millwear {
 struct ChargeRunResult {
   ChargeFigures figures;
   Accounting accounting;        // the measured window
+  // The window's figures in kWindowBatches equal batches, in order (their spread gives the
+  // statistical error of the window's figures: metrics/batch_means.hpp).
+  std::vector<ChargeFigures> batches;
+  // With scene.outputs.vtk: the charge at vtk_frames even times over the window (its end
+  // included), for the ParaView files.
+  std::vector<ChargeState> frames;
   ChargeState final_state;
   MillGeometry mill;
   std::vector<EngineEvent> events;
@@ -22,8 +28,13 @@ struct ChargeRunResult {
 };
 
 // Fill, settle and spin up, then run scene.run.revolutions at the scene's speed
-// (forward for bidirectional mills).
+// (forward for bidirectional mills). The window is stepped in pieces (batches, frames);
+// the steps are the same as in one piece, so the figures do not depend on them.
 ChargeRunResult run_charge_only(const Scene& scene);
+
+// The sums of a window between two readings of the same engine's accounting (`before` taken
+// earlier, no reset between): a batch of it.
+Accounting accounting_since(const Accounting& now, const Accounting& before);
 
 // +1 forward (counter-clockwise), -1 reverse; bidirectional starts forward.
 double initial_direction_sign(const Scene& scene);

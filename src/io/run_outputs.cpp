@@ -236,6 +236,7 @@ void write_manifest(const RunReport& r) {
     j["input_copies"] = copies;
     j["seed"] = static_cast<unsigned long long>(d.scene->solver.seed);
     j["fidelity"] = d.scene->fidelity;
+    j["set"] = d.scene->overrides;  // --set KEY=VALUE over the scene file, in order
     j["status"] = d.status;
     if (!d.error.empty()) j["error"] = d.error;
     j["resumed_stages"] = d.resumed_stages;

@@ -16,6 +16,7 @@ constexpr int kMaxWindowBatches = 16;
 struct BatchMeans {
   double mean = 0.0;
   double rel_sem = 0.0;  // standard error of the mean / mean (0 for n < 2 or mean <= 0)
+  double sem = 0.0;      // standard error of the mean (0 for n < 2), any sign of mean
 };
 
 inline BatchMeans batch_means(const std::vector<double>& batches) {
@@ -27,6 +28,7 @@ inline BatchMeans batch_means(const std::vector<double>& batches) {
   double var = 0.0;
   for (double x : batches) var += (x - b.mean) * (x - b.mean);
   var /= (n - 1);
+  b.sem = std::sqrt(var / n);
   b.rel_sem = b.mean > 0.0 ? std::sqrt(var / n) / b.mean : 0.0;
   return b;
 }

@@ -11,7 +11,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <cctype>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -433,6 +435,9 @@ void read_outputs(const TableReader& r, Scene& s) {
   if (auto x = r.boolean("shell_work")) s.outputs.shell_work = *x;
   if (auto x = r.boolean("snapshot")) s.outputs.snapshot = *x;
   if (auto x = r.boolean("contact_log")) s.outputs.contact_log = *x;
+  if (auto x = r.boolean("vtk")) s.outputs.vtk = *x;
+  // 1000 frames of a thousand disks is tens of megabytes per stage: more is a typo.
+  if (auto x = r.integer("vtk_frames", 1, 1000, "frames per measuring window")) s.outputs.vtk_frames = static_cast<int>(*x);
 }
 
 // Checks across sections, once everything is read (profile loaded, preset applied).
@@ -491,23 +496,184 @@ void check_scene(const Scene& s, const std::string& file) {
   }
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------
+// Command-line overrides (--set KEY=VALUE)
+// ---------------------------------------------------------------------------------------
 
-Scene load_scene(const std::string& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(path, "", "scene file not found or not a regular file");
+// One part of a dotted key: a name and, for an array of tables, an index ("species[1]").
+struct KeyPart {
+  std::string name;
+  std::optional<std::size_t> index;
+};
 
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(path, "line " + std::to_string(b.line),
-                     "not valid TOML: " + std::string(e.description()) + " (column " +
-                         std::to_string(b.column) + ")");
+std::string set_where(const std::string& text) { return "--set " + printable(text, 80); }
+
+std::vector<KeyPart> split_key(const std::string& key, const std::string& text) {
+  const auto bad = [&](const std::string& why) -> InputError {
+    return InputError("", set_where(text),
+                      "expected KEY=VALUE with KEY a dotted scene key (e.g. mill.speed, "
+                      "charge.species[1].density); " + why);
+  };
+  std::vector<KeyPart> parts;
+  std::size_t i = 0;
+  while (true) {
+    KeyPart p;
+    while (i < key.size() && (std::isalnum(static_cast<unsigned char>(key[i])) || key[i] == '_' || key[i] == '-'))
+      p.name += key[i++];
+    if (p.name.empty()) throw bad("an empty or malformed part in '" + printable_key(key) + "'");
+    if (i < key.size() && key[i] == '[') {
+      std::size_t close = key.find(']', i);
+      const std::string digits = close == std::string::npos ? "" : key.substr(i + 1, close - i - 1);
+      if (digits.empty() || digits.size() > 6 ||
+          !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        throw bad("an index is [0], [1], ...");
+      p.index = static_cast<std::size_t>(std::stoul(digits));
+      i = close + 1;
+    }
+    parts.push_back(std::move(p));
+    if (i == key.size()) break;
+    if (key[i] != '.') throw bad("unexpected '" + printable(key.substr(i, 1), 4) + "' in '" + printable_key(key) + "'");
+    ++i;
   }
+  return parts;
+}
 
+// A copy of a parsed value without its source position: messages about it must not point
+// at "line 1" of a file it never was in. Into table `t` under `key`, or onto array `a`.
+void copy_value(const toml::node& n, toml::table* t, const std::string& key, toml::array* a) {
+  const auto put = [&](auto&& v) {
+    if (t) t->insert(key, std::move(v));
+    else a->push_back(std::move(v));
+  };
+  switch (n.type()) {
+    case toml::node_type::table: {
+      toml::table c;
+      for (const auto& [k, v] : *n.as_table()) copy_value(v, &c, std::string(k.str()), nullptr);
+      put(std::move(c));
+      break;
+    }
+    case toml::node_type::array: {
+      toml::array c;
+      for (const auto& v : *n.as_array()) copy_value(v, nullptr, "", &c);
+      put(std::move(c));
+      break;
+    }
+    case toml::node_type::string: put(std::string(n.as_string()->get())); break;
+    case toml::node_type::integer: put(n.as_integer()->get()); break;
+    case toml::node_type::floating_point: put(n.as_floating_point()->get()); break;
+    case toml::node_type::boolean: put(n.as_boolean()->get()); break;
+    case toml::node_type::date: put(n.as_date()->get()); break;
+    case toml::node_type::time: put(n.as_time()->get()); break;
+    case toml::node_type::date_time: put(n.as_date_time()->get()); break;
+    default: break;
+  }
+}
+
+// The value as TOML ("0.8", "true", "[1, 2]", "\"text\""), or the text itself as a string
+// when it is not a TOML value (a bare word: "reverse", "draft"), under the key "v".
+toml::table value_holder(const std::string& value) {
+  toml::table out;
+  try {
+    const toml::table t = toml::parse("v = " + value);
+    if (t.size() == 1 && t.contains("v")) {
+      copy_value(*t.get("v"), &out, "v", nullptr);
+      return out;
+    }
+  } catch (const toml::parse_error&) {
+  }
+  out.insert("v", value);
+  return out;
+}
+
+// Keys of which a table takes one: setting one from the command line replaces the file's.
+const std::vector<std::vector<std::string>>& alternatives(const std::string& table) {
+  static const std::map<std::string, std::vector<std::vector<std::string>>> groups{
+      {"mill", {{"speed", "speed_rpm"}}},
+      {"solver", {{"time_step", "steps_per_second"}}},
+      {"wear", {{"wear_rate", "area_loss_rate", "height_loss_rate"}}},
+      {"charge.species", {{"sizes", "size_range"}, {"mass_fractions", "size_range"}}},
+  };
+  static const std::vector<std::vector<std::string>> none;
+  const auto it = groups.find(table);
+  return it == groups.end() ? none : it->second;
+}
+
+void apply_override(toml::table& root, const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("", set_where(text), "expected KEY=VALUE, e.g. --set mill.speed=0.8");
+  std::string key = text.substr(0, eq);
+  while (!key.empty() && key.back() == ' ') key.pop_back();
+  std::string value = text.substr(eq + 1);
+  while (!value.empty() && value.front() == ' ') value.erase(value.begin());
+  const std::vector<KeyPart> parts = split_key(key, text);
+
+  toml::table* table = &root;
+  std::string path;    // dotted, with indexes: for messages
+  std::string plain;   // dotted, without indexes: which alternatives apply
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const KeyPart& p = parts[k];
+    const bool last = k + 1 == parts.size();
+    const std::string here = path.empty() ? p.name : path + "." + p.name;
+    if (last && !p.index) {
+      for (const auto& group : alternatives(plain))
+        if (std::find(group.begin(), group.end(), p.name) != group.end())
+          for (const auto& other : group)
+            if (other != p.name) table->erase(other);
+      // reverse_every belongs to a bidirectional mill only: a one-way direction drops it.
+      if (plain == "mill" && p.name == "direction" && value != "bidirectional" && value != "\"bidirectional\"")
+        table->erase("reverse_every");
+      toml::table holder = value_holder(value);
+      table->insert_or_assign(p.name, std::move(*holder.get("v")));
+      return;
+    }
+    toml::node* child = table->get(p.name);
+    if (!child) {
+      if (p.index)
+        throw InputError("", set_where(text), "expected an existing array of tables '" + here + "' to index");
+      child = &table->insert(p.name, toml::table{}).first->second;
+    }
+    if (p.index) {
+      toml::array* arr = child->as_array();
+      if (!arr)
+        throw InputError("", set_where(text), "expected '" + here + "' to be an array of tables, " + got_text(*child));
+      if (*p.index >= arr->size())
+        throw InputError("", set_where(text), "expected an index below " + std::to_string(arr->size()) + " for '" +
+                                                  here + "' (it has " + std::to_string(arr->size()) + ")");
+      child = arr->get(*p.index);
+      if (last) {
+        toml::table holder = value_holder(value);
+        arr->replace(arr->cbegin() + static_cast<std::ptrdiff_t>(*p.index), std::move(*holder.get("v")));
+        return;
+      }
+    }
+    if (!child->is_table())
+      throw InputError("", set_where(text), "expected '" + here + (p.index ? "[" + std::to_string(*p.index) + "]" : "") +
+                                                "' to be a table, " + got_text(*child));
+    table = child->as_table();
+    path = here + (p.index ? "[" + std::to_string(*p.index) + "]" : "");
+    plain = plain.empty() ? p.name : plain + "." + p.name;
+  }
+}
+
+// The override a reader's error comes from, if any: the error's key is the overridden key,
+// inside it, or a table on its way ("foo" for foo.bar=1).
+const std::string* override_of(const std::vector<std::string>& overrides, const std::string& where) {
+  if (where.empty()) return nullptr;
+  for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {
+    std::string key = it->substr(0, it->find('='));
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    const auto within = [](const std::string& inner, const std::string& outer) {
+      return inner.size() > outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
+             (inner[outer.size()] == '.' || inner[outer.size()] == '[');
+    };
+    if (where == key || within(where, key) || within(key, where)) return &*it;
+  }
+  return nullptr;
+}
+
+// The scene from its parsed table (the file's, with the overrides in it).
+Scene read_scene(const toml::table& root, const std::string& path) {
   Scene s;
   s.source_file = path;
   s.name = safe_name_from(fs::path(path).stem().string());
@@ -546,7 +712,7 @@ Scene load_scene(const std::string& path) {
                        "update_interval", "smoothing_radius", "average_rows", "shell_wear", "shell_wear_rate",
                        "packed_wear", "replacement_height", "liner_density", "target_uncertainty"}),
               s);
-  read_outputs(section("outputs", false, {"collision_spectrum", "shell_work", "snapshot", "contact_log"}), s);
+  read_outputs(section("outputs", false, {"collision_spectrum", "shell_work", "snapshot", "contact_log", "vtk", "vtk_frames"}), s);
   // The profile last: every key of the scene is checked before another file is opened.
   read_lifters(section("lifters", true, {"rows", "profile", "pattern", "start_hours", "shell_edge", "lifter_edge"}),
                s, path);
@@ -554,6 +720,41 @@ Scene load_scene(const std::string& path) {
   apply_fidelity(s, fidelity);
   check_scene(s, path);
   return s;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, "", "scene file not found or not a regular file");
+
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(path, "line " + std::to_string(b.line),
+                     "not valid TOML: " + std::string(e.description()) + " (column " +
+                         std::to_string(b.column) + ")");
+  }
+  for (const std::string& text : overrides) {
+    try {
+      apply_override(root, text);
+    } catch (const InputError& e) {
+      throw InputError(path, e.where, e.expected);
+    }
+  }
+  try {
+    Scene s = read_scene(root, path);
+    s.overrides = overrides;
+    return s;
+  } catch (const InputError& e) {
+    // A problem with an overridden key is the command line's: say so.
+    const std::string* from = override_of(overrides, e.where);
+    if (!from || e.file != path) throw;
+    throw InputError(path, "--set " + printable(*from, 80) + ": " + e.where, e.expected);
+  }
 }
 
 }  // namespace millwear

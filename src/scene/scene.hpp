@@ -126,6 +126,9 @@ struct OutputsDef {
   bool shell_work = true;
   bool snapshot = true;
   bool contact_log = false;
+  // ParaView files (io/vtk_files.hpp): the charge and the liner over each measuring window.
+  bool vtk = false;
+  int vtk_frames = 20;               // frames per measuring window
 };
 
 struct RunDef {
@@ -142,6 +145,8 @@ struct Scene {
   OutputsDef outputs;
   RunDef run;
   std::string fidelity = "standard";
+  // Command-line overrides applied over the file, as given ("mill.speed=0.8"), in order.
+  std::vector<std::string> overrides;
   // Dotted keys the scene file set ("solver.time_step", "lifters.shell_edge", ...). A key
   // set in the file beats the fidelity preset (apply_fidelity leaves it alone).
   std::set<std::string> explicit_keys;
@@ -166,7 +171,16 @@ constexpr double kGravity = 9.81;  // m/s^2
 
 // Read and validate a scene file. Every problem throws InputError naming the file, the key
 // and what was expected; profile paths are relative to the scene file.
-Scene load_scene(const std::string& path);
+//
+// `overrides` are `KEY=VALUE` texts (`--set` on the command line): KEY a dotted scene key
+// ("mill.speed", "charge.species[1].density", "outputs.vtk"), VALUE a TOML value ("0.8",
+// "true", "[100, 150]", "\"reverse\"") or a bare word taken as a string ("reverse"). Each is
+// put into the file's table before anything is read, so it is typed, range-checked and
+// cross-checked by the same readers as the file; an error in it names "--set KEY". Setting
+// one of a pair of alternatives removes the file's other one (mill.speed / speed_rpm,
+// solver.time_step / steps_per_second, the three wear-rate keys, a species' sizes /
+// size_range).
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 // A scene's built mill geometry (the lifters it starts from, one unit per kind shared by
 // every row of that kind), and one kind's liner unit alone: the one place a scene's lifter
 // becomes geometry. A measured profile's unit is its surface as measured (resampled).

@@ -46,7 +46,7 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
   try {
     // The same code path as `millwear run`: the candidate's folder is what run writes. A
     // re-run task (Slurm requeue, re-emitted job) continues its stages.
-    const study::Plan plan = study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir, "", -1});
+    const study::Plan plan = study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir, "", -1, {}});
     study::RunState state(plan);
     study::RunOptions opt;
     opt.out = dir;

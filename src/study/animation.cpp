@@ -227,7 +227,7 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   std::error_code ec;
   if (!fs::is_regular_file(a.scene_file, ec))
     throw InputError(a.scene_file, "", "a scene file (not found or not a regular file)");
-  Scene scene = load_scene(a.scene_file);
+  Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   check_run_limits(scene, a.scene_file);  // before anything is filled or written
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")

@@ -10,6 +10,7 @@
 // (disks, then the liner path, per frame) and a gnuplot file of titles and the colour scale.
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace millwear::study {
 
@@ -18,6 +19,7 @@ struct AnimationRequest {
   std::string out;             // FILE.gif
   std::string history;         // a `millwear run` folder, or "" for the new liner
   std::string fidelity;        // "": the scene's own
+  std::vector<std::string> overrides;  // --set KEY=VALUE (scene/scene.hpp)
   double seconds = 3.0;        // simulated seconds shown
   int frames = 60;
   int size = 640;              // pixels, square

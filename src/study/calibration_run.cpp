@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 
@@ -22,7 +23,13 @@ namespace millwear::validation {
 namespace fs = std::filesystem;
 
 CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallbacks& cb) {
-  Scene scene = load_scene(a.scene_file);
+  for (const std::string& o : a.overrides)
+    for (const char* key : {"wear.wear_rate", "wear.area_loss_rate", "wear.height_loss_rate"})
+      if (o.compare(0, std::strlen(key), key) == 0 && o.find('=') == std::strlen(key))
+        throw InputError(a.scene_file, "--set " + o.substr(0, o.find('=')),
+                         "no wear rate on the command line of calibrate: the scene's is its first guess "
+                         "and the calibration finds the rate");
+  Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
   check_run_limits(scene, a.scene_file);  // before anything is filled or written
@@ -63,10 +70,16 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   std::snprintf(note, sizeof note, "calibrated on %s%s: %.4g +- %.2g (k=2)",
                 fs::path(a.measured_file).filename().c_str(), o.areas ? " (areas)" : "", res.c_m3_per_J,
                 res.expanded_m3_per_J);
-  io::write_file_atomic(o.scene_out,
-                        calibrated_scene_text(io::read_file(a.scene_file), a.scene_file, {res.c_m3_per_J, note, out_dir}));
+  std::string note_text = note;
+  // The copy is the file's own text: overrides the calibration ran with are named, not written.
+  for (const std::string& ov : a.overrides) note_text += " --set " + ov;
+  if (!a.overrides.empty()) note_text += " (not written into this file)";
+  for (char& c : note_text)
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // the note is one comment line
+  io::write_file_atomic(o.scene_out, calibrated_scene_text(io::read_file(a.scene_file), a.scene_file,
+                                                           {res.c_m3_per_J, note_text, out_dir}));
   // The copy must read back as a valid scene with exactly this C.
-  const Scene check = load_scene(o.scene_out);
+  const Scene check = load_scene(o.scene_out, a.overrides);
   if (check.wear.rate_source != WearRateSource::Given ||
       std::fabs(check.wear.wear_rate_m3_per_J / res.c_m3_per_J - 1.0) > 1e-5)
     throw RunError(o.scene_out + ": the calibrated copy does not read back with the calibrated wear rate");

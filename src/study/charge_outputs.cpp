@@ -5,9 +5,12 @@
 #include <sstream>
 
 #include "io/atomic_write.hpp"
+#include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
+#include "study/vtk_output.hpp"
+#include "wear/archard.hpp"
 
 namespace millwear {
 
@@ -30,7 +33,9 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
   const double t = scene.slice_thickness();
   std::ostringstream sum;
   sum << "quantity,value,unit\n"
-      << "scene," << scene.name << ",\n"
+      << "scene," << scene.name << ",\n";
+  for (const std::string& o : scene.overrides) sum << "set," << io::quote_field(o) << ",over the scene file\n";
+  sum
       << "backend," << (scene.solver.backend == Backend::Box2D ? "box2d" : "soft") << ",\n"
       << "disks," << r.disks << ",\n"
       << "slice_thickness," << fmt(t) << ",m\n"
@@ -91,6 +96,17 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
           << fmt(c.tangent_impulse) << ',' << fmt(c.vn_before) << ',' << fmt(c.vn_after) << ','
           << fmt(c.vt_before) << ',' << fmt(c.vt_after) << '\n';
     io::write_file_atomic(out + "/contacts.csv", log.str());
+  }
+  if (scene.outputs.vtk && !r.frames.empty()) {
+    // Archard's rate at the scene's C; a C given as a loss rate is calibrated on this window
+    // as the wear history calibrates it on its first.
+    double c = scene.wear.wear_rate_m3_per_J;
+    if (scene.wear.rate_source != WearRateSource::Given) {
+      std::vector<double> power(r.accounting.shear_work_J.size());
+      for (std::size_t e = 0; e < power.size(); ++e) power[e] = r.accounting.shear_work_J[e] / s.time_s;
+      c = real_wear_rate(scene, r.mill, power);
+    }
+    write_vtk_series(out + "/vtk", scene.name, scene, r.mill, r.frames, liner_fields(scene, r.mill, r.accounting, c));
   }
   if (scene.outputs.snapshot) {
     // The charge and the liner at the window's end, in the world frame; the liner coloured by

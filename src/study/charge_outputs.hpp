@@ -1,8 +1,9 @@
 #pragma once
 // The files of `millwear charge`: charge_summary.csv (quantity, value, unit), liner_work.csv
-// (shear and impact power per liner edge), spectrum.csv, contacts.csv, and the snapshot
-// (snapshot_NAME.csv, liner_NAME.csv in the run's formats) as the scene's outputs ask
-// (docs/run.md lists their columns); then the spectrum and snapshot figures.
+// (shear and impact power per liner edge), spectrum.csv, contacts.csv, the snapshot
+// (snapshot_NAME.csv, liner_NAME.csv in the run's formats) and the ParaView files
+// vtk/NAME.pvd (study/vtk_output.hpp) as the scene's outputs ask (docs/run.md lists their
+// columns); then the spectrum and snapshot figures.
 #include <string>
 #include <vector>
 

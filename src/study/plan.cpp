@@ -38,8 +38,9 @@ void profile_files(const std::string& path, std::vector<std::string>& files, int
   }
 }
 
-void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override) {
-  Scene scene = load_scene(scene_file);  // throws InputError naming the file and key
+void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override,
+                const std::vector<std::string>& overrides) {
+  Scene scene = load_scene(scene_file, overrides);  // throws InputError naming the file and key
   if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
   // The measured limits too, so a scene outside them stops here (exit 2), before any work.
   check_run_limits(scene, scene_file);
@@ -54,6 +55,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   d.files.push_back(scene_file);
   for (int k = 0; k < scene.mill.kind_count(); ++k) profile_files(scene.mill.kind(k).source_file, d.files);
   std::string all = scene.fidelity;
+  for (const auto& o : overrides) all += "\n--set " + o;  // a resumed run needs the same overrides
   for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);
   d.fingerprint = io::stable_hash_hex(all);
   d.scene = std::move(scene);
@@ -72,7 +74,8 @@ std::optional<toml::table> comparison_table(const std::string& path) {
 }
 
 void add_comparison(Plan& plan, const std::string& file, const toml::table& root,
-                    const std::string& fidelity_override, std::string& reference) {
+                    const std::string& fidelity_override, const std::vector<std::string>& overrides,
+                    std::string& reference) {
   for (const auto& [k, v] : root)
     if (k.str() != "comparison")
       throw InputError(file, std::string(k.str()),
@@ -107,7 +110,7 @@ void add_comparison(Plan& plan, const std::string& file, const toml::table& root
       throw InputError(file, key, "an existing scene file, relative to the comparison file; tried '" + path + "'");
     if (comparison_table(path))
       throw InputError(file, key, "a scene file, not another comparison file ('" + path + "')");
-    add_design(plan, path, fidelity_override);
+    add_design(plan, path, fidelity_override, overrides);
   }
   if (c->contains("reference")) {
     auto ref = (*c)["reference"].value<std::string>();
@@ -166,9 +169,9 @@ Plan make_plan(const PlanArgs& args) {
     if (!fs::is_regular_file(path, ec))
       throw InputError(path, "", "a scene or comparison file (not found or not a regular file)");
     if (auto t = comparison_table(path))
-      add_comparison(plan, path, *t, args.fidelity, reference);
+      add_comparison(plan, path, *t, args.fidelity, args.overrides, reference);
     else
-      add_design(plan, path, args.fidelity);
+      add_design(plan, path, args.fidelity, args.overrides);
   }
   if (plan.designs.empty()) throw InputError("", "SCENE", "at least one scene file");
   if (!args.reference.empty()) {
@@ -192,9 +195,10 @@ Plan make_plan(const PlanArgs& args) {
   return plan;
 }
 
-std::vector<Scene> load_designs(const std::string& path) {
+std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides) {
   PlanArgs args;
   args.scenes = {path};
+  args.overrides = overrides;
   std::vector<Scene> scenes;
   for (auto& d : make_plan(args).designs) scenes.push_back(std::move(d.scene));
   return scenes;

@@ -45,6 +45,7 @@ struct PlanArgs {
   std::string out;                  // output folder ("": not checked)
   std::string continue_from;        // a finished run folder whose stage continue_stage each
   int continue_stage = -1;          // design continues from (-1: its last finished stage)
+  std::vector<std::string> overrides;  // --set KEY=VALUE, applied to every design's scene
 };
 
 // Throws InputError naming the file and key for anything wrong; nothing is written.
@@ -52,6 +53,6 @@ Plan make_plan(const PlanArgs& args);
 
 // The designs a scene or comparison file names, loaded and checked as make_plan does. Their
 // own fidelity is kept.
-std::vector<Scene> load_designs(const std::string& path);
+std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace millwear::study

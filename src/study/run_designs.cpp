@@ -16,6 +16,7 @@
 #include "io/run_outputs.hpp"
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
+#include "study/vtk_output.hpp"
 #include "wear/life.hpp"
 
 namespace millwear::study {
@@ -164,7 +165,18 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
     io::write_snapshot_csv(out, d.name, d.scene, rec);
     io::write_liner_csv(out, d.name, d.scene, rec);
   }
+  // ParaView files of the stage's measuring window (a stage read back from disk has none).
+  std::vector<std::string> vtk_files;
+  if (!rec.frames.empty()) {
+    const MillGeometry mill = build_mill(d.scene.radius_m(), d.scene.mill.rows, rec.units);
+    const LinerFields fields{rec.edge_shear_W_per_m2, rec.edge_impact_W_per_m2, rec.edge_wear_rate_m_per_s};
+    vtk_files = write_vtk_series(io::join_path(out, "vtk"), d.name + "_stage" + std::to_string(rec.stage), d.scene,
+                                 mill, rec.frames, fields);
+  }
   StageRecord light = rec;
+  light.frames.clear();
+  light.edge_shear_W_per_m2.clear();
+  light.edge_impact_W_per_m2.clear();
   light.snapshot = ChargeState{};
   light.start_charge = ChargeState{};
   light.edge_wear_rate_m_per_s.clear();
@@ -172,6 +184,7 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   std::lock_guard<std::mutex> lock(ctx.mutex);
   note(ctx, out, io::profile_path(out, d.name, rec.stage));
   for (const auto& f : state_files) note(ctx, out, f);
+  for (const auto& f : vtk_files) note(ctx, out, f);
   if (latest) {
     note(ctx, out, io::snapshot_path(out, d.name));
     note(ctx, out, io::liner_path(out, d.name));

@@ -106,7 +106,7 @@ void write_tradeoff_files(const TradeoffReport& r, const std::string& out) {
 
 TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const TradeoffStudyCallbacks& cb) {
   // A scene or a comparison file; InputError before anything is written.
-  const std::vector<Scene> designs = study::load_designs(request.scene_file);
+  const std::vector<Scene> designs = study::load_designs(request.scene_file, request.overrides);
   const TradeoffLadder ladder = tradeoff_ladder(designs, request.options);
   const io::FolderLock lock(request.out);  // one writer per folder, for the whole run
   if (cb.on_ladder) cb.on_ladder(ladder);

@@ -20,6 +20,7 @@ namespace millwear {
 
 struct TradeoffStudyRequest {
   std::string scene_file;   // one design, or a comparison file
+  std::vector<std::string> overrides;  // --set KEY=VALUE, on every design (scene/scene.hpp)
   std::string out;
   TradeoffOptions options;
   int jobs = 1;

@@ -178,7 +178,7 @@ std::string profile_block(const std::string& title, const Polyline& line_m, bool
 }
 
 ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks& cb) {
-  Scene scene = load_scene(a.scene_file);
+  Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
   check_run_limits(scene, a.scene_file);  // before anything is filled or written

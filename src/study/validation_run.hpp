@@ -39,6 +39,7 @@ struct ValidateRequest {
   std::string from;        // a finished `millwear run` folder, or "" to run the history
   std::string fidelity;    // "": the scene's own
   int threads = 1;         // threads of the engine's step (results do not depend on it)
+  std::vector<std::string> overrides;  // --set KEY=VALUE (scene/scene.hpp)
 };
 
 // Where the history comes from, known before it is read or run.

@@ -187,6 +187,16 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
         : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, shell ? c_shell : c_real);
     rec.liner_loss_rate_m2_per_s += rec.edge_wear_rate_m_per_s[e] * mill.edge_length_m[e];
   }
+  if (scene.outputs.vtk) {
+    rec.frames = w.frames;
+    rec.edge_shear_W_per_m2.resize(mill.boundary.size());
+    rec.edge_impact_W_per_m2.resize(mill.boundary.size());
+    for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
+      const double area = mill.edge_length_m[e] * t;
+      rec.edge_shear_W_per_m2[e] = w.edge_power_W[e] / area;
+      rec.edge_impact_W_per_m2[e] = w.accounting.impact_energy_J[e] / w.accounting.time_s / area;
+    }
+  }
   rec.snapshot = run.engine->state();
   rec.mill_angle_rad = run.engine->state().mill_angle_rad;
   rec.start_charge = run.start;

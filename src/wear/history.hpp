@@ -37,6 +37,10 @@ struct StageRecord {
   std::vector<double> edge_wear_rate_m_per_s;
   ChargeState snapshot;
   double mill_angle_rad = 0.0;    // mill rotation at the snapshot
+  // With scene.outputs.vtk: the charge over the measuring window and the shear and impact
+  // power per mill boundary edge in it (W/m^2), for the ParaView files. Not kept on disk.
+  std::vector<ChargeState> frames;
+  std::vector<double> edge_shear_W_per_m2, edge_impact_W_per_m2;
   // The charge this stage started from: the previous stage's charge as its wear ended
   // (empty for a fresh, settled fill). A resumed stage restarts from it exactly.
   ChargeState start_charge;

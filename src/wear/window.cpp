@@ -75,7 +75,18 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   for (int b = 0; b < kMaxWindowBatches; ++b) {
     check_stop();
     engine.reset_window();
-    engine.step(batch_steps);
+    if (scene.outputs.vtk) {
+      // The batch's steps in pieces, a frame after each: the same steps as in one piece.
+      const int pieces = (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches;
+      for (int k = 1, done = 0; k <= pieces; ++k) {
+        const int upto = static_cast<int>(static_cast<long long>(batch_steps) * k / pieces);
+        engine.step(upto - done);
+        done = upto;
+        w.frames.push_back(engine.state());
+      }
+    } else {
+      engine.step(batch_steps);
+    }
     const Accounting& acc = engine.accounting();
     std::vector<double> p(acc.shear_work_J.size());
     for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;

@@ -21,6 +21,9 @@ struct WindowWork {
   double lifter_power_mean_W = 0.0;                 // per row, summed over lifter edges
   double lifter_power_rel_sem = 0.0;                // batch-means relative standard error
   double simulated_s = 0.0;
+  // With scene.outputs.vtk: the charge at vtk_frames even times over the window (rounded up
+  // to whole frames per batch), for the ParaView files.
+  std::vector<ChargeState> frames;
 };
 
 // Run a window on the engine's current liner: batches of window_revolutions / kWindowBatches,

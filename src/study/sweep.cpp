@@ -1,0 +1,337 @@
+// A sweep of `millwear charge` over one scene key (see sweep.hpp).
+#include "study/sweep.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "engine/charge_run.hpp"
+#include "io/atomic_write.hpp"
+#include "io/csv.hpp"
+#include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
+#include "metrics/batch_means.hpp"
+#include "plots/plots.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
+#include "study/charge_outputs.hpp"
+
+#ifndef MILLWEAR_VERSION
+#define MILLWEAR_VERSION "unknown"
+#endif
+
+namespace millwear::study {
+
+namespace {
+
+// 1000 values: a sweep is a curve, not a screen; more is a typo in the step.
+constexpr std::size_t kMaxSweepValues = 1000;
+
+std::string trim(std::string s) {
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.pop_back();
+  std::size_t i = 0;
+  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
+  return s.substr(i);
+}
+
+bool parse_number(const std::string& text, double& v) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  v = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size() && std::isfinite(v);
+}
+
+std::string value_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);  // 0.7, not 0.69999999999999996
+  return buf;
+}
+
+std::string point_dir(const std::string& out, int index) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "%02d", index);
+  return io::join_path(io::join_path(out, "points"), buf);
+}
+
+// One point: `millwear charge` of its scene, its figures per mill with batch-means errors.
+SweepPoint measure_point(const Scene& scene, int index, const SweepAxis& axis, const std::string& out) {
+  SweepPoint p;
+  p.index = index;
+  p.text = axis.texts[static_cast<std::size_t>(index)];
+  p.value = axis.values[static_cast<std::size_t>(index)];
+  p.speed_fraction_critical = scene.mill.speed_fraction_critical;
+  p.speed_rpm = scene.angular_speed_rad_s() * 60.0 / (2.0 * kPi);
+  p.filling = scene.charge.filling;
+  const auto t0 = std::chrono::steady_clock::now();
+  const ChargeRunResult r = run_charge_only(scene);
+  p.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  p.disks = r.disks;
+  p.lost_disks = r.lost_disks;
+  p.simulated_s = r.figures.summary.time_s;
+  if (r.lost_disks > 0)
+    p.error = std::to_string(r.lost_disks) + " of " + std::to_string(r.disks) + " disks lost (first: " +
+              (r.events.empty() ? std::string("?") : r.events.front().what) + ")";
+
+  // Per metre -> per mill: times the mill length. Per slice -> per metre: over the slice.
+  const double L = scene.mill.length_m;
+  const double t = scene.slice_thickness();
+  const auto charge_t = [&](const ChargeFigures& f) { return f.summary.mass_kg / t * L * 1e-3; };
+  const auto shear_kW = [&](const ChargeFigures& f) { return f.summary.shear_work_rate_W / t * 1e-3 * L; };
+  const auto specific = [&](const ChargeFigures& f) {
+    const double m = charge_t(f);
+    return m > 0.0 ? f.power_kW_per_m * L / m : 0.0;
+  };
+  const ChargeFigures& f = r.figures;
+  p.charge_t = charge_t(f);
+  p.power_kW = f.power_kW_per_m * L;
+  p.specific_kW_per_t = specific(f);
+  p.collision_kW = f.collision_kW_per_m * L;
+  p.shear_kW = shear_kW(f);
+  p.toe_deg = f.summary.toe_deg;
+  p.shoulder_deg = f.summary.shoulder_deg;
+  p.centrifuged = f.summary.centrifuged;
+  const auto sem = [&](auto of) {
+    std::vector<double> v;
+    for (const ChargeFigures& b : r.batches) v.push_back(of(b));
+    return batch_means(v).sem;
+  };
+  p.power_kW_sem = sem([&](const ChargeFigures& b) { return b.power_kW_per_m * L; });
+  p.specific_kW_per_t_sem = sem(specific);
+  p.collision_kW_sem = sem([&](const ChargeFigures& b) { return b.collision_kW_per_m * L; });
+  p.shear_kW_sem = sem(shear_kW);
+  p.toe_deg_sem = sem([](const ChargeFigures& b) { return b.summary.toe_deg; });
+  p.shoulder_deg_sem = sem([](const ChargeFigures& b) { return b.summary.shoulder_deg; });
+
+  const std::string dir = point_dir(out, index);
+  io::ensure_dir(dir);
+  write_charge_outputs(dir, scene, r, p.wall_s);
+  return p;
+}
+
+void write_sweep_csv(const std::string& out, const SweepResult& r) {
+  io::CsvTable t({"key", "value", "speed_fraction_critical", "speed_rpm", "filling", "disks", "charge_t",
+                  "power_kW", "power_kW_sem", "specific_power_kW_per_t", "specific_power_kW_per_t_sem",
+                  "collision_power_kW", "collision_power_kW_sem", "liner_shear_power_kW",
+                  "liner_shear_power_kW_sem", "toe_deg", "toe_deg_sem", "shoulder_deg", "shoulder_deg_sem",
+                  "centrifuged", "simulated_s", "wall_s", "lost_disks", "error"});
+  // A centrifuged charge has no toe or shoulder: the cells say so (a plot skips them).
+  const auto angle = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("centrifuged") : io::CsvCell(v); };
+  const auto angle_sem = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("") : io::CsvCell(v); };
+  for (const SweepPoint& p : r.points)
+    t.add_row({r.axis.key, p.value, p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
+               p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
+               p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
+               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, p.simulated_s, p.wall_s,
+               p.lost_disks, p.error});
+  t.write(io::join_path(out, "sweep.csv"));
+}
+
+void write_sweep_manifest(const std::string& out, const SweepRequest& q, const SweepResult& r,
+                          const Scene& first, const std::vector<std::string>& files) {
+  nlohmann::ordered_json m;
+  m["program"] = "millwear";
+  m["version"] = MILLWEAR_VERSION;
+  m["commit"] = q.commit;
+  m["command"] = "sweep";
+  m["scene_file"] = q.scene_file;
+  m["scene"] = r.scene_name;
+  m["key"] = r.axis.key;
+  m["values"] = r.axis.texts;
+  m["set"] = q.overrides;
+  m["fidelity"] = first.fidelity;
+  m["revolutions"] = first.run.revolutions;
+  m["seed"] = static_cast<unsigned long long>(first.solver.seed);
+  m["jobs"] = r.jobs;
+  m["wall_s"] = r.wall_s;
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  for (const SweepPoint& p : r.points) {
+    nlohmann::ordered_json j;
+    j["value"] = p.text;
+    j["folder"] = io::relative_to(out, point_dir(out, p.index));
+    j["status"] = p.error.empty() ? "finished" : "failed";
+    if (!p.error.empty()) j["error"] = p.error;
+    j["wall_s"] = p.wall_s;
+    points.push_back(j);
+  }
+  m["points"] = points;
+  if (!r.figure_error.empty()) m["figure_error"] = r.figure_error;
+  m["files"] = files;
+  io::write_file_atomic(io::join_path(out, "manifest.json"),
+                        m.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+}
+
+std::vector<std::string> render_sweep_figures(const std::string& out, const std::string& key) {
+  std::vector<std::string> files;
+  const std::string plots = io::plots_out_dir(out);
+  io::ensure_dir(plots);
+  std::string failures;
+  for (const char* figure : {"power", "toe_shoulder", "collision_shear"}) {
+    try {
+      const std::string base = io::join_path(plots, std::string("sweep_") + figure);
+      for (const auto& f : plots::render_figure(plots::script_path("sweep"),
+                                                {{"datadir", out}, {"outbase", base}, {"figure", figure}, {"key", key}}))
+        files.push_back(f);
+    } catch (const RunError& e) {
+      failures += (failures.empty() ? "" : "; ") + std::string(e.what());
+    }
+  }
+  if (!failures.empty()) throw RunError(failures);
+  return files;
+}
+
+}  // namespace
+
+bool SweepResult::failed() const {
+  return std::any_of(points.begin(), points.end(), [](const SweepPoint& p) { return !p.error.empty(); });
+}
+
+SweepAxis parse_vary(const std::string& text) {
+  const std::string usage = "KEY=FIRST:LAST:STEP or KEY=V1,V2,... with numbers, e.g. --vary mill.speed=0.5:1.0:0.05";
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError("", "--vary", "expected " + usage);
+  SweepAxis a;
+  a.key = trim(text.substr(0, eq));
+  const std::string rest = text.substr(eq + 1);
+  if (a.key.empty() || a.key.find_first_of(" \t") != std::string::npos) throw InputError("", "--vary", "expected " + usage);
+  if (rest.find(':') != std::string::npos) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= rest.size(); ++i)
+      if (i == rest.size() || rest[i] == ':') parts.push_back(trim(rest.substr(start, i - start))), start = i + 1;
+    double first = 0, last = 0, step = 0;
+    if (parts.size() != 3 || !parse_number(parts[0], first) || !parse_number(parts[1], last) ||
+        !parse_number(parts[2], step))
+      throw InputError("", "--vary " + a.key, "expected FIRST:LAST:STEP, three numbers, got '" + rest + "'");
+    if (!(step > 0.0)) throw InputError("", "--vary " + a.key, "expected a STEP > 0, got " + parts[2]);
+    if (last < first) throw InputError("", "--vary " + a.key, "expected LAST >= FIRST, got " + rest);
+    // A millionth of a step: 0.5:1.6:0.1 ends at 1.6, whatever the rounding of 11 x 0.1.
+    const double n = std::floor((last - first) / step + 1e-6);
+    if (n + 1 > static_cast<double>(kMaxSweepValues))
+      throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values, got " +
+                                                  value_text(n + 1));
+    for (int i = 0; i <= static_cast<int>(n); ++i) {
+      const double v = std::stod(value_text(first + i * step));
+      a.values.push_back(v);
+      a.texts.push_back(value_text(v));
+    }
+  } else {
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= rest.size(); ++i) {
+      if (i != rest.size() && rest[i] != ',') continue;
+      const std::string item = trim(rest.substr(start, i - start));
+      start = i + 1;
+      double v = 0;
+      if (!parse_number(item, v))
+        throw InputError("", "--vary " + a.key, "expected a number, got '" + item + "' (" + usage + ")");
+      a.values.push_back(v);
+      a.texts.push_back(item);
+    }
+    if (a.values.size() > kMaxSweepValues)
+      throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values");
+  }
+  return a;
+}
+
+std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
+  if (!q.fidelity.empty()) fidelity_preset(q.fidelity);  // InputError for a bad name
+  std::vector<Scene> scenes;
+  for (const std::string& text : axis.texts) {
+    std::vector<std::string> overrides = q.overrides;
+    const std::string vary = axis.key + "=" + text;
+    overrides.push_back(vary);
+    Scene s;
+    try {
+      s = load_scene(q.scene_file, overrides);
+    } catch (const InputError& e) {
+      // The varied value's problem is the --vary's: say so.
+      const std::string set = "--set " + vary;
+      if (e.where.compare(0, set.size(), set) != 0) throw;
+      throw InputError(e.file, "--vary " + vary + e.where.substr(set.size()), e.expected);
+    }
+    s.overrides = q.overrides;  // the varied key is the sweep's, recorded apart
+    if (!q.fidelity.empty()) apply_fidelity(s, q.fidelity);
+    if (q.revolutions > 0.0) s.run.revolutions = q.revolutions;
+    check_run_limits(s, q.scene_file);
+    scenes.push_back(std::move(s));
+  }
+  return scenes;
+}
+
+SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SweepResult r;
+  r.axis = parse_vary(q.vary);
+  const std::vector<Scene> scenes = sweep_scenes(q, r.axis);  // every point checked; nothing written
+  r.scene_name = scenes.front().name;
+  const int n = static_cast<int>(scenes.size());
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : static_cast<int>(hw), n));
+  const io::FolderLock lock(q.out);  // one writer per folder, for the whole sweep
+  if (cb.on_start) cb.on_start(r.axis, r.jobs);
+
+  // Threads take the next point; each point is independent (its own engine, its own seed).
+  r.points.resize(static_cast<std::size_t>(n));
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  int done = 0;
+  std::exception_ptr failure;
+  auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      SweepPoint p;
+      try {
+        p = measure_point(scenes[static_cast<std::size_t>(i)], i, r.axis, q.out);
+      } catch (const NumericalError& e) {
+        p.index = i, p.text = r.axis.texts[static_cast<std::size_t>(i)], p.value = r.axis.values[static_cast<std::size_t>(i)];
+        p.error = e.what();
+      } catch (...) {
+        std::lock_guard<std::mutex> g(mutex);
+        if (!failure) failure = std::current_exception();
+        next = n;  // an I/O failure stops the sweep
+        return;
+      }
+      std::lock_guard<std::mutex> g(mutex);
+      r.points[static_cast<std::size_t>(i)] = p;
+      ++done;
+      if (cb.on_point) cb.on_point(p, done, n);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < r.jobs; ++j) threads.emplace_back(worker);
+  for (auto& th : threads) th.join();
+  if (failure) std::rethrow_exception(failure);
+
+  write_sweep_csv(q.out, r);
+  std::vector<std::string> files{"manifest.json", "sweep.csv"};
+  for (const SweepPoint& p : r.points) {
+    std::vector<std::string> in_point;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(point_dir(q.out, p.index), ec))
+      if (e.is_regular_file(ec)) in_point.push_back(io::relative_to(q.out, e.path().string()));
+    std::sort(in_point.begin(), in_point.end());
+    files.insert(files.end(), in_point.begin(), in_point.end());
+  }
+  if (q.figures) {
+    try {
+      r.figure_files = render_sweep_figures(q.out, r.axis.key);
+    } catch (const std::exception& e) {
+      r.figure_error = e.what();
+    }
+    for (const auto& f : r.figure_files) files.push_back(io::relative_to(q.out, f));
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  write_sweep_manifest(q.out, q, r, scenes.front(), files);
+  return r;
+}
+
+}  // namespace millwear::study

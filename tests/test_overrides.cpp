@@ -1,0 +1,194 @@
+// `--set KEY=VALUE`: an override goes through the scene file's own readers, so every key type
+// (float, integer, boolean, string, array, enumeration) is typed and range-checked as in the
+// file, and every error names the key and the override; the command line exits 2 before
+// anything is written.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "cli_support.hpp"
+#include "common/errors.hpp"
+#include "common/units.hpp"
+#include "scene/fidelity.hpp"
+#include "scene/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace millwear;
+using millwear::testing::run_millwear;
+
+namespace {
+
+const char* kScene = R"(name = "tiny"
+[mill]
+diameter = 0.6
+length = 0.3
+speed = 0.75
+direction = "bidirectional"
+reverse_every = 100.0
+[lifters]
+rows = 12
+profile = "lifter.toml"
+[charge]
+filling = 0.3
+ball_filling = 0.1
+[[charge.species]]
+name = "ball"
+ball = true
+density = 7800.0
+sizes = [20.0]
+mass_fractions = [1.0]
+[[charge.species]]
+name = "rock"
+density = 2700.0
+sizes = [10.0, 20.0]
+mass_fractions = [0.4, 0.6]
+[solver]
+seed = 3
+[wear]
+wear_rate = 1e-11
+replacement_height = 5.0
+)";
+
+const char* kLifter = R"(name = "small"
+form = "trapezoid"
+height = 20.0
+top_width = 10.0
+leading_face_angle = 30.0
+trailing_face_angle = 30.0
+)";
+
+class Overrides : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("millwear-set-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "lifter.toml") << kLifter;
+    std::ofstream(dir_ / "scene.toml") << kScene;
+    scene_ = (dir_ / "scene.toml").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Scene load(const std::vector<std::string>& sets) const { return load_scene(scene_, sets); }
+  // The error of a set that must fail.
+  InputError error_of(const std::vector<std::string>& sets) const {
+    try {
+      load(sets);
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no InputError for --set " << sets.back();
+    return InputError("", "", "");
+  }
+
+  fs::path dir_;
+  std::string scene_;
+};
+
+}  // namespace
+
+TEST_F(Overrides, FloatIntegerBooleanStringArrayAndEnumTakeTheirValues) {
+  const Scene s = load({"mill.speed=0.9", "lifters.rows=10", "wear.shell_wear=false", "name=renamed",
+                        "charge.species[1].sizes=[12.0, 18.0]", "charge.species[1].mass_fractions=[0.5, 0.5]",
+                        "solver.backend=box2d", "mill.direction=\"forward\"", "outputs.vtk=true"});
+  EXPECT_DOUBLE_EQ(s.mill.speed_fraction_critical, 0.9);
+  EXPECT_EQ(s.mill.rows, 10);
+  EXPECT_FALSE(s.wear.shell_wear);
+  EXPECT_EQ(s.name, "renamed");
+  ASSERT_EQ(s.charge.species[1].diameters_m.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.charge.species[1].diameters_m[0], 0.012);
+  EXPECT_DOUBLE_EQ(s.charge.species[1].mass_fractions[1], 0.5);
+  EXPECT_EQ(s.solver.backend, Backend::Box2D);
+  EXPECT_EQ(s.mill.direction, Direction::Forward);  // a one-way mill: reverse_every dropped
+  EXPECT_TRUE(s.outputs.vtk);
+  EXPECT_EQ(s.overrides.size(), 9u);
+  // Unchanged keys keep the file's values.
+  EXPECT_DOUBLE_EQ(s.charge.filling, 0.3);
+  EXPECT_EQ(s.solver.seed, 3u);
+}
+
+TEST_F(Overrides, AMissingTableIsCreatedAndTheLastOfTwoSetsWins) {
+  const Scene s = load({"run.revolutions=4", "run.revolutions=5.5"});
+  EXPECT_DOUBLE_EQ(s.run.revolutions, 5.5);
+}
+
+TEST_F(Overrides, OneOfAPairReplacesTheFilesOther) {
+  // The file has mill.speed; speed_rpm replaces it (both would be an error in a file).
+  const Scene s = load({"mill.speed_rpm=30"});
+  const double crit_rpm = std::sqrt(kGravity / 0.3) * 60.0 / (2.0 * kPi);
+  EXPECT_NEAR(s.mill.speed_fraction_critical, 30.0 / crit_rpm, 1e-12);
+  const Scene r = load({"charge.species[1].size_range=[10.0, 20.0]"});
+  EXPECT_TRUE(r.charge.species[1].diameters_m.empty());
+  EXPECT_DOUBLE_EQ(r.charge.species[1].d_max_m, 0.020);
+}
+
+TEST_F(Overrides, ASetKeyBeatsTheFidelityPresetAsAFileKeyDoes) {
+  Scene s = load({"solver.time_step=0.0004"});
+  apply_fidelity(s, "draft");
+  EXPECT_DOUBLE_EQ(s.solver.time_step_s, 0.0004);
+}
+
+TEST_F(Overrides, UnknownKeyIsRefusedNamingItWithTheNearMiss) {
+  const InputError e = error_of({"mill.sped=0.8"});
+  EXPECT_EQ(e.file, scene_);
+  EXPECT_EQ(e.where, "--set mill.sped=0.8: mill.sped");
+  EXPECT_NE(e.expected.find("did you mean 'speed'"), std::string::npos) << e.what();
+  // The value never was in the file: no line number.
+  EXPECT_EQ(e.expected.find("(line"), std::string::npos) << e.what();
+  EXPECT_EQ(error_of({"foo.bar=1"}).where, "--set foo.bar=1: foo");
+}
+
+TEST_F(Overrides, BadlyTypedValuesAreRefusedNamingTheKeyAndTheExpectation) {
+  struct Case { const char* set; const char* key; const char* expected; };
+  const Case cases[] = {
+      {"mill.speed=fast", "mill.speed", "a number in [0.01, 2]"},        // float
+      {"mill.speed=3", "mill.speed", "a number in [0.01, 2]"},           // float out of range
+      {"lifters.rows=10.5", "lifters.rows", "an integer in [1, 1000]"},  // integer
+      {"wear.shell_wear=yes", "wear.shell_wear", "true or false"},       // boolean
+      {"name=[1]", "name", "a string"},                                   // string
+      {"charge.species[1].sizes=[12.0, -1]", "charge.species[1].sizes[1]", "a number in [0.1, 20000]"},  // array
+      {"mill.direction=sideways", "mill.direction", "\"forward\", \"reverse\" or \"bidirectional\""},     // enum
+      {"outputs.vtk_frames=0", "outputs.vtk_frames", "an integer in [1, 1000]"},
+  };
+  for (const Case& c : cases) {
+    const InputError e = error_of({c.set});
+    EXPECT_EQ(e.where, std::string("--set ") + c.set + ": " + c.key) << c.set;
+    EXPECT_NE(e.expected.find(c.expected), std::string::npos) << c.set << ": " << e.what();
+  }
+}
+
+TEST_F(Overrides, MalformedOverridesAreRefused) {
+  EXPECT_EQ(error_of({"mill.speed"}).where, "--set mill.speed");
+  EXPECT_EQ(error_of({"=0.8"}).where, "--set =0.8");
+  EXPECT_NE(error_of({"charge.species[5].density=1000"}).expected.find("index below 2"), std::string::npos);
+  EXPECT_NE(error_of({"mill.speed.x=1"}).expected.find("to be a table"), std::string::npos);
+  EXPECT_NE(error_of({"mill..speed=1"}).expected.find("dotted scene key"), std::string::npos);
+}
+
+TEST_F(Overrides, TheCommandLineExitsTwoNamingTheKeyBeforeWritingAnything) {
+  const fs::path out = dir_ / "out";
+  const auto r = run_millwear("charge " + millwear::testing::quoted(fs::path(scene_)) + " -o " + millwear::testing::quoted(out) + " --set charge.filing=0.3");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--set charge.filing=0.3: charge.filing: unknown key (did you mean 'filling'?)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(out));
+  // Every command that reads a scene takes --set and checks it before any work.
+  for (const std::string cmd : {"run", "sweep", "animate", "rule1", "tradeoff", "validate", "calibrate"}) {
+    std::string args = cmd + " " + millwear::testing::quoted(fs::path(scene_)) + " --set mill.speed=fast";
+    if (cmd == "animate") args += " -o " + millwear::testing::quoted(dir_ / "a.gif");
+    if (cmd == "run" || cmd == "tradeoff" || cmd == "validate" || cmd == "sweep") args += " -o " + millwear::testing::quoted(out);
+    if (cmd == "sweep") args += " --vary charge.filling=0.2,0.3";
+    if (cmd == "validate" || cmd == "calibrate") args += " --measured " + millwear::testing::quoted(fs::path(scene_));
+    const auto c = run_millwear(args);
+    EXPECT_EQ(c.exit_code, 2) << cmd << ": " << c.output;
+    EXPECT_NE(c.output.find("--set mill.speed=fast: mill.speed: expected a number"), std::string::npos)
+        << cmd << ": " << c.output;
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
