@@ -20,5 +20,6 @@ void register_calibrate(CLI::App& app, Action* action);
 void register_hardness(CLI::App& app, Action* action);
 void register_screen(CLI::App& app, Action* action);
 void register_screen_task(CLI::App& app, Action* action);
+void register_view(CLI::App& app, Action* action);
 
 }  // namespace millwear::app

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   millwear::app::register_hardness(app, &action);
   millwear::app::register_screen(app, &action);
   millwear::app::register_screen_task(app, &action);
+  millwear::app::register_view(app, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -425,10 +426,17 @@ Scene load_scene(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw InputError(path, "", "scene file not found or not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw InputError(path, "", "a readable scene file");
+  return load_scene_text(text.str(), path);
+}
 
+Scene load_scene_text(const std::string& text, const std::string& path) {
   toml::table root;
   try {
-    root = toml::parse_file(path);
+    root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
     throw InputError(path, "line " + std::to_string(b.line),

@@ -151,6 +151,9 @@ constexpr double kGravity = 9.81;  // m/s^2
 // Read and validate a scene file. Every problem throws InputError naming the file, the key
 // and what was expected; profile paths are relative to the scene file.
 Scene load_scene(const std::string& path);
+// The same for a scene's text as if read from `path` (errors name it; the profile path
+// resolves from its folder): how an edited scene is checked before it is used or written.
+Scene load_scene_text(const std::string& text, const std::string& path);
 // A scene's built mill geometry (new lifters, one unit shared by every row), and the new
 // liner unit alone: the one place a scene's lifter becomes geometry.
 MillGeometry build_scene_mill(const Scene& scene);

@@ -168,6 +168,7 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
                           reshape(run.mill.units, step.depths, run.mill.radius_m, liner.smoothing_m,
                                   scene.mill.mesh, liner.lifter.area_m2, run.stage + 1));
     run.hours += step.hours;
+    if (cb.on_update) cb.on_update({run.stage, run.hours, &run.mill, &run.engine->state()});
     if (lifter_worn_out(measure_lifter(run.mill.units[0], run.mill.radius_m), liner.lifter)) return StageEnd::WornOut;
     if (run.hours >= target_h - 1e-9) return StageEnd::Finished;
     run.engine->set_liner(run.mill);
