@@ -68,6 +68,7 @@ struct UiState {
   char shot_path[512] = "view.png";
   char record_dir[512] = "view-frames";
   std::string message;     // the last refusal (or file written)
+  std::string shot_pending;  // a screenshot asked for in the panel, taken at the next frame
   bool recording = false;
   int record_index = 0;
   std::string record_to;
@@ -83,6 +84,7 @@ void sync_ui(UiState& ui, const Session& s) {
   ui.height_mm = static_cast<float>(s.lifter_height_mm());
   ui.lead_deg = static_cast<float>(s.leading_face_deg());
   ui.trail_deg = static_cast<float>(s.trailing_face_deg());
+  ui.time_scale = static_cast<float>(s.time_scale());
 }
 
 std::vector<std::string> profiles_beside(const std::string& profile_file) {
@@ -298,6 +300,8 @@ void draw_panel(Session& s, UiState& ui, float x0, float w, float h, double fps,
         }
       });
     ImGui::InputText("png", ui.shot_path, sizeof ui.shot_path);
+    ImGui::SameLine();
+    if (ImGui::Button("screenshot")) ui.shot_pending = ui.shot_path;
     ImGui::InputText("frames folder", ui.record_dir, sizeof ui.record_dir);
     if (ImGui::Button(ui.recording ? "stop recording" : "record")) {
       ui.recording = !ui.recording;
@@ -394,7 +398,8 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
     // Script commands due at this time, before the frame advances.
-    std::string shot_now;
+    std::string shot_now = ui.shot_pending;
+    ui.shot_pending.clear();
     // Script time is the frames' time (1/60 s a frame), so a paused mill or a running wear
     // history does not hold the script up.
     const double script_clock = static_cast<double>(out.frames) * kFrameSimS;
@@ -466,8 +471,14 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     if (!shot_now.empty() || (last_frame && !req.screenshot.empty()) || ui.recording) {
       const std::vector<std::uint8_t> px = read_window(fw, fh);
       if (!shot_now.empty()) {
-        write_png(shot_now, fw, fh, px);
-        if (hooks.notice) hooks.notice("wrote " + shot_now);
+        try {
+          write_png(shot_now, fw, fh, px);
+          ui.message = "wrote " + shot_now;
+        } catch (const std::exception& x) {
+          if (headless) throw;
+          ui.message = x.what();  // a live session keeps running
+        }
+        if (hooks.notice) hooks.notice(ui.message);
       }
       if (last_frame && !req.screenshot.empty()) write_png(req.screenshot, fw, fh, px);
       if (ui.recording) {
