@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -422,15 +421,29 @@ void check_scene(const Scene& s, const std::string& file) {
 
 }  // namespace
 
+namespace {
+
+InputError not_toml(const std::string& path, const toml::parse_error& e) {
+  const auto& b = e.source().begin;
+  return InputError(path, "line " + std::to_string(b.line),
+                    "not valid TOML: " + std::string(e.description()) + " (column " + std::to_string(b.column) + ")");
+}
+
+Scene scene_from_table(const toml::table& root, const std::string& path);
+
+}  // namespace
+
 Scene load_scene(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     throw InputError(path, "", "scene file not found or not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in && !in.eof()) throw InputError(path, "", "a readable scene file");
-  return load_scene_text(text.str(), path);
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw not_toml(path, e);
+  }
+  return scene_from_table(root, path);
 }
 
 Scene load_scene_text(const std::string& text, const std::string& path) {
@@ -438,12 +451,14 @@ Scene load_scene_text(const std::string& text, const std::string& path) {
   try {
     root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(path, "line " + std::to_string(b.line),
-                     "not valid TOML: " + std::string(e.description()) + " (column " +
-                         std::to_string(b.column) + ")");
+    throw not_toml(path, e);
   }
+  return scene_from_table(root, path);
+}
 
+namespace {
+
+Scene scene_from_table(const toml::table& root, const std::string& path) {
   Scene s;
   s.source_file = path;
   s.name = safe_name_from(fs::path(path).stem().string());
@@ -490,5 +505,7 @@ Scene load_scene_text(const std::string& text, const std::string& path) {
   check_scene(s, path);
   return s;
 }
+
+}  // namespace
 
 }  // namespace millwear

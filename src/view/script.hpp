@@ -1,6 +1,6 @@
 #pragma once
 // A script of timed control changes for `millwear view --script FILE`: the same controls the
-// panel has, at given session times, so a demonstration (or a test) runs without a person.
+// panel has, at given times, so a demonstration (or a test) runs without a person.
 //
 // One command a line, `TIME COMMAND ARGS...`, TIME in seconds of frames since the view
 // started (each frame 1/60 s; at time scale 1 that is the simulated time unless the mill was

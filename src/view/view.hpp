@@ -1,6 +1,6 @@
 #pragma once
 // `millwear view`: the live mill in a window (Dear ImGui on GLFW and OpenGL 3). Everything
-// the window shows comes from view::Session (session.hpp), which drives the same library
+// the window shows comes from view::LiveMill (live.hpp), which drives the same library
 // calls as `charge` and `run`; nothing of GLFW, OpenGL or ImGui leaves src/view/.
 #include <cstddef>
 #include <functional>
@@ -26,7 +26,7 @@ struct ViewOutcome {
   std::string scene_name;
   long frames = 0;
   double wall_s = 0.0;          // of the frame loop
-  double simulated_s = 0.0;     // session time the frames advanced
+  double simulated_s = 0.0;     // simulated time the frames advanced
   double physics_wall_s = 0.0;  // of which the charge's steps (the rest draws the frames)
   std::size_t disks = 0;        // active at the end
   std::size_t lost_disks = 0;

@@ -1,6 +1,6 @@
 // The window of `millwear view`: GLFW + OpenGL 3 + Dear ImGui. The mill is drawn with ImGui's
 // background draw list (disks, liner, lifters, trails, markers) on the left square; the panel
-// of controls and readouts fills the right. Frames advance the session by 1/60 s of
+// of controls and readouts fills the right. Frames advance the mill by 1/60 s of
 // simulated time each when run without a person (--frames, --script), by the wall time
 // between frames otherwise.
 #include <GLFW/glfw3.h>
@@ -20,7 +20,7 @@
 #include "engine/charge_run.hpp"
 #include "view/png.hpp"
 #include "view/script.hpp"
-#include "view/session.hpp"
+#include "view/live_mill.hpp"
 #include "view/view.hpp"
 
 namespace millwear::view {
@@ -75,7 +75,7 @@ struct UiState {
   std::vector<std::string> shipped_profiles;
 };
 
-void sync_ui(UiState& ui, const Session& s) {
+void sync_ui(UiState& ui, const LiveMill& s) {
   const Scene& sc = s.scene();
   ui.speed = static_cast<float>(sc.mill.speed_fraction_critical);
   ui.filling = static_cast<float>(sc.charge.filling);
@@ -138,7 +138,7 @@ Vec2 shell_point(double deg, double dir, double r) {
   return Vec2{dir * r * std::sin(a), -r * std::cos(a)};
 }
 
-void draw_mill(const Session& s, const WearView& wear, bool show_wear, const Pane& pane, bool by_speed) {
+void draw_mill(const LiveMill& s, const WearView& wear, bool show_wear, const Pane& pane, bool by_speed) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   const Scene& sc = s.scene();
   const double R = sc.radius_m();
@@ -193,12 +193,12 @@ void draw_mill(const Session& s, const WearView& wear, bool show_wear, const Pan
   }
 }
 
-void refuse_or_clear(UiState& ui, const std::string& r, Session& s) {
+void refuse_or_clear(UiState& ui, const std::string& r, LiveMill& s) {
   ui.message = r;
   if (!r.empty()) sync_ui(ui, s);  // the panel shows the values in use again
 }
 
-void draw_panel(Session& s, UiState& ui, float x0, float w, float h, double fps, double ratio,
+void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps, double ratio,
                 const WearView& wear, std::vector<std::function<void()>>& actions) {
   ImGui::SetNextWindowPos(ImVec2(x0, 0));
   ImGui::SetNextWindowSize(ImVec2(w, h));
@@ -324,7 +324,7 @@ std::vector<std::uint8_t> read_window(int w, int h) {
   return flipped;
 }
 
-std::string report_line(const Session& s) {
+std::string report_line(const LiveMill& s) {
   char buf[512];
   const SteadyPower p = s.steady_power();
   std::string shape = "no readout yet";
@@ -341,12 +341,15 @@ std::string report_line(const Session& s) {
   bool finite = true;
   for (std::size_t i = 0; i < c.size(); ++i)
     if (c.active[i] && !(std::isfinite(c.position_m[i].x) && std::isfinite(c.position_m[i].y))) finite = false;
+  const WearView w = s.wear_view();
   std::snprintf(buf, sizeof buf,
                 "t=%.3f speed=%.4g disks=%zu lost=%zu finite=%d power_kW_per_m=%.6g steady_kW_per_m=%.6g "
-                "steady_sem_kW_per_m=%.6g steady_batches=%d shape=%s",
+                "steady_sem_kW_per_m=%.6g steady_batches=%d wear_hours=%.6g wear_area_lost=%.4f shape=%s",
                 s.clock_s(), s.scene().mill.speed_fraction_critical, s.active_disks(), s.lost_disks(), finite ? 1 : 0,
-                power, p.mean_kW_per_m, p.sem_kW_per_m, p.batches, shape.c_str());
-  return buf;
+                power, p.mean_kW_per_m, p.sem_kW_per_m, p.batches, w.hours, w.area_lost_share, shape.c_str());
+  std::string line = buf;
+  if (!w.message.empty()) line += " (wear: " + w.message + ")";
+  return line;
 }
 
 }  // namespace
@@ -355,7 +358,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   // Everything the run reads is checked before a window opens.
   std::vector<ScriptCommand> script;
   if (!req.script.empty()) script = read_script(req.script);
-  Session session(req.scene_file, req.fidelity);
+  LiveMill live(req.scene_file, req.fidelity);
   const bool headless = req.frames > 0 || !req.script.empty();
 
   if (!glfwInit()) throw RunError("cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
@@ -364,7 +367,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
-  GLFWwindow* window = glfwCreateWindow(req.width, req.height, ("millwear view: " + session.scene().name).c_str(), nullptr, nullptr);
+  GLFWwindow* window = glfwCreateWindow(req.width, req.height, ("millwear view: " + live.scene().name).c_str(), nullptr, nullptr);
   if (!window) throw RunError("cannot open an OpenGL 3.3 window (no display, or no OpenGL 3.3 driver)");
   glfwMakeContextCurrent(window);
   glfwSwapInterval(headless ? 0 : 1);
@@ -383,17 +386,17 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   } imgui_guard;
 
   UiState ui;
-  sync_ui(ui, session);
-  ui.shipped_profiles = profiles_beside(session.profile_file());
+  sync_ui(ui, live);
+  ui.shipped_profiles = profiles_beside(live.profile_file());
   ViewOutcome out;
-  out.scene_name = session.scene().name;
+  out.scene_name = live.scene().name;
   std::size_t next_command = 0;
   const auto t0 = Clock::now();
   auto last = t0;
   double fps = 0.0, ratio = 0.0;
-  const double clock0 = session.clock_s();
+  const double clock0 = live.clock_s();
   bool quit = false;
-  while (!glfwWindowShouldClose(window) && !quit) {
+  while (!glfwWindowShouldClose(window)) {
     glfwPollEvents();
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window, &fw, &fh);
@@ -407,67 +410,67 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
       const ScriptCommand& c = script[next_command++];
       auto num = [&c](int k) { return std::strtod(c.args[static_cast<std::size_t>(k)].c_str(), nullptr); };
       std::string refused;
-      if (c.name == "speed") refused = session.set_speed(num(0));
-      else if (c.name == "filling") refused = session.set_filling(num(0), c.args.size() > 1 ? num(1) : session.scene().charge.ball_filling);
-      else if (c.name == "direction") refused = session.set_direction(c.args[0] == "reverse");
-      else if (c.name == "profile") refused = session.set_profile(c.args[0]);
-      else if (c.name == "lifter") refused = session.set_lifter_shape(num(0), num(1), num(2));
-      else if (c.name == "pause") session.set_paused(true);
-      else if (c.name == "resume") session.set_paused(false);
-      else if (c.name == "reset") session.reset();
-      else if (c.name == "time_scale") session.set_time_scale(num(0));
+      if (c.name == "speed") refused = live.set_speed(num(0));
+      else if (c.name == "filling") refused = live.set_filling(num(0), c.args.size() > 1 ? num(1) : live.scene().charge.ball_filling);
+      else if (c.name == "direction") refused = live.set_direction(c.args[0] == "reverse");
+      else if (c.name == "profile") refused = live.set_profile(c.args[0]);
+      else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
+      else if (c.name == "pause") live.set_paused(true);
+      else if (c.name == "resume") live.set_paused(false);
+      else if (c.name == "reset") live.reset();
+      else if (c.name == "time_scale") live.set_time_scale(num(0));
       else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
-      else if (c.name == "trails") session.set_trail_count(static_cast<int>(num(0)));
-      else if (c.name == "wear") refused = session.start_wear(num(0));
-      else if (c.name == "wait_wear") session.wait_wear();
+      else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
+      else if (c.name == "wear") refused = live.start_wear(num(0));
+      else if (c.name == "wait_wear") live.wait_wear();
       else if (c.name == "save_scene") {
-        for (const auto& f : session.save_scene(c.args[0]))
+        for (const auto& f : live.save_scene(c.args[0]))
           if (hooks.notice) hooks.notice("wrote " + f);
       } else if (c.name == "save_profiles") {
-        session.write_wear_profiles(c.args[0]);
+        live.write_wear_profiles(c.args[0]);
         if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
       } else if (c.name == "screenshot") shot_now = c.args[0];
       else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
       else if (c.name == "stop_record") ui.recording = false;
-      else if (c.name == "report") { if (hooks.report) hooks.report(report_line(session)); }
+      else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
       else if (c.name == "quit") quit = true;
       if (!refused.empty()) {
         ++out.refused;
         ui.message = refused;
         if (hooks.notice) hooks.notice("refused at line " + std::to_string(c.line) + ": " + refused);
       }
-      sync_ui(ui, session);
+      sync_ui(ui, live);
     }
-    if (quit) break;
     const auto now = Clock::now();
     const double wall_dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    const double before = session.clock_s();
+    const double before = live.clock_s();
     const auto physics0 = Clock::now();
-    session.advance(headless ? kFrameSimS : std::min(wall_dt, 0.05));
+    if (!quit) live.advance(headless ? kFrameSimS : std::min(wall_dt, 0.05));
     out.physics_wall_s += std::chrono::duration<double>(Clock::now() - physics0).count();
     if (wall_dt > 0) {
       fps = 0.9 * fps + 0.1 / wall_dt;
-      ratio = 0.9 * ratio + 0.1 * (session.clock_s() - before) / wall_dt;
+      ratio = 0.9 * ratio + 0.1 * (live.clock_s() - before) / wall_dt;
     }
-    if (ui.trails != static_cast<int>(session.trails().size()) && session.trails().size() > 0) ui.trails = static_cast<int>(session.trails().size());
+    if (ui.trails != static_cast<int>(live.trails().size()) && live.trails().size() > 0) ui.trails = static_cast<int>(live.trails().size());
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     const float side = static_cast<float>(std::min(fh, fw));
-    const Pane pane{0.5f * side, 0.5f * side, static_cast<float>(0.45 * side / session.scene().radius_m())};
-    const WearView wear = session.wear_view();
-    draw_mill(session, wear, wear.running, pane, ui.colour_by_speed);
+    const Pane pane{0.5f * side, 0.5f * side, static_cast<float>(0.45 * side / live.scene().radius_m())};
+    const WearView wear = live.wear_view();
+    draw_mill(live, wear, wear.running, pane, ui.colour_by_speed);
     std::vector<std::function<void()>> actions;
-    draw_panel(session, ui, side, static_cast<float>(fw) - side, static_cast<float>(fh), fps, ratio, wear, actions);
+    draw_panel(live, ui, side, static_cast<float>(fw) - side, static_cast<float>(fh), fps, ratio, wear, actions);
     ImGui::Render();
     glViewport(0, 0, fw, fh);
     glClearColor(22 / 255.0f, 22 / 255.0f, 26 / 255.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     ++out.frames;
-    const bool last_frame = req.frames > 0 && out.frames >= req.frames;
+    // A `quit` ends the run after this frame (its screenshots and recording included).
+    const bool last_frame = quit || (req.frames > 0 && out.frames >= req.frames);
     if (!shot_now.empty() || (last_frame && !req.screenshot.empty()) || ui.recording) {
       const std::vector<std::uint8_t> px = read_window(fw, fh);
       if (!shot_now.empty()) {
@@ -476,7 +479,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
           ui.message = "wrote " + shot_now;
         } catch (const std::exception& x) {
           if (headless) throw;
-          ui.message = x.what();  // a live session keeps running
+          ui.message = x.what();  // the live mill keeps running
         }
         if (hooks.notice) hooks.notice(ui.message);
       }
@@ -493,10 +496,10 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     if (last_frame) break;
   }
   out.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  out.simulated_s = session.clock_s() - clock0;
-  out.disks = session.active_disks();
-  out.lost_disks = session.lost_disks();
-  session.stop_wear();
+  out.simulated_s = live.clock_s() - clock0;
+  out.disks = live.active_disks();
+  out.lost_disks = live.lost_disks();
+  live.stop_wear();
   glfwDestroyWindow(window);
   return out;
 }

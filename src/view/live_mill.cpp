@@ -1,6 +1,6 @@
-// The live mill behind `millwear view` (see session.hpp): controls through the scene
+// The live mill behind `millwear view` (see live.hpp): controls through the scene
 // checker, the live charge in batches, the wear mode on its own thread.
-#include "view/session.hpp"
+#include "view/live_mill.hpp"
 
 #include <unistd.h>
 
@@ -54,7 +54,7 @@ std::string dir_of(const std::string& file) {
 
 }  // namespace
 
-Session::Session(const std::string& scene_file, const std::string& fidelity)
+LiveMill::LiveMill(const std::string& scene_file, const std::string& fidelity)
     : scene_file_(scene_file), fidelity_(fidelity), text_(read_text(scene_file)) {
   scene_ = checked_scene({});
   new_mill_ = build_scene_mill(scene_);
@@ -65,7 +65,7 @@ Session::Session(const std::string& scene_file, const std::string& fidelity)
   changed();
 }
 
-Session::~Session() {
+LiveMill::~LiveMill() {
   stop_wear();
   if (!temp_dir_.empty()) {
     std::error_code ec;
@@ -73,7 +73,7 @@ Session::~Session() {
   }
 }
 
-Scene Session::checked_scene(const std::vector<KeyEdit>& edits) const {
+Scene LiveMill::checked_scene(const std::vector<KeyEdit>& edits) const {
   const std::string text = edits.empty() ? text_ : edited_scene_text(text_, scene_file_, edits, dir_of(scene_file_), "");
   Scene s = load_scene_text(text, scene_file_);
   if (!fidelity_.empty()) apply_fidelity(s, fidelity_);
@@ -81,7 +81,7 @@ Scene Session::checked_scene(const std::vector<KeyEdit>& edits) const {
   return s;
 }
 
-std::vector<KeyEdit> Session::edits_with(const KeyEdit& e) const {
+std::vector<KeyEdit> LiveMill::edits_with(const KeyEdit& e) const {
   std::map<std::string, KeyEdit> all = edits_;
   all[e.table + "." + e.key] = e;
   std::vector<KeyEdit> v;
@@ -89,12 +89,12 @@ std::vector<KeyEdit> Session::edits_with(const KeyEdit& e) const {
   return v;
 }
 
-double Session::signed_speed_rad_s() const {
+double LiveMill::signed_speed_rad_s() const {
   const double sign = initial_direction_sign(scene_);
   return phase_ == Phase::Settling ? 0.0 : sign * scene_.angular_speed_rad_s();
 }
 
-void Session::start_engine(const ChargeState& charge) {
+void LiveMill::start_engine(const ChargeState& charge) {
   engine_ = make_engine(scene_, mill_, charge, accounting_options_for(scene_));
   engine_->set_mill_speed(signed_speed_rad_s());
   engine_->reset_window();
@@ -103,14 +103,14 @@ void Session::start_engine(const ChargeState& charge) {
   trails_.clear();
 }
 
-std::size_t Session::active_disks() const {
+std::size_t LiveMill::active_disks() const {
   const ChargeState& s = engine_->state();
   return static_cast<std::size_t>(std::count(s.active.begin(), s.active.end(), std::uint8_t{1}));
 }
 
 // A control changed the mill: the readouts start a new steady window once the charge has
 // turned for the scene's spin-up (at least one revolution) at the new setting.
-void Session::changed() {
+void LiveMill::changed() {
   steady_batches_.clear();
   steady_from_s_ = clock_s_ + std::max(1.0, scene_.solver.spinup_revolutions) * scene_.revolution_time_s();
   batch_s_ = 0.5 * scene_.revolution_time_s();
@@ -118,8 +118,8 @@ void Session::changed() {
   engine_->reset_window();
 }
 
-std::string Session::apply(const KeyEdit& e, bool rebuild_mill, bool refill) {
-  if (wear_.running) return "the wear mode is running: stop it first";
+std::string LiveMill::apply(const KeyEdit& e, bool rebuild_mill, bool refill) {
+  if (wear_running()) return "the wear mode is running: stop it first";
   std::vector<KeyEdit> edits = edits_with(e);
   try {
     Scene s = checked_scene(edits);
@@ -144,9 +144,9 @@ std::string Session::apply(const KeyEdit& e, bool rebuild_mill, bool refill) {
   return "";
 }
 
-std::string Session::set_speed(double f) { return apply({"mill", "speed", number(f), {"speed_rpm"}}, false, false); }
+std::string LiveMill::set_speed(double f) { return apply({"mill", "speed", number(f), {"speed_rpm"}}, false, false); }
 
-std::string Session::set_filling(double filling, double ball_filling) {
+std::string LiveMill::set_filling(double filling, double ball_filling) {
   // Both keys in one change: the checker sees the pair (ball filling is part of filling).
   const auto saved = edits_;
   edits_["charge.ball_filling"] = {"charge", "ball_filling", number(ball_filling), {}};
@@ -155,7 +155,7 @@ std::string Session::set_filling(double filling, double ball_filling) {
   return r;
 }
 
-std::string Session::set_direction(bool reverse) {
+std::string LiveMill::set_direction(bool reverse) {
   // A one-way mill: the reversal period belongs to bidirectional mills only.
   const auto saved = edits_;
   edits_["mill.reverse_every"] = {"mill", "reverse_every", "", {}};
@@ -164,14 +164,14 @@ std::string Session::set_direction(bool reverse) {
   return r;
 }
 
-std::string Session::set_profile(const std::string& file) {
+std::string LiveMill::set_profile(const std::string& file) {
   const std::string abs = fs::absolute(fs::path(file)).lexically_normal().string();
   const std::string r = apply({"lifters", "profile", toml_string_value(abs), {}}, true, false);
   if (r.empty()) edited_profile_text_.clear();
   return r;
 }
 
-std::string Session::set_lifter_shape(double height_mm, double leading_deg, double trailing_deg) {
+std::string LiveMill::set_lifter_shape(double height_mm, double leading_deg, double trailing_deg) {
   if (!lifter_is_trapezoid()) return "the lifter profile is a polyline: its height and face angles are not parameters";
   if (temp_dir_.empty()) {
     temp_dir_ = (fs::temp_directory_path() / ("millwear-view-" + std::to_string(::getpid()))).string();
@@ -190,14 +190,14 @@ std::string Session::set_lifter_shape(double height_mm, double leading_deg, doub
   return r;
 }
 
-bool Session::lifter_is_trapezoid() const { return scene_.mill.lifter.form == ProfileForm::Trapezoid; }
-std::string Session::profile_file() const { return scene_.mill.lifter.source_file; }
-double Session::lifter_height_mm() const { return in_mm(scene_.mill.lifter.trapezoid.height_m); }
-double Session::leading_face_deg() const { return scene_.mill.lifter.trapezoid.leading_face_angle_rad * 180.0 / kPi; }
-double Session::trailing_face_deg() const { return scene_.mill.lifter.trapezoid.trailing_face_angle_rad * 180.0 / kPi; }
+bool LiveMill::lifter_is_trapezoid() const { return scene_.mill.lifter.form == ProfileForm::Trapezoid; }
+std::string LiveMill::profile_file() const { return scene_.mill.lifter.source_file; }
+double LiveMill::lifter_height_mm() const { return in_mm(scene_.mill.lifter.trapezoid.height_m); }
+double LiveMill::leading_face_deg() const { return scene_.mill.lifter.trapezoid.leading_face_angle_rad * 180.0 / kPi; }
+double LiveMill::trailing_face_deg() const { return scene_.mill.lifter.trapezoid.trailing_face_angle_rad * 180.0 / kPi; }
 
-void Session::reset() {
-  if (wear_.running) return;
+void LiveMill::reset() {
+  if (wear_running()) return;
   mill_ = new_mill_;
   start_engine(fill_charge(scene_, mill_));
   phase_ = Phase::Settling;
@@ -208,7 +208,7 @@ void Session::reset() {
   changed();
 }
 
-void Session::close_batch() {
+void LiveMill::close_batch() {
   const Accounting& acc = engine_->accounting();
   const ChargeFigures f = charge_figures(acc, scene_, signed_speed_rad_s());
   Readout r;
@@ -240,14 +240,14 @@ void Session::close_batch() {
   batch_elapsed_s_ = 0.0;
 }
 
-void Session::advance(double simulated_s) {
+void LiveMill::advance(double simulated_s) {
   take_wear_result();
-  if (paused_ || wear_.running) return;
+  if (paused_ || wear_running()) return;
   step_frame(simulated_s * time_scale_);
 }
 
-void Session::step_frame(double simulated_s) {
-  if (wear_.running) return;
+void LiveMill::step_frame(double simulated_s) {
+  if (wear_running()) return;
   const double dt = engine_->time_step_s();
   double owed = simulated_s + step_debt_s_;
   std::int64_t n = static_cast<std::int64_t>(std::floor(owed / dt + 1e-9));
@@ -281,7 +281,7 @@ void Session::step_frame(double simulated_s) {
   record_trails();
 }
 
-SteadyPower Session::steady_power() const {
+SteadyPower LiveMill::steady_power() const {
   SteadyPower p;
   p.batches = static_cast<int>(steady_batches_.size());
   const BatchMeans b = batch_means(steady_batches_);
@@ -290,13 +290,13 @@ SteadyPower Session::steady_power() const {
   return p;
 }
 
-void Session::set_trail_count(int n) {
+void LiveMill::set_trail_count(int n) {
   trail_count_ = std::clamp(n, 0, 32);
   trail_ids_.clear();
   trails_.clear();
 }
 
-void Session::record_trails() {
+void LiveMill::record_trails() {
   const ChargeState& s = engine_->state();
   if (trail_ids_.empty() && trail_count_ > 0 && s.size() > 0) {
     // Spread through the disk list (the fill places them largest first, bottom to top).
@@ -312,7 +312,7 @@ void Session::record_trails() {
   }
 }
 
-std::vector<std::string> Session::save_scene(const std::string& file) const {
+std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
   std::vector<std::string> written;
   const fs::path target = fs::absolute(fs::path(file)).lexically_normal();
   const std::string out_dir = target.parent_path().string();
@@ -341,8 +341,13 @@ std::vector<std::string> Session::save_scene(const std::string& file) const {
 
 // --- wear mode -------------------------------------------------------------------------
 
-std::string Session::start_wear(double hours) {
-  if (wear_.running) return "the wear mode is running already";
+bool LiveMill::wear_running() const {
+  std::lock_guard<std::mutex> lock(wear_mutex_);
+  return wear_.running;
+}
+
+std::string LiveMill::start_wear(double hours) {
+  if (wear_running()) return "the wear mode is running already";
   if (wear_thread_.joinable()) wear_thread_.join();
   Scene ws = scene_;
   if (!(hours > 0.0)) return "wear hours: expected a positive number of operating hours";
@@ -405,22 +410,22 @@ std::string Session::start_wear(double hours) {
   return "";
 }
 
-void Session::stop_wear() {
+void LiveMill::stop_wear() {
   wear_stop_ = true;
   if (wear_thread_.joinable()) wear_thread_.join();
 }
 
-void Session::wait_wear() {
+void LiveMill::wait_wear() {
   if (wear_thread_.joinable()) wear_thread_.join();
 }
 
-WearView Session::wear_view() const {
+WearView LiveMill::wear_view() const {
   std::lock_guard<std::mutex> lock(wear_mutex_);
   return wear_;
 }
 
 // Once the wear thread has ended, the live charge carries on in the worn mill.
-void Session::take_wear_result() {
+void LiveMill::take_wear_result() {
   if (wear_taken_) return;
   WearView w;
   {
@@ -442,7 +447,7 @@ void Session::take_wear_result() {
   changed();
 }
 
-void Session::write_wear_profiles(const std::string& out) const {
+void LiveMill::write_wear_profiles(const std::string& out) const {
   std::lock_guard<std::mutex> lock(wear_mutex_);
   if (wear_records_.empty() || wear_.running) throw RunError("no finished wear history to write");
   for (const StageRecord& rec : wear_records_) io::write_profile_csv(out, scene_.name, rec);

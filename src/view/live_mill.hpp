@@ -1,8 +1,9 @@
 #pragma once
 // The live mill behind `millwear view`, without any window: the scene as the controls have
-// edited it, the soft engine turning its charge, the readouts of the last measuring batches,
-// the trails of a few disks, and the wear mode (the staged wear history of the scene, run on
-// its own thread so the window keeps drawing). The window (view/window.cpp) reads it and
+// edited it, the engine turning its charge (the scene's backend: the soft one in every
+// preset), the readouts of the last measuring batches, the trails of a few disks, and the wear
+// mode (the scene's wear history as `millwear run` computes it, on its own thread so the
+// window keeps drawing). The window (view/window.cpp) reads it and
 // calls its controls; a script of timed control changes calls the same functions.
 //
 // Every control edits the scene's text (scene/scene_edit.hpp) and reads it back through the
@@ -28,7 +29,7 @@ namespace millwear::view {
 
 // What one measuring batch (half a revolution) of the live charge gave.
 struct Readout {
-  double clock_s = 0.0;              // session time at the batch's end
+  double clock_s = 0.0;              // view time at the batch's end
   double power_kW_per_m = 0.0;       // drive power per metre of mill
   double power_kW_per_mill = 0.0;    // times the mill length
   double power_kW_per_t = 0.0;       // per tonne of charge
@@ -64,13 +65,13 @@ struct WearView {
 
 enum class Phase { Settling, Turning };
 
-class Session {
+class LiveMill {
  public:
   // Reads and checks the scene (InputError as `millwear charge` would throw), fills the mill.
-  Session(const std::string& scene_file, const std::string& fidelity);
-  ~Session();
-  Session(const Session&) = delete;
-  Session& operator=(const Session&) = delete;
+  LiveMill(const std::string& scene_file, const std::string& fidelity);
+  ~LiveMill();
+  LiveMill(const LiveMill&) = delete;
+  LiveMill& operator=(const LiveMill&) = delete;
 
   // Controls. Each returns "" when the change took effect, else the scene checker's message
   // (or the reason it cannot be done) and nothing changed.
@@ -94,6 +95,7 @@ class Session {
   void stop_wear();
   void wait_wear();         // until the wear thread ends
   WearView wear_view() const;
+  bool wear_running() const;
   // The profile files `millwear run` writes (OUT/profiles/DESIGN_stageK.csv) for the last
   // finished wear history, into `out`. Throws RunError when no history has finished.
   void write_wear_profiles(const std::string& out) const;
@@ -115,7 +117,7 @@ class Session {
   SteadyPower steady_power() const;
   // Shear power per unit liner area of each mill edge over the last batches, W/m^2.
   const std::vector<double>& edge_shear_W_m2() const { return edge_shear_; }
-  // Disks lost (escaped or non-finite) since the session began, and the engine's events.
+  // Disks lost (escaped or non-finite) since the live began, and the engine's events.
   std::size_t lost_disks() const { return lost_; }
   const std::vector<std::string>& events() const { return events_; }
   std::size_t active_disks() const;
@@ -152,7 +154,7 @@ class Session {
   double phase_end_s_ = 0.0;       // engine time the settling ends
   bool paused_ = false;
   double time_scale_ = 1.0;
-  double clock_s_ = 0.0;           // session time, never reset
+  double clock_s_ = 0.0;           // view time, never reset
   double step_debt_s_ = 0.0;       // simulated time owed to the next frame (below one step)
   double batch_s_ = 0.0, batch_elapsed_s_ = 0.0;
   double steady_from_s_ = 0.0;     // clock time the steady window starts (after a transient)
