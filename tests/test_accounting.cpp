@@ -1,6 +1,7 @@
 // The shared contact accounting, record by record (no engine).
 #include <gtest/gtest.h>
 
+#include "common/units.hpp"
 #include "engine/accounting.hpp"
 #include "metrics/charge_summary.hpp"
 
@@ -202,6 +203,20 @@ TEST(ChargeShape, TheCentreOfMassAngleIsMeasuredFrom6OClockTowardTheRisingSide) 
   acc.moment_time_kg_m_s = {2.0 * 0.1, -2.0 * 0.1};  // at (0.1, -0.1): 45 deg up the +x side
   EXPECT_NEAR(summarize(acc, 1.0, 9.81).centre_of_mass_deg, 45.0, 1e-12);
   EXPECT_NEAR(summarize(acc, -1.0, 9.81).centre_of_mass_deg, -45.0, 1e-12);
+}
+
+// A 0.1 m slice of a 5 m mill: 50 slices. 200 kg and 30 kW a slice are 10 t and 1.5 MW a
+// mill, 150 kW/t. A liner losing 2e-9 m^2 of cross-section a second along 5 m of steel
+// (7800 kg/m^3) loses 7.8e-5 kg/s: 7.8e-5 / 1.5e6 kg/J = 0.1872 g/kWh.
+TEST(MillEnergy, SliceFiguresScaleToTheMillAndSetLinerLossAgainstEnergy) {
+  ChargeSummary s;
+  s.mass_kg = 200.0;
+  s.power_W = 30e3;
+  const MillEnergyFigures f = mill_energy_figures(s, 0.1, 5.0, 2e-9, 7800.0);
+  EXPECT_NEAR(f.charge_mass_kg, 1e4, 1e-9);
+  EXPECT_NEAR(f.power_W, 1.5e6, 1e-6);
+  EXPECT_NEAR(kW_per_t(f.specific_power_W_per_kg), 150.0, 1e-12);
+  EXPECT_NEAR(g_per_kWh(f.liner_wear_kg_per_J), 0.1872, 1e-12);
 }
 
 }  // namespace

@@ -48,7 +48,8 @@ bool has_magic(const fs::path& p, const std::string& magic) {
 const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct",
                                 "height_mm", "power_kw", "power_norm", "collision_kw",
                                 "collision_norm", "utilization", "utilization_norm", "life_h",
-                                "life_extrapolated", "packed_shear_pct"};
+                                "life_extrapolated", "packed_shear_pct", "charge_t", "specific_power_kw_per_t",
+                                "liner_wear_g_per_kwh"};
 
 }  // namespace
 
@@ -524,4 +525,45 @@ TEST_F(FolderRuns, AFileAsTheOutputFolderExits2ForEveryCommand) {
     EXPECT_NE(r.output.find("folder"), std::string::npos) << args << "\n" << r.output;
   }
   EXPECT_EQ(slurp(file), "not a folder\n");
+}
+
+// `millwear charge` draws its own figures: the collision spectrum and the snapshot, whose
+// legend names the scene's species and which marks the toe and shoulder it measured.
+TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
+  const fs::path out = fs::temp_directory_path() / "millwear-test-charge-figures";
+  fs::remove_all(out);
+  const Result r = run("charge " + src("scenarios/lab-mill.toml") + " -o " + q(out) + " --revolutions 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"spectrum.png", "spectrum.svg", "snapshot_lab-mill.png", "snapshot_lab-mill.svg"})
+    EXPECT_TRUE(fs::exists(out / "plots" / f)) << f;
+  EXPECT_TRUE(has_magic(out / "plots" / "snapshot_lab-mill.png", "\x89PNG"));
+  const std::string svg = slurp(out / "plots" / "snapshot_lab-mill.svg");
+  for (const char* text : {"ball", "toe", "shoulder", "turning counter-clockwise"})
+    EXPECT_NE(svg.find(text), std::string::npos) << text;
+  fs::remove_all(out);
+}
+
+// Without a terminal (a log, cron, Slurm) `run` prints plain progress lines, each with the
+// time of day, at every stage and when a design finishes; --quiet prints none.
+TEST(AppRunProgress, PlainLinesWithoutATerminalAndNoneWhenQuiet) {
+  const fs::path out = fs::temp_directory_path() / "millwear-test-plain-progress";
+  fs::remove_all(out);
+  const Result r = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --progress-every 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("progress every 1s"), std::string::npos) << r.output;
+  // "YYYY-MM-DD HH:MM:SS  lab-quick  stage 2/2" and "... lab-quick  finished in".
+  std::istringstream lines(r.output);
+  int stage_lines = 0, finished_lines = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.size() < 21 || line[4] != '-' || line[13] != ':' || line.compare(19, 2, "  ") != 0) continue;
+    if (line.find("lab-quick  stage ") != std::string::npos) ++stage_lines;
+    if (line.find("lab-quick  finished in") != std::string::npos) ++finished_lines;
+  }
+  EXPECT_GE(stage_lines, 2) << r.output;  // at least one line in each of the two stages
+  EXPECT_EQ(finished_lines, 1) << r.output;
+  fs::remove_all(out);
+  const Result quiet = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --quiet");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("finished in"), std::string::npos) << quiet.output;
+  fs::remove_all(out);
 }

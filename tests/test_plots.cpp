@@ -72,21 +72,28 @@ void write_synthetic_run(const std::string& out, bool with_everything = true) {
       spectrum.add_row({d, lo, up, count, count * std::sqrt(lo * up)});
     }
     if (!with_everything) continue;
-    io::CsvTable snap({"x_m", "y_m", "radius_m", "species"});
+    io::CsvTable snap({"x_m", "y_m", "radius_m", "species", "species_name", "ball"});
     const double R = 4.0;
     for (int i = 0; i < 300; ++i) {  // a kidney of disks in the lower left of the mill
       const double a = 2.0 * kPi * std::fmod(i * 0.618033988749895, 1.0);
       const double r = (R - 0.3) * std::sqrt(std::fmod(i * 0.7548776662, 1.0));
       const double x = r * std::cos(a), y = r * std::sin(a);
       if (y > -0.5 * x - 1.0) continue;
-      snap.add_row({x, y, 0.05 + 0.03 * (i % 3), i % 2});
+      snap.add_row({x, y, 0.05 + 0.03 * (i % 3), i % 2, i % 2 ? "steel-ball" : "ore-rock", i % 2});
     }
     snap.write(io::snapshot_path(out, d));
-    io::CsvTable liner({"x1_m", "y1_m", "x2_m", "y2_m", "wear_rate_mm_per_1000h"});
+    // The 2x30 liner carries the marks a run writes (toe, shoulder, centre of mass, turning);
+    // the 1x30 liner only the columns every liner file has.
+    std::vector<std::string> cols = {"x1_m", "y1_m", "x2_m", "y2_m", "wear_rate_mm_per_1000h"};
+    if (di == 0)
+      for (const char* c : {"toe_deg", "shoulder_deg", "centrifuged", "com_x_m", "com_y_m", "turning"}) cols.push_back(c);
+    io::CsvTable liner(cols);
     for (int i = 0; i < 120; ++i) {
       const double a1 = 2.0 * kPi * i / 120, a2 = 2.0 * kPi * (i + 1) / 120;
-      liner.add_row({R * std::cos(a1), R * std::sin(a1), R * std::cos(a2), R * std::sin(a2),
-                     std::max(0.0, 20.0 * std::cos(a1 + 2.0)) * (di ? 1.3 : 1.0)});
+      std::vector<double> values = {R * std::cos(a1), R * std::sin(a1), R * std::cos(a2), R * std::sin(a2),
+                                    std::max(0.0, 20.0 * std::cos(a1 + 2.0)) * (di ? 1.3 : 1.0)};
+      if (di == 0) values.insert(values.end(), {-35.0, 125.0, 0.0, 1.2, -1.8, 1.0});
+      liner.add_row(std::vector<io::CsvCell>(values.begin(), values.end()));
     }
     liner.write(io::liner_path(out, d));
   }
@@ -162,6 +169,17 @@ TEST_F(PlotsRendered, WritesExactlyTheFiguresAndNoTemporaries) {
   io::CsvData s = io::read_csv(io::plots_data_dir(dir_->path) + "/1x30_summary.csv");
   EXPECT_EQ(s.row_count(), 5u);
   EXPECT_DOUBLE_EQ(s.number(4, "hours"), 3000.0);
+}
+
+// The snapshot's legend names the species as the scene does, and the marks are drawn where
+// the liner file has them.
+TEST_F(PlotsRendered, SnapshotNamesTheSpeciesAndMarksToeAndShoulder) {
+  const std::string marked = io::read_file(io::plots_out_dir(dir_->path) + "/snapshot_2x30.svg");
+  for (const char* text : {"ore-rock", "steel-ball", "toe", "shoulder", "centre of mass", "turning counter-clockwise"})
+    EXPECT_NE(marked.find(text), std::string::npos) << text;
+  const std::string plain = io::read_file(io::plots_out_dir(dir_->path) + "/snapshot_1x30.svg");
+  EXPECT_NE(plain.find("ore-rock"), std::string::npos);
+  EXPECT_EQ(plain.find("shoulder"), std::string::npos);
 }
 
 TEST(Plots, MissingInputsSkipTheirFigures) {

@@ -10,6 +10,7 @@
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
+#include "plots/plots.hpp"
 #include "study/charge_outputs.hpp"
 #include "io/folder_lock.hpp"
 #include "scene/fidelity.hpp"
@@ -61,6 +62,14 @@ int run_charge(const ChargeArgs& args) {
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
   std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
               args.out.c_str());
+  bool figures_failed = false;
+  try {
+    const auto figs = render_charge_figures(args.out, scene);
+    if (!figs.empty()) std::printf("  figures in %s/plots (spectrum, snapshot_%s)\n", args.out.c_str(), scene.name.c_str());
+  } catch (const std::exception& e) {
+    std::cerr << "millwear: warning: figures: " << e.what() << "\n";
+    figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
+  }
   // A disk lost at any time (settling and spin-up included) makes every figure suspect.
   if (result.lost_disks > 0) {
     std::cerr << "millwear: run failed: " << result.lost_disks << " of " << result.disks
@@ -68,7 +77,7 @@ int run_charge(const ChargeArgs& args) {
               << " s: " << result.events.front().what << ")\n";
     return 1;
   }
-  return 0;
+  return figures_failed ? 1 : 0;
 }
 
 }  // namespace

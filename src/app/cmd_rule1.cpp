@@ -1,13 +1,17 @@
-// `millwear rule1 SCENE`: checks rule 1 (C_model x n with time / n gives the same profile).
+// `millwear rule1 SCENE`: checks rule 1 (C_model x n with time / n gives the same profile),
+// each factor replicated over seeds so that a deviation is told from seed-to-seed noise.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <memory>
 
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
+#include "io/folder_lock.hpp"
+#include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "study/rule1.hpp"
-#include "wear/wear.hpp"
 
 namespace millwear::app {
 
@@ -15,10 +19,13 @@ namespace {
 
 struct Rule1Args {
   std::string scene;
+  std::string out;
   std::string fidelity;
   std::vector<double> factors;
   double tolerance_pct = 5.0;
   int stages = 1;
+  int replicates = 4;
+  int jobs = 0;
 };
 
 int run_rule1(const Rule1Args& a) {
@@ -26,25 +33,66 @@ int run_rule1(const Rule1Args& a) {
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
   check_run_limits(scene, a.scene);  // before anything is filled or written
-  std::vector<double> factors = a.factors;
-  if (factors.empty()) {
+  Rule1Options opt;
+  opt.factors = a.factors;
+  if (opt.factors.empty()) {
     const double f = scene.wear.factor;
-    factors = {0.5 * f, f, 2.0 * f, 10.0 * f};
+    opt.factors = {0.5 * f, f, 2.0 * f, 10.0 * f};
   }
-  const Rule1Report r = rule1_check(scene, factors, a.tolerance_pct);
-  std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode\n", scene.name.c_str(), a.stages,
-              scene.wear.stage_hours);
-  std::printf("%12s %12s %10s %16s %12s\n", "factor", "sim_s", "wall_s", "deviation_mm", "% height");
+  opt.replicates = a.replicates;
+  opt.tolerance_pct_height = a.tolerance_pct;
+  opt.jobs = a.jobs;
+  std::unique_ptr<io::FolderLock> lock;
+  if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out);
+  const Rule1Report r = rule1_check(scene, opt);
+
+  std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode, %d seed(s) per factor\n", scene.name.c_str(),
+              a.stages, scene.wear.stage_hours, r.replicates);
+  std::printf("deviation from the smallest factor's mean profile, %% of the %.1f mm lifter height\n",
+              r.lifter_height_m * 1e3);
+  std::printf("%12s %10s %20s %12s %14s  %s\n", "factor", "sim_s", "deviation", "noise", "within tol.", "verdict");
   for (const auto& row : r.rows) {
-    std::printf("%12.3g %12.2f %10.1f %16.3f %12.2f%s\n", row.factor, row.simulated_s, row.wall_s,
-                row.deviation_m * 1e3, row.deviation_pct_height, row.events.empty() ? "" : "  (events)");
-    for (const auto& e : row.events) std::printf("    %s\n", e.c_str());
+    double sim = 0.0;
+    for (const auto& rep : row.replicates) sim += rep.simulated_s;
+    sim /= static_cast<double>(row.replicates.size());
+    const double h = 100.0 / r.lifter_height_m;
+    if (row.verdict == Rule1Verdict::Failed || row.verdict == Rule1Verdict::Reference) {
+      std::printf("%12.3g %10.2f %20s %12s %14s  %s\n", row.factor, sim, "-", "-", "-", verdict_name(row.verdict));
+    } else {
+      char dev[48];
+      if (row.deviation_se_m > 0.0)
+        std::snprintf(dev, sizeof dev, "%.2f +- %.2f", row.deviation_m * h, row.deviation_se_m * h);
+      else
+        std::snprintf(dev, sizeof dev, "%.2f", row.deviation_m * h);
+      std::printf("%12.3g %10.2f %20s %12.2f %13.0f%%  %s\n", row.factor, sim, dev, row.noise_floor_m * h,
+                  100.0 * row.chance_within, verdict_name(row.verdict));
+    }
+    for (const auto& rep : row.replicates)
+      for (const auto& e : rep.events) std::printf("    seed %llu: %s\n", static_cast<unsigned long long>(rep.seed), e.c_str());
   }
-  if (r.recommended_factor > 0.0)
-    std::printf("recommended factor: %.3g (largest whose profile stays within %.1f%% of the lifter height "
-                "of every smaller factor)\n", r.recommended_factor, r.tolerance_pct_height);
-  else
-    std::printf("no factor passed: even the smallest run reported events\n");
+  if (r.recommended_factor > 0.0) {
+    if (r.replicates > 1)
+      std::printf("recommended factor: %.3g (largest whose profile is not significantly further than %.1f%% of the "
+                  "lifter height from the smallest factor's; %.0f%% chance it is within)\n",
+                  r.recommended_factor, r.tolerance_pct_height, 100.0 * r.recommended_chance);
+    else
+      std::printf("recommended factor: %.3g (one seed per factor: the noise is unknown; --replicates 4 tells a "
+                  "deviation from noise)\n", r.recommended_factor);
+  } else {
+    std::printf("no factor passed: even the smallest factor's runs reported events\n");
+  }
+  if (!a.out.empty()) {
+    write_rule1_outputs(a.out, scene, r);
+    try {
+      render_rule1_figure(a.out, scene, r);
+      std::printf("results in %s (rule1.csv, rule1_replicates.csv, rule1_profiles.dat, plots/fig5_rule1)\n",
+                  a.out.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "millwear: warning: figure: %s\n", e.what());
+      std::printf("results in %s (rule1.csv, rule1_replicates.csv, rule1_profiles.dat)\n", a.out.c_str());
+      if (plots::gnuplot_available()) return 1;
+    }
+  }
   return r.recommended_factor > 0.0 ? 0 : 1;
 }
 
@@ -54,11 +102,16 @@ void register_rule1(CLI::App& app, Action* action) {
   auto args = std::make_shared<Rule1Args>();
   CLI::App* cmd = app.add_subcommand("rule1", "Check rule 1: scaling C_model by n and time by 1/n gives the same profile");
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--out", args->out, "output folder: rule1.csv, the profiles and Fig. 5 (default: print only)")
+      ->check(output_folder());
   cmd->add_option("--factors", args->factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--replicates", args->replicates, "histories per factor, seeds s, s+1, ... (default 4)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--tolerance", args->tolerance_pct, "allowed deviation, % of lifter height (default 5)")
       ->check(CLI::Range(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
+  cmd->add_option("-j,--jobs", args->jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }

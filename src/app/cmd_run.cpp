@@ -17,6 +17,7 @@
 #include "app/duration_text.hpp"
 #include "app/output_folder.hpp"
 #include "app/run_command.hpp"
+#include "app/plain_progress.hpp"
 #include "app/run_view.hpp"
 #include "app/signals.hpp"
 #include "common/units.hpp"
@@ -69,7 +70,14 @@ int run_command(const RunArgs& args) {
   opt.stop_signal = &g_signal;
   opt.commit = MILLWEAR_COMMIT;
   bool drawn = false;
+  PlainProgress plain(args.progress_every_s);
+  const bool logged = !args.quiet && !live;
+  if (logged)
+    std::fprintf(stderr, "millwear run: %zu design(s), fidelity %s, output %s; progress every %s\n",
+                 plan.designs.size(), plan.fidelity.c_str(), args.out.c_str(),
+                 duration_text(args.progress_every_s).c_str());
   opt.on_tick = [&] {
+    if (logged) plain.tick(state);
     if (!live) return;
     if (!drawn)
       std::fprintf(stderr, "millwear run: %zu design(s), %d job(s), fidelity %s, output %s%s\n", plan.designs.size(),
@@ -119,6 +127,9 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_flag("--force", args->force,
                "OUT holds another run's results: delete the files its manifest lists, then run");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
+  cmd->add_option("--progress-every", args->progress_every_s,
+                  "without a terminal: a plain progress line every SECONDS and at each stage (default 60)")
+      ->check(CLI::Range(1.0, 86400.0));
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
       ->check(CLI::Range(1, 1024));

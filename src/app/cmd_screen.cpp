@@ -20,6 +20,7 @@
 #include "app/commands.hpp"
 #include "app/duration_text.hpp"
 #include "app/output_folder.hpp"
+#include "app/plain_progress.hpp"
 #include "app/signals.hpp"
 #include "common/errors.hpp"
 #include "common/units.hpp"
@@ -35,6 +36,7 @@ struct ScreenArgs {
   ScreenRequest request;  // request.screen_file is OUT with --collect
   bool collect = false;
   bool quiet = false;
+  double progress_every_s = 60.0;
 };
 
 // The ranking table on stdout, the failed and missing designs on stderr. Returns 0 if every
@@ -106,6 +108,10 @@ int screen_command(const ScreenArgs& args) {
                    p.running, p.failed, duration_text(p.elapsed_s).c_str(), duration_text(p.left_s).c_str());
       std::fflush(stderr);
     };
+  // Without a terminal (a log, cron, Slurm): plain lines when a design finishes and every
+  // --progress-every seconds.
+  PlainProgress plain(args.progress_every_s);
+  if (!live && !args.quiet) cb.on_pool_tick = [&plain](const PoolProgress& p) { plain.tick(p); };
   cb.on_pool_end = [&] {
     if (live) std::fprintf(stderr, "\n");
     signals.reset();
@@ -147,6 +153,9 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")->check(CLI::Range(1, 100000));
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
+  cmd->add_option("--progress-every", args->progress_every_s,
+                  "without a terminal: a plain progress line every SECONDS and at each design (default 60)")
+      ->check(CLI::Range(1.0, 86400.0));
   cmd->callback([args, action] { *action = [args] { return screen_command(*args); }; });
 }
 

@@ -6,10 +6,13 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <chrono>
 #include <cstdio>
+#include <mutex>
 
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
+#include "app/plain_progress.hpp"
 #include "common/units.hpp"
 #include "study/tradeoff_study.hpp"
 
@@ -35,13 +38,29 @@ int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
     for (const auto& h : ladder.held_knobs) std::printf("  held: %s\n", h.c_str());
     std::fflush(stdout);
   };
-  cb.runs.on_design = [](const TradeoffSetting& s, const TradeoffDesign& d, double wall, double cpu,
-                         const std::string& error) {
+  // One plain line per finished run (the runs go on in worker threads): the time of day, how
+  // many of the ladder's runs are done, the elapsed and remaining time.
+  std::mutex print_mutex;
+  std::size_t total = 0, done = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  cb.on_ladder = [&a, &total, on_ladder = cb.on_ladder](const TradeoffLadder& ladder) {
+    total = ladder.settings.size() * ladder.settings.front().scenes.size();
+    on_ladder(ladder);
+  };
+  cb.runs.on_design = [&](const TradeoffSetting& s, const TradeoffDesign& d, double wall, double cpu,
+                          const std::string& error) {
+    std::lock_guard<std::mutex> lock(print_mutex);
+    ++done;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double left = elapsed / static_cast<double>(done) * static_cast<double>(total - done);
+    const std::string when = clock_text() + "  [" + std::to_string(done) + "/" + std::to_string(total) +
+                             ", elapsed " + duration_text(elapsed) + ", left " + duration_text(left) + "]";
     if (error.empty())
-      std::printf("  done   %-24s %-12s %8.1f s (CPU %.1f s)  final area %.0f mm^2, height %.1f mm\n",
-                  s.label.c_str(), d.name.c_str(), wall, cpu, in_mm2(d.final_area_m2), in_mm(d.final_height_m));
+      std::printf("  done   %-24s %-12s %8.1f s (CPU %.1f s)  final area %.0f mm^2, height %.1f mm  %s\n",
+                  s.label.c_str(), d.name.c_str(), wall, cpu, in_mm2(d.final_area_m2), in_mm(d.final_height_m),
+                  when.c_str());
     else
-      std::printf("  failed %-24s %8.1f s  %s\n", s.label.c_str(), wall, error.c_str());
+      std::printf("  failed %-24s %8.1f s  %s  %s\n", s.label.c_str(), wall, error.c_str(), when.c_str());
     std::fflush(stdout);
   };
   const TradeoffStudy study = run_tradeoff_study(a, cb);

@@ -15,6 +15,7 @@ struct RunArgs {
   bool resume = false;
   bool force = false;
   bool quiet = false;
+  double progress_every_s = 60.0;  // without a terminal: plain progress lines this often
   bool check = false;
   int jobs = 0;
   int stop_after_stage = -1;

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/plain_progress.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::app {
@@ -20,11 +21,12 @@ inline constexpr const char* kMeasuredFileHelp =
     "Examples: validation/lab-mill-surveys.csv, validation/lab-mill-areas.csv.";
 
 // One line per finished stage on stdout (histories here are short; no live display).
+// A plain line per finished stage, with the time of day (the histories are read in logs too).
 inline WearCallbacks progress_callbacks() {
   WearCallbacks cb;
   cb.on_stage = [](const StageRecord& r) {
-    std::printf("  stage %d at %.0f h: lifter area %.1f mm^2, height %.2f mm (%.1f s wall)\n", r.stage, r.hours,
-                r.lifter.area_m2 * 1e6, r.lifter.height_m * 1e3, r.wall_s);
+    std::printf("  %s  stage %d at %.0f h: lifter area %.1f mm^2, height %.2f mm (%.1f s wall)\n", clock_text().c_str(),
+                r.stage, r.hours, r.lifter.area_m2 * 1e6, r.lifter.height_m * 1e3, r.wall_s);
     std::fflush(stdout);
   };
   return cb;

@@ -19,5 +19,9 @@ inline constexpr double per_hour(double per_second) { return per_second * kSecon
 inline constexpr double mm2_per_hour(double m2_per_s) { return per_hour(m2_per_s) * 1e6; }
 // m per second -> mm per 1000 operating hours (the liner's colour scale).
 inline constexpr double mm_per_1000h(double m_per_s) { return per_hour(m_per_s) * 1e6; }
+// Liner metal lost per energy the mill draws: kg/J -> g/kWh (the figure plants report).
+inline constexpr double g_per_kWh(double kg_per_J) { return kg_per_J * 1e3 * 3.6e6; }
+// Specific power: W/kg -> kW per tonne of charge (the same number).
+inline constexpr double kW_per_t(double W_per_kg) { return W_per_kg; }
 
 }  // namespace millwear

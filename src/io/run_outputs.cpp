@@ -10,6 +10,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
+#include "metrics/charge_summary.hpp"
 
 namespace millwear::io {
 
@@ -77,6 +78,7 @@ Json scene_settings(const Scene& s) {
       {"average_rows", w.average_rows},
       {"shell_wear", w.shell_wear},
       {"replacement_height_m", w.replacement_height_m},
+      {"liner_density_kg_m3", w.liner_density_kg_m3},
       {"target_rel_uncertainty", w.target_rel_uncertainty}};
   return j;
 }
@@ -88,7 +90,8 @@ void write_summary(const RunReport& report) {
   const auto& designs = report.designs;
   CsvTable t({"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
                   "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
-                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct"});
+                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct", "charge_t",
+                  "specific_power_kw_per_t", "liner_wear_g_per_kwh"});
   // The reference design's new stage normalises every *_norm column.
   double ref_area = std::nan(""), ref_power = std::nan(""), ref_coll = std::nan(""), ref_util = std::nan("");
   for (std::size_t i = 0; i < designs.size(); ++i) {
@@ -114,9 +117,13 @@ void write_summary(const RunReport& report) {
       const double power = r.charge.power_kW_per_m * len;  // kW per mill
       const double coll = r.charge.collision_kW_per_m * len;
       const double util = power != 0.0 ? coll / power : std::nan("");
+      const MillEnergyFigures e = mill_energy_figures(r.charge.summary, st.scene->slice_thickness(), len,
+                                                      r.liner_loss_rate_m2_per_s,
+                                                      st.scene->wear.liner_density_kg_m3);
       t.add_row({designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
                  r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
-                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share});
+                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share,
+                 e.charge_mass_kg * 1e-3, kW_per_t(e.specific_power_W_per_kg), g_per_kWh(e.liner_wear_kg_per_J)});
     }
   }
   t.write(summary_path(report.out));

@@ -61,6 +61,7 @@ std::vector<std::pair<const char*, double*>> double_fields(StageRecord& r) {
       {"summary.mean_packed_disks", &s.mean_packed_disks},
       {"area_loss_rate_m2_per_s", &r.area_loss_rate_m2_per_s},
       {"area_loss_rate_rel_sem", &r.area_loss_rate_rel_sem},
+      {"liner_loss_rate_m2_per_s", &r.liner_loss_rate_m2_per_s},
       {"mill_angle_rad", &r.mill_angle_rad},
       {"wall_s", &r.wall_s},
       {"simulated_s", &r.simulated_s},
@@ -282,37 +283,58 @@ void write_profile_csv(const std::string& out, const std::string& design, const 
   t.write(profile_path(out, design, rec.stage));
 }
 
-void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
-                        const StageRecord& rec) {
-  io::CsvTable t({"x_m", "y_m", "radius_m", "species", "species_name"});
-  const ChargeState& st = rec.snapshot;
+void write_snapshot_table(const std::string& path, const ChargeState& st, const std::vector<SpeciesDef>& species) {
+  io::CsvTable t({"x_m", "y_m", "radius_m", "species", "species_name", "ball"});
   for (std::size_t i = 0; i < st.size(); ++i) {
     if (!st.active[i]) continue;
     const int s = st.species[i];
-    const std::string name =
-        s < static_cast<int>(scene.charge.species.size()) ? scene.charge.species[s].name : "?";
-    t.add_row({st.position_m[i].x, st.position_m[i].y, st.radius_m[i], s, name});
+    const bool known = s < static_cast<int>(species.size());
+    t.add_row({st.position_m[i].x, st.position_m[i].y, st.radius_m[i], s, known ? species[s].name : "?",
+               known && species[s].is_ball ? 1 : 0});
   }
-  t.write(snapshot_path(out, design));
+  t.write(path);
+}
+
+SnapshotMarks snapshot_marks(const ChargeSummary& summary, double mill_speed_rad_s) {
+  SnapshotMarks m;
+  m.toe_deg = summary.toe_deg;
+  m.shoulder_deg = summary.shoulder_deg;
+  m.centrifuged = summary.centrifuged;
+  m.centre_of_mass_m = summary.centre_of_mass_m;
+  m.turning = mill_speed_rad_s > 0.0 ? 1 : mill_speed_rad_s < 0.0 ? -1 : 0;
+  return m;
+}
+
+void write_liner_table(const std::string& path, const MillGeometry& mill, double mill_angle_rad,
+                       const std::string& value_column, const std::vector<double>& value_per_edge,
+                       int stage, double hours, const SnapshotMarks& marks) {
+  io::CsvTable t({"edge", "owner", "x1_m", "y1_m", "x2_m", "y2_m", value_column, "stage", "hours",
+                  "mill_angle_rad", "toe_deg", "shoulder_deg", "centrifuged", "com_x_m", "com_y_m", "turning"});
+  const std::size_t n = mill.boundary.size();
+  for (std::size_t e = 0; e < n; ++e) {
+    const Vec2 a = rotated(mill.boundary[e], mill_angle_rad);
+    const Vec2 b = rotated(mill.boundary[(e + 1) % n], mill_angle_rad);
+    const double v = e < value_per_edge.size() ? value_per_edge[e] : std::nan("");
+    t.add_row({e, mill.edges[e].owner == EdgeOwner::Lifter ? "lifter" : "shell", a.x, a.y, b.x, b.y, v, stage,
+               hours, mill_angle_rad, marks.toe_deg, marks.shoulder_deg, marks.centrifuged ? 1 : 0,
+               marks.centre_of_mass_m.x, marks.centre_of_mass_m.y, marks.turning});
+  }
+  t.write(path);
+}
+
+void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
+                        const StageRecord& rec) {
+  write_snapshot_table(snapshot_path(out, design), rec.snapshot, scene.charge.species);
 }
 
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
                      const StageRecord& rec) {
-  io::CsvTable t({"edge", "owner", "x1_m", "y1_m", "x2_m", "y2_m", "wear_rate_mm_per_1000h",
-                  "stage", "hours", "mill_angle_rad"});
-  if (!rec.units.empty()) {
-    const MillGeometry mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
-    const std::size_t n = mill.boundary.size();
-    for (std::size_t e = 0; e < n; ++e) {
-      const Vec2 a = rotated(mill.boundary[e], rec.mill_angle_rad);
-      const Vec2 b = rotated(mill.boundary[(e + 1) % n], rec.mill_angle_rad);
-      const double w = e < rec.edge_wear_rate_m_per_s.size() ? mm_per_1000h(rec.edge_wear_rate_m_per_s[e])
-                                                             : std::nan("");
-      t.add_row({e, mill.edges[e].owner == EdgeOwner::Lifter ? "lifter" : "shell", a.x, a.y, b.x,
-                 b.y, w, rec.stage, rec.hours, rec.mill_angle_rad});
-    }
-  }
-  t.write(liner_path(out, design));
+  MillGeometry mill;
+  if (!rec.units.empty()) mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+  std::vector<double> rate;
+  for (double w : rec.edge_wear_rate_m_per_s) rate.push_back(mm_per_1000h(w));
+  write_liner_table(liner_path(out, design), mill, rec.mill_angle_rad, "wear_rate_mm_per_1000h", rate, rec.stage,
+                    rec.hours, snapshot_marks(rec.charge.summary, rec.snapshot.mill_speed_rad_s));
 }
 
 }  // namespace millwear::io

@@ -34,11 +34,30 @@ void remove_stage_state(const std::string& out, const std::string& design);
 constexpr double kProfileMargin = 1.25;
 // OUT/profiles/DESIGN_stageK.csv: x_mm,y_mm (lifter-local, unit of row 0).
 void write_profile_csv(const std::string& out, const std::string& design, const StageRecord& rec);
-// OUT/snapshot_DESIGN.csv: x_m,y_m,radius_m,species,species_name (active disks, world).
+// A charge snapshot as CSV: x_m,y_m,radius_m,species,species_name,ball (active disks, in the
+// frame the state is in). species indexes `species` (the scene's charge.species).
+void write_snapshot_table(const std::string& path, const ChargeState& state,
+                          const std::vector<SpeciesDef>& species);
+// The marks a snapshot figure draws: where the charge's toe and shoulder are, its centre of
+// mass, and which way the mill turns (+1 counter-clockwise, -1 clockwise, 0 at rest).
+struct SnapshotMarks {
+  double toe_deg = 0.0, shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
+  bool centrifuged = false;
+  Vec2 centre_of_mass_m;
+  int turning = 0;
+};
+SnapshotMarks snapshot_marks(const ChargeSummary& summary, double mill_speed_rad_s);
+// A mill's boundary edges as CSV: edge,owner,x1_m,y1_m,x2_m,y2_m,VALUE,stage,hours,
+// mill_angle_rad,toe_deg,shoulder_deg,centrifuged,com_x_m,com_y_m,turning; the edges in the
+// world frame at mill_angle_rad, VALUE (named value_column) per edge (NaN past its end).
+void write_liner_table(const std::string& path, const MillGeometry& mill, double mill_angle_rad,
+                       const std::string& value_column, const std::vector<double>& value_per_edge,
+                       int stage, double hours, const SnapshotMarks& marks);
+// OUT/snapshot_DESIGN.csv: write_snapshot_table of the stage's snapshot (world frame).
 void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
                         const StageRecord& rec);
-// OUT/liner_DESIGN.csv: edge,owner,x1_m,y1_m,x2_m,y2_m,wear_rate_mm_per_1000h,stage,hours,
-// mill_angle_rad. Segments in the world frame at the snapshot's mill angle.
+// OUT/liner_DESIGN.csv: write_liner_table of the stage's liner at the snapshot's mill angle,
+// VALUE wear_rate_mm_per_1000h.
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
                      const StageRecord& rec);
 

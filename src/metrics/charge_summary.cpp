@@ -70,6 +70,19 @@ ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double g
   return s;
 }
 
+MillEnergyFigures mill_energy_figures(const ChargeSummary& s, double slice_thickness_m, double mill_length_m,
+                                      double liner_loss_rate_m2_per_s, double liner_density_kg_m3) {
+  MillEnergyFigures f;
+  const double per_mill = mill_length_m / slice_thickness_m;
+  f.charge_mass_kg = s.mass_kg * per_mill;
+  f.power_W = s.power_W * per_mill;
+  if (f.charge_mass_kg > 0.0) f.specific_power_W_per_kg = f.power_W / f.charge_mass_kg;
+  // The lost cross-section runs the mill's whole length.
+  const double liner_kg_per_s = liner_loss_rate_m2_per_s * mill_length_m * liner_density_kg_m3;
+  f.liner_wear_kg_per_J = f.power_W > 0.0 ? liner_kg_per_s / f.power_W : std::nan("");
+  return f;
+}
+
 ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s) {
   ChargeFigures f;
   f.summary = summarize(acc, omega_rad_s, kGravity);

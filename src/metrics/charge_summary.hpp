@@ -56,4 +56,16 @@ struct ChargeFigures {
 
 ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s);
 
+// A slice's figures scaled to the whole mill (its length) and set against the energy drawn.
+struct MillEnergyFigures {
+  double charge_mass_kg = 0.0;           // per mill
+  double power_W = 0.0;                  // per mill
+  double specific_power_W_per_kg = 0.0;  // power per charge mass
+  double liner_wear_kg_per_J = 0.0;      // liner metal lost per energy drawn
+};
+// liner_loss_rate_m2_per_s: the liner's cross-section lost per operating second (every lifter
+// and the shell); liner_density: its metal's.
+MillEnergyFigures mill_energy_figures(const ChargeSummary& s, double slice_thickness_m, double mill_length_m,
+                                      double liner_loss_rate_m2_per_s, double liner_density_kg_m3);
+
 }  // namespace millwear

@@ -390,6 +390,78 @@ std::vector<std::string> figure_data_files(const std::string& out, const std::ve
   return files;
 }
 
+namespace {
+
+// What a snapshot figure needs from OUT/snapshot_DESIGN.csv and OUT/liner_DESIGN.csv: the
+// colour column's finite values, and gnuplot variables naming the species and the marks.
+struct SnapshotInputs {
+  std::string design;
+  bool drawable = false;
+  std::vector<double> values;
+  std::map<std::string, std::string> vars;
+};
+
+// Labels may not carry gnuplot's quote or the word separator.
+std::string label_word(std::string s) {
+  for (char& c : s)
+    if (c == ' ' || c == '\'' || c == '"' || c == '\\') c = '_';
+  return s.empty() ? "?" : s;
+}
+
+SnapshotInputs read_snapshot_inputs(const std::string& out, const std::string& d) {
+  SnapshotInputs in;
+  in.design = d;
+  io::CsvData liner = io::read_csv(io::liner_path(out, d));
+  io::CsvData snap = io::read_csv(io::snapshot_path(out, d));
+  const std::vector<double> species = snap.numbers("species");
+  for (const char* c : {"x_m", "y_m", "radius_m"}) snap.numbers(c);
+  // The liner's colour: the wear rate of a run's stage, the shear power of a charge.
+  const bool wear = liner.has_column("wear_rate_mm_per_1000h");
+  const std::string column = wear ? "wear_rate_mm_per_1000h" : "shear_power_W_per_m2";
+  in.vars["lvalue"] = column;
+  in.vars["cblabel"] = wear ? "Liner wear rate (mm per 1000 h)" : "Liner shear power (W/m^2)";
+  for (double w : liner.numbers(column))
+    if (std::isfinite(w)) in.values.push_back(w);
+  // Species by index: their names and whether they are balls, for colours and the legend.
+  std::map<int, std::pair<std::string, int>> kinds;
+  const bool named = snap.has_column("species_name"), balls = snap.has_column("ball");
+  for (std::size_t r = 0; r < snap.row_count(); ++r) {
+    const int k = static_cast<int>(species[r]);
+    if (k < 0 || k > 255 || kinds.count(k)) continue;
+    kinds[k] = {named ? snap.rows[r][snap.column("species_name")] : "species " + std::to_string(k),
+                balls ? static_cast<int>(snap.number(r, snap.column("ball"))) : 0};
+  }
+  if (!kinds.empty()) {
+    std::string names, ball_flags;
+    for (int k = 0; k <= kinds.rbegin()->first; ++k) {
+      const auto it = kinds.find(k);
+      names += (k ? " " : "") + (it == kinds.end() ? std::string("-") : label_word(it->second.first));
+      ball_flags += (k ? " " : "") + std::to_string(it == kinds.end() ? 0 : it->second.second);
+    }
+    in.vars["species_names"] = names;
+    in.vars["species_balls"] = ball_flags;
+  }
+  // The marks: the first row carries the stage's toe, shoulder, centre of mass and sense.
+  if (liner.row_count() > 0 && liner.has_column("turning")) {
+    for (const char* c : {"toe_deg", "shoulder_deg", "centrifuged", "com_x_m", "com_y_m", "turning"})
+      in.vars[c] = io::format_number(liner.number(0, liner.column(c)), 8);
+  }
+  in.drawable = liner.row_count() > 0 && snap.row_count() > 0;
+  return in;
+}
+
+// The value below which `share` of the values lie (linear between order statistics); 0 for none.
+double upper_percentile(std::vector<double> v, double share) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double pos = share * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(pos);
+  const std::size_t hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+}  // namespace
+
 std::vector<std::string> render_all_figures(const std::string& out,
                                             const std::vector<std::string>& designs_in,
                                             const std::string& reference_in) {
@@ -518,24 +590,27 @@ std::vector<std::string> render_all_figures(const std::string& out,
   if (auto s = subset(with_spectrum); !s.empty())
     draw("spectrum", {{"designs", join_words(s)}}, "spectrum");
 
-  // Snapshots share one wear-rate colour scale so designs compare by colour.
-  std::vector<std::string> snap_designs;
-  double cbmax = 0.0;
+  // Snapshots share one colour scale so designs compare by colour. The scale ends at the 95th
+  // percentile of every design's edges, not at the largest: a few edges at a lifter's corner
+  // take many times the typical rate and would leave the rest of the liner at the bottom
+  // colour. Edges above it are drawn in the top colour.
+  std::vector<SnapshotInputs> snaps;
+  std::vector<double> values;
   for (const auto& d : designs) {
     if (!io::file_exists(io::snapshot_path(out, d)) || !io::file_exists(io::liner_path(out, d)))
       continue;
-    io::CsvData liner = io::read_csv(io::liner_path(out, d));
-    io::CsvData snap = io::read_csv(io::snapshot_path(out, d));
-    for (const char* c : {"x_m", "y_m", "radius_m", "species"}) snap.numbers(c);
-    for (double w : liner.numbers("wear_rate_mm_per_1000h"))
-      if (std::isfinite(w)) cbmax = std::max(cbmax, w);
-    if (liner.row_count() == 0 || snap.row_count() == 0) continue;
-    snap_designs.push_back(d);
+    SnapshotInputs in = read_snapshot_inputs(out, d);
+    if (!in.drawable) continue;
+    values.insert(values.end(), in.values.begin(), in.values.end());
+    snaps.push_back(std::move(in));
   }
-  for (const auto& d : snap_designs) {
-    std::map<std::string, std::string> vars{{"design", d}, {"designs", join_words(designs)}};
+  const double cbmax = upper_percentile(values, 0.95);
+  for (const auto& in : snaps) {
+    std::map<std::string, std::string> vars = in.vars;
+    vars["design"] = in.design;
+    vars["designs"] = join_words(designs);
     if (cbmax > 0) vars["cbmax"] = io::format_number(cbmax, 6);
-    draw("snapshot", vars, "snapshot_" + d);
+    draw("snapshot", vars, "snapshot_" + in.design);
   }
 
   if (!failures.empty()) {

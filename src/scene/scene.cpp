@@ -358,6 +358,7 @@ void read_wear(const TableReader& r, Scene& s) {
   if (auto x = r.boolean("shell_wear")) w.shell_wear = *x;
   if (auto x = r.boolean("packed_wear")) w.packed_wear = *x;
   if (auto x = r.number("replacement_height", closed(0.0, 10000.0), "mm")) w.replacement_height_m = *x * kMm;
+  if (auto x = r.number("liner_density", closed(100.0, 25000.0), "kg/m^3")) w.liner_density_kg_m3 = *x;
   if (auto x = r.number("target_uncertainty", {0.0, 1.0, false, true}, "relative; 0 = off"))
     w.target_rel_uncertainty = *x;
 }
@@ -495,7 +496,7 @@ Scene scene_from_table(const toml::table& root, const std::string& path) {
                       {"mode", "wear_rate", "area_loss_rate", "height_loss_rate", "factor",
                        "stage_hours", "stages", "window_revolutions", "max_depth_step",
                        "update_interval", "smoothing_radius", "average_rows", "shell_wear",
-                       "packed_wear", "replacement_height", "target_uncertainty"}),
+                       "packed_wear", "replacement_height", "liner_density", "target_uncertainty"}),
               s);
   read_outputs(section("outputs", false, {"collision_spectrum", "shell_work", "snapshot", "contact_log"}), s);
   // The profile last: every key of the scene is checked before another file is opened.

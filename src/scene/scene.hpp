@@ -101,6 +101,7 @@ struct WearDef {
   // stiffness (README "Numerical limits").
   bool packed_wear = false;
   double replacement_height_m = 0.05;     // lifter life ends below this height
+  double liner_density_kg_m3 = 7800.0;    // the liner's metal, for its mass lost (g/kWh)
   double target_rel_uncertainty = 0.0;    // rule 2: extend window until under (0: off)
 };
 

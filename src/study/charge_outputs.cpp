@@ -5,6 +5,9 @@
 #include <sstream>
 
 #include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
+#include "io/stage_files.hpp"
+#include "plots/plots.hpp"
 
 namespace millwear {
 
@@ -90,15 +93,20 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     io::write_file_atomic(out + "/contacts.csv", log.str());
   }
   if (scene.outputs.snapshot) {
-    std::ostringstream snap;
-    snap << "x_m,y_m,radius_m,species\n";
+    // The charge and the liner at the window's end, in the world frame; the liner coloured by
+    // the shear power it took over the window.
     const ChargeState& st = r.final_state;
-    for (std::size_t i = 0; i < st.size(); ++i)
-      if (st.active[i])
-        snap << fmt(st.position_m[i].x) << ',' << fmt(st.position_m[i].y) << ',' << fmt(st.radius_m[i])
-             << ',' << scene.charge.species[st.species[i]].name << '\n';
-    io::write_file_atomic(out + "/snapshot.csv", snap.str());
+    io::write_snapshot_table(io::snapshot_path(out, scene.name), st, scene.charge.species);
+    std::vector<double> shear(n);
+    for (std::size_t e = 0; e < n && e < r.accounting.shear_work_J.size(); ++e)
+      shear[e] = r.accounting.shear_work_J[e] / s.time_s / (r.mill.edge_length_m[e] * t);
+    io::write_liner_table(io::liner_path(out, scene.name), r.mill, st.mill_angle_rad, "shear_power_W_per_m2", shear,
+                          0, 0.0, io::snapshot_marks(s, st.mill_speed_rad_s));
   }
+}
+
+std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
+  return plots::render_all_figures(out, {scene.name});
 }
 
 }  // namespace millwear

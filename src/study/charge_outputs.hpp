@@ -1,8 +1,10 @@
 #pragma once
 // The files of `millwear charge`: charge_summary.csv (quantity, value, unit), liner_work.csv
-// (shear and impact power per liner edge), spectrum.csv, contacts.csv and snapshot.csv as the
-// scene's outputs ask (docs/run.md lists their columns).
+// (shear and impact power per liner edge), spectrum.csv, contacts.csv, and the snapshot
+// (snapshot_NAME.csv, liner_NAME.csv in the run's formats) as the scene's outputs ask
+// (docs/run.md lists their columns); then the spectrum and snapshot figures.
 #include <string>
+#include <vector>
 
 #include "engine/charge_run.hpp"
 #include "scene/scene.hpp"
@@ -11,5 +13,9 @@ namespace millwear {
 
 // Writes every file atomically into `out` (which exists). wall_s is the run's wall time.
 void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r, double wall_s);
+
+// OUT/plots/spectrum and OUT/plots/snapshot_NAME (PNG and SVG) from those files. Returns the
+// figures written; throws RunError when gnuplot is missing or fails (plots/plots.hpp).
+std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene);
 
 }  // namespace millwear

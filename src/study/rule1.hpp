@@ -1,7 +1,20 @@
 #pragma once
 // Rule 1 of the method: scaling C_model by n and simulated time by 1/n gives the same worn
 // profiles, as long as the liner changes little within one update. Checked by running the
-// wear history in continuous mode at several factors and comparing the final profiles.
+// wear history in continuous mode at several factors, each several times with different
+// seeds, and asking whether each factor's profile parts from the smallest factor's by more
+// than the tolerance once the scatter between seeds is taken into account.
+//
+// The statistic. The new lifter's surface is sampled at stations a fixed arc length apart;
+// a replicate's worn depth at a station is its distance to the replicate's final surface.
+// Per factor and station: the mean depth over the replicates and its standard error (their
+// standard deviation / sqrt(N)). A factor's deviation at a station is the difference of its
+// mean depth from the smallest factor's; its error, the two standard errors combined in
+// quadrature. The noise floor, what seed-to-seed scatter alone gives, is twice that error.
+// A factor agrees when at no station the deviation exceeds the tolerance by more than twice
+// its error (not significantly above noise plus tolerance). The recommendation is the
+// largest factor that agrees with every smaller one agreeing too.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -10,22 +23,74 @@
 
 namespace millwear {
 
-// Rule 1 check: the wear history in continuous mode at several factors (C_model = factor
-// * C, simulated time scaled by 1/factor), and the profile deviation between neighbours.
-struct Rule1Row {
-  double factor = 0.0;
+struct Rule1Options {
+  std::vector<double> factors;        // C_model / C; run in increasing order
+  int replicates = 4;                 // histories per factor (seeds differ)
+  double tolerance_pct_height = 5.0;  // allowed deviation, % of the new lifter's height
+  int jobs = 0;                       // histories at once (0: the hardware's cores)
+};
+
+struct Rule1Replicate {
+  std::uint64_t seed = 0;
   double simulated_s = 0.0;
   double wall_s = 0.0;
-  Polyline profile;                 // final unit surface (lifter-local, m)
-  double deviation_m = 0.0;         // largest normal distance to the previous (smaller) factor
-  double deviation_pct_height = 0.0;
-  std::vector<std::string> events;
+  Polyline profile;                   // final unit surface (lifter-local, m); empty on failure
+  std::vector<std::string> events;    // a failure, or events that make the run suspect
 };
+
+enum class Rule1Verdict {
+  Reference,    // the smallest factor: what the others are compared with
+  Agrees,       // deviation not significantly above the tolerance
+  Deviates,     // deviation significantly above the tolerance
+  Failed,       // a replicate failed or reported events (rule 1's bound, a lost disk)
+};
+const char* verdict_name(Rule1Verdict v);
+
+struct Rule1Row {
+  double factor = 0.0;
+  std::vector<Rule1Replicate> replicates;
+  std::vector<double> depth_mean_m;   // per station
+  std::vector<double> depth_se_m;     // per station (0 with one replicate)
+  // At the station where the deviation exceeds the tolerance by the most standard errors
+  // (where it is largest when there is no error):
+  double deviation_m = 0.0;           // |mean depth - the smallest factor's|
+  double deviation_se_m = 0.0;        // its standard error
+  double max_deviation_m = 0.0;       // largest |difference| over all stations
+  double noise_floor_m = 0.0;         // largest 2 x standard error over all stations
+  // Chance that the true deviation at that station is within the tolerance (normal
+  // approximation); 1 or 0 with one replicate, where no error is known.
+  double chance_within = 0.0;
+  Rule1Verdict verdict = Rule1Verdict::Reference;
+};
+
 struct Rule1Report {
-  std::vector<Rule1Row> rows;       // increasing factor
-  double recommended_factor = 0.0;  // largest factor whose deviation stays under tolerance
+  std::vector<Rule1Row> rows;         // increasing factor
+  Polyline stations;                  // on the new lifter surface (lifter-local, m)
+  Polyline new_profile;               // the new unit surface
+  double lifter_height_m = 0.0;
   double tolerance_pct_height = 0.0;
+  int replicates = 0;
+  double recommended_factor = 0.0;    // 0: none (the smallest factor itself failed)
+  double recommended_chance = 0.0;    // its chance_within (1 for the smallest factor)
+  int recommended_row = -1;           // its index in rows
 };
-Rule1Report rule1_check(const Scene& scene, std::vector<double> factors, double tolerance_pct_height);
+
+// The statistic on two rows whose depth_mean_m and depth_se_m are filled: sets row's
+// deviation, error, noise floor, chance_within and verdict (Agrees or Deviates) against ref.
+void compare_rule1_row(Rule1Row& row, const Rule1Row& ref, double tolerance_m);
+
+// Every factor's scene is checked against the run limits (InputError) before anything runs.
+// Replicate k of factor i runs with seed scene.solver.seed + i * replicates + k, so two
+// entries of the same factor are independent samples of it.
+Rule1Report rule1_check(const Scene& scene, const Rule1Options& options);
+
+// OUT/rule1.csv (one row per factor), OUT/rule1_replicates.csv, OUT/rule1_profiles.dat (the
+// final profiles in mm as x,y rows, one gnuplot block per factor headed by its title line,
+// one line per replicate, the new profile first), each written atomically. Returns the files.
+std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene& scene, const Rule1Report& r);
+
+// The paper's Fig. 5 from OUT/rule1_profiles.dat: OUT/plots/fig5_rule1.{png,svg}. Returns the
+// files; throws RunError when gnuplot is missing or fails (plots/plots.hpp).
+std::vector<std::string> render_rule1_figure(const std::string& out, const Scene& scene, const Rule1Report& r);
 
 }  // namespace millwear

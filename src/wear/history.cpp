@@ -126,6 +126,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
     const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
     rec.edge_wear_rate_m_per_s[e] = (shell && !scene.wear.shell_wear) ? 0.0
         : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, c_real);
+    rec.liner_loss_rate_m2_per_s += rec.edge_wear_rate_m_per_s[e] * mill.edge_length_m[e];
   }
   rec.snapshot = run.engine->state();
   rec.mill_angle_rad = run.engine->state().mill_angle_rad;

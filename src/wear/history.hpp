@@ -23,6 +23,8 @@ struct StageRecord {
   ChargeFigures charge;           // measured on this geometry
   double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
+  double liner_loss_rate_m2_per_s = 0.0;      // the whole liner's cross-section lost (every
+                                              // lifter and the shell), per operating s
   // Collision spectrum measured on this geometry (per log bin, see engine/accounting.hpp).
   std::vector<double> spectrum_count_per_s, spectrum_energy_W;
   // Wear rate of every mill boundary edge at this geometry (m per operating second), and the

@@ -1,0 +1,117 @@
+// Rule 1 decided by statistics: the deviation of a factor's profile from the smallest
+// factor's, against the seed-to-seed scatter and the tolerance.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "cli_support.hpp"
+#include "engine_fixtures.hpp"
+#include "study/rule1.hpp"
+
+namespace millwear {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::read_text;
+using testing::run_millwear;
+
+Rule1Row row_with(std::vector<double> mean_m, std::vector<double> se_m) {
+  Rule1Row r;
+  r.depth_mean_m = std::move(mean_m);
+  r.depth_se_m = std::move(se_m);
+  return r;
+}
+
+// Tolerance 1 mm (5% of a 20 mm lifter). A 3 mm difference known to 0.1 mm is a real
+// deviation; a 1.2 mm difference known to 0.5 mm is not significantly above the tolerance.
+TEST(Rule1Statistics, ADeviationFarAboveTheToleranceAndItsErrorDeviates) {
+  const Rule1Row ref = row_with({1e-3, 2e-3, 1e-3}, {0.07e-3, 0.07e-3, 0.07e-3});
+  Rule1Row row = row_with({1e-3, 5e-3, 1e-3}, {0.07e-3, 0.07e-3, 0.07e-3});
+  compare_rule1_row(row, ref, 1e-3);
+  EXPECT_EQ(row.verdict, Rule1Verdict::Deviates);
+  EXPECT_NEAR(row.deviation_m, 3e-3, 1e-15);
+  EXPECT_NEAR(row.deviation_se_m, std::hypot(0.07e-3, 0.07e-3), 1e-15);
+  EXPECT_LT(row.chance_within, 1e-6);
+}
+
+TEST(Rule1Statistics, ADeviationWithinItsErrorOfTheToleranceAgrees) {
+  const Rule1Row ref = row_with({1e-3, 2e-3}, {0.3e-3, 0.4e-3});
+  Rule1Row row = row_with({1e-3, 3.2e-3}, {0.3e-3, 0.3e-3});
+  compare_rule1_row(row, ref, 1e-3);
+  EXPECT_EQ(row.verdict, Rule1Verdict::Agrees);
+  EXPECT_NEAR(row.deviation_m, 1.2e-3, 1e-15);
+  EXPECT_NEAR(row.deviation_se_m, 0.5e-3, 1e-15);
+  // (1.0 - 1.2) / 0.5 = -0.4 standard errors: Phi(-0.4) = 0.3446.
+  EXPECT_NEAR(row.chance_within, 0.3446, 1e-4);
+  // Noise floor: twice the largest combined error, here at the second station.
+  EXPECT_NEAR(row.noise_floor_m, 1e-3, 1e-15);
+}
+
+// The worst station is the one most standard errors above the tolerance, not the largest
+// difference: a large difference where the seeds scatter widely says less than a smaller
+// one where they agree.
+TEST(Rule1Statistics, TheWorstStationIsTheMostSignificantOne) {
+  const Rule1Row ref = row_with({0.0, 0.0}, {2e-3, 0.1e-3});
+  Rule1Row row = row_with({4e-3, 2e-3}, {2e-3, 0.1e-3});
+  compare_rule1_row(row, ref, 1e-3);
+  EXPECT_NEAR(row.deviation_m, 2e-3, 1e-15);
+  EXPECT_NEAR(row.max_deviation_m, 4e-3, 1e-15);
+  EXPECT_EQ(row.verdict, Rule1Verdict::Deviates);
+}
+
+// The same factor twice is pure noise (its replicates run with other seeds): the largest
+// factor tried is recommended. Lab mill at draft, 3 seeds each.
+TEST(Rule1Statistics, TheSameFactorTwiceIsNoiseAndTheLargestIsRecommended) {
+  Scene s = testing::lab_mill();
+  s.wear.stages = 1;
+  Rule1Options o;
+  o.factors = {1e5, 1e5};
+  o.replicates = 3;
+  const Rule1Report r = rule1_check(s, o);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[0].verdict, Rule1Verdict::Reference);
+  EXPECT_EQ(r.rows[1].verdict, Rule1Verdict::Agrees);
+  EXPECT_EQ(r.recommended_row, 1);
+  // Independent seeds: the two rows' profiles are not the same bits.
+  EXPECT_GT(r.rows[1].max_deviation_m, 0.0);
+  // And the worn depth is real: the lifter wore over a tenth of its height somewhere.
+  double deepest = 0.0;
+  for (double d : r.rows[0].depth_mean_m) deepest = std::max(deepest, d);
+  EXPECT_GT(deepest, 0.1 * r.lifter_height_m);
+}
+
+// A factor that wears more than a quarter of the lifter in one update fails and is never
+// recommended; the smaller factor still is.
+TEST(Rule1Statistics, AFactorPastTheOneUpdateBoundFails) {
+  Scene s = testing::lab_mill();
+  s.wear.stages = 1;
+  Rule1Options o;
+  o.factors = {1e5, 1e8};
+  o.replicates = 2;
+  const Rule1Report r = rule1_check(s, o);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[1].verdict, Rule1Verdict::Failed);
+  ASSERT_FALSE(r.rows[1].replicates[0].events.empty());
+  EXPECT_NE(r.rows[1].replicates[0].events[0].find("too large for rule 1"), std::string::npos);
+  EXPECT_EQ(r.recommended_row, 0);
+}
+
+// `millwear rule1 -o OUT` writes the table, the replicates, the profiles and Fig. 5 as PNG
+// and SVG.
+TEST(Rule1Cli, WritesTheTableAndFigureFive) {
+  const fs::path out = fs::temp_directory_path() / "millwear-test-rule1";
+  fs::remove_all(out);
+  const auto r = run_millwear("rule1 " + testing::quoted(fs::path(testing::source_path("scenarios/lab-mill.toml"))) +
+                              " --factors 1e5 2e5 --replicates 2 -o " + testing::quoted(out));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string csv = read_text(out / "rule1.csv");
+  EXPECT_EQ(csv.rfind("scene,factor,replicates,", 0), 0u) << csv;
+  EXPECT_NE(csv.find("lab-mill,100000,2,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("lab-mill,200000,2,"), std::string::npos) << csv;
+  for (const char* f : {"rule1_replicates.csv", "rule1_profiles.dat", "plots/fig5_rule1.png", "plots/fig5_rule1.svg"})
+    EXPECT_GT(fs::file_size(out / f), 0u) << f;
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace millwear
