@@ -11,10 +11,14 @@ MILLWEAR_PACKAGES=(
   libboost-iostreams-dev libboost-filesystem-dev libboost-system-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   help2man dpkg-dev file python3-meshio
+  libimgui-dev libglfw3-dev libgl-dev libstb-dev
+  xvfb xauth libgl1-mesa-dri
 )
 # help2man writes the man page from the built program; dpkg-dev (dpkg-shlibdeps) and file let
 # `cpack -G DEB` compute the package's library dependencies. python3-meshio reads the ParaView
-# files back in the tests (a VTK reader independent of millwear).
+# files back in the tests (a VTK reader independent of millwear). Dear ImGui, GLFW, OpenGL and
+# stb build `millwear view` (optional in CMake: without them the rest builds); xvfb, xauth and
+# Mesa's drivers run its tests on a virtual display with software OpenGL.
 # Extra packages the caller may add (test.sh adds GNU parallel, Slurm, munge).
 MILLWEAR_PACKAGES+=(${MILLWEAR_EXTRA_PACKAGES:-})
 

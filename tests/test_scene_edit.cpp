@@ -70,5 +70,53 @@ TEST(SceneEdit, TheProfilePathStillResolvesFromTheCopysFolder) {
   EXPECT_EQ(b.name, a.name);
 }
 
+
+// Key edits (the view's controls and its saved scene): a key's line rewritten from the key to
+// the end of its value, a missing key added at the end of its table, a key removed, a new
+// top-level key and a new table; nothing else of the text changes.
+const char* kMillScene =
+    "name = \"edit\"\n"
+    "[mill]\n"
+    "speed_rpm = 30.0   # the plant's figure\n"
+    "direction = \"bidirectional\"\n"
+    "reverse_every = 100.0   # h\n"
+    "[charge]\n"
+    "filling = 0.3   # of the mill\n"
+    "[[charge.species]]\n"
+    "name = \"ball\"\n";
+
+TEST(SceneEdit, KeyEditsRewriteAddAndRemoveKeysKeepingTheRest) {
+  const std::string dir = ::testing::TempDir();
+  const std::string out = edited_scene_text(
+      kMillScene, dir + "/edit.toml",
+      {{"mill", "speed", "0.8", {"speed_rpm"}},
+       {"mill", "direction", "\"reverse\"", {}},
+       {"mill", "reverse_every", "", {}},
+       {"charge", "ball_filling", "0.1", {}},
+       {"", "fidelity", "\"draft\"", {}},
+       {"run", "revolutions", "4", {}}},
+      dir, "saved");
+  EXPECT_EQ(out,
+            "# saved\n"
+            "name = \"edit\"\n"
+            "fidelity = \"draft\"\n"
+            "[mill]\n"
+            "speed = 0.8   # the plant's figure\n"
+            "direction = \"reverse\"\n"
+            "   # h\n"
+            "[charge]\n"
+            "filling = 0.3   # of the mill\n"
+            "ball_filling = 0.1\n"
+            "[[charge.species]]\n"
+            "name = \"ball\"\n"
+            "\n[run]\nrevolutions = 4\n");
+}
+
+TEST(SceneEdit, AKeyValueOverSeveralLinesIsNotEditedByGuess) {
+  const std::string dir = ::testing::TempDir();
+  EXPECT_THROW(edited_scene_text("[mill]\nspeed = [\n0.5]\n", dir + "/e.toml", {{"mill", "speed", "0.8", {}}}, dir, ""),
+               RunError);
+}
+
 }  // namespace
 }  // namespace millwear

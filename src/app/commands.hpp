@@ -21,5 +21,6 @@ void register_hardness(CLI::App& app, Action* action);
 void register_screen(CLI::App& app, Action* action);
 void register_screen_task(CLI::App& app, Action* action);
 void register_sweep(CLI::App& app, Action* action);
+void register_view(CLI::App& app, Action* action);
 
 }  // namespace millwear::app

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   millwear::app::register_screen(app, &action);
   millwear::app::register_screen_task(app, &action);
   millwear::app::register_sweep(app, &action);
+  millwear::app::register_view(app, &action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

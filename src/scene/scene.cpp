@@ -672,6 +672,12 @@ const std::string* override_of(const std::vector<std::string>& overrides, const 
   return nullptr;
 }
 
+InputError not_toml(const std::string& path, const toml::parse_error& e) {
+  const auto& b = e.source().begin;
+  return InputError(path, "line " + std::to_string(b.line),
+                    "not valid TOML: " + std::string(e.description()) + " (column " + std::to_string(b.column) + ")");
+}
+
 // The scene from its parsed table (the file's, with the overrides in it).
 Scene read_scene(const toml::table& root, const std::string& path) {
   Scene s;
@@ -733,10 +739,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   try {
     root = toml::parse_file(path);
   } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw InputError(path, "line " + std::to_string(b.line),
-                     "not valid TOML: " + std::string(e.description()) + " (column " +
-                         std::to_string(b.column) + ")");
+    throw not_toml(path, e);
   }
   for (const std::string& text : overrides) {
     try {
@@ -757,4 +760,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
 }
 
+
+Scene load_scene_text(const std::string& text, const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw not_toml(path, e);
+  }
+  return read_scene(root, path);
+}
 }  // namespace millwear

@@ -181,6 +181,9 @@ constexpr double kGravity = 9.81;  // m/s^2
 // solver.time_step / steps_per_second, the three wear-rate keys, a species' sizes /
 // size_range).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// The same for a scene's text as if read from `path` (errors name it; the profile path
+// resolves from its folder): how an edited scene is checked before it is used or written.
+Scene load_scene_text(const std::string& text, const std::string& path);
 // A scene's built mill geometry (the lifters it starts from, one unit per kind shared by
 // every row of that kind), and one kind's liner unit alone: the one place a scene's lifter
 // becomes geometry. A measured profile's unit is its surface as measured (resampled).

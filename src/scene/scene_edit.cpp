@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -62,6 +63,27 @@ std::string toml_path_string(const std::string& p) {
   return q + '"';
 }
 
+
+struct SpanEdit { std::size_t line, from, to; std::string with; };
+
+// lifters.profile rewritten to resolve from out_dir (relative when the copy stays near the
+// scene, else absolute); nothing when out_dir is the scene's folder or there is no profile.
+std::optional<SpanEdit> profile_repoint(toml::table& t, const std::string& scene_path, const std::string& out_dir) {
+  const fs::path scene_dir = fs::absolute(fs::path(scene_path)).parent_path();
+  const fs::path target_dir = fs::absolute(fs::path(out_dir));
+  toml::table* lifters = t["lifters"].as_table();
+  if (!lifters) return std::nullopt;
+  toml::node* prof = lifters->get("profile");
+  if (!prof || !prof->is_string() || fs::weakly_canonical(scene_dir) == fs::weakly_canonical(target_dir))
+    return std::nullopt;
+  const fs::path resolved = (scene_dir / fs::path(prof->as_string()->get())).lexically_normal();
+  std::string rel = fs::relative(resolved, fs::weakly_canonical(target_dir)).string();
+  if (rel.rfind("../../", 0) == 0) rel = resolved.string();
+  const auto vs = prof->source();
+  if (vs.begin.line != vs.end.line) throw RunError(scene_path + ": lifters.profile spans lines");
+  return SpanEdit{vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)};
+}
+
 }  // namespace
 
 std::string calibrated_scene_text(const std::string& text, const std::string& scene_path, const WearRateEdit& edit) {
@@ -95,20 +117,7 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
     throw InputError(scene_path, "wear.wear_rate",
                      "a wear-rate key to replace (wear_rate, area_loss_rate or height_loss_rate)");
 
-  const fs::path scene_dir = fs::absolute(fs::path(scene_path)).parent_path();
-  const fs::path target_dir = fs::absolute(fs::path(edit.out_dir));
-  if (toml::table* lifters = t["lifters"].as_table()) {
-    if (toml::node* prof = lifters->get("profile"); prof && prof->is_string() &&
-                                                    fs::weakly_canonical(scene_dir) != fs::weakly_canonical(target_dir)) {
-      const fs::path resolved = (scene_dir / fs::path(prof->as_string()->get())).lexically_normal();
-      // Relative when the copy stays near the scene (portable with its folder), else absolute.
-      std::string rel = fs::relative(resolved, fs::weakly_canonical(target_dir)).string();
-      if (rel.rfind("../../", 0) == 0) rel = resolved.string();
-      const auto vs = prof->source();
-      if (vs.begin.line != vs.end.line) throw RunError(scene_path + ": lifters.profile spans lines");
-      edits.push_back({vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)});
-    }
-  }
+  if (auto e = profile_repoint(t, scene_path, edit.out_dir)) edits.push_back({e->line, e->from, e->to, e->with});
   std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
     return a.line != b.line ? a.line > b.line : a.from > b.from;
   });
@@ -117,6 +126,79 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
   std::string out = "# Calibrated copy of " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
   for (const auto& l : lines) out += l + "\n";
   return out;
+}
+
+std::string toml_string_value(const std::string& s) { return toml_path_string(s); }
+
+std::string edited_scene_text(const std::string& text, const std::string& scene_path,
+                              const std::vector<KeyEdit>& key_edits, const std::string& out_dir,
+                              const std::string& header) {
+  toml::table t;
+  try {
+    t = toml::parse(text, scene_path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(scene_path, "", std::string("a TOML file: ") + e.what());
+  }
+  std::vector<std::string> lines = split_lines(text);
+  std::vector<SpanEdit> spans;                              // within a line
+  std::vector<std::pair<std::size_t, std::string>> inserts;  // after a line (0: at the end)
+  std::string head;  // top-level keys added before the first table
+  bool profile_edited = false;
+  for (const KeyEdit& k : key_edits) {
+    if (k.table == "lifters" && k.key == "profile") profile_edited = true;
+    const bool remove = k.value.empty();
+    const bool root = k.table.empty();
+    toml::node* node = root ? &t : t.get(k.table);
+    if (node && !node->is_table())
+      throw RunError(scene_path + ": '" + k.table + "' is not a table; set " + k.table + "." + k.key + " by hand");
+    toml::table* table = node ? node->as_table() : nullptr;
+    if (!table) {
+      if (!remove) inserts.push_back({0, "\n[" + k.table + "]\n" + k.key + " = " + k.value});
+      continue;
+    }
+    if (table->is_inline())
+      throw RunError(scene_path + ": [" + k.table + "] is an inline table; set " + k.key + " by hand");
+    bool done = false;
+    std::size_t last_line = root ? 0 : table->source().begin.line;
+    for (auto&& [key, value] : *table) {
+      const std::string name(key.str());
+      const auto ks = key.source(), vs = value.source();
+      if (!value.is_table() && !value.is_array_of_tables()) last_line = std::max<std::size_t>(last_line, vs.end.line);
+      const bool match = name == k.key || std::find(k.replaces.begin(), k.replaces.end(), name) != k.replaces.end();
+      if (!match) continue;
+      if (ks.begin.line != vs.end.line || vs.begin.line == 0)
+        throw RunError(scene_path + ": " + k.table + "." + name + " does not sit on one line; set it by hand");
+      spans.push_back({ks.begin.line, ks.begin.column, vs.end.column, remove ? "" : k.key + " = " + k.value});
+      done = true;
+    }
+    if (done || remove) continue;
+    if (last_line == 0) head += k.key + " = " + k.value + "\n";  // a top-level key, none there yet
+    else inserts.push_back({last_line, k.key + " = " + k.value});
+  }
+  if (!profile_edited)
+    if (auto e = profile_repoint(t, scene_path, out_dir)) spans.push_back(*e);
+  std::sort(spans.begin(), spans.end(), [](const SpanEdit& a, const SpanEdit& b) {
+    return a.line != b.line ? a.line > b.line : a.from > b.from;
+  });
+  for (const SpanEdit& e : spans) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
+  // Insertions bottom-up, so the line numbers above stay valid; end-of-file ones last.
+  std::stable_sort(inserts.begin(), inserts.end(), [](const auto& a, const auto& b) {
+    const std::size_t la = a.first ? a.first : SIZE_MAX, lb = b.first ? b.first : SIZE_MAX;
+    return la > lb;
+  });
+  std::string tail;
+  for (const auto& [line, with] : inserts) {
+    if (line == 0) {
+      tail += with + "\n";
+      continue;
+    }
+    if (line > lines.size()) throw RunError("cannot edit " + scene_path + " after line " + std::to_string(line));
+    lines.insert(lines.begin() + static_cast<std::ptrdiff_t>(line), with);
+  }
+  std::string out = header.empty() ? "" : "# " + header + "\n";
+  out += head;
+  for (const auto& l : lines) out += l + "\n";
+  return out + tail;
 }
 
 }  // namespace millwear

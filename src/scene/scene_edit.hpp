@@ -4,6 +4,7 @@
 // replaced (and the lifter profile path re-pointed, since the copy may live in another
 // folder), so its comments, layout and every other key survive.
 #include <string>
+#include <vector>
 
 namespace millwear {
 
@@ -24,5 +25,28 @@ struct WearRateEdit {
 // it. Throws RunError when a key sits where a one-line edit cannot reach it.
 std::string calibrated_scene_text(const std::string& text, const std::string& scene_path,
                                   const WearRateEdit& edit);
+
+// One key of a scene set to a value: `table.key = value`, value as TOML text (a number, a
+// quoted string). A key named in `replaces` (speed_rpm for speed) goes in its place.
+struct KeyEdit {
+  std::string table;
+  std::string key;
+  std::string value;
+  std::vector<std::string> replaces;
+};
+
+// The text of a scene file with each edit applied: the key's line (or the line of a key it
+// replaces) from the key to the end of its value rewritten, or `key = value` added at the
+// end of its table (a new table at the end of the file when there is none). Comments and
+// every other key stay. lifters.profile, unless edited, is re-pointed to resolve from
+// out_dir as in calibrated_scene_text. A non-empty header goes first as a comment line.
+// Throws InputError: the text is not TOML; RunError: a key sits where a one-line edit
+// cannot reach it (value over several lines, an inline table).
+std::string edited_scene_text(const std::string& text, const std::string& scene_path,
+                              const std::vector<KeyEdit>& edits, const std::string& out_dir,
+                              const std::string& header);
+
+// A string as a TOML value (literal quotes unless it holds one).
+std::string toml_string_value(const std::string& s);
 
 }  // namespace millwear

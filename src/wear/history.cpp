@@ -239,6 +239,7 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
                                   scene.mill.mesh, liner.lifter.area_m2, run.stage + 1),
                           run.mill.kinds);
     run.hours += step.hours;
+    if (cb.on_update) cb.on_update({run.stage, run.hours, &run.mill, &run.engine->state()});
     if (any_worn_out(run.mill.units, run.mill.kinds, run.mill.radius_m, liner.kinds))
       return StageEnd::WornOut;
     if (run.hours >= target_h - 1e-9) return StageEnd::Finished;

@@ -80,10 +80,20 @@ struct WearProgress {
   double disk_steps_per_s = 0.0;
 };
 
+// The liner just reshaped by a wear update, for a caller that draws it as it goes.
+struct WearUpdate {
+  int stage = 0;                      // the stage being worn through
+  double hours = 0.0;                 // operating hours the liner now stands at
+  const MillGeometry* mill = nullptr;
+  const ChargeState* charge = nullptr;  // the charge as the update was computed
+};
+
 struct WearCallbacks {
   // Called after each stage record is complete (stage 0 first). Persist it here.
   std::function<void(const StageRecord&)> on_stage;
   std::function<void(const WearProgress&)> on_progress;
+  // Called after every wear update (the liner reshaped, the hours moved on).
+  std::function<void(const WearUpdate&)> on_update;
   // Cancellation hook (Ctrl-C, SIGTERM, `run --stop-after-stage`): polled before each
   // simulated window; when it returns true the loop stops and throws
   // RunError("interrupted"). Stages already passed to on_stage stay valid for resume_from.

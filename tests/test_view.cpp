@@ -1,0 +1,272 @@
+// `millwear view` under a virtual X server (ctest runs this binary through xvfb-run with
+// Mesa's software OpenGL): the screenshot shows the charge where it is, scripted controls
+// change the charge's regime and its filling, the saved scene reproduces the power the view
+// read, and the wear mode draws the profiles `millwear run` writes. Every case runs the lab
+// mill at draft fidelity.
+#include <gtest/gtest.h>
+#include <stb_image.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+std::string src(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
+
+struct Result {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("millwear-view-test-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+Result millwear(const std::string& args, const fs::path& dir) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = q(MILLWEAR_BINARY) + " " + args + " >" + q(out.string()) + " 2>" + q(err.string());
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+// The `report` lines of a script run: key=value fields.
+std::vector<std::map<std::string, std::string>> reports(const std::string& out) {
+  std::vector<std::map<std::string, std::string>> r;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("t=", 0) != 0) continue;
+    std::map<std::string, std::string> f;
+    std::istringstream words(line);
+    for (std::string w; words >> w;) {
+      const auto eq = w.find('=');
+      if (eq != std::string::npos) f[w.substr(0, eq)] = w.substr(eq + 1);
+      else f["shape"] += (f["shape"].empty() ? "" : " ") + w;  // "toe -30 shoulder 135"
+    }
+    r.push_back(f);
+  }
+  return r;
+}
+
+double num(const std::map<std::string, std::string>& f, const std::string& k) {
+  const auto it = f.find(k);
+  return it == f.end() ? NAN : std::strtod(it->second.c_str(), nullptr);
+}
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream o(p);
+  o << text;
+}
+
+const std::string kLab = src("scenarios/lab-mill.toml");
+
+}  // namespace
+
+// The window's layout (src/view/window.cpp): the mill in the left square of side
+// min(width, height), centred, the shell at 0.45 of the side; species 0 is drawn (66,135,245).
+// The other tests use a 640 x 400 window: software OpenGL's cost grows with the pixels.
+TEST(View, ScreenshotShowsTheChargeInsideTheShell) {
+  const fs::path dir = temp_dir("shot");
+  const std::string png = (dir / "s.png").string();
+  // The command as a user types it (the default 1280 x 800 window; the lab scene is draft).
+  const Result r = millwear("view " + q(kLab) + " --frames 300 --screenshot " + q(png), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("frames/s"), std::string::npos) << r.out;
+  int w = 0, h = 0, n = 0;
+  unsigned char* px = stbi_load(png.c_str(), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr) << "not a PNG: " << png;
+  const int side = std::min(w, h);
+  const double cx = 0.5 * side, cy = 0.5 * side, r_px = 0.45 * side;
+  long lower = 0, upper = 0, outside = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const unsigned char* p = px + 3 * (static_cast<long>(y) * w + x);
+      if (!(p[0] == 66 && p[1] == 135 && p[2] == 245)) continue;
+      const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+      if (d > r_px + 1.0) ++outside;       // one pixel: the shell's own rasterisation
+      else if (y + 0.5 > cy) ++lower;      // image rows grow downward
+      else ++upper;
+    }
+  stbi_image_free(px);
+  // The charge's solid area: filling 0.3 of the mill at a bulk packing of 0.8 (the lab
+  // scene), in pixels. A disk's antialiased rim (one pixel: a sixth of a 12-pixel disk) and the
+  // trails drawn over disks are not in the exact colour, so half of it is a safe floor; at
+  // 0.75 of critical most of the charge lies below the centre.
+  const double solid_px = 0.3 * 0.8 * M_PI * r_px * r_px;
+  EXPECT_GT(lower + upper, 0.5 * solid_px) << "lower " << lower << " upper " << upper;
+  EXPECT_GT(lower, 2 * upper) << "lower " << lower << " upper " << upper;
+  EXPECT_EQ(outside, 0);
+  fs::remove_all(dir);
+}
+
+// 1.5 of critical: the charge rides round with the shell (the charge summary's definition
+// reads it centrifuged); back at 0.75 it has a toe and a shoulder again; a larger filling
+// adds disks and none escapes or goes non-finite.
+TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
+  const fs::path dir = temp_dir("script");
+  write(dir / "s.txt",
+        "0 time_scale 3\n"   // 3/60 s simulated a frame: times below are a third of the simulated
+        "0 speed 1.5\n"
+        "2 report\n"
+        "2 speed 0.75\n"
+        "4 report\n"
+        "4 filling 0.4 0.4\n"
+        "5 report\n"
+        "5 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 3u) << r.out;
+  EXPECT_EQ(rep[0].at("shape"), "centrifuged") << r.out;
+  EXPECT_NE(rep[1].at("shape"), "centrifuged") << r.out;
+  EXPECT_NE(rep[1].at("shape").find("toe"), std::string::npos) << r.out;
+  // filling 0.4 of the same sizes: a third more disks (whole disks, a uniform size draw).
+  EXPECT_NEAR(num(rep[2], "disks") / num(rep[1], "disks"), 0.4 / 0.3, 0.05) << r.out;
+  for (const auto& f : rep) {
+    EXPECT_EQ(num(f, "lost"), 0) << r.out;
+    EXPECT_EQ(num(f, "finite"), 1) << r.out;
+  }
+  fs::remove_all(dir);
+}
+
+// A value the scene checker refuses is refused with its message, and the run says so (exit 2);
+// the message is the one `millwear charge` gives for a scene file with that value.
+TEST(View, RefusesAValueWithTheCheckersMessage) {
+  const fs::path dir = temp_dir("refuse");
+  write(dir / "s.txt", "0 filling 1.5\n0.5 report\n0.5 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  // The same value in a copy of the scene, checked by `millwear charge`.
+  std::string text = slurp(kLab);
+  const auto at = text.find("filling = 0.3 ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 13, "filling = 1.5");
+  const auto prof = text.find("../profiles/");
+  text.replace(prof, 12, src("profiles/"));
+  write(dir / "lab-mill.toml", text);
+  const Result c = millwear("charge " + q((dir / "lab-mill.toml").string()) + " -o " + q((dir / "out").string()), dir);
+  ASSERT_EQ(c.exit_code, 2);
+  // "FILE: charge.filling: expected ..." -> the part after the file name.
+  const std::string want = c.err.substr(c.err.find("charge.filling"));
+  const std::string first_line = want.substr(0, want.find('\n'));
+  EXPECT_NE(r.err.find(first_line), std::string::npos) << "view: " << r.err << "\ncharge: " << c.err;
+  // Nothing changed: the report shows the scene's disks still turning.
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 1u);
+  EXPECT_GT(num(rep[0], "disks"), 100);
+  fs::remove_all(dir);
+}
+
+// The power the view reads over its steady batches, and `millwear charge` on the scene the view
+// saved, measure one process: they agree within four standard errors of their difference.
+// The view's batch-means error is scaled to charge's shorter window for charge's own.
+TEST(View, SavedScenesPowerMatchesTheReadout) {
+  const fs::path dir = temp_dir("power");
+  const std::string saved = (dir / "saved.toml").string();
+  write(dir / "s.txt",
+        "0 time_scale 4\n"   // 20 s simulated
+        "0 speed 0.8\n"
+        "5 report\n"
+        "5 save_scene " + saved + "\n"
+        "5 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 1u) << r.out;
+  const double p_view = num(rep[0], "steady_kW_per_m"), sem_view = num(rep[0], "steady_sem_kW_per_m");
+  const double batches = num(rep[0], "steady_batches");
+  ASSERT_GE(batches, 8) << r.out;
+  ASSERT_GT(sem_view, 0.0);
+  const double revs = 4.0;
+  const Result c = millwear("charge " + q(saved) + " -o " + q((dir / "out").string()) + " --revolutions 4", dir);
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const std::string csv = slurp(dir / "out" / "charge_summary.csv");
+  const auto at = csv.find("power_per_m,");
+  ASSERT_NE(at, std::string::npos) << csv;
+  const double p_charge = std::strtod(csv.c_str() + at + 12, nullptr);
+  const double sem_charge = sem_view * std::sqrt(0.5 * batches / revs);  // batches are half revolutions
+  EXPECT_NEAR(p_view, p_charge, 4.0 * std::hypot(sem_view, sem_charge))
+      << "view " << p_view << " +- " << sem_view << ", charge " << p_charge;
+  fs::remove_all(dir);
+}
+
+// Wear mode runs the scene's wear history: the profiles it draws are, byte for byte, the ones
+// `millwear run` writes for the same scene and seed.
+TEST(View, WearModeDrawsTheProfilesRunWrites) {
+  const fs::path dir = temp_dir("wear");
+  write(dir / "s.txt",
+        "0 wear 200\n"
+        "0 wait_wear\n"
+        "0 save_profiles " + (dir / "view").string() + "\n"
+        "0 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Result run = millwear("run " + q(kLab) + " --fidelity draft -q -o " + q((dir / "run").string()), dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (int k = 0; k <= 2; ++k) {
+    const std::string name = "profiles/lab-mill_stage" + std::to_string(k) + ".csv";
+    const std::string a = slurp(dir / "view" / name), b = slurp(dir / "run" / name);
+    ASSERT_FALSE(b.empty()) << name;
+    EXPECT_EQ(a, b) << name;
+  }
+  // The history wore the lifter: the last profile differs from the new one.
+  EXPECT_NE(slurp(dir / "view" / "profiles/lab-mill_stage0.csv"), slurp(dir / "view" / "profiles/lab-mill_stage2.csv"));
+  fs::remove_all(dir);
+}
+
+// The lifter's shape and the direction change in the running mill, and the saved scene carries
+// them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
+// writes a frame sequence.
+TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
+  const fs::path dir = temp_dir("edits");
+  const std::string saved = (dir / "edited.toml").string();
+  write(dir / "s.txt",
+        "0 lifter 25 20 25\n"
+        "0 direction reverse\n"
+        "0 record " + (dir / "frames").string() + "\n"
+        "0.5 stop_record\n"
+        "1 report\n"
+        "1 save_scene " + saved + "\n"
+        "1 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string scene = slurp(saved), lifter = slurp(dir / "edited_lifter.toml");
+  EXPECT_NE(scene.find("direction = \"reverse\""), std::string::npos) << scene;
+  EXPECT_EQ(scene.find("reverse_every ="), std::string::npos) << scene;  // one-way mills have none
+  EXPECT_NE(scene.find("fidelity = \"draft\""), std::string::npos) << scene;
+  EXPECT_NE(lifter.find("height = 25"), std::string::npos) << lifter;
+  EXPECT_NE(lifter.find("leading_face_angle = 20"), std::string::npos) << lifter;
+  // The recording: a PNG a frame from 0 to 0.5 s of frames (1/60 s each), 30 or 31 of them
+  // as the stop falls.
+  int frames = 0;
+  for (const auto& e : fs::directory_iterator(dir / "frames")) frames += e.path().extension() == ".png";
+  EXPECT_GE(frames, 30);
+  EXPECT_LE(frames, 31);
+  const Result check = millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+  fs::remove_all(dir);
+}
