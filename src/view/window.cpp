@@ -31,6 +31,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kFrameSimS = 1.0 / 60.0;  // simulated time per frame without a person
+// The most simulated time one frame advances with a person watching: below 4 frames a second
+// the mill slows rather than jumps.
+constexpr double kSlowestFrameS = 0.25;
 
 // Colours (RGB). The species colours appear nowhere else in the window, so a screenshot
 // shows where the disks are by colour alone.
@@ -446,7 +449,10 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     last = now;
     const double before = live.clock_s();
     const auto physics0 = Clock::now();
-    if (!quit) live.advance(headless ? kFrameSimS : std::min(wall_dt, 0.05));
+    // With a person watching, the mill advances by the wall time since the last frame, so it
+    // keeps real time while frames draw slowly (software OpenGL, a projector's large window)
+    // down to kSlowestFrameS; headless, a fixed 1/60 s per frame, the same on any machine.
+    if (!quit) live.advance(headless ? kFrameSimS : std::min(wall_dt, kSlowestFrameS));
     out.physics_wall_s += std::chrono::duration<double>(Clock::now() - physics0).count();
     if (wall_dt > 0) {
       fps = 0.9 * fps + 0.1 / wall_dt;
