@@ -83,16 +83,20 @@ void check_profile_features(const Scene& scene, const std::string& file) {
     if (!lifter.measured.empty()) continue;
     // Sampled at a quarter of the size needed: a part thinner than it is found to within that.
     const double thinnest = thinnest_part(lifter.points, 0.25 * needed);
-    if (thinnest >= needed) continue;
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "a lifter whose every part is at least %.3g mm thick (the smallest particle radius): profile '%s' "
-                  "has a part about %.3g mm thick, so a disk can touch both of its faces at once and pass through "
-                  "the liner",
-                  needed * 1e3, lifter.name.c_str(), thinnest * 1e3);
-    throw InputError(file, scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(k) + "]",
-                     buf);
+    if (thinnest < needed) refuse_thin_lifter(scene, file, k, needed, thinnest, false);
   }
+}
+
+void refuse_thin_lifter(const Scene& scene, const std::string& file, int kind, double needed_m, double thinnest_m,
+                        bool resmoothed) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a lifter whose every part is at least %.3g mm thick (the smallest particle radius)%s: %s '%s' has a "
+                "part about %.3g mm thick, so a disk can touch both of its faces at once and pass through the liner",
+                needed_m * 1e3, resmoothed ? " once re-smoothed at wear.smoothing_radius" : "",
+                resmoothed ? "measured profile" : "profile", scene.mill.kind(kind).name.c_str(), thinnest_m * 1e3);
+  throw InputError(file, scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]",
+                   buf);
 }
 
 void check_step_counts(const Scene& scene, const std::string& file) {

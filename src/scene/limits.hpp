@@ -54,6 +54,10 @@ std::int64_t steps_in(double seconds, double dt_s);
 // Each throws InputError(file, key, ...) for a scene outside its limit.
 void check_numerical_limits(const Scene& scene, const std::string& file);  // time step
 void check_profile_features(const Scene& scene, const std::string& file);
+// The refusal of lifter kind `kind` whose thinnest part (thinnest_m) is under the smallest
+// particle radius (needed_m); `resmoothed`: the surface measured is a scan's, once re-smoothed.
+[[noreturn]] void refuse_thin_lifter(const Scene& scene, const std::string& file, int kind, double needed_m,
+                                     double thinnest_m, bool resmoothed);
 void check_step_counts(const Scene& scene, const std::string& file);
 void check_filling(const Scene& scene, const std::string& file);
 void check_liner_size(const Scene& scene, const std::string& file);

@@ -84,15 +84,19 @@ std::optional<SpanEdit> profile_repoint(toml::table& t, const std::string& scene
   return SpanEdit{vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)};
 }
 
-}  // namespace
-
-std::string calibrated_scene_text(const std::string& text, const std::string& scene_path, const WearRateEdit& edit) {
-  toml::table t;
+// The scene's text parsed, or an InputError naming the file.
+toml::table parse_scene_text(const std::string& text, const std::string& scene_path) {
   try {
-    t = toml::parse(text, scene_path);
+    return toml::parse(text, scene_path);
   } catch (const toml::parse_error& e) {
     throw InputError(scene_path, "", std::string("a TOML file: ") + e.what());
   }
+}
+
+}  // namespace
+
+std::string calibrated_scene_text(const std::string& text, const std::string& scene_path, const WearRateEdit& edit) {
+  toml::table t = parse_scene_text(text, scene_path);
   std::vector<std::string> lines = split_lines(text);
   // Edits go bottom-up within a line, so columns stay valid: collect, then apply by line.
   struct Edit { std::size_t line, from, to; std::string with; };
@@ -133,12 +137,7 @@ std::string toml_string_value(const std::string& s) { return toml_path_string(s)
 std::string edited_scene_text(const std::string& text, const std::string& scene_path,
                               const std::vector<KeyEdit>& key_edits, const std::string& out_dir,
                               const std::string& header) {
-  toml::table t;
-  try {
-    t = toml::parse(text, scene_path);
-  } catch (const toml::parse_error& e) {
-    throw InputError(scene_path, "", std::string("a TOML file: ") + e.what());
-  }
+  toml::table t = parse_scene_text(text, scene_path);
   std::vector<std::string> lines = split_lines(text);
   std::vector<SpanEdit> spans;                              // within a line
   std::vector<std::pair<std::size_t, std::string>> inserts;  // after a line (0: at the end)

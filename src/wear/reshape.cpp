@@ -7,6 +7,7 @@
 
 #include "common/errors.hpp"
 #include "geometry/polyline.hpp"
+#include "scene/limits.hpp"
 #include "wear/archard.hpp"
 
 namespace millwear {
@@ -235,15 +236,7 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
   if (p.measured.empty() || !(needed > 0.0)) return;
   const LinerUnit unit = starting_unit(scene, kind, smoothing_radius(scene));
   const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
-  if (thinnest >= needed) return;
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "a lifter whose every part is at least %.3g mm thick (the smallest particle radius) once re-smoothed "
-                "at wear.smoothing_radius: measured profile '%s' has a part about %.3g mm thick, so a disk can touch "
-                "both of its faces at once and pass through the liner",
-                needed * 1e3, p.name.c_str(), thinnest * 1e3);
-  throw InputError(file, scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]",
-                   buf);
+  if (thinnest < needed) refuse_thin_lifter(scene, file, kind, needed, thinnest, true);
 }
 
 void check_smoothing_radius(const Scene& scene, const std::string& file, int kind) {
