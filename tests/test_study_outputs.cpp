@@ -50,7 +50,7 @@ struct OneDesignRun {
     s.mill.length_m = 2.0;
     s.wear.stages = 4;
     s.wear.stage_hours = 100.0;
-    plan.designs.push_back({"lab", s, {}, "", "", -1, 0.0, {}});
+    plan.designs.push_back({"lab", "lab", 1, s, {}, "", "", -1, 0.0, {}});
     plan.reference = "lab";
     state = std::make_unique<study::RunState>(plan);
     state->designs.push_back(std::make_unique<study::DesignState>());

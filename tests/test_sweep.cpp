@@ -124,3 +124,55 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
   EXPECT_TRUE(fs::exists(out / "points" / "02" / "charge_summary.csv"));
   fs::remove_all(out);
 }
+
+TEST(SweepReplicates, FoldedIntoTheMeanAndTheStandardErrorOfTheMean) {
+  std::vector<study::SweepPoint> reps(4);
+  const double power[] = {10.0, 12.0, 14.0, 16.0};
+  for (int k = 0; k < 4; ++k) {
+    reps[k].power_kW = power[k];
+    reps[k].power_kW_sem = 0.1;  // each charge's own batch-means error is not the spread
+    reps[k].charge_t = 2.0;
+    reps[k].lost_disks = k == 2 ? 1 : 0;
+  }
+  reps[3].centrifuged = true;
+  reps[1].error = "a lost disk";
+  const study::SweepPoint p = study::fold_replicates(reps);
+  EXPECT_EQ(p.replicates, 4);
+  EXPECT_DOUBLE_EQ(p.power_kW, 13.0);
+  // Sample sd of 10, 12, 14, 16 is sqrt(20/3); over sqrt(4).
+  EXPECT_NEAR(p.power_kW_sem, std::sqrt(20.0 / 3.0) / 2.0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.charge_t, 2.0);
+  EXPECT_EQ(p.lost_disks, 1u);
+  EXPECT_TRUE(p.centrifuged);
+  EXPECT_EQ(p.error, "a lost disk");
+}
+
+// Replicates of a point run its scene with seeds s, s+1, ...: each replicate's charge files in
+// its own folder, the table's errors from their spread.
+TEST(SweepReplicates, EachValueRunsItsReplicatesAndTheTableSaysWhereItsErrorsComeFrom) {
+  const fs::path out = temp_dir("replicates");
+  const auto r = millwear::testing::run_millwear(
+      "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+      millwear::testing::quoted(out) + " --vary mill.speed=0.7 --revolutions 0.5 --fidelity draft " +
+      "--replicates 3 -j 2 --no-plot -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData t = io::read_csv((out / "sweep.csv").string());
+  ASSERT_EQ(t.rows.size(), 1u);
+  EXPECT_EQ(t.text(0, t.column("replicates")), "3");
+  EXPECT_EQ(t.text(0, t.column("error_source")), "replicates");
+  std::vector<double> power;
+  for (const char* dir : {"00", "00.r2", "00.r3"}) {
+    const io::CsvData s = io::read_csv((out / "points" / dir / "charge_summary.csv").string());
+    for (std::size_t i = 0; i < s.rows.size(); ++i)
+      if (s.text(i, 0) == "power_per_mill") power.push_back(s.number(i, 1));
+  }
+  ASSERT_EQ(power.size(), 3u);
+  EXPECT_NE(power[0], power[1]);  // another seed, another charge
+  const double mean = (power[0] + power[1] + power[2]) / 3.0;
+  double var = 0.0;
+  for (double x : power) var += (x - mean) * (x - mean) / 2.0;
+  // The point's figure is the replicates' mean, its error the standard error of that mean.
+  EXPECT_NEAR(t.number(0, "power_kW"), mean, 1e-6 * std::abs(mean));
+  EXPECT_NEAR(t.number(0, "power_kW_sem"), std::sqrt(var / 3.0), 1e-6 * std::abs(mean));
+  fs::remove_all(out);
+}

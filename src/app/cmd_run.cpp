@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -31,15 +32,35 @@ namespace millwear::app {
 
 namespace {
 
+// "mean +- se": the error to two significant digits and the mean to the same decimal place;
+// the mean alone (in `format`) where the error is not known.
+std::string pm(double mean, double se, const char* format = "%.4g") {
+  char m[48], e[48];
+  if (!std::isfinite(se) || !std::isfinite(mean)) {
+    std::snprintf(m, sizeof m, format, mean);
+    return m;
+  }
+  const int decimals = se > 0.0 ? std::max(0, 1 - static_cast<int>(std::floor(std::log10(se)))) : 1;
+  std::snprintf(m, sizeof m, "%.*f", std::min(decimals, 12), mean);
+  std::snprintf(e, sizeof e, "%.*f", std::min(decimals, 12), se);
+  return std::string(m) + " +- " + e;
+}
+
 void print_final_summary(const study::RunState& state, double wall) {
-  std::printf("%-*s %6s %8s %10s %8s %10s %10s %8s %10s\n", 16, "design", "stage", "hours",
-              "area_mm2", "loss_%", "height_mm", "power_kW", "util", "life_h");
+  const study::RunEstimates est = study::run_estimates(state);
+  std::printf("%-*s %5s %7s %18s %13s %15s %18s %16s %17s\n", 16, "design", "stage", "hours", "area_mm2", "loss_%",
+              "height_mm", "power_kW", "util", "life_h");
+  for (const DesignEstimate& d : est.designs)
+    for (const StageEstimate& s : d.stages)
+      std::printf("%-*s %5d %7.0f %18s %13s %15s %18s %16s %17s%s\n", 16, d.name.c_str(), s.stage, s.hours,
+                  pm(in_mm2(s.area_m2.mean), in_mm2(s.area_m2.se), "%.1f").c_str(),
+                  pm(100.0 * s.area_loss_fraction.mean, 100.0 * s.area_loss_fraction.se, "%.1f").c_str(),
+                  pm(in_mm(s.height_m.mean), in_mm(s.height_m.se), "%.1f").c_str(),
+                  pm(1e-3 * s.power_W.mean, 1e-3 * s.power_W.se).c_str(),
+                  pm(s.utilization.mean, s.utilization.se, "%.3f").c_str(),
+                  pm(d.life_h.mean, d.life_h.se, "%.0f").c_str(), d.life_extrapolated ? "*" : " ");
   for (const study::DesignLines& d : study::design_lines(state)) {
-    for (const study::StageLine& l : d.stages)
-      std::printf("%-*s %6d %8.0f %10.1f %8.1f %10.1f %10.4g %8.3f %9.0f%s\n", 16, d.name.c_str(), l.stage, l.hours,
-                  in_mm2(l.area_m2), 100.0 * l.area_loss_fraction, in_mm(l.height_m), l.power_kW, l.utilization,
-                  d.life_h, d.life_extrapolated ? "*" : " ");
-    std::printf("%-*s %s%s%s\n", 16, d.stages.empty() ? d.name.c_str() : "", study::status_name(d.status),
+    std::printf("%-*s %s%s%s\n", 16, d.name.c_str(), study::status_name(d.status),
                 d.error.empty() ? "" : ": ", d.error.c_str());
     for (const auto& e : d.events) std::printf("%-*s event: %s\n", 16, "", e.c_str());
     if (!d.continued_from.empty()) {
@@ -63,6 +84,13 @@ void print_final_summary(const study::RunState& state, double wall) {
       std::printf("; life %.0f h%s\n", life, k < d.kind_life_extrapolated.size() && d.kind_life_extrapolated[k] ? "*" : "");
     }
   }
+  if (!est.designs.empty())
+    std::printf("errors: %s\n", est.designs.front().source == ErrorSource::Replicates
+                                    ? ("standard errors of the mean of " + std::to_string(state.plan.replicates) +
+                                       " replicates per design").c_str()
+                                    : "batch means of each window (one history per design: a lower bound; "
+                                      "--replicates N measures the spread between histories)");
+  for (const Verdict& v : est.verdicts) std::printf("%s\n", v.text.c_str());
   std::printf("(* life extrapolated from the stage trend; normalised to %s new; wall time %s)\n",
               state.plan.reference.c_str(), duration_text(wall).c_str());
 }
@@ -74,7 +102,8 @@ int run_command(const RunArgs& args) {
   std::vector<std::string> overrides = args.overrides;
   if (args.vtk) overrides.push_back("outputs.vtk=true");
   const study::Plan plan = study::make_plan(
-      {args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage, overrides});
+      {args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage, overrides,
+       args.replicates});
   if (args.check) {
     for (const auto& d : plan.designs)
       std::printf("%s: %s (fidelity %s, %d stages of %g h)%s\n", d.name.c_str(), d.files.front().c_str(),
@@ -173,6 +202,10 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));
+  cmd->add_option("--replicates", args->replicates,
+                  "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
+                  "standard error (default 1: errors from batch means, a lower bound)")
+      ->check(CLI::Range(1, 1000));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });

@@ -28,8 +28,10 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
                    p.text.c_str(), p.power_kW, p.wall_s, p.error.empty() ? "" : " FAILED: ", p.error.c_str());
   };
   const study::SweepResult r = study::run_sweep(q, cb);
-  std::printf("%s: %s over %zu values (%d job(s), %.1f s wall); per mill, +- one standard error\n",
-              r.scene_name.c_str(), r.axis.key.c_str(), r.points.size(), r.jobs, r.wall_s);
+  std::printf("%s: %s over %zu values (%d job(s), %.1f s wall); per mill, +- one standard error (%s)\n",
+              r.scene_name.c_str(), r.axis.key.c_str(), r.points.size(), r.jobs, r.wall_s,
+              q.replicates > 1 ? ("of the mean of " + std::to_string(q.replicates) + " replicates").c_str()
+                               : "batch means of one charge, a lower bound");
   std::printf("%10s %6s %20s %18s %20s %20s %13s %13s\n", "value", "crit", "power_kW", "kW/t", "collision_kW",
               "shear_kW", "toe_deg", "shoulder_deg");
   for (const study::SweepPoint& p : r.points) {
@@ -62,7 +64,8 @@ void register_sweep(CLI::App& app, Action* action) {
       "--vary KEY=FIRST:LAST:STEP (LAST included) or KEY=V1,V2,...: any numeric scene key, e.g.\n"
       "  millwear sweep scenarios/lab-mill.toml -o out/speed --vary mill.speed=0.5:1.6:0.1\n"
       "Every point is checked before anything runs (exit 2 naming the key). Writes OUT/sweep.csv,\n"
-      "OUT/points/NN/ (each point's charge files), OUT/plots/sweep_*.png|svg, OUT/manifest.json.\n"
+      "OUT/points/NN/ (each point's charge files; NN.rK: replicate K), OUT/plots/sweep_*.png|svg,\n"
+      "OUT/manifest.json.\n"
       "Exit codes: 0 done, 1 a point lost a disk (the others are kept), 2 bad input.");
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
@@ -72,6 +75,10 @@ void register_sweep(CLI::App& app, Action* action) {
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions per point (default: the scene's)")
       ->check(CLI::Range(1e-6, 1e4));
   cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--replicates", args->replicates,
+                  "charges per value, seeds s .. s+N-1: figures are their mean with its standard error "
+                  "(default 1: batch means, a lower bound)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_flag("--no-plot", *no_plot, "skip the figures");
   cmd->add_flag("-q,--quiet", *quiet, "no progress lines, only the final table");
   cmd->callback([args, quiet, no_plot, action] {

@@ -24,6 +24,7 @@ struct RunArgs {
   int continue_stage = -1;     // --stage N (-1: each design's last finished stage)
   bool vtk = false;                    // as --set outputs.vtk=true
   std::vector<std::string> overrides;  // --set KEY=VALUE on every design
+  int replicates = 1;                  // --replicates N: histories per design, seeds s .. s+N-1
 };
 
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.

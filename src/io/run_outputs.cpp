@@ -91,50 +91,115 @@ Json scene_settings(const Scene& s) {
   return j;
 }
 
+// A figure of summary.csv: its column (the error in COLUMN_se beside it), the estimate and the
+// scale to the file's unit.
+struct Column {
+  const char* name;
+  Estimate StageEstimate::*field;
+  double scale;
+};
+
+const Column kColumns[] = {
+    {"area_mm2", &StageEstimate::area_m2, 1e6},
+    {"area_loss_pct", &StageEstimate::area_loss_fraction, 100.0},
+    {"height_mm", &StageEstimate::height_m, 1e3},
+    {"power_kw", &StageEstimate::power_W, 1e-3},
+    {"collision_kw", &StageEstimate::collision_W, 1e-3},
+    {"utilization", &StageEstimate::utilization, 1.0},
+    {"liner_shear_kw", &StageEstimate::liner_shear_W, 1e-3},
+    {"packed_shear_pct", &StageEstimate::packed_shear_share, 100.0},
+    {"charge_t", &StageEstimate::charge_mass_kg, 1e-3},
+    {"specific_power_kw_per_t", &StageEstimate::specific_power_W_per_kg, kW_per_t(1.0)},
+    {"liner_wear_g_per_kwh", &StageEstimate::liner_wear_kg_per_J, g_per_kWh(1.0)},
+    {"centre_of_mass_deg", &StageEstimate::centre_of_mass_deg, 1.0},
+    {"toe_deg", &StageEstimate::toe_deg, 1.0},
+    {"shoulder_deg", &StageEstimate::shoulder_deg, 1.0},
+};
+// Normalised to the reference design's new stage.
+const Column kNormalised[] = {
+    {"area_norm", &StageEstimate::area_m2, 1.0},
+    {"power_norm", &StageEstimate::power_W, 1.0},
+    {"collision_norm", &StageEstimate::collision_W, 1.0},
+    {"utilization_norm", &StageEstimate::utilization, 1.0},
+};
+
+std::vector<std::string> summary_header(bool histories) {
+  std::vector<std::string> h{"design"};
+  if (histories) h.insert(h.end(), {"history", "replicate", "seed"});
+  h.insert(h.end(), {"stage", "hours", "replicates", "error_source"});
+  for (const Column& c : kColumns) h.insert(h.end(), {c.name, std::string(c.name) + "_se"});
+  for (const Column& c : kNormalised) h.insert(h.end(), {c.name, std::string(c.name) + "_se"});
+  h.insert(h.end(), {"life_h", "life_h_se", "life_extrapolated", "centrifuged"});
+  return h;
+}
+
+// The estimates' rows; `reference` normalises the *_norm columns.
+void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history) {
+  const StageEstimate* ref0 = reference && !reference->stages.empty() && reference->stages.front().stage == 0
+                                  ? &reference->stages.front() : nullptr;
+  for (const StageEstimate& s : d.stages) {
+    std::vector<CsvCell> row{d.name};
+    if (history)
+      row.insert(row.end(), {history->name, history->replicate,
+                             static_cast<long long>(history->scene->solver.seed)});
+    row.insert(row.end(), {s.stage, s.hours, d.replicates, std::string(error_source_name(d.source))});
+    for (const Column& c : kColumns) {
+      const Estimate& e = s.*c.field;
+      row.insert(row.end(), {e.mean * c.scale, e.se * c.scale});
+    }
+    for (const Column& c : kNormalised) {
+      const Estimate& e = s.*c.field;
+      const double by = ref0 ? (ref0->*c.field).mean : std::nan("");
+      row.insert(row.end(), {e.mean / by, e.se / by});
+    }
+    row.insert(row.end(), {d.life_h.mean, d.life_h.se, d.life_extrapolated, s.centrifuged});
+    t.add_row(row);
+  }
+}
+
+const DesignEstimate* find_estimate(const std::vector<DesignEstimate>& all, const std::string& name) {
+  for (const DesignEstimate& d : all)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
 }  // namespace
 
-// summary.csv: one row per design and stage.
+// summary.csv: one row per design and stage, every figure with its standard error.
 void write_summary(const RunReport& report) {
-  const auto& designs = report.designs;
-  CsvTable t({"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
-                  "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
-                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct", "charge_t",
-                  "specific_power_kw_per_t", "liner_wear_g_per_kwh"});
-  // The reference design's new stage normalises every *_norm column.
-  double ref_area = std::nan(""), ref_power = std::nan(""), ref_coll = std::nan(""), ref_util = std::nan("");
-  for (std::size_t i = 0; i < designs.size(); ++i) {
-    if (designs[i].name != report.reference) continue;
-    auto it = designs[i].stages.find(0);
-    if (it == designs[i].stages.end()) break;
-    const double len = designs[i].scene->mill.length_m;
-    ref_area = it->second.lifter.area_m2 * 1e6;
-    ref_power = it->second.charge.power_kW_per_m * len;
-    ref_coll = it->second.charge.collision_kW_per_m * len;
-    ref_util = ref_coll / ref_power;
-  }
-  for (std::size_t i = 0; i < designs.size(); ++i) {
-    const DesignReport& st = designs[i];
-    if (st.stages.empty()) continue;
-    const double len = st.scene->mill.length_m;
-    const auto own0 = st.stages.find(0);
-    const double own_area = own0 != st.stages.end() ? own0->second.lifter.area_m2 * 1e6 : std::nan("");
-    const double life_h = st.life_h;
-    const bool extrapolated = st.life_extrapolated;
-    for (const auto& [k, r] : st.stages) {
-      const double area = r.lifter.area_m2 * 1e6;
-      const double power = r.charge.power_kW_per_m * len;  // kW per mill
-      const double coll = r.charge.collision_kW_per_m * len;
-      const double util = power != 0.0 ? coll / power : std::nan("");
-      const MillEnergyFigures e = mill_energy_figures(r.charge.summary, st.scene->slice_thickness(), len,
-                                                      r.liner_loss_rate_m2_per_s,
-                                                      st.scene->wear.liner_density_kg_m3);
-      t.add_row({designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
-                 r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
-                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share,
-                 e.charge_mass_kg * 1e-3, kW_per_t(e.specific_power_W_per_kg), g_per_kWh(e.liner_wear_kg_per_J)});
-    }
-  }
+  CsvTable t(summary_header(false));
+  const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
+  for (const DesignEstimate& d : report.estimates) add_rows(t, d, ref, nullptr);
   t.write(summary_path(report.out));
+}
+
+std::string replicates_path(const std::string& out) { return join_path(out, "replicates.csv"); }
+
+void write_replicates(const RunReport& report) {
+  if (report.replicates < 2) return;
+  CsvTable t(summary_header(true));
+  const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
+  for (std::size_t i = 0; i < report.designs.size() && i < report.history_estimates.size(); ++i)
+    add_rows(t, report.history_estimates[i], ref, &report.designs[i]);
+  t.write(replicates_path(report.out));
+}
+
+std::string verdicts_path(const std::string& out) { return join_path(out, "summary.md"); }
+
+void write_verdicts(const RunReport& report) {
+  std::string md = "# Comparison\n\n";
+  if (report.estimates.size() < 2) {
+    md += "One design: nothing to compare.\n";
+  } else {
+    md += "Each design against " + report.reference + ", with " +
+          (report.replicates > 1 ? std::to_string(report.replicates) + " replicates per design (standard errors of their mean)"
+                                 : std::string("one history per design (batch-means standard errors, a lower bound: "
+                                               "`--replicates N` measures the spread between histories)")) +
+          ". A difference is resolved when it exceeds " + format_number(kResolvedSigmas) +
+          " combined standard errors.\n\n";
+    for (const Verdict& v : report.verdicts) md += "- " + v.text + "\n";
+  }
+  write_file_atomic(verdicts_path(report.out), md);
 }
 
 std::string kinds_path(const std::string& out) { return join_path(out, "kinds.csv"); }
@@ -229,6 +294,8 @@ void write_manifest(const RunReport& r) {
   for (const DesignReport& d : r.designs) {
     Json j;
     j["name"] = d.name;
+    j["design"] = d.design;
+    j["replicate"] = d.replicate;
     j["scene_file"] = d.input_files.front();
     j["input_files"] = d.input_files;
     Json copies = Json::array();
@@ -278,6 +345,48 @@ void write_manifest(const RunReport& r) {
     designs.push_back(j);
   }
   m["designs"] = designs;
+  m["replicates"] = r.replicates;
+  Json estimates = Json::array();
+  for (const DesignEstimate& d : r.estimates) {
+    Json j;
+    j["name"] = d.name;
+    j["replicates"] = d.replicates;
+    j["error_source"] = error_source_name(d.source);
+    j["life_h"] = number(d.life_h.mean);
+    j["life_h_se"] = number(d.life_h.se);
+    j["life_extrapolated"] = d.life_extrapolated;
+    Json stages = Json::array();
+    for (const StageEstimate& s : d.stages) {
+      Json st{{"stage", s.stage}, {"hours", s.hours}};
+      for (const Column& c : kColumns) {
+        st[c.name] = number((s.*c.field).mean * c.scale);
+        st[std::string(c.name) + "_se"] = number((s.*c.field).se * c.scale);
+      }
+      st["centrifuged"] = s.centrifuged;
+      stages.push_back(st);
+    }
+    j["stages"] = stages;
+    estimates.push_back(j);
+  }
+  m["estimates"] = estimates;
+  Json verdicts = Json::array();
+  for (const Verdict& v : r.verdicts)
+    verdicts.push_back(Json{{"figure", v.figure},
+                            {"unit", v.unit},
+                            {"stage", v.stage},
+                            {"design", v.design},
+                            {"reference", v.reference},
+                            {"value", number(v.value.mean)},
+                            {"value_se", number(v.value.se)},
+                            {"reference_value", number(v.reference_value.mean)},
+                            {"reference_value_se", number(v.reference_value.se)},
+                            {"difference", number(v.difference.value)},
+                            {"difference_se", number(v.difference.se)},
+                            {"resolved", v.difference.resolved},
+                            {"replicates_needed", v.difference.replicates_needed},
+                            {"error_source", error_source_name(v.source)},
+                            {"text", v.text}});
+  m["verdicts"] = verdicts;
   m["files"] = r.files;
   // Invalid UTF-8 (a file name in a message) is replaced, never a failure to write.
   write_file_atomic(manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");

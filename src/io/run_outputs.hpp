@@ -7,13 +7,16 @@
 #include <string>
 #include <vector>
 
+#include "metrics/estimates.hpp"
 #include "scene/scene.hpp"
 #include "wear/history.hpp"
 
 namespace millwear::io {
 
 struct DesignReport {
-  std::string name;
+  std::string name;                                    // the history's (DESIGN, or DESIGN.rK)
+  std::string design;                                  // the design it is a history of
+  int replicate = 1;
   const Scene* scene = nullptr;
   std::vector<std::string> input_files, input_copies;  // as given; copies under OUT/inputs/
   std::string status;                                  // waiting, running, finished, failed, interrupted
@@ -44,11 +47,27 @@ struct RunReport {
   bool resumed = false;
   int jobs = 1;
   std::vector<std::string> comparison_files;
-  std::vector<DesignReport> designs;
+  std::vector<DesignReport> designs;  // every history
   std::vector<std::string> files;  // every file the run wrote, relative to out
+  int replicates = 1;              // histories per design
+  // Each design's figures with their errors (replicates folded), each history's (with
+  // batch-means errors, in the order of `designs`), and every design against the reference.
+  std::vector<DesignEstimate> estimates, history_estimates;
+  std::vector<Verdict> verdicts;
 };
 
+// OUT/summary.csv: one row per design and stage, every figure FIG with its standard error in
+// FIG_se beside it; error_source says where the errors come from (replicates, or one
+// history's batch means: a lower bound).
 void write_summary(const RunReport& report);
+// OUT/replicates.csv, with replicates: summary.csv's columns per history (history, replicate,
+// seed added), errors from its own batch means.
+void write_replicates(const RunReport& report);
+std::string replicates_path(const std::string& out);
+// OUT/summary.md: every design against the reference, figure by figure: which is ahead, by
+// how much, and whether the difference is resolved.
+void write_verdicts(const RunReport& report);
+std::string verdicts_path(const std::string& out);
 // OUT/kinds.csv, when a design has a pattern of kinds of lifter: one row per design, kind and
 // stage (design,kind,profile,stage,hours,area_mm2,area_loss_pct,height_mm,
 // area_loss_rate_mm2_per_1000h,life_h,life_extrapolated). Not written otherwise.

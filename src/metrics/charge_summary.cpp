@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/units.hpp"
+#include "metrics/batch_means.hpp"
 
 namespace millwear {
 
@@ -92,7 +93,35 @@ ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double o
   f.collision_kW_per_m = f.summary.collision_power_W * per_m;
   f.liner_kW_per_m = f.summary.liner_dissipation_W * per_m;
   f.solver_kW_per_m = f.summary.solver_dissipation_W * per_m;
+  f.liner_shear_kW_per_m = f.summary.shear_work_rate_W * per_m;
   return f;
+}
+
+ChargeFigureErrors charge_figure_errors(const std::vector<ChargeFigures>& batches) {
+  ChargeFigureErrors e;
+  if (batches.size() < 2) return e;
+  const auto sem = [&batches](auto figure) {
+    std::vector<double> x;
+    x.reserve(batches.size());
+    for (const ChargeFigures& b : batches) x.push_back(figure(b));
+    return batch_means(x).sem;
+  };
+  e.power_kW_per_m = sem([](const ChargeFigures& b) { return b.power_kW_per_m; });
+  e.collision_kW_per_m = sem([](const ChargeFigures& b) { return b.collision_kW_per_m; });
+  e.liner_shear_kW_per_m = sem([](const ChargeFigures& b) { return b.liner_shear_kW_per_m; });
+  e.utilization = sem([](const ChargeFigures& b) {
+    return b.power_kW_per_m != 0.0 ? b.collision_kW_per_m / b.power_kW_per_m : 0.0;
+  });
+  e.mass_kg = sem([](const ChargeFigures& b) { return b.summary.mass_kg; });
+  e.centre_of_mass_deg = sem([](const ChargeFigures& b) { return b.summary.centre_of_mass_deg; });
+  e.packed_shear_share = sem([](const ChargeFigures& b) { return b.summary.packed_shear_share; });
+  bool centrifuged = false;
+  for (const ChargeFigures& b : batches) centrifuged = centrifuged || b.summary.centrifuged;
+  if (!centrifuged) {
+    e.toe_deg = sem([](const ChargeFigures& b) { return b.summary.toe_deg; });
+    e.shoulder_deg = sem([](const ChargeFigures& b) { return b.summary.shoulder_deg; });
+  }
+  return e;
 }
 
 }  // namespace millwear

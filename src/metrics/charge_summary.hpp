@@ -12,7 +12,9 @@
 // than half the bed's value all the way round covers the whole shell: it is centrifuged, and
 // has no toe or shoulder (toe_deg and shoulder_deg then read -180 and 180 in the rising-side
 // frame, and `centrifuged` says why).
+#include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "engine/accounting.hpp"
 #include "geometry/vec2.hpp"
@@ -52,9 +54,27 @@ struct ChargeFigures {
   double collision_kW_per_m = 0.0;
   double liner_kW_per_m = 0.0;
   double solver_kW_per_m = 0.0;
+  double liner_shear_kW_per_m = 0.0;  // slip work rate on the liner (what wears it)
 };
 
 ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s);
+
+// Batch-means standard errors of a window's figures: the spread of the figures of its batches
+// (each a stretch of the window measured on its own). The batches are taken as independent,
+// so these are lower bounds on the error of a correlated series. NaN with fewer than two
+// batches; toe and shoulder NaN when a batch is centrifuged (it has neither).
+struct ChargeFigureErrors {
+  double power_kW_per_m = std::nan("");
+  double collision_kW_per_m = std::nan("");
+  double liner_shear_kW_per_m = std::nan("");  // slip work on the liner (the wear's driver)
+  double utilization = std::nan("");           // collision / power
+  double mass_kg = std::nan("");               // per slice
+  double centre_of_mass_deg = std::nan("");
+  double toe_deg = std::nan("");
+  double shoulder_deg = std::nan("");
+  double packed_shear_share = std::nan("");
+};
+ChargeFigureErrors charge_figure_errors(const std::vector<ChargeFigures>& batches);
 
 // A slice's figures scaled to the whole mill (its length) and set against the energy drawn.
 struct MillEnergyFigures {

@@ -16,6 +16,7 @@ const std::vector<FidelityDef>& fidelity_presets() {
     draft.velocity_iterations = 6;
     draft.position_iterations = 2;
     draft.window_revolutions = 1.0;
+    draft.target_rel_uncertainty = 0.0;
     draft.max_depth_step_m = 0.008;
     draft.factor = 2e6;
     draft.shell_edge_m = 0.060;
@@ -28,6 +29,7 @@ const std::vector<FidelityDef>& fidelity_presets() {
     reference.velocity_iterations = 10;
     reference.position_iterations = 4;
     reference.window_revolutions = 4.0;
+    reference.target_rel_uncertainty = 0.05;
     reference.max_depth_step_m = 0.002;
     reference.factor = 5e5;
     reference.box2d_time_step_s = 1.0 / 1000.0;
@@ -57,6 +59,7 @@ void apply_fidelity(Scene& scene, const std::string& name) {
   if (!scene.file_sets("solver.size_cutoff")) scene.solver.size_cutoff_m = p.size_cutoff_m;
   if (!scene.file_sets("wear.window_revolutions"))
     scene.wear.window_revolutions = p.window_revolutions;
+  if (!scene.file_sets("wear.target_uncertainty")) scene.wear.target_rel_uncertainty = p.target_rel_uncertainty;
   if (!scene.file_sets("wear.max_depth_step")) scene.wear.max_depth_step_m = p.max_depth_step_m;
   if (!scene.file_sets("wear.factor")) scene.wear.factor = p.factor;
   if (!scene.file_sets("lifters.shell_edge")) scene.mill.mesh.shell_edge_m = p.shell_edge_m;

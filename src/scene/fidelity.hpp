@@ -17,6 +17,10 @@
 // | velocity_iterations (box2d only)       | 6       | 8        | 10        | contact force accuracy|
 // | position_iterations (box2d only)       | 2       | 3        | 4         | overlap removal       |
 // | window_revolutions (wear.*, rev)       | 1       | 1.5      | 4         | statistics (rule 2)   |
+// | target_rel_uncertainty                 | off     | 10%      | 5%        | rule 2: the window    |
+// |   (wear.target_uncertainty)            |         |          |           | grows (up to 4x) until|
+// |                                        |         |          |           | the wear rate's error |
+// |                                        |         |          |           | meets it              |
 // | max_depth_step_m (wear.max_depth_step) | 8 mm    | 6 mm     | 2 mm      | geometry feedback     |
 // |                                        |         |          |           | (staged, rule 1)      |
 // | factor (wear.factor)                   | 2e6     | 1e6      | 5e5       | continuous mode: sim  |
@@ -67,6 +71,7 @@ struct FidelityDef {
   int velocity_iterations = SolverDef{}.velocity_iterations;
   int position_iterations = SolverDef{}.position_iterations;
   double window_revolutions = WearDef{}.window_revolutions;
+  double target_rel_uncertainty = WearDef{}.target_rel_uncertainty;
   double max_depth_step_m = WearDef{}.max_depth_step_m;
   double factor = WearDef{}.factor;
   double size_cutoff_m = SolverDef{}.size_cutoff_m;

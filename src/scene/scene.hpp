@@ -117,7 +117,7 @@ struct WearDef {
   bool packed_wear = false;
   double replacement_height_m = 0.05;     // lifter life ends below this height
   double liner_density_kg_m3 = 7800.0;    // the liner's metal, for its mass lost (g/kWh)
-  double target_rel_uncertainty = 0.0;    // rule 2: extend window until under (0: off)
+  double target_rel_uncertainty = 0.10;   // rule 2: extend window until under (0: off)
 };
 
 // Which outputs the scene asks for; the engine switches off accounting nobody reads.

@@ -52,6 +52,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
                            scene.name + "'): each design names its output files");
   DesignInput d;
   d.name = scene.name;
+  d.design = scene.name;
   d.files.push_back(scene_file);
   for (int k = 0; k < scene.mill.kind_count(); ++k) profile_files(scene.mill.kind(k).source_file, d.files);
   std::string all = scene.fidelity;
@@ -129,6 +130,32 @@ void add_comparison(Plan& plan, const std::string& file, const toml::table& root
   plan.comparison_files.push_back(file);
 }
 
+constexpr int kMaxReplicates = 1000;
+
+// Each design followed by its replicates 2..n (seeds s+1 .. s+n-1, named DESIGN.rK).
+void add_replicates(Plan& plan, int n) {
+  std::vector<DesignInput> all;
+  std::set<std::string> names;
+  for (const auto& d : plan.designs) names.insert(d.name);
+  for (auto& d : plan.designs) {
+    const DesignInput first = d;
+    all.push_back(std::move(d));
+    for (int k = 2; k <= n; ++k) {
+      DesignInput r = first;
+      r.replicate = k;
+      r.name = first.design + ".r" + std::to_string(k);
+      if (!names.insert(r.name).second)
+        throw InputError(first.files.front(), "name",
+                         "a design name that does not clash with the replicate names (" + r.name + " is both)");
+      r.scene.solver.seed = first.scene.solver.seed + static_cast<std::uint64_t>(k - 1);
+      r.fingerprint = io::stable_hash_hex(first.fingerprint + "\n--replicate " + std::to_string(k));
+      all.push_back(std::move(r));
+    }
+  }
+  plan.designs = std::move(all);
+  plan.replicates = n;
+}
+
 }  // namespace
 
 // --continue: each design's stage in RUN, its hours and what changed since.
@@ -191,8 +218,19 @@ Plan make_plan(const PlanArgs& args) {
   std::error_code ec;
   if (!args.out.empty() && fs::exists(args.out, ec) && !fs::is_directory(args.out, ec))
     throw InputError(args.out, "-o", "an output folder, but a file of that name exists");
+  if (args.replicates < 1 || args.replicates > kMaxReplicates)
+    throw InputError("", "--replicates", "1 to " + std::to_string(kMaxReplicates) + " histories per design, got " +
+                                             std::to_string(args.replicates));
+  if (args.replicates > 1) add_replicates(plan, args.replicates);
   if (!args.continue_from.empty()) continue_designs(plan, args);
   return plan;
+}
+
+std::vector<std::string> design_names(const Plan& plan) {
+  std::vector<std::string> names;
+  for (const auto& d : plan.designs)
+    if (std::find(names.begin(), names.end(), d.design) == names.end()) names.push_back(d.design);
+  return names;
 }
 
 std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides) {

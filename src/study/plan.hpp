@@ -18,7 +18,9 @@
 namespace millwear::study {
 
 struct DesignInput {
-  std::string name;
+  std::string name;                // names its output files: the design's, or DESIGN.rK
+  std::string design;              // the design it is a history of (its scene's name)
+  int replicate = 1;               // 1..Plan::replicates: seed = the scene's seed + replicate - 1
   Scene scene;
   std::vector<std::string> files;  // scene file, profile file(s) it reads
   std::string fingerprint;         // of the file contents and fidelity (resume check)
@@ -31,8 +33,12 @@ struct DesignInput {
   std::vector<std::string> changes;  // settings that differ from RUN's ("mill.speed...: a -> b")
 };
 
+// With replicates, every design runs N histories: replicate 1 under the design's own name and
+// seed (the same files and bits as a run without replicates), replicate K under DESIGN.rK with
+// seed + K - 1. The designs list holds them design by design.
 struct Plan {
   std::vector<DesignInput> designs;
+  int replicates = 1;
   std::string reference;
   std::vector<std::string> comparison_files;
   std::string fidelity;  // the override, or the shared fidelity of the scenes, or "mixed"
@@ -46,7 +52,11 @@ struct PlanArgs {
   std::string continue_from;        // a finished run folder whose stage continue_stage each
   int continue_stage = -1;          // design continues from (-1: its last finished stage)
   std::vector<std::string> overrides;  // --set KEY=VALUE, applied to every design's scene
+  int replicates = 1;                  // histories per design (seeds s .. s + N - 1)
 };
+
+// The design names of a plan, in its order, each once (replicates folded).
+std::vector<std::string> design_names(const Plan& plan);
 
 // Throws InputError naming the file and key for anything wrong; nothing is written.
 Plan make_plan(const PlanArgs& args);

@@ -16,6 +16,7 @@
 #include "io/run_outputs.hpp"
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
+#include "study/design_estimates.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/life.hpp"
 
@@ -77,6 +78,30 @@ void note(RunState& ctx, const std::string& out, const std::string& path) {
   if (!rel.empty()) ctx.written.insert(rel);
 }
 
+}  // namespace
+
+RunEstimates run_estimates(const RunState& state) {
+  RunEstimates e;
+  const Plan& plan = state.plan;
+  for (std::size_t i = 0; i < plan.designs.size(); ++i) {
+    const DesignInput& d = plan.designs[i];
+    double life_h = std::nan("");
+    bool extrapolated = true;
+    life_of(d, *state.designs[i], life_h, extrapolated);
+    e.histories.push_back(estimate_history(d.name, d.scene, state.designs[i]->stages, life_h, extrapolated));
+  }
+  for (const std::string& name : design_names(plan)) {
+    std::vector<DesignEstimate> histories;
+    for (std::size_t i = 0; i < plan.designs.size(); ++i)
+      if (plan.designs[i].design == name) histories.push_back(e.histories[i]);
+    e.designs.push_back(histories.size() == 1 ? histories.front() : combine_histories(name, histories));
+  }
+  e.verdicts = compare_designs(e.designs, plan.reference);
+  return e;
+}
+
+namespace {
+
 // The run's plain report for the table writers. Caller holds the mutex.
 io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_write) {
   io::RunReport r;
@@ -96,6 +121,8 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
     const DesignState& st = *ctx.designs[i];
     io::DesignReport dr;
     dr.name = d.name;
+    dr.design = d.design;
+    dr.replicate = d.replicate;
     dr.scene = &d.scene;
     dr.input_files = d.files;
     auto copies = ctx.copied.find(d.name);
@@ -121,6 +148,11 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
     }
     r.designs.push_back(std::move(dr));
   }
+  RunEstimates e = run_estimates(ctx);
+  r.replicates = ctx.plan.replicates;
+  r.estimates = std::move(e.designs);
+  r.history_estimates = std::move(e.histories);
+  r.verdicts = std::move(e.verdicts);
   // The files on disk now (a file of an earlier stage may since have been replaced).
   r.files.push_back("manifest.json");
   for (const auto& f : ctx.written)
@@ -135,9 +167,13 @@ void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
   io::RunReport r = report_of(ctx, opt, final_write);
   io::write_summary(r);
   io::write_kinds(r);
-  if (io::file_exists(io::kinds_path(opt.out))) {
-    note(ctx, opt.out, io::kinds_path(opt.out));
-    if (std::find(r.files.begin(), r.files.end(), "kinds.csv") == r.files.end()) r.files.push_back("kinds.csv");
+  io::write_replicates(r);
+  io::write_verdicts(r);
+  for (const std::string& path : {io::kinds_path(opt.out), io::replicates_path(opt.out), io::verdicts_path(opt.out)}) {
+    if (!io::file_exists(path)) continue;
+    note(ctx, opt.out, path);
+    const std::string rel = io::relative_to(opt.out, path);
+    if (std::find(r.files.begin(), r.files.end(), rel) == r.files.end()) r.files.push_back(rel);
   }
   io::write_spectrum(r);
   io::write_manifest(r);
@@ -444,6 +480,8 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     fs::remove(io::summary_path(out), ec);
     fs::remove(io::spectrum_path(out), ec);
     fs::remove(io::kinds_path(out), ec);
+    fs::remove(io::replicates_path(out), ec);
+    fs::remove(io::verdicts_path(out), ec);
   }
   io::write_file_atomic(resume_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
   ctx.written.insert(io::relative_to(out, resume_key_path(out)));
@@ -501,8 +539,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   }
   if (!interrupted && opt.figures) {
     // Figures from whatever finished.
-    std::vector<std::string> names;
-    for (const auto& d : plan.designs) names.push_back(d.name);
+    const std::vector<std::string> names = design_names(plan);
     std::vector<std::string> figures;
     try {
       figures = plots::render_all_figures(out, names, plan.reference);

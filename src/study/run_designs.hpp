@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "metrics/estimates.hpp"
 #include "study/plan.hpp"
 #include "wear/history.hpp"
 
@@ -95,6 +96,16 @@ struct RunOutcome {
 // written when another process is writing into the folder, when the folder holds the
 // results of other inputs (unless force) or when --resume meets a damaged stage file.
 RunOutcome run_designs(RunState& state, const RunOptions& options);
+
+// Each design's figures with their errors from the stages finished so far (replicates folded;
+// one history: its batch means), and every design set against the plan's reference. Caller
+// holds state.mutex (or the run has ended).
+struct RunEstimates {
+  std::vector<DesignEstimate> designs;
+  std::vector<DesignEstimate> histories;  // one per plan design, batch-means errors
+  std::vector<Verdict> verdicts;
+};
+RunEstimates run_estimates(const RunState& state);
 
 // Life of a design from its stages so far (a finished history carries its own).
 void life_of(const DesignInput& design, const DesignState& state, double& life_h, bool& extrapolated);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <tuple>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/batch_means.hpp"
+#include "metrics/estimates.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -58,14 +60,16 @@ std::string value_text(double v) {
   return buf;
 }
 
-std::string point_dir(const std::string& out, int index) {
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%02d", index);
+// Replicate 1 (k = 0) in points/NN, replicate K in points/NN.rK.
+std::string point_dir(const std::string& out, int index, int k = 0) {
+  char buf[32];
+  if (k == 0) std::snprintf(buf, sizeof buf, "%02d", index);
+  else std::snprintf(buf, sizeof buf, "%02d.r%d", index, k + 1);
   return io::join_path(io::join_path(out, "points"), buf);
 }
 
 // One point: `millwear charge` of its scene, its figures per mill with batch-means errors.
-SweepPoint measure_point(const Scene& scene, int index, const SweepAxis& axis, const std::string& out) {
+SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& axis, const std::string& out) {
   SweepPoint p;
   p.index = index;
   p.text = axis.texts[static_cast<std::size_t>(index)];
@@ -113,7 +117,7 @@ SweepPoint measure_point(const Scene& scene, int index, const SweepAxis& axis, c
   p.toe_deg_sem = sem([](const ChargeFigures& b) { return b.summary.toe_deg; });
   p.shoulder_deg_sem = sem([](const ChargeFigures& b) { return b.summary.shoulder_deg; });
 
-  const std::string dir = point_dir(out, index);
+  const std::string dir = point_dir(out, index, k);
   io::ensure_dir(dir);
   write_charge_outputs(dir, scene, r, p.wall_s);
   return p;
@@ -124,7 +128,7 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
                   "power_kW", "power_kW_sem", "specific_power_kW_per_t", "specific_power_kW_per_t_sem",
                   "collision_power_kW", "collision_power_kW_sem", "liner_shear_power_kW",
                   "liner_shear_power_kW_sem", "toe_deg", "toe_deg_sem", "shoulder_deg", "shoulder_deg_sem",
-                  "centrifuged", "simulated_s", "wall_s", "lost_disks", "error"});
+                  "centrifuged", "replicates", "error_source", "simulated_s", "wall_s", "lost_disks", "error"});
   // A centrifuged charge has no toe or shoulder: the cells say so (a plot skips them).
   const auto angle = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("centrifuged") : io::CsvCell(v); };
   const auto angle_sem = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("") : io::CsvCell(v); };
@@ -132,8 +136,9 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
     t.add_row({r.axis.key, p.value, p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
                p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
                p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
-               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, p.simulated_s, p.wall_s,
-               p.lost_disks, p.error});
+               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, p.replicates,
+               std::string(error_source_name(p.replicates > 1 ? ErrorSource::Replicates : ErrorSource::BatchMeans)),
+               p.simulated_s, p.wall_s, p.lost_disks, p.error});
   t.write(io::join_path(out, "sweep.csv"));
 }
 
@@ -152,6 +157,8 @@ void write_sweep_manifest(const std::string& out, const SweepRequest& q, const S
   m["fidelity"] = first.fidelity;
   m["revolutions"] = first.run.revolutions;
   m["seed"] = static_cast<unsigned long long>(first.solver.seed);
+  m["replicates"] = q.replicates;
+  m["error_source"] = error_source_name(q.replicates > 1 ? ErrorSource::Replicates : ErrorSource::BatchMeans);
   m["jobs"] = r.jobs;
   m["wall_s"] = r.wall_s;
   nlohmann::ordered_json points = nlohmann::ordered_json::array();
@@ -191,6 +198,39 @@ std::vector<std::string> render_sweep_figures(const std::string& out, const std:
 }
 
 }  // namespace
+
+SweepPoint fold_replicates(const std::vector<SweepPoint>& reps) {
+  SweepPoint p = reps.front();
+  p.replicates = static_cast<int>(reps.size());
+  if (reps.size() < 2) return p;
+  const auto fold = [&reps](double SweepPoint::*value, double SweepPoint::*sem) {
+    std::vector<double> x;
+    for (const SweepPoint& r : reps) x.push_back(r.*value);
+    const Estimate e = mean_and_se(x);
+    return std::make_pair(e.mean, e.se);
+  };
+  const std::pair<double SweepPoint::*, double SweepPoint::*> figures[] = {
+      {&SweepPoint::power_kW, &SweepPoint::power_kW_sem},
+      {&SweepPoint::specific_kW_per_t, &SweepPoint::specific_kW_per_t_sem},
+      {&SweepPoint::collision_kW, &SweepPoint::collision_kW_sem},
+      {&SweepPoint::shear_kW, &SweepPoint::shear_kW_sem},
+      {&SweepPoint::toe_deg, &SweepPoint::toe_deg_sem},
+      {&SweepPoint::shoulder_deg, &SweepPoint::shoulder_deg_sem}};
+  for (const auto& [value, sem] : figures) std::tie(p.*value, p.*sem) = fold(value, sem);
+  p.charge_t = 0.0;
+  p.simulated_s = p.wall_s = 0.0;
+  p.lost_disks = 0;
+  p.centrifuged = false;
+  for (const SweepPoint& r : reps) {
+    p.charge_t += r.charge_t / static_cast<double>(reps.size());
+    p.simulated_s += r.simulated_s;
+    p.wall_s += r.wall_s;
+    p.lost_disks += r.lost_disks;
+    p.centrifuged = p.centrifuged || r.centrifuged;
+    if (p.error.empty() && !r.error.empty()) p.error = r.error;
+  }
+  return p;
+}
 
 bool SweepResult::failed() const {
   return std::any_of(points.begin(), points.end(), [](const SweepPoint& p) { return !p.error.empty(); });
@@ -276,34 +316,45 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   r.scene_name = scenes.front().name;
   const int n = static_cast<int>(scenes.size());
   const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : static_cast<int>(hw), n));
+  const int reps = std::max(1, q.replicates);
+  const int tasks = n * reps;
+  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : static_cast<int>(hw), tasks));
   const io::FolderLock lock(q.out);  // one writer per folder, for the whole sweep
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 
-  // Threads take the next point; each point is independent (its own engine, its own seed).
+  // Threads take the next (point, replicate); each is independent (its own engine, its own
+  // seed: replicate K of a point runs the point's scene with seed + K - 1).
+  std::vector<std::vector<SweepPoint>> measured(static_cast<std::size_t>(n), std::vector<SweepPoint>(static_cast<std::size_t>(reps)));
+  std::vector<int> left(static_cast<std::size_t>(n), reps);
   r.points.resize(static_cast<std::size_t>(n));
   std::atomic<int> next{0};
   std::mutex mutex;
   int done = 0;
   std::exception_ptr failure;
   auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
+    for (int t = next++; t < tasks; t = next++) {
+      const int i = t / reps, k = t % reps;
+      const auto iu = static_cast<std::size_t>(i);
       SweepPoint p;
       try {
-        p = measure_point(scenes[static_cast<std::size_t>(i)], i, r.axis, q.out);
+        Scene scene = scenes[iu];
+        scene.solver.seed += static_cast<std::uint64_t>(k);
+        p = measure_point(scene, i, k, r.axis, q.out);
       } catch (const NumericalError& e) {
-        p.index = i, p.text = r.axis.texts[static_cast<std::size_t>(i)], p.value = r.axis.values[static_cast<std::size_t>(i)];
+        p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
         p.error = e.what();
       } catch (...) {
         std::lock_guard<std::mutex> g(mutex);
         if (!failure) failure = std::current_exception();
-        next = n;  // an I/O failure stops the sweep
+        next = tasks;  // an I/O failure stops the sweep
         return;
       }
       std::lock_guard<std::mutex> g(mutex);
-      r.points[static_cast<std::size_t>(i)] = p;
+      measured[iu][static_cast<std::size_t>(k)] = p;
+      if (--left[iu] > 0) continue;
+      r.points[iu] = fold_replicates(measured[iu]);
       ++done;
-      if (cb.on_point) cb.on_point(p, done, n);
+      if (cb.on_point) cb.on_point(r.points[iu], done, n);
     }
   };
   std::vector<std::thread> threads;
@@ -313,14 +364,15 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
 
   write_sweep_csv(q.out, r);
   std::vector<std::string> files{"manifest.json", "sweep.csv"};
-  for (const SweepPoint& p : r.points) {
-    std::vector<std::string> in_point;
-    std::error_code ec;
-    for (const auto& e : std::filesystem::directory_iterator(point_dir(q.out, p.index), ec))
-      if (e.is_regular_file(ec)) in_point.push_back(io::relative_to(q.out, e.path().string()));
-    std::sort(in_point.begin(), in_point.end());
-    files.insert(files.end(), in_point.begin(), in_point.end());
-  }
+  for (const SweepPoint& p : r.points)
+    for (int k = 0; k < reps; ++k) {
+      std::vector<std::string> in_point;
+      std::error_code ec;
+      for (const auto& e : std::filesystem::directory_iterator(point_dir(q.out, p.index, k), ec))
+        if (e.is_regular_file(ec)) in_point.push_back(io::relative_to(q.out, e.path().string()));
+      std::sort(in_point.begin(), in_point.end());
+      files.insert(files.end(), in_point.begin(), in_point.end());
+    }
   if (q.figures) {
     try {
       r.figure_files = render_sweep_figures(q.out, r.axis.key);

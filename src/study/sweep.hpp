@@ -5,9 +5,11 @@
 //   OUT/sweep.csv         one row per value: the key's value, speed, charge mass, power per
 //                         mill and specific power (kW/t of charge), toe and shoulder, collision
 //                         power, liner shear power, each with its standard error (batch means
-//                         over the measured window, metrics/batch_means.hpp); toe and shoulder
+//                         over the measured window, metrics/batch_means.hpp, a lower bound; or
+//                         with replicates, the standard error of their mean); toe and shoulder
 //                         read "centrifuged" where the charge covers the whole shell
-//   OUT/points/NN/        each point's `millwear charge` files (charge_summary.csv, ...)
+//   OUT/points/NN/        each point's `millwear charge` files (charge_summary.csv, ...);
+//                         with --replicates N, replicate K's in OUT/points/NN.rK/
 //   OUT/plots/            sweep_power, sweep_toe_shoulder, sweep_collision_shear (PNG, SVG)
 //   OUT/manifest.json     program, scene, key, values, --set overrides, fidelity, points
 //
@@ -41,6 +43,9 @@ struct SweepRequest {
   std::string fidelity;                // "": the scene's own
   double revolutions = 0.0;            // measured revolutions per point (0: the scene's)
   int jobs = 0;                        // points at once (0: the hardware's cores)
+  // Charges per value, seeds s .. s+N-1: the figures are their mean and its standard error
+  // (1: one charge, errors from its batch means, a lower bound).
+  int replicates = 1;
   bool figures = true;
   std::string commit;                  // the program's git commit, for the manifest
 };
@@ -61,8 +66,13 @@ struct SweepPoint {
   double shoulder_deg = 0.0, shoulder_deg_sem = 0.0;
   bool centrifuged = false;   // over the window: no toe or shoulder (metrics/charge_summary.hpp)
   double simulated_s = 0.0, wall_s = 0.0;
+  int replicates = 1;                          // charges folded into the figures
   std::string error;                           // a lost disk or a failed run: figures suspect
 };
+
+// Replicates of one value folded: each figure's mean over them, its error the standard error
+// of that mean; centrifuged if any replicate was; the first error kept.
+SweepPoint fold_replicates(const std::vector<SweepPoint>& replicates);
 
 struct SweepResult {
   std::string scene_name;

@@ -174,6 +174,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   for (double p : kind_lifter_power_W(mill, w.unit_power_W)) rec.kind_area_loss_rate_m2_per_s.push_back(c_real * p / t);
   const double c_shell = shell_wear_rate(scene, c_real);
   rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
+  rec.charge_errors = w.charge_errors;
   rec.spectrum_count_per_s.resize(kSpectrumBins);
   rec.spectrum_energy_W.resize(kSpectrumBins);
   for (int b = 0; b < kSpectrumBins; ++b) {

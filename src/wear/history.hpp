@@ -28,6 +28,7 @@ struct StageRecord {
   ChargeFigures charge;           // measured on this geometry
   double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
+  ChargeFigureErrors charge_errors;           // batch-means errors of `charge` (lower bounds)
   double liner_loss_rate_m2_per_s = 0.0;      // the whole liner's cross-section lost (every
                                               // lifter and the shell), per operating s
   // Collision spectrum measured on this geometry (per log bin, see engine/accounting.hpp).

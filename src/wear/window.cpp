@@ -72,6 +72,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   const int batch_steps = std::max(1, steps_for(batch_s, engine.time_step_s()));
   WindowWork w;
   std::vector<double> batch_power;
+  std::vector<ChargeFigures> batch_figures;
   for (int b = 0; b < kMaxWindowBatches; ++b) {
     check_stop();
     engine.reset_window();
@@ -91,6 +92,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     std::vector<double> p(acc.shear_work_J.size());
     for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;
     batch_power.push_back(lifter_power_W(mill, unit_edge_work(mill, p, scene.wear.average_rows)));
+    batch_figures.push_back(charge_figures(acc, scene, engine.state().mill_speed_rad_s));
     accumulate_work(w.accounting, acc);
     const int n = static_cast<int>(batch_power.size());
     if (n < kWindowBatches) continue;
@@ -98,6 +100,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     if (scene.wear.target_rel_uncertainty <= 0.0 || w.lifter_power_rel_sem <= scene.wear.target_rel_uncertainty)
       break;
   }
+  w.charge_errors = charge_figure_errors(batch_figures);
   w.simulated_s = w.accounting.time_s;
   w.edge_power_W.resize(w.accounting.shear_work_J.size());
   for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)

@@ -8,6 +8,7 @@
 
 #include "engine/engine.hpp"
 #include "metrics/batch_means.hpp"
+#include "metrics/charge_summary.hpp"
 #include "mill/mill.hpp"
 #include "scene/scene.hpp"
 
@@ -20,6 +21,7 @@ struct WindowWork {
   Accounting accounting;                            // the whole window
   double lifter_power_mean_W = 0.0;                 // per row, summed over lifter edges
   double lifter_power_rel_sem = 0.0;                // batch-means relative standard error
+  ChargeFigureErrors charge_errors;                 // batch-means errors of the charge figures
   double simulated_s = 0.0;
   // With scene.outputs.vtk: the charge at vtk_frames even times over the window (rounded up
   // to whole frames per batch), for the ParaView files.

@@ -1,0 +1,93 @@
+// Means, standard errors and the verdict of a difference.
+#include "metrics/estimates.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace millwear {
+
+Estimate mean_and_se(const std::vector<double>& values) {
+  Estimate e;
+  const auto n = static_cast<double>(values.size());
+  if (values.empty()) return e;
+  double sum = 0.0;
+  for (double x : values) sum += x;
+  e.mean = sum / n;
+  if (values.size() < 2) return e;
+  double var = 0.0;
+  for (double x : values) var += (x - e.mean) * (x - e.mean);
+  e.se = std::sqrt(var / (n - 1.0) / n);
+  return e;
+}
+
+const char* error_source_name(ErrorSource s) {
+  return s == ErrorSource::Replicates ? "replicates" : "batch_means_lower_bound";
+}
+
+Difference compare(const Estimate& a, const Estimate& b, int replicates) {
+  Difference d;
+  d.value = a.mean - b.mean;
+  d.se = std::sqrt(a.se * a.se + b.se * b.se);
+  if (!std::isfinite(d.value) || !std::isfinite(d.se)) return d;
+  d.resolved = std::abs(d.value) > kResolvedSigmas * d.se;
+  if (d.resolved) {
+    d.replicates_needed = 0;
+    return d;
+  }
+  if (d.value == 0.0 || d.se == 0.0) return d;
+  // With n histories per design the combined error is se_now * sqrt(replicates / n): solve
+  // kResolvedSigmas * that < |value| for the smallest whole n.
+  const double ratio = kResolvedSigmas * d.se / std::abs(d.value);
+  const double n = std::max(1, replicates) * ratio * ratio;
+  d.replicates_needed = n < static_cast<double>(std::numeric_limits<int>::max() / 2)
+                            ? static_cast<int>(std::floor(n)) + 1 : -1;
+  return d;
+}
+
+namespace {
+
+Estimate mean_of(const std::vector<DesignEstimate>& hs, std::size_t stage_index, Estimate StageEstimate::*field) {
+  std::vector<double> x;
+  for (const DesignEstimate& h : hs) {
+    const double v = (h.stages[stage_index].*field).mean;
+    if (std::isfinite(v)) x.push_back(v);
+  }
+  return mean_and_se(x);
+}
+
+}  // namespace
+
+DesignEstimate combine_histories(const std::string& name, const std::vector<DesignEstimate>& histories) {
+  DesignEstimate d;
+  d.name = name;
+  d.replicates = static_cast<int>(histories.size());
+  d.source = ErrorSource::Replicates;
+  if (histories.empty()) return d;
+  std::size_t stages = histories.front().stages.size();
+  for (const DesignEstimate& h : histories) stages = std::min(stages, h.stages.size());
+  for (std::size_t k = 0; k < stages; ++k) {
+    StageEstimate s;
+    s.stage = histories.front().stages[k].stage;
+    s.hours = histories.front().stages[k].hours;
+    for (Estimate StageEstimate::*f :
+         {&StageEstimate::area_m2, &StageEstimate::area_loss_fraction, &StageEstimate::height_m,
+          &StageEstimate::power_W, &StageEstimate::collision_W, &StageEstimate::liner_shear_W,
+          &StageEstimate::utilization, &StageEstimate::charge_mass_kg, &StageEstimate::specific_power_W_per_kg,
+          &StageEstimate::liner_wear_kg_per_J, &StageEstimate::centre_of_mass_deg, &StageEstimate::toe_deg,
+          &StageEstimate::shoulder_deg, &StageEstimate::packed_shear_share})
+      s.*f = mean_of(histories, k, f);
+    for (const DesignEstimate& h : histories) s.centrifuged += h.stages[k].centrifuged;
+    d.stages.push_back(s);
+  }
+  std::vector<double> life;
+  d.life_extrapolated = false;
+  for (const DesignEstimate& h : histories) {
+    if (std::isfinite(h.life_h.mean)) life.push_back(h.life_h.mean);
+    d.life_extrapolated = d.life_extrapolated || h.life_extrapolated;
+  }
+  // A life is known only when every history has one.
+  if (life.size() == histories.size()) d.life_h = mean_and_se(life);
+  return d;
+}
+
+}  // namespace millwear

@@ -1,0 +1,88 @@
+#pragma once
+// Figures with their standard errors, and the verdict of a comparison between two designs.
+//
+// A figure's error comes from one of two places. With several independent histories of a
+// design (replicates: the same scene with seeds s, s+1, ...) it is the standard error of their
+// mean, the spread a new set of seeds would show. With one history it comes from the batches
+// of each measuring window (batch means), which takes the batches as independent: a charge's
+// state carries over from one batch to the next, so that error is a lower bound.
+//
+// The verdict: design A is ahead of design B on a figure when the difference of their means
+// exceeds kResolvedSigmas combined standard errors (sqrt(se_A^2 + se_B^2)); otherwise the
+// difference is not resolved, and the replicates that would resolve it are estimated from the
+// per-history spread (se * sqrt(n)) as the count at which the same difference would reach
+// kResolvedSigmas combined errors.
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace millwear {
+
+struct Estimate {
+  double mean = std::nan("");
+  double se = std::nan("");  // standard error of the mean (NaN: unknown)
+};
+
+// Mean and standard error of independent values (se NaN for fewer than two).
+Estimate mean_and_se(const std::vector<double>& values);
+
+// Where the errors of a design's figures come from.
+enum class ErrorSource { BatchMeans, Replicates };
+const char* error_source_name(ErrorSource s);  // "batch_means_lower_bound", "replicates"
+
+constexpr double kResolvedSigmas = 2.0;
+
+struct Difference {
+  double value = std::nan("");  // a - b
+  double se = std::nan("");     // sqrt(se_a^2 + se_b^2)
+  bool resolved = false;        // |value| > kResolvedSigmas * se
+  // Not resolved: replicates per design (each side the same count) about which the same
+  // difference would be resolved; 0 when resolved; -1 when no count would (no difference or
+  // no error known).
+  int replicates_needed = -1;
+};
+
+// a and b with `replicates` histories each (1: batch-means errors).
+Difference compare(const Estimate& a, const Estimate& b, int replicates);
+
+// A design's figures at one stage of its wear history (SI; power per mill).
+struct StageEstimate {
+  int stage = 0;
+  double hours = 0.0;
+  Estimate area_m2, area_loss_fraction, height_m;  // lifter (row 0, or the first kind)
+  Estimate power_W, collision_W, liner_shear_W, utilization;
+  Estimate charge_mass_kg, specific_power_W_per_kg, liner_wear_kg_per_J;
+  Estimate centre_of_mass_deg, toe_deg, shoulder_deg;  // toe, shoulder NaN where centrifuged
+  Estimate packed_shear_share;
+  int centrifuged = 0;  // histories whose charge centrifuged at this stage
+};
+
+// A design's figures over its history, with their errors.
+struct DesignEstimate {
+  std::string name;
+  int replicates = 1;
+  ErrorSource source = ErrorSource::BatchMeans;
+  std::vector<StageEstimate> stages;  // the stages every history finished
+  Estimate life_h;
+  bool life_extrapolated = true;      // any history's life was extrapolated
+};
+
+// Mean and standard error over independent histories of one design: each figure's mean over
+// the histories' values (NaN values left out), at the stages they all finished.
+DesignEstimate combine_histories(const std::string& name, const std::vector<DesignEstimate>& histories);
+
+// One figure of a design set against the reference design.
+struct Verdict {
+  std::string figure;     // summary.csv's column name, e.g. "life_h", "power_kw"
+  std::string unit;       // at the file edge: "h", "kW", "%", "g/kWh", ...
+  int stage = -1;         // the stage compared (-1: the whole history, as life)
+  double hours = 0.0;
+  std::string design, reference;
+  Estimate value, reference_value;  // at the file edge's units
+  Difference difference;
+  int replicates = 1;
+  ErrorSource source = ErrorSource::BatchMeans;
+  std::string text;       // one line: which is ahead, by how much, resolved or not
+};
+
+}  // namespace millwear

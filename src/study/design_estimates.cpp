@@ -1,0 +1,171 @@
+// Figures with errors from a history's stage records, and the designs compared.
+#include "study/design_estimates.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "common/units.hpp"
+#include "metrics/charge_summary.hpp"
+
+namespace millwear::study {
+
+namespace {
+
+Estimate scaled(const Estimate& e, double by) { return {e.mean * by, e.se * std::abs(by)}; }
+
+// The estimate `value` with the relative error `rel` of another figure it follows.
+Estimate with_rel_error(double value, double rel) { return {value, std::abs(value) * rel}; }
+
+}  // namespace
+
+DesignEstimate estimate_history(const std::string& name, const Scene& scene, const std::map<int, StageRecord>& stages,
+                                double life_h, bool life_extrapolated) {
+  DesignEstimate d;
+  d.name = name;
+  d.replicates = 1;
+  d.source = ErrorSource::BatchMeans;
+  d.life_extrapolated = life_extrapolated;
+  const double len = scene.mill.length_m;
+  const double per_mill = len / scene.slice_thickness();
+  const auto own0 = stages.find(0);
+  const double area0 = own0 != stages.end() ? own0->second.lifter.area_m2 : std::nan("");
+  const double height0 = own0 != stages.end() ? own0->second.lifter.height_m : std::nan("");
+  // Variance of the area lost so far, from the rates of the stages before (m^4).
+  double area_var = 0.0;
+  const StageRecord* previous = nullptr;
+  for (const auto& [k, r] : stages) {
+    if (previous) {
+      const double dt_s = (r.hours - previous->hours) * kSecondsPerHour;
+      const double rate_se = previous->area_loss_rate_m2_per_s * previous->area_loss_rate_rel_sem;
+      area_var += (rate_se * dt_s) * (rate_se * dt_s);
+    }
+    previous = &r;
+    StageEstimate s;
+    s.stage = k;
+    s.hours = r.hours;
+    const double area_se = std::sqrt(area_var);
+    s.area_m2 = {r.lifter.area_m2, area_se};
+    s.area_loss_fraction = {1.0 - r.lifter.area_m2 / area0, area_se / area0};
+    // The height follows the area's error in proportion to what each has lost.
+    const double lost = area0 - r.lifter.area_m2;
+    s.height_m = {r.lifter.height_m, lost > 0.0 ? (height0 - r.lifter.height_m) * area_se / lost : 0.0};
+    const ChargeFigures& f = r.charge;
+    const ChargeFigureErrors& e = r.charge_errors;
+    s.power_W = {f.power_kW_per_m * 1e3 * len, e.power_kW_per_m * 1e3 * len};
+    s.collision_W = {f.collision_kW_per_m * 1e3 * len, e.collision_kW_per_m * 1e3 * len};
+    s.liner_shear_W = {f.liner_shear_kW_per_m * 1e3 * len, e.liner_shear_kW_per_m * 1e3 * len};
+    s.utilization = {f.power_kW_per_m != 0.0 ? f.collision_kW_per_m / f.power_kW_per_m : std::nan(""), e.utilization};
+    s.charge_mass_kg = {f.summary.mass_kg * per_mill, e.mass_kg * per_mill};
+    const MillEnergyFigures m = mill_energy_figures(f.summary, scene.slice_thickness(), len, r.liner_loss_rate_m2_per_s,
+                                                    scene.wear.liner_density_kg_m3);
+    const double power_rel = s.power_W.se / std::abs(s.power_W.mean);
+    const double mass_rel = s.charge_mass_kg.se / s.charge_mass_kg.mean;
+    s.specific_power_W_per_kg = with_rel_error(m.specific_power_W_per_kg, std::hypot(power_rel, mass_rel));
+    // The liner's loss follows the lifter's shear power's error.
+    s.liner_wear_kg_per_J = with_rel_error(m.liner_wear_kg_per_J, std::hypot(r.area_loss_rate_rel_sem, power_rel));
+    s.centre_of_mass_deg = {f.summary.centre_of_mass_deg, e.centre_of_mass_deg};
+    s.centrifuged = f.summary.centrifuged ? 1 : 0;
+    if (!f.summary.centrifuged) {
+      s.toe_deg = {f.summary.toe_deg, e.toe_deg};
+      s.shoulder_deg = {f.summary.shoulder_deg, e.shoulder_deg};
+    }
+    s.packed_shear_share = {f.summary.packed_shear_share, e.packed_shear_share};
+    d.stages.push_back(s);
+  }
+  // The life follows the relative error of the area lost by the last stage.
+  if (!d.stages.empty() && std::isfinite(life_h)) {
+    const StageEstimate& last = d.stages.back();
+    const double lost = area0 - last.area_m2.mean;
+    d.life_h = {life_h, lost > 0.0 ? life_h * last.area_m2.se / lost : std::nan("")};
+  }
+  return d;
+}
+
+namespace {
+
+struct Figure {
+  const char* column;
+  const char* unit;
+  Estimate StageEstimate::*field;
+  double scale;  // SI -> the file edge's unit
+};
+
+std::string number_text(double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+std::string verdict_text(const Verdict& v) {
+  const double d = v.difference.value;
+  const std::string pm =
+      number_text(std::abs(d)) + " +- " + number_text(v.difference.se) + (v.unit.empty() ? "" : " " + v.unit);
+  std::string what;
+  if (v.figure == "life_h")
+    what = v.design + (d >= 0.0 ? " outlasts " : " wears out before ") + v.reference + " by " + pm;
+  else
+    what = v.figure + (v.stage >= 0 ? " at stage " + std::to_string(v.stage) : std::string()) + ": " + v.design +
+           (d >= 0.0 ? " is higher than " : " is lower than ") + v.reference + " by " + pm;
+  const char* errors = v.source == ErrorSource::Replicates ? "" : "; batch-means errors, a lower bound";
+  if (!std::isfinite(v.difference.se)) return what + " (no error known)";
+  if (v.difference.resolved)
+    return what + " (resolved: more than " + number_text(kResolvedSigmas) + " combined standard errors" + errors + ")";
+  std::string more = v.difference.replicates_needed > 0
+                         ? "run more replicates (about " + std::to_string(v.difference.replicates_needed) +
+                               " per design would resolve it)"
+                         : "no difference to resolve";
+  return what + " (not resolved: " + more + errors + ")";
+}
+
+}  // namespace
+
+std::vector<Verdict> compare_designs(const std::vector<DesignEstimate>& designs, const std::string& reference) {
+  std::vector<Verdict> out;
+  const auto ref = std::find_if(designs.begin(), designs.end(), [&](const DesignEstimate& d) { return d.name == reference; });
+  if (ref == designs.end()) return out;
+  const Figure at_new[] = {
+      {"power_kw", "kW", &StageEstimate::power_W, 1e-3},
+      {"specific_power_kw_per_t", "kW/t", &StageEstimate::specific_power_W_per_kg, kW_per_t(1.0)},
+      {"collision_kw", "kW", &StageEstimate::collision_W, 1e-3},
+      {"utilization", "", &StageEstimate::utilization, 1.0},
+      {"liner_shear_kw", "kW", &StageEstimate::liner_shear_W, 1e-3},
+      {"liner_wear_g_per_kwh", "g/kWh", &StageEstimate::liner_wear_kg_per_J, g_per_kWh(1.0)},
+  };
+  for (const DesignEstimate& d : designs) {
+    if (d.name == reference) continue;
+    const int replicates = std::min(d.replicates, ref->replicates);
+    const ErrorSource source = d.source == ErrorSource::Replicates && ref->source == ErrorSource::Replicates
+                                   ? ErrorSource::Replicates : ErrorSource::BatchMeans;
+    auto add = [&](const char* figure, const char* unit, int stage, double hours, Estimate a, Estimate b) {
+      Verdict v;
+      v.figure = figure;
+      v.unit = unit;
+      v.stage = stage;
+      v.hours = hours;
+      v.design = d.name;
+      v.reference = reference;
+      v.value = a;
+      v.reference_value = b;
+      v.difference = compare(a, b, replicates);
+      v.replicates = replicates;
+      v.source = source;
+      v.text = verdict_text(v);
+      out.push_back(v);
+    };
+    add("life_h", "h", -1, 0.0, d.life_h, ref->life_h);
+    const std::size_t last = std::min(d.stages.size(), ref->stages.size());
+    if (last > 1) {
+      const StageEstimate& a = d.stages[last - 1];
+      const StageEstimate& b = ref->stages[last - 1];
+      add("area_loss_pct", "%", a.stage, a.hours, scaled(a.area_loss_fraction, 100.0), scaled(b.area_loss_fraction, 100.0));
+    }
+    if (last > 0)
+      for (const Figure& f : at_new)
+        add(f.column, f.unit, 0, d.stages[0].hours, scaled(d.stages[0].*f.field, f.scale),
+            scaled(ref->stages[0].*f.field, f.scale));
+  }
+  return out;
+}
+
+}  // namespace millwear::study

@@ -1,0 +1,220 @@
+// Figures with their errors: means and standard errors, the verdict of a difference, histories
+// folded into a design's estimate; and `millwear run --replicates` end to end on the lab mill:
+// the reported error against the spread of independent runs, the label of one history's
+// batch-means errors, and the comparison's verdicts.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_support.hpp"
+#include "io/csv.hpp"
+#include "metrics/estimates.hpp"
+
+namespace fs = std::filesystem;
+using millwear::Estimate;
+
+namespace {
+
+TEST(Estimates, MeanAndStandardErrorOfKnownValues) {
+  // 1, 2, 3, 4: mean 2.5, sample variance 5/3, se = sqrt(5/3 / 4).
+  const Estimate e = millwear::mean_and_se({1.0, 2.0, 3.0, 4.0});
+  EXPECT_DOUBLE_EQ(e.mean, 2.5);
+  EXPECT_NEAR(e.se, std::sqrt(5.0 / 3.0 / 4.0), 1e-15);
+  EXPECT_TRUE(std::isnan(millwear::mean_and_se({7.0}).se));
+  EXPECT_DOUBLE_EQ(millwear::mean_and_se({7.0}).mean, 7.0);
+  EXPECT_TRUE(std::isnan(millwear::mean_and_se({}).mean));
+}
+
+TEST(Estimates, ADifferenceIsResolvedPastTwoCombinedErrors) {
+  // Combined error sqrt(0.3^2 + 0.4^2) = 0.5: a difference of 1.01 is resolved, 0.99 is not.
+  const auto yes = millwear::compare({10.0, 0.3}, {8.99, 0.4}, 4);
+  EXPECT_NEAR(yes.se, 0.5, 1e-12);
+  EXPECT_TRUE(yes.resolved);
+  EXPECT_EQ(yes.replicates_needed, 0);
+  const auto no = millwear::compare({10.0, 0.3}, {9.01, 0.4}, 4);
+  EXPECT_FALSE(no.resolved);
+  // With n histories the error scales as sqrt(4 / n): 2 * 0.5 * sqrt(4 / n) < 0.99 from n = 5.
+  EXPECT_EQ(no.replicates_needed, 5);
+  EXPECT_LT(2.0 * 0.5 * std::sqrt(4.0 / 5.0), 0.99);
+  EXPECT_GT(2.0 * 0.5 * std::sqrt(4.0 / 4.0), 0.99);
+  // No error known: no verdict either way.
+  const auto unknown = millwear::compare({1.0, std::nan("")}, {0.0, 0.1}, 1);
+  EXPECT_FALSE(unknown.resolved);
+  EXPECT_EQ(unknown.replicates_needed, -1);
+}
+
+TEST(Estimates, HistoriesFoldIntoTheMeanAndItsError) {
+  std::vector<millwear::DesignEstimate> hs(3);
+  const double power[] = {100.0, 110.0, 120.0};
+  const double life[] = {900.0, 1000.0, 1100.0};
+  for (int i = 0; i < 3; ++i) {
+    millwear::StageEstimate s;
+    s.power_W = {power[i], 1.0};  // a history's own error is not the spread between histories
+    hs[i].stages = {s, s};
+    hs[i].life_h = {life[i], 5.0};
+    hs[i].life_extrapolated = i == 1;
+  }
+  hs[2].stages.pop_back();  // a history that finished one stage fewer
+  const millwear::DesignEstimate d = millwear::combine_histories("d", hs);
+  EXPECT_EQ(d.replicates, 3);
+  EXPECT_EQ(d.source, millwear::ErrorSource::Replicates);
+  ASSERT_EQ(d.stages.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.stages[0].power_W.mean, 110.0);
+  EXPECT_NEAR(d.stages[0].power_W.se, 10.0 / std::sqrt(3.0), 1e-12);
+  EXPECT_DOUBLE_EQ(d.life_h.mean, 1000.0);
+  EXPECT_NEAR(d.life_h.se, 100.0 / std::sqrt(3.0), 1e-12);
+  EXPECT_TRUE(d.life_extrapolated);
+}
+
+// --- `millwear run --replicates` on the lab mill --------------------------------------------
+
+using millwear::testing::quoted;
+using millwear::testing::read_text;
+using millwear::testing::run_millwear;
+
+std::string src(const std::string& rel) { return quoted(fs::path(MILLWEAR_SOURCE_DIR) / rel); }
+
+// Draft, one stage of wear after the new one: a short history.
+const std::string kShort = " --fidelity draft --quiet --set wear.stages=1";
+
+class Replicates : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("millwear-test-replicates-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // A copy of the lab-mill scene under another name and seed (and wear rate), in a scenarios/
+  // folder beside a link to the repository's profiles, which the scene names relatively.
+  fs::path scene_copy(const std::string& name, const std::string& seed, const std::string& wear_rate = "") {
+    std::string text = "\n" + read_text(fs::path(MILLWEAR_SOURCE_DIR) / "scenarios/lab-mill.toml");
+    const auto replace = [&text](const std::string& key, const std::string& value) {
+      const auto at = text.find("\n" + key + " =");
+      if (at == std::string::npos) {
+        ADD_FAILURE() << "lab-mill.toml has no " << key;
+        return;
+      }
+      const auto end = text.find('\n', at + 1);
+      text.replace(at + 1, end - at - 1, key + " = " + value);
+    };
+    replace("name", "\"" + name + "\"");
+    replace("seed", seed);
+    if (!wear_rate.empty()) replace("wear_rate", wear_rate);
+    std::error_code ec;
+    fs::create_directories(dir_ / "scenarios");
+    if (!fs::exists(dir_ / "profiles")) fs::create_directory_symlink(fs::path(MILLWEAR_SOURCE_DIR) / "profiles", dir_ / "profiles", ec);
+    const fs::path path = dir_ / "scenarios" / (name + ".toml");
+    std::ofstream(path) << text.substr(1);
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+struct Row {
+  double mean = 0.0, se = 0.0;
+};
+
+// A column and its _se at a design's stage in summary.csv.
+Row summary_value(const fs::path& out, const std::string& design, int stage, const std::string& column) {
+  const millwear::io::CsvData t = millwear::io::read_csv((out / "summary.csv").string());
+  const auto designs = t.texts("design");
+  const auto stages = t.numbers("stage");
+  const auto values = t.numbers(column);
+  const auto errors = t.numbers(column + "_se");
+  for (std::size_t i = 0; i < designs.size(); ++i)
+    if (designs[i] == design && static_cast<int>(stages[i]) == stage) return {values[i], errors[i]};
+  ADD_FAILURE() << "no row " << design << " stage " << stage << " in " << out;
+  return {};
+}
+
+TEST_F(Replicates, TheReportedErrorAgreesWithTheSpreadOfIndependentRuns) {
+  // Eight seeds in two groups of four: the groups' means differ by less than three combined
+  // standard errors (a 3-sigma check of a 1-degree-of-freedom difference).
+  const fs::path a = dir_ / "a", b = dir_ / "b";
+  const auto ra = run_millwear("run " + src("scenarios/lab-mill.toml") + " -o " + quoted(a) + kShort +
+                               " --replicates 4 --set solver.seed=1");
+  ASSERT_EQ(ra.exit_code, 0) << ra.output;
+  const auto rb = run_millwear("run " + src("scenarios/lab-mill.toml") + " -o " + quoted(b) + kShort +
+                               " --replicates 4 --set solver.seed=5");
+  ASSERT_EQ(rb.exit_code, 0) << rb.output;
+  for (const std::string column : {"area_loss_pct", "power_kw", "collision_kw", "liner_shear_kw"}) {
+    const int stage = column == "area_loss_pct" ? 1 : 0;
+    const Row x = summary_value(a, "lab-mill", stage, column), y = summary_value(b, "lab-mill", stage, column);
+    EXPECT_GT(x.se, 0.0) << column;
+    EXPECT_GT(y.se, 0.0) << column;
+    EXPECT_LT(std::abs(x.mean - y.mean), 3.0 * std::hypot(x.se, y.se)) << column;
+  }
+  // The replicates' own rows, and the manifest's record of where the errors come from.
+  const millwear::io::CsvData reps = millwear::io::read_csv((a / "replicates.csv").string());
+  EXPECT_EQ(reps.numbers("seed").size(), 8u);  // 4 histories x 2 stages
+  const auto m = nlohmann::json::parse(read_text(a / "manifest.json"));
+  EXPECT_EQ(m["replicates"], 4);
+  EXPECT_EQ(m["estimates"][0]["error_source"], "replicates");
+  EXPECT_EQ(m["designs"].size(), 4u);
+  // Replicate 1 is the design's own run: seed 1, the same files as without --replicates.
+  EXPECT_TRUE(fs::exists(a / "profiles/lab-mill_stage1.csv"));
+  EXPECT_TRUE(fs::exists(a / "profiles/lab-mill.r4_stage1.csv"));
+  EXPECT_NE(read_text(a / "summary.csv").find(",replicates,"), std::string::npos);
+}
+
+TEST_F(Replicates, OneHistorysErrorsAreLabelledALowerBound) {
+  const fs::path out = dir_ / "one";
+  const auto r = run_millwear("run " + src("scenarios/lab-mill.toml") + " -o " + quoted(out) + kShort);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const millwear::io::CsvData t = millwear::io::read_csv((out / "summary.csv").string());
+  for (const auto& s : t.texts("error_source")) EXPECT_EQ(s, "batch_means_lower_bound");
+  EXPECT_NE(r.output.find("a lower bound"), std::string::npos) << r.output;
+  EXPECT_GT(summary_value(out, "lab-mill", 0, "power_kw").se, 0.0);
+  EXPECT_GT(summary_value(out, "lab-mill", 1, "area_loss_pct").se, 0.0);
+  EXPECT_FALSE(fs::exists(out / "replicates.csv"));
+  const auto m = nlohmann::json::parse(read_text(out / "manifest.json"));
+  EXPECT_EQ(m["estimates"][0]["error_source"], "batch_means_lower_bound");
+}
+
+// The verdict on a figure in the manifest.
+nlohmann::json verdict(const fs::path& out, const std::string& figure) {
+  const auto m = nlohmann::json::parse(read_text(out / "manifest.json"));
+  for (const auto& v : m["verdicts"])
+    if (v["figure"] == figure) return v;
+  ADD_FAILURE() << "no verdict on " << figure;
+  return {};
+}
+
+TEST_F(Replicates, TwoCopiesOfADesignAreNotResolvedAndADoubledWearRateIs) {
+  const fs::path same = dir_ / "same", doubled = dir_ / "doubled";
+  const fs::path a = scene_copy("copy-a", "11"), b = scene_copy("copy-b", "23");
+  const auto r1 = run_millwear("run " + quoted(a) + " " + quoted(b) + " -o " + quoted(same) + kShort +
+                               " --replicates 3 --reference copy-a");
+  ASSERT_EQ(r1.exit_code, 0) << r1.output;
+  for (const std::string figure : {"life_h", "area_loss_pct", "power_kw"}) {
+    const auto v = verdict(same, figure);
+    EXPECT_FALSE(v["resolved"].get<bool>()) << v.dump();
+    EXPECT_NE(v["text"].get<std::string>().find("not resolved"), std::string::npos);
+  }
+  EXPECT_NE(read_text(same / "summary.md").find("not resolved"), std::string::npos);
+
+  // The same seed, one design wearing twice as fast: its area loss is resolved as higher and
+  // its life as shorter.
+  const fs::path fast = scene_copy("fast", "11", "2e-10");
+  const auto r2 = run_millwear("run " + quoted(a) + " " + quoted(fast) + " -o " + quoted(doubled) + kShort +
+                               " --replicates 3 --reference copy-a");
+  ASSERT_EQ(r2.exit_code, 0) << r2.output;
+  const auto loss = verdict(doubled, "area_loss_pct");
+  EXPECT_TRUE(loss["resolved"].get<bool>()) << loss.dump();
+  EXPECT_GT(loss["difference"].get<double>(), 0.0);
+  const auto life = verdict(doubled, "life_h");
+  EXPECT_TRUE(life["resolved"].get<bool>()) << life.dump();
+  EXPECT_LT(life["difference"].get<double>(), 0.0);
+  EXPECT_NE(life["text"].get<std::string>().find("fast wears out before copy-a"), std::string::npos) << life.dump();
+}
+
+}  // namespace
