@@ -633,3 +633,45 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
 
 }  // namespace
 }  // namespace millwear
+
+namespace millwear::validation {
+
+// `calibrate --replicates N`: after the iterations, N - 1 more histories at the calibrated C
+// with seeds s+1 .. s+N-1, each fitted on its own; C is the mean of every estimate after the
+// first history, and the simulation's error is their spread over sqrt(estimates). Here a
+// history "fits" C exactly times a factor set by its seed, so the mean and spread are known.
+TEST(CalibrationReplicates, OtherSeedsJoinTheMeanAndTheirSpreadIsTheError) {
+  Scene scene = load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml");
+  scene.wear.wear_rate_m3_per_J = 1e-10;
+  std::uint64_t seed_run = 0;
+  const auto run_history = [&](const Scene& s) {
+    seed_run = s.solver.seed;
+    WearHistory h;
+    h.wear_rate_m3_per_J = s.wear.wear_rate_m3_per_J;
+    StageRecord st;
+    st.hours = 100.0;
+    h.stages = {StageRecord{}, st};
+    return h;
+  };
+  // The scene's seed fits exactly (scale 1); seed s+k fits at 1 + 0.02 k.
+  const auto fit = [&](const std::vector<StageRecord>&) {
+    ScaleFit f;
+    f.scale = 1.0 + 0.02 * static_cast<double>(seed_run - scene.solver.seed);
+    f.points = 2;
+    return f;
+  };
+  CalibrationOptions opt;
+  opt.min_runs = 2;
+  opt.replicates = 3;
+  const CalibrationResult r = calibrate_by_time_scale(scene, {100.0}, fit, opt, nullptr, run_history);
+  ASSERT_EQ(r.runs.size(), 4u);  // two iterations (both at the scene's seed), two replicates
+  EXPECT_EQ(r.runs[2].replicate, 2);
+  EXPECT_EQ(r.runs[2].seed, scene.solver.seed + 1);
+  EXPECT_EQ(r.runs[3].seed, scene.solver.seed + 2);
+  // Estimates after the first history: 1.00, 1.02, 1.04 (x 1e-10).
+  EXPECT_EQ(r.histories_averaged, 3);
+  EXPECT_NEAR(r.c_m3_per_J, 1.02e-10, 1e-22);
+  EXPECT_NEAR(r.sigma_model_m3_per_J, 0.02e-10 / std::sqrt(3.0), 1e-22);
+}
+
+}  // namespace millwear::validation

@@ -40,6 +40,7 @@ int run_calibrate(CalibrateArgs a) {
     std::fflush(stdout);
   };
   cb.on_run = [&areas](const validation::CalibrationRun& r) {
+    if (r.replicate > 1) std::printf("replicate %d (seed %llu): ", r.replicate, static_cast<unsigned long long>(r.seed));
     std::printf("run %d: C = %.4g m^3/J to %.0f h: best fit C = %.4g (x %.4f), rms %.3f %s over %d %s%s (%.1f s)\n",
                 r.run, r.c_m3_per_J, r.reached_hours, r.c_estimate, r.fit.scale, r.fit.rms * (areas ? 1e6 : 1e3),
                 areas ? "mm^2" : "mm", r.fit.points, areas ? "worn area(s)" : "points",
@@ -96,6 +97,10 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("--min-runs", r.options.min_runs,
                   "wear histories at least (default 2); every history after the first is an estimate, and C is "
                   "their mean")
+      ->check(CLI::Range(1, 1000));
+  cmd->add_option("--replicates", r.options.replicates,
+                  "histories at the calibrated C with seeds s .. s+N-1 (default 1): their estimates join the mean "
+                  "and their spread measures the charge's noise")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (default 1)")
       ->check(CLI::Range(1e-6, 100.0));

@@ -171,6 +171,7 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     throw_if_failed(h);
     CalibrationRun r;
     r.run = run;
+    r.seed = s.solver.seed;
     r.c_m3_per_J = h.wear_rate_m3_per_J;
     for (const StageRecord& st : h.stages) r.reached_hours = std::max(r.reached_hours, st.hours);
     r.fit = fit_history(h.stages);
@@ -189,6 +190,27 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
       result.converged = true;
       break;
     }
+  }
+  // Replicates: the calibrated C again with other seeds, each history fitted on its own.
+  for (int k = 2; k <= opt.replicates; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Scene s = scene_for_survey_hours(scene, survey_hours, result.runs.back().c_m3_per_J, opt.reach);
+    s.solver.seed += static_cast<std::uint64_t>(k - 1);
+    WearHistory h = run_history ? run_history(s) : run_wear_history(s);
+    throw_if_failed(h);
+    CalibrationRun r;
+    r.run = static_cast<int>(result.runs.size()) + 1;
+    r.replicate = k;
+    r.seed = s.solver.seed;
+    r.c_m3_per_J = h.wear_rate_m3_per_J;
+    for (const StageRecord& st : h.stages) r.reached_hours = std::max(r.reached_hours, st.hours);
+    r.fit = fit_history(h.stages);
+    r.c_estimate = r.fit.scale * r.c_m3_per_J;
+    r.events = h.events;
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.runs.push_back(r);
+    result.last_history = std::move(h);
+    if (on_run) on_run(r);
   }
   const CalibrationRun& last = result.runs.back();
   // Every history after the first ran near the answer and gives its own estimate, with its

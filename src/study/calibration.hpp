@@ -27,6 +27,7 @@
 // reported as an expanded uncertainty U = 2 sigma (about 95%). A round trip on simulated
 // surveys carries (c) twice (the surveys are one realisation, the fit another): there the
 // difference may reach about sqrt(2) U.
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -85,10 +86,15 @@ struct CalibrationOptions {
                                 // run's own statistical error if that is larger
   double first_reach = 1.6;     // first history runs to this x the last survey's hours
   double reach = 1.0;           // later histories (plus the extrapolation limit)
+  // Histories at the calibrated C with seeds s .. s+N-1 (the last iteration's is seed s):
+  // their estimates join the mean, and their spread is the charge's own noise measured.
+  int replicates = 1;
 };
 
 struct CalibrationRun {
   int run = 0;
+  int replicate = 1;            // 1: an iteration (the scene's seed); K > 1: seed + K - 1
+  std::uint64_t seed = 0;
   double c_m3_per_J = 0.0;      // C of the history run
   double reached_hours = 0.0;
   ScaleFit fit;                 // s against this history

@@ -89,11 +89,11 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
 
 void write_calibration_tables(const std::string& out, const CalibrationResult& res, bool areas) {
   // rms of the residuals: normal distances (mm) for profiles, area losses (mm^2) for areas.
-  io::CsvTable runs({"run", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J",
+  io::CsvTable runs({"run", "replicate", "seed", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J",
                      areas ? "rms_mm2" : "rms_mm", "points", "sigma_scale_curvature", "sigma_scale_spread",
                      "at_bound", "wall_s"});
   for (const auto& r : res.runs)
-    runs.add_row({r.run, r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms * (areas ? 1e6 : 1e3),
+    runs.add_row({r.run, r.replicate, static_cast<unsigned long long>(r.seed), r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms * (areas ? 1e6 : 1e3),
                   r.fit.points, r.fit.sigma_curvature, r.fit.sigma_spread, r.fit.at_bound, r.wall_s});
   runs.write(io::join_path(out, "calibration.csv"));
   io::CsvTable per({"hours", "c_m3_per_J"});
