@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/errors.hpp"
@@ -93,13 +94,50 @@ Json scene_settings(const Scene& s) {
 
 }  // namespace
 
-// summary.csv: one row per design and stage.
+namespace {
+
+// summary.csv's columns of each kind of lifter of a pattern, after the common ones.
+const std::vector<std::string> kKindSummaryColumns = {"profile", "area_mm2", "area_loss_pct", "height_mm",
+                                                      "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"};
+
+// Kind k's cells of one stage row (empty cells where the design has no kind k).
+void add_kind_cells(std::vector<CsvCell>& row, const DesignReport& d, const StageRecord& r, std::size_t k) {
+  const std::size_t kinds = static_cast<std::size_t>(d.scene->mill.kind_count());
+  if (kinds < 2 || k >= kinds || k >= r.kinds.size()) {
+    for (std::size_t i = 0; i < kKindSummaryColumns.size(); ++i) row.emplace_back(std::string());
+    return;
+  }
+  const auto own0 = d.stages.find(0);
+  const double area0 = own0 != d.stages.end() && k < own0->second.kinds.size()
+                           ? own0->second.kinds[k].area_m2 * 1e6 : std::nan("");
+  const double area = r.kinds[k].area_m2 * 1e6;
+  const double rate = k < r.kind_area_loss_rate_m2_per_s.size()
+                          ? r.kind_area_loss_rate_m2_per_s[k] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
+  row.emplace_back(d.scene->mill.kind(static_cast<int>(k)).name);
+  row.emplace_back(area);
+  row.emplace_back(100.0 * (1.0 - area / area0));
+  row.emplace_back(r.kinds[k].height_m * 1e3);
+  row.emplace_back(rate);
+  row.emplace_back(k < d.kind_life_h.size() ? d.kind_life_h[k] : std::nan(""));
+  row.emplace_back(k < d.kind_life_extrapolated.size() ? bool(d.kind_life_extrapolated[k]) : true);
+}
+
+}  // namespace
+
+// summary.csv: one row per design and stage; with a pattern of kinds, every kind's lifter
+// in kindK_ columns on the same row.
 void write_summary(const RunReport& report) {
   const auto& designs = report.designs;
-  CsvTable t({"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
-                  "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
-                  "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct", "charge_t",
-                  "specific_power_kw_per_t", "liner_wear_g_per_kwh"});
+  std::vector<std::string> columns{"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct", "height_mm",
+                                   "power_kw", "power_norm", "collision_kw", "collision_norm", "utilization",
+                                   "utilization_norm", "life_h", "life_extrapolated", "packed_shear_pct", "charge_t",
+                                   "specific_power_kw_per_t", "liner_wear_g_per_kwh"};
+  std::size_t kinds = 0;  // the most kinds of any design with a pattern (0: none has one)
+  for (const DesignReport& d : designs)
+    if (d.scene->mill.kind_count() > 1) kinds = std::max(kinds, static_cast<std::size_t>(d.scene->mill.kind_count()));
+  for (std::size_t k = 0; k < kinds; ++k)
+    for (const std::string& c : kKindSummaryColumns) columns.push_back("kind" + std::to_string(k) + "_" + c);
+  CsvTable t(columns);
   // The reference design's new stage normalises every *_norm column.
   double ref_area = std::nan(""), ref_power = std::nan(""), ref_coll = std::nan(""), ref_util = std::nan("");
   for (std::size_t i = 0; i < designs.size(); ++i) {
@@ -128,10 +166,13 @@ void write_summary(const RunReport& report) {
       const MillEnergyFigures e = mill_energy_figures(r.charge.summary, st.scene->slice_thickness(), len,
                                                       r.liner_loss_rate_m2_per_s,
                                                       st.scene->wear.liner_density_kg_m3);
-      t.add_row({designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
-                 r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
-                 util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share,
-                 e.charge_mass_kg * 1e-3, kW_per_t(e.specific_power_W_per_kg), g_per_kWh(e.liner_wear_kg_per_J)});
+      std::vector<CsvCell> row{designs[i].name, k, r.hours, area, area / ref_area, 100.0 * (1.0 - area / own_area),
+                               r.lifter.height_m * 1e3, power, power / ref_power, coll, coll / ref_coll, util,
+                               util / ref_util, life_h, extrapolated, 100.0 * r.charge.summary.packed_shear_share,
+                               e.charge_mass_kg * 1e-3, kW_per_t(e.specific_power_W_per_kg),
+                               g_per_kWh(e.liner_wear_kg_per_J)};
+      for (std::size_t kind = 0; kind < kinds; ++kind) add_kind_cells(row, st, r, kind);
+      t.add_row(std::move(row));
     }
   }
   t.write(summary_path(report.out));
@@ -144,7 +185,7 @@ void write_kinds(const RunReport& report) {
   for (const DesignReport& d : report.designs) any = any || d.scene->mill.kind_count() > 1;
   if (!any) return;
   CsvTable t({"design", "kind", "profile", "stage", "hours", "area_mm2", "area_loss_pct", "height_mm",
-              "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"});
+              "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated", "replacement_height_mm"});
   for (const DesignReport& d : report.designs) {
     const int kinds = d.scene->mill.kind_count();
     if (kinds < 2) continue;
@@ -161,7 +202,8 @@ void write_kinds(const RunReport& report) {
         const double rate = idx < r.kind_area_loss_rate_m2_per_s.size()
                                 ? r.kind_area_loss_rate_m2_per_s[idx] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
         t.add_row({d.name, k, d.scene->mill.kind(k).name, stage, r.hours, area, 100.0 * (1.0 - area / area0),
-                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated});
+                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated,
+                   d.scene->wear.replacement_height_m * 1e3});
       }
     }
   }

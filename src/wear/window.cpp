@@ -72,6 +72,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   const int batch_steps = std::max(1, steps_for(batch_s, engine.time_step_s()));
   WindowWork w;
   std::vector<double> batch_power;
+  std::vector<std::vector<double>> kind_batch_power(mill.kinds > 1 ? static_cast<std::size_t>(mill.kinds) : 0);
   for (int b = 0; b < kMaxWindowBatches; ++b) {
     check_stop();
     engine.reset_window();
@@ -90,7 +91,12 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     const Accounting& acc = engine.accounting();
     std::vector<double> p(acc.shear_work_J.size());
     for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;
-    batch_power.push_back(lifter_power_W(mill, unit_edge_work(mill, p, scene.wear.average_rows)));
+    const auto unit_power = unit_edge_work(mill, p, scene.wear.average_rows);
+    batch_power.push_back(lifter_power_W(mill, unit_power));
+    if (!kind_batch_power.empty()) {
+      const std::vector<double> kp = kind_lifter_power_W(mill, unit_power);
+      for (std::size_t k = 0; k < kind_batch_power.size(); ++k) kind_batch_power[k].push_back(kp[k]);
+    }
     accumulate_work(w.accounting, acc);
     const int n = static_cast<int>(batch_power.size());
     if (n < kWindowBatches) continue;
@@ -98,6 +104,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     if (scene.wear.target_rel_uncertainty <= 0.0 || w.lifter_power_rel_sem <= scene.wear.target_rel_uncertainty)
       break;
   }
+  for (const auto& kb : kind_batch_power) w.kind_lifter_power_rel_sem.push_back(batch_means(kb).rel_sem);
   w.simulated_s = w.accounting.time_s;
   w.edge_power_W.resize(w.accounting.shear_work_J.size());
   for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)
