@@ -39,12 +39,14 @@ do for [fmt in formats] {
   set ylabel "Lifter height (mm)"
   set title "(c) Height; filled: the life, at the replacement height"
   set key bottom left
+  stats kind_file(word(series, 1)) using "replacement_height_mm" nooutput
+  set arrow 1 from graph 0, first STATS_min to graph 1, first STATS_min nohead dt 2 lc "gray"
   plot for [i = 1:n] kind_file(word(series, i)) using "hours":"height_mm" \
          with linespoints ls i title curve_title(i), \
        for [i = 1:n] kind_file(word(series, i)) every ::0::0 \
          using (finite(column("life_h"))):"replacement_height_mm" with points ls i pt 7 ps 2 notitle, \
-       kind_file(word(series, 1)) using "hours":"replacement_height_mm" with lines dt 2 lc "gray" \
-         title "replacement height"
+       NaN with lines dt 2 lc "gray" title "replacement height"
+  unset arrow 1
   unset multiplot
   set output
 }
