@@ -166,7 +166,7 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
 // deep, the scan starting 50 mm left of the lifter's centre and ending one pitch later.
 double lab_pitch_mm() { return 2.0 * kPi * 300.0 / 12.0; }
 double lab_unit_y(double x_mm) {  // the true surface, periodic in the pitch
-  const double p = lab_pitch_mm(), hb = 10.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // base 2 x 16.55
+  const double p = lab_pitch_mm(), hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // half base 16.55
   double x = std::fmod(x_mm, p);
   if (x > 0.5 * p) x -= p;
   if (x < -0.5 * p) x += p;

@@ -56,8 +56,9 @@ void compute_life(WearHistory& h, double replacement_height_m) {
     h.kind_life_h.push_back(kl.hours);
     h.kind_life_extrapolated.push_back(kl.extrapolated);
   }
-  // A liner of several kinds is relined when its first kind reaches the replacement height:
-  // that kind's life is the liner's (a plain liner keeps its row-0 life above).
+  // A liner of several kinds is relined when any of its kinds reaches the replacement
+  // height: the shortest-lived kind's life is the liner's (a plain liner keeps its row-0
+  // life above).
   if (kinds > 1) {
     std::size_t first = 0;
     for (std::size_t k = 1; k < kinds; ++k)
