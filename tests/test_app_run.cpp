@@ -117,6 +117,10 @@ TEST_F(AppRun, WritesEveryListedFile) {
 TEST_F(AppRun, SummaryParsesWithTheNamedColumns) {
   const millwear::io::CsvData s = millwear::io::read_csv((full_ / "summary.csv").string());
   for (const char* c : kColumns) EXPECT_TRUE(s.has_column(c)) << c;
+  // A plain liner's summary has exactly these columns, in this order (per-kind columns come
+  // only with a pattern of kinds).
+  ASSERT_EQ(s.header.size(), std::size(kColumns));
+  for (std::size_t i = 0; i < s.header.size(); ++i) EXPECT_EQ(s.header[i], kColumns[i]) << i;
   ASSERT_EQ(s.row_count(), 3u);  // stages 0, 1, 2
   const auto hours = s.numbers("hours"), area = s.numbers("area_mm2"), loss = s.numbers("area_loss_pct");
   EXPECT_EQ(hours[0], 0.0);

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -94,6 +95,8 @@ std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7) {
   return text;
 }
 
+std::string slurp(const fs::path& p) { return millwear::testing::read_text(p); }
+
 // ---- measured profiles ----------------------------------------------------------------
 
 TEST(MeasuredProfile, NoisyScanWithRepeatsGivesALifterWithFeetOnTheShell) {
@@ -156,6 +159,103 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
     EXPECT_EQ(e.where, "lifters.rows");
     EXPECT_NE(std::string(e.what()).find("no wider than the pitch"), std::string::npos);
   }
+}
+
+// A whole liner unit's scan with its pitch: the lab lifter (base +-16.55 mm) in the 157.08 mm
+// pitch of 12 rows in the 0.6 m mill, the shell plate between lifters worn into a dish 4 mm
+// deep, the scan starting 50 mm left of the lifter's centre and ending one pitch later.
+double lab_pitch_mm() { return 2.0 * kPi * 300.0 / 12.0; }
+double lab_unit_y(double x_mm) {  // the true surface, periodic in the pitch
+  const double p = lab_pitch_mm(), hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // half base 16.55
+  double x = std::fmod(x_mm, p);
+  if (x > 0.5 * p) x -= p;
+  if (x < -0.5 * p) x += p;
+  const double ax = std::fabs(x);
+  if (ax <= 5.0) return 20.0;
+  if (ax <= hb) return 20.0 * (hb - ax) / (hb - 5.0);
+  return -4.0 * std::sin(kPi * (ax - hb) / (p - 2.0 * hb));  // the dish, 0 at both lifters
+}
+std::string whole_unit_scan(const std::string& pitch_line) {
+  std::string text = "# a template gauge of one liner unit\n" + pitch_line + "x_mm,y_mm\n";
+  char line[64];
+  const double a = -50.0, p = lab_pitch_mm();
+  const int n = 400;
+  for (int i = 0; i <= n; ++i) {
+    const double x = a + p * i / n;
+    std::snprintf(line, sizeof line, "%.6f,%.6f\n", x, lab_unit_y(x));
+    text += line;
+  }
+  return text;
+}
+
+TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndTheMill) {
+  TempDir dir("pitch");
+  char pitch[64];
+  std::snprintf(pitch, sizeof pitch, "# pitch_mm = %.3f\n", lab_pitch_mm());
+  const LifterProfile p = parse_measured_profile(whole_unit_scan(pitch), "unit.csv");
+  EXPECT_NEAR(p.unit_pitch_m * 1e3, lab_pitch_mm(), 1e-3);
+  EXPECT_EQ(p.pitch_line, 2);
+
+  // In the mill the unit is the scan repeated one pitch on: left of where the scan starts
+  // (x < -50 mm) the surface is the dish the scan measured right of the lifter.
+  dir.file("unit.csv", whole_unit_scan(pitch));
+  const Scene with = load_scene(dir.file("with.toml", lab_scene_text("rows = 12\nprofile = \"unit.csv\"")));
+  auto y_at = [](const LinerUnit& u, double x_mm) {
+    for (std::size_t i = 0; i + 1 < u.surface.size(); ++i) {
+      const Vec2 a = u.surface[i] * 1e3, b = u.surface[i + 1] * 1e3;
+      if ((a.x - x_mm) * (b.x - x_mm) <= 0.0 && a.x != b.x) return a.y + (b.y - a.y) * (x_mm - a.x) / (b.x - a.x);
+    }
+    return std::nan("");
+  };
+  const LinerUnit uw = new_liner_unit(with);
+  const double half = 0.5 * lab_pitch_mm() * 1e-3;
+  EXPECT_NEAR(uw.surface.front().x, -half, 1e-12);
+  EXPECT_NEAR(uw.surface.back().x, half, 1e-12);
+  // The unit is centred on the lifter's feet as read (where the scan's chords cross y = 0,
+  // a little off the true feet): unit x is scan x + shift. A measured unit is resampled at the
+  // 2 mm lifter edge: on the dish, 4 mm deep over 124 mm, chords stay within
+  // (2 mm)^2 / 8 x its curvature 4 (pi / 124 mm)^2 = 0.0013 mm of the curve.
+  const double shift_mm = -0.5 * (p.points.front().x + p.points.back().x) * 1e3;
+  EXPECT_LT(std::fabs(shift_mm), 0.4);  // within a scan step (0.39 mm) of the true centre
+  for (double x : {-75.0, -65.0, -55.0, -40.0, 30.0, 60.0, 75.0})
+    EXPECT_NEAR(y_at(uw, x), lab_unit_y(x - shift_mm), 0.002) << x;
+  // Without the line the scan is taken for one lifter with its plates, centred on the lifter:
+  // reaching 107 mm right of it, past the half pitch (78.5 mm), it is refused.
+  dir.file("plain.csv", whole_unit_scan(""));
+  try {
+    load_scene(dir.file("without.toml", lab_scene_text("rows = 12\nprofile = \"plain.csv\"")));
+    ADD_FAILURE() << "a scan wider than the pitch about its lifter was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no wider than the pitch"), std::string::npos) << e.what();
+  }
+
+  // A pitch its points do not span: the file and the pitch line named.
+  auto message = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  std::string m = message([] { parse_measured_profile(whole_unit_scan("# pitch_mm = 140\n"), "short.csv"); });
+  EXPECT_NE(m.find("short.csv"), std::string::npos) << m;
+  EXPECT_NE(m.find("line 2"), std::string::npos) << m;
+  EXPECT_NE(m.find("pitch_mm = 140"), std::string::npos) << m;
+  m = message([] { parse_measured_profile(whole_unit_scan("# pitch_mm = wide\n"), "bad.csv"); });
+  EXPECT_NE(m.find("line 2"), std::string::npos) << m;
+  // Agreeing with its points but not with the mill: 10 rows stand 188.5 mm apart.
+  const std::string ten = dir.file("ten.toml", lab_scene_text("rows = 10\nprofile = \"unit.csv\""));
+  m = message([&] { load_scene(ten); });
+  EXPECT_NE(m.find("unit.csv"), std::string::npos) << m;
+  EXPECT_NE(m.find("line 2"), std::string::npos) << m;
+  EXPECT_NE(m.find("188.496"), std::string::npos) << m;
+  // The same through the command line: exit 2 before any work.
+  const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(ten) + " -o " +
+                                                 millwear::testing::quoted(dir.path() / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("line 2"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "out"));
 }
 
 // The noisy scan at 2000 h: the history starts there, its stage 0 is the file's lifter
@@ -316,9 +416,57 @@ TEST(Pattern, HighLiftersWearFasterThanLowOnes) {
   for (double life : h.kind_life_h) EXPECT_GT(life, 0.0);
 }
 
-// ---- run --continue --------------------------------------------------------------------
+// summary.csv of a hi-lo run: every kind's lifter on each stage's row (the figures of
+// kinds.csv, read without joining files), the liner's life that of the kind that reaches the
+// replacement height first, and the kinds figure.
+TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
+  TempDir dir("hilo-summary");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                      "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  const std::string scene =
+      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
+  const fs::path out = dir.path() / "out";
+  const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(scene) + " -o " +
+                                                 millwear::testing::quoted(out) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData sum = io::read_csv((out / "summary.csv").string());
+  const io::CsvData kinds = io::read_csv((out / "kinds.csv").string());
+  ASSERT_EQ(sum.row_count(), 2u);  // stages 0 and 1
+  ASSERT_EQ(kinds.row_count(), 4u);  // 2 kinds x 2 stages
+  for (const char* c : {"kind0_profile", "kind0_area_mm2", "kind0_area_loss_pct", "kind0_height_mm",
+                        "kind0_area_loss_rate_mm2_per_1000h", "kind0_life_h", "kind0_life_extrapolated",
+                        "kind1_profile", "kind1_area_mm2", "kind1_life_h"})
+    EXPECT_TRUE(sum.has_column(c)) << c;
+  EXPECT_FALSE(sum.has_column("kind2_area_mm2"));
+  for (std::size_t i = 0; i < kinds.row_count(); ++i) {
+    const int k = static_cast<int>(kinds.number(i, "kind"));
+    const std::size_t row = static_cast<std::size_t>(kinds.number(i, "stage"));
+    const std::string pre = "kind" + std::to_string(k) + "_";
+    EXPECT_EQ(sum.text(row, sum.column(pre + "profile")), kinds.text(i, kinds.column("profile")));
+    // Both files are written from the same doubles to the same 10 digits: equal as text.
+    for (const char* c : {"area_mm2", "area_loss_pct", "height_mm", "area_loss_rate_mm2_per_1000h", "life_h",
+                          "life_extrapolated"})
+      EXPECT_EQ(sum.text(row, sum.column(pre + c)), kinds.text(i, kinds.column(c))) << pre << c;
+  }
+  // The first kind's columns are the plain ones; the liner's life is the shorter-lived kind's.
+  EXPECT_EQ(sum.text(1, sum.column("area_mm2")), sum.text(1, sum.column("kind0_area_mm2")));
+  EXPECT_EQ(sum.text(0, sum.column("kind1_profile")), "lab-lo");
+  const double l0 = sum.number(0, "kind0_life_h"), l1 = sum.number(0, "kind1_life_h");
+  EXPECT_EQ(sum.number(0, "life_h"), std::min(l0, l1));
+  EXPECT_NE(l0, l1);
+  // The kinds figure (with gnuplot): each curve titled with its kind's profile and life.
+  if (millwear::testing::run_shell("command -v gnuplot >/dev/null").exit_code == 0) {
+    EXPECT_GT(fs::file_size(out / "plots/kinds_area.png"), 1000u);
+    const std::string svg = slurp(out / "plots/kinds_area.svg");
+    char life[64];
+    std::snprintf(life, sizeof life, "lab-lo: life %.0f h", l1);
+    EXPECT_NE(svg.find(life), std::string::npos) << life;
+    EXPECT_NE(svg.find("replacement height"), std::string::npos);
+  }
+}
 
-std::string slurp(const fs::path& p) { return millwear::testing::read_text(p); }
+// ---- run --continue --------------------------------------------------------------------
 
 TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   TempDir dir("cont");

@@ -68,6 +68,11 @@ int run_profile(const ProfileArgs& args) {
                   p.name.c_str(), p.measured.size(), p.dropped_points, p.measured.front().x * 1e3,
                   p.measured.back().x * 1e3, lowest * 1e3);
     std::cout << row;
+    if (p.unit_pitch_m > 0.0) {
+      std::snprintf(row, sizeof row, "%s: one whole liner unit, pitch %.1f mm (line %d)\n", p.name.c_str(),
+                    p.unit_pitch_m * 1e3, p.pitch_line);
+      std::cout << row;
+    }
   }
 
   if (!args.csv_dir.empty()) {

@@ -9,7 +9,8 @@
 // screen-task` (cmd_screen_task.cpp). This file parses, prints and maps the outcome to an
 // exit code: 0 every design finished
 // and was ranked; 1 a design failed or is missing (the ranking lists it); 2 bad input
-// (screen file, base scene, no valid candidate); 130/143 interrupted (--resume continues).
+// (screen file, base scene, a --set override, no valid candidate); 130/143 interrupted
+// (--resume continues).
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include "app/duration_text.hpp"
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
+#include "app/set_option.hpp"
 #include "app/signals.hpp"
 #include "common/errors.hpp"
 #include "common/units.hpp"
@@ -81,6 +83,8 @@ void print_emitted(const ScreenArgs& a, const ScreenOutcome& o) {
 
 int screen_command(const ScreenArgs& args) {
   if (args.collect) {
+    if (!args.request.overrides.empty())
+      throw InputError("", "--set", "no --set with --collect (the candidates were written with the screen's overrides)");
     const std::string out = !args.request.out.empty() ? args.request.out : args.request.screen_file;
     if (out.empty()) throw InputError("", "--collect", "the screen's output folder: --collect -o OUT (or --collect OUT)");
     return print_collected(out, collect_screen(out));
@@ -142,6 +146,7 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->footer(
       "Screen file: [screen] base = \"scene.toml\", sampling = \"grid\"|\"latin_hypercube\", equal_area, ...;\n"
       "[family] height, top_width, leading_face_angle, trailing_face_angle, rows, direction (see docs/screen.md).\n"
+      "--set KEY=VALUE goes over the base scene and into every candidate's scene file.\n"
       "OUT: designs.csv, rejected.csv, candidates/, designs/NAME/ (a `millwear run` folder each), ranking.csv, plots/.\n"
       "Exit codes: 0 all ranked, 1 a design failed or is missing, 2 bad input, 130/143 interrupted (--resume).");
   cmd->add_option("screen", r.screen_file, "screen file (TOML); with --collect: the output folder");
@@ -151,6 +156,7 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_flag("--resume", r.resume, "keep finished designs (and finished stages) in OUT, run the rest");
   cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
   cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")->check(CLI::Range(1, 100000));
+  add_set_option(cmd, &r.overrides);
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/errors.hpp"
@@ -134,7 +135,12 @@ std::vector<std::string> summary_header(bool histories) {
 }
 
 // The estimates' rows; `reference` normalises the *_norm columns.
-void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history) {
+void add_kind_cells(std::vector<CsvCell>& row, const DesignReport* d, int stage, std::size_t k);
+
+// The estimates' rows; `reference` normalises the *_norm columns; `kinds_from` gives the
+// kindK_ columns.
+void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history,
+              const DesignReport* kinds_from, std::size_t kinds) {
   const StageEstimate* ref0 = reference && !reference->stages.empty() && reference->stages.front().stage == 0
                                   ? &reference->stages.front() : nullptr;
   for (const StageEstimate& s : d.stages) {
@@ -153,6 +159,7 @@ void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* refere
       row.insert(row.end(), {e.mean / by, e.se / by});
     }
     row.insert(row.end(), {d.life_h.mean, d.life_h.se, d.life_extrapolated, s.centrifuged});
+    for (std::size_t k = 0; k < kinds; ++k) add_kind_cells(row, kinds_from, s.stage, k);
     t.add_row(row);
   }
 }
@@ -165,11 +172,66 @@ const DesignEstimate* find_estimate(const std::vector<DesignEstimate>& all, cons
 
 }  // namespace
 
-// summary.csv: one row per design and stage, every figure with its standard error.
+namespace {
+
+// summary.csv's columns of each kind of lifter of a pattern, after the common ones.
+const std::vector<std::string> kKindSummaryColumns = {"profile", "area_mm2", "area_loss_pct", "height_mm",
+                                                      "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"};
+
+// Kind k's cells of one stage row (empty cells where the design has no kind k).
+void add_kind_cells(std::vector<CsvCell>& row, const DesignReport* d, int stage, std::size_t k) {
+  const auto r_it = d ? d->stages.find(stage) : std::map<int, StageRecord>::const_iterator();
+  const std::size_t kinds = d ? static_cast<std::size_t>(d->scene->mill.kind_count()) : 0;
+  if (kinds < 2 || k >= kinds || r_it == d->stages.end() || k >= r_it->second.kinds.size()) {
+    for (std::size_t i = 0; i < kKindSummaryColumns.size(); ++i) row.emplace_back(std::string());
+    return;
+  }
+  const StageRecord& r = r_it->second;
+  const auto own0 = d->stages.find(0);
+  const double area0 = own0 != d->stages.end() && k < own0->second.kinds.size()
+                           ? own0->second.kinds[k].area_m2 * 1e6 : std::nan("");
+  const double area = r.kinds[k].area_m2 * 1e6;
+  const double rate = k < r.kind_area_loss_rate_m2_per_s.size()
+                          ? r.kind_area_loss_rate_m2_per_s[k] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
+  row.emplace_back(d->scene->mill.kind(static_cast<int>(k)).name);
+  row.emplace_back(area);
+  row.emplace_back(100.0 * (1.0 - area / area0));
+  row.emplace_back(r.kinds[k].height_m * 1e3);
+  row.emplace_back(rate);
+  row.emplace_back(k < d->kind_life_h.size() ? d->kind_life_h[k] : std::nan(""));
+  row.emplace_back(k < d->kind_life_extrapolated.size() ? bool(d->kind_life_extrapolated[k]) : true);
+}
+
+// The most kinds of any design with a pattern (0: none has one).
+std::size_t pattern_kinds(const RunReport& report) {
+  std::size_t kinds = 0;
+  for (const DesignReport& d : report.designs)
+    if (d.scene->mill.kind_count() > 1) kinds = std::max(kinds, static_cast<std::size_t>(d.scene->mill.kind_count()));
+  return kinds;
+}
+
+std::vector<std::string> with_kind_columns(std::vector<std::string> header, std::size_t kinds) {
+  for (std::size_t k = 0; k < kinds; ++k)
+    for (const std::string& c : kKindSummaryColumns) header.push_back("kind" + std::to_string(k) + "_" + c);
+  return header;
+}
+
+const DesignReport* find_history(const RunReport& report, const std::string& name) {
+  for (const DesignReport& d : report.designs)
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+}  // namespace
+
+// summary.csv: one row per design and stage, every figure with its standard error; with a
+// pattern of kinds, every kind's lifter in kindK_ columns on the same row (from the design's
+// first history).
 void write_summary(const RunReport& report) {
-  CsvTable t(summary_header(false));
+  const std::size_t kinds = pattern_kinds(report);
+  CsvTable t(with_kind_columns(summary_header(false), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
-  for (const DesignEstimate& d : report.estimates) add_rows(t, d, ref, nullptr);
+  for (const DesignEstimate& d : report.estimates) add_rows(t, d, ref, nullptr, find_history(report, d.name), kinds);
   t.write(summary_path(report.out));
 }
 
@@ -177,10 +239,11 @@ std::string replicates_path(const std::string& out) { return join_path(out, "rep
 
 void write_replicates(const RunReport& report) {
   if (report.replicates < 2) return;
-  CsvTable t(summary_header(true));
+  const std::size_t kinds = pattern_kinds(report);
+  CsvTable t(with_kind_columns(summary_header(true), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
   for (std::size_t i = 0; i < report.designs.size() && i < report.history_estimates.size(); ++i)
-    add_rows(t, report.history_estimates[i], ref, &report.designs[i]);
+    add_rows(t, report.history_estimates[i], ref, &report.designs[i], &report.designs[i], kinds);
   t.write(replicates_path(report.out));
 }
 
@@ -209,7 +272,7 @@ void write_kinds(const RunReport& report) {
   for (const DesignReport& d : report.designs) any = any || d.scene->mill.kind_count() > 1;
   if (!any) return;
   CsvTable t({"design", "kind", "profile", "stage", "hours", "area_mm2", "area_loss_pct", "height_mm",
-              "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"});
+              "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated", "replacement_height_mm"});
   for (const DesignReport& d : report.designs) {
     const int kinds = d.scene->mill.kind_count();
     if (kinds < 2) continue;
@@ -226,7 +289,8 @@ void write_kinds(const RunReport& report) {
         const double rate = idx < r.kind_area_loss_rate_m2_per_s.size()
                                 ? r.kind_area_loss_rate_m2_per_s[idx] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
         t.add_row({d.name, k, d.scene->mill.kind(k).name, stage, r.hours, area, 100.0 * (1.0 - area / area0),
-                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated});
+                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated,
+                   d.scene->wear.replacement_height_m * 1e3});
       }
     }
   }

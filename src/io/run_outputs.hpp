@@ -59,6 +59,10 @@ struct RunReport {
 // OUT/summary.csv: one row per design and stage, every figure FIG with its standard error in
 // FIG_se beside it; error_source says where the errors come from (replicates, or one
 // history's batch means: a lower bound).
+// A run with a design of a pattern of kinds adds, for every kind K, the
+// columns kindK_profile, kindK_area_mm2, kindK_area_loss_pct, kindK_height_mm,
+// kindK_area_loss_rate_mm2_per_1000h, kindK_life_h, kindK_life_extrapolated (empty cells for
+// a design without kind K); a run without one has the plain columns only.
 void write_summary(const RunReport& report);
 // OUT/replicates.csv, with replicates: summary.csv's columns per history (history, replicate,
 // seed added), errors from its own batch means.
@@ -70,7 +74,8 @@ void write_verdicts(const RunReport& report);
 std::string verdicts_path(const std::string& out);
 // OUT/kinds.csv, when a design has a pattern of kinds of lifter: one row per design, kind and
 // stage (design,kind,profile,stage,hours,area_mm2,area_loss_pct,height_mm,
-// area_loss_rate_mm2_per_1000h,life_h,life_extrapolated). Not written otherwise.
+// area_loss_rate_mm2_per_1000h,life_h,life_extrapolated,replacement_height_mm). Not written
+// otherwise. summary.csv carries the same figures per kind in kindK_ columns.
 void write_kinds(const RunReport& report);
 std::string kinds_path(const std::string& out);
 // The settings of `design` in run folder RUN's manifest.json that differ from `scene`'s, as

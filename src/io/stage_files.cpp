@@ -194,6 +194,8 @@ void write_stage_state(const std::string& out, const std::string& design, const 
     kv.emplace_back(pre + "trailing_face_angle_rad", format_exact(rec.kinds[k].trailing_face_angle_rad));
     kv.emplace_back(pre + "area_loss_rate_m2_per_s",
                     format_exact(k < rec.kind_area_loss_rate_m2_per_s.size() ? rec.kind_area_loss_rate_m2_per_s[k] : 0.0));
+    if (k < rec.kind_area_loss_rate_rel_sem.size())
+      kv.emplace_back(pre + "area_loss_rate_rel_sem", format_exact(rec.kind_area_loss_rate_rel_sem[k]));
   }
   if (carried) {
     kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
@@ -238,6 +240,8 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
     m.trailing_face_angle_rad = r.number(pre + "trailing_face_angle_rad");
     rec.kinds.push_back(m);
     rec.kind_area_loss_rate_m2_per_s.push_back(r.number(pre + "area_loss_rate_m2_per_s"));
+    if (r.has(pre + "area_loss_rate_rel_sem"))
+      rec.kind_area_loss_rate_rel_sem.push_back(r.number(pre + "area_loss_rate_rel_sem"));
   }
 
   io::CsvData units = read_csv(base + ".units.csv");

@@ -154,7 +154,7 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
 }
 
 LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_local, double radius_m, int rows,
-                             const MillMeshDef& mesh) {
+                             const MillMeshDef& mesh, bool whole_unit) {
   if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");
   if (!(radius_m > 0.0)) throw InputError("", "mill.radius", "expected a radius > 0");
   validate_lifter_polyline(lifter_local, "", "lifters.profile");
@@ -169,9 +169,22 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_loc
   }
   const double pitch = 2.0 * kPi * radius_m / rows;
   const double half_pitch = 0.5 * pitch;
+  if (whole_unit && s.size() >= 2) {
+    // One period of the liner's surface, the lifter anywhere in it: the scan repeated a
+    // period either side (its last point and the next copy's first are the same place; a
+    // gauge's small mismatch between them becomes one short step), then cut to the unit.
+    const double period = s.back().x - s.front().x;
+    Polyline periodic;
+    for (double shift_x : {-period, 0.0, period})
+      for (const Vec2& p : s) {
+        const Vec2 q{p.x + shift_x, p.y};
+        if (periodic.empty() || length(q - periodic.back()) > 1e-9) periodic.push_back(q);
+      }
+    s = periodic;
+  }
   // A scan of a whole unit is the pitch wide up to the gauge's accuracy: 1% of the pitch.
   const double slack = 0.01 * pitch;
-  if (s.front().x < -half_pitch - slack || s.back().x > half_pitch + slack)
+  if (!whole_unit && (s.front().x < -half_pitch - slack || s.back().x > half_pitch + slack))
     throw InputError("", "lifters.rows",
                      "expected a measured profile no wider than the pitch, centred on its lifter: " +
                          std::to_string(rows) + " rows give a pitch of " + fmt_num(pitch * 1e3) +

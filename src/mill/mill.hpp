@@ -70,9 +70,13 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
 // The liner unit of a measured surface (profiles/profile.hpp: `measured`, with its lifter
 // `lifter`): centred on the lifter's base, resampled to the mesh, continued along the shell
 // at the height of its ends out to the pitch. Throws InputError if it is wider than the
-// pitch or the lifter is taller than the mill allows.
+// pitch or the lifter is taller than the mill allows. `whole_unit`: the surface is one whole
+// liner unit, its first and last points the same place on neighbouring units (the caller
+// has checked its width is the pitch): it is repeated either side and cut at the unit's
+// edges, so the shell plates keep their measured shape instead of being clipped or
+// continued flat.
 LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter, double radius_m, int rows,
-                             const MillMeshDef& mesh = {});
+                             const MillMeshDef& mesh = {}, bool whole_unit = false);
 
 // Build the whole boundary from one unit per row, or one unit per kind of lifter (`kinds`
 // of them repeating over the rows; rows a multiple of kinds). kinds = 0: as many kinds as

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
@@ -629,7 +630,19 @@ std::vector<std::string> render_all_figures(const std::string& out,
       for (const auto& k : key) sorted.push_back(data.rows[k.second]);
       write_rows(io::join_path(data_dir, s + ".csv"), data.header, sorted);
     }
-    if (!series.empty()) draw("kinds_area", {{"series", join_words(series)}}, "kinds_area");
+    // Each curve's title: the design, the kind's profile and its life (* extrapolated).
+    std::map<std::string, std::string> vars{{"series", join_words(series)}};
+    const bool has_life = data.has_column("life_h") && data.has_column("profile");
+    for (std::size_t i = 0; i < series.size() && has_life; ++i) {
+      const std::size_t r = rows[series[i]].front().second;
+      const double life = data.number(r, "life_h");
+      const bool extrapolated = data.has_column("life_extrapolated") && data.number(r, "life_extrapolated") != 0.0;
+      char buf[64] = "no life (no wear trend)";
+      if (std::isfinite(life)) std::snprintf(buf, sizeof buf, "life %.0f h%s", life, extrapolated ? "*" : "");
+      vars["title" + std::to_string(i + 1)] =
+          data.rows[r][dc] + " " + data.rows[r][data.column("profile")] + ": " + buf;
+    }
+    if (!series.empty()) draw("kinds_area", vars, "kinds_area");
   }
 
   // Snapshots share one colour scale so designs compare by colour. The scale ends at the 95th

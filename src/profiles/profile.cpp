@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <set>
@@ -359,6 +360,44 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
   return lifter;
 }
 
+namespace {
+
+// The `# pitch_mm = P` comment line of a measured profile, if any: {P in m, its line}.
+std::pair<double, int> pitch_comment(const std::string& text, const std::string& name) {
+  std::pair<double, int> found{0.0, 0};
+  std::size_t pos = text.compare(0, 3, io::kUtf8Bom) == 0 ? 3 : 0;
+  for (int line = 1; pos <= text.size(); ++line) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    std::string l = trimmed(text.substr(pos, end - pos));
+    if (!l.empty() && l.back() == '\r') l = trimmed(l.substr(0, l.size() - 1));
+    pos = end + 1;
+    if (l.empty() || l[0] != '#') continue;
+    l = trimmed(l.substr(1));
+    if (l.compare(0, 8, "pitch_mm") != 0 || (l.size() > 8 && l[8] != ' ' && l[8] != '\t' && l[8] != '=')) continue;
+    const std::string where = "line " + std::to_string(line);
+    if (found.second != 0)
+      throw InputError(name, where, "one pitch_mm line (line " + std::to_string(found.second) + " gives it already)");
+    std::string rest = trimmed(l.substr(8));
+    const std::string expected =
+        "'# pitch_mm = P' with P the liner unit's pitch along the shell, a number of mm in (0, 100000]";
+    if (rest.empty() || rest[0] != '=') throw InputError(name, where, expected);
+    rest = trimmed(rest.substr(1));
+    const std::size_t hash = rest.find('#');  // a comment after the value
+    if (hash != std::string::npos) rest = trimmed(rest.substr(0, hash));
+    if (rest.find('.') == std::string::npos) std::replace(rest.begin(), rest.end(), ',', '.');  // decimal comma
+    char* stop = nullptr;
+    const double mm = rest.empty() ? std::nan("") : std::strtod(rest.c_str(), &stop);
+    if (rest.empty() || *stop != '\0' || !std::isfinite(mm) || !(mm > 0.0) || mm > kMaxPointMm)
+      throw InputError(name, where, expected + ", got '" + rest + "'");
+    found = {mm * kMmToM, line};
+    if (end == text.size()) break;
+  }
+  return found;
+}
+
+}  // namespace
+
 LifterProfile parse_measured_profile(const std::string& text, const std::string& name) {
   io::CsvData d = io::parse_csv(io::strip_comment_lines(text), name);
   for (auto& h : d.header) h = trimmed(h);
@@ -391,6 +430,19 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
   prof.measured = s;
   prof.points = lifter_of_surface(s, name, "x_mm,y_mm");
+  // A whole unit's scan: its ends one pitch apart.
+  const auto [pitch_m, pitch_line] = pitch_comment(text, name);
+  if (pitch_line != 0) {
+    const double width = s.back().x - s.front().x;
+    if (std::abs(width - pitch_m) > kPitchTolerance * pitch_m)
+      throw InputError(name, "line " + std::to_string(pitch_line),
+                       "pitch_mm = " + fmt_num(pitch_m * 1e3) + ": a scan of one whole liner unit, its first and last "
+                       "points one pitch apart (within " + fmt_num(100.0 * kPitchTolerance) + "%); its points reach from x = " +
+                           fmt_num(s.front().x * 1e3) + " to " + fmt_num(s.back().x * 1e3) + " mm, " +
+                           fmt_num(width * 1e3) + " mm");
+    prof.unit_pitch_m = pitch_m;
+    prof.pitch_line = pitch_line;
+  }
   return prof;
 }
 

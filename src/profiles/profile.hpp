@@ -37,7 +37,17 @@ struct LifterProfile {
   // `points` is then its lifter, the part above y = 0 around its highest point.
   Polyline measured;
   int dropped_points = 0;   // repeated points, and points of loops cut out, on reading
+  // A measured profile with a comment line `# pitch_mm = P`: the scan is one whole liner
+  // unit, its first and last points one pitch apart (the same place on neighbouring units),
+  // and the mill's lifters must stand P apart. 0: not given (the scan is clipped to, or
+  // continued along the shell out to, the mill's pitch).
+  double unit_pitch_m = 0.0;
+  int pitch_line = 0;       // the line of the file that gives it
 };
+
+// A whole liner unit's scan is its pitch wide, and that pitch the mill's, to within this
+// share of the pitch (a gauge's placement; the same slack as a scan's overrun of the pitch).
+constexpr double kPitchTolerance = 0.01;
 
 // Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
 struct ProfileMetrics {
@@ -68,7 +78,9 @@ LifterProfile load_profile(const std::string& path);
 //   -40.0,-5.0       points in order along the surface (either direction), ends at or
 //   ...              below the shell line y = 0; one lifter, or a whole liner unit
 // Repeated points are dropped and loops (noise on a steep face) cut out; the lifter is the
-// part above y = 0 around the highest point. `name` names the file in errors.
+// part above y = 0 around the highest point. A comment line `# pitch_mm = P` says the scan is
+// one whole liner unit P mm wide: its points must span P (within kPitchTolerance), else the
+// error names the file and the line. `name` names the file in errors.
 LifterProfile parse_measured_profile(const std::string& text, const std::string& name);
 
 // The lifter of a measured surface: from where it last rises through y = 0 before its

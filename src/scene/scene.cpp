@@ -106,9 +106,21 @@ double Scene::largest_particle_radius_m() const {
 
 LinerUnit new_liner_unit(const Scene& scene, int kind) {
   const LifterProfile& lifter = scene.mill.kind(kind);
+  if (lifter.unit_pitch_m > 0.0) {
+    // A whole unit's scan states its pitch: it must be the mill's.
+    const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
+    if (std::abs(lifter.unit_pitch_m - pitch) > kPitchTolerance * pitch)
+      throw InputError(lifter.source_file, "line " + std::to_string(lifter.pitch_line),
+                       "pitch_mm = " + toml_reader::num_text(lifter.unit_pitch_m * 1e3) + ": the pitch of the lifters of " +
+                           scene.source_file + " (within " + toml_reader::num_text(100.0 * kPitchTolerance) +
+                           "%), whose " + std::to_string(scene.mill.rows) + " rows on a " +
+                           toml_reader::num_text(scene.mill.diameter_m) + " m mill stand " +
+                           toml_reader::num_text(pitch * 1e3) + " mm apart at the shell");
+  }
   try {
     if (!lifter.measured.empty())
-      return make_measured_unit(lifter.measured, lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
+      return make_measured_unit(lifter.measured, lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh,
+                                lifter.unit_pitch_m > 0.0);
     return make_liner_unit(lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh);
   } catch (const InputError& e) {
     // The mill module does not know which file asked for this lifter; say it.
@@ -728,13 +740,8 @@ Scene read_scene(const toml::table& root, const std::string& path) {
   return s;
 }
 
-}  // namespace
-
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(path, "", "scene file not found or not a regular file");
-
+// The file's table with the overrides put in; errors name the file.
+toml::table overridden_table(const std::string& path, const std::vector<std::string>& overrides) {
   toml::table root;
   try {
     root = toml::parse_file(path);
@@ -748,6 +755,17 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
       throw InputError(path, e.where, e.expected);
     }
   }
+  return root;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, "", "scene file not found or not a regular file");
+
+  const toml::table root = overridden_table(path, overrides);
   try {
     Scene s = read_scene(root, path);
     s.overrides = overrides;
@@ -760,6 +778,12 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
 }
 
+
+std::string overridden_scene_toml(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ostringstream os;
+  os << toml::toml_formatter{overridden_table(path, overrides)} << "\n";
+  return os.str();
+}
 
 Scene load_scene_text(const std::string& text, const std::string& path) {
   toml::table root;

@@ -181,6 +181,11 @@ constexpr double kGravity = 9.81;  // m/s^2
 // solver.time_step / steps_per_second, the three wear-rate keys, a species' sizes /
 // size_range).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// The scene file's TOML with `overrides` put in exactly as load_scene puts them (same errors),
+// written back as TOML text (comments and layout not kept): where a command that writes
+// scenes of its own from a scene (the screen's candidates) starts from. It does not check
+// the scene; load_scene(path, overrides) does.
+std::string overridden_scene_toml(const std::string& path, const std::vector<std::string>& overrides);
 // The same for a scene's text as if read from `path` (errors name it; the profile path
 // resolves from its folder): how an edited scene is checked before it is used or written.
 Scene load_scene_text(const std::string& text, const std::string& path);

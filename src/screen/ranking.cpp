@@ -86,17 +86,28 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     r.power_W = watts_from_kW(s.number(first, "power_kw"));
     r.collision_W = watts_from_kW(s.number(first, "collision_kw"));
     r.utilization = s.number(first, "utilization");
-    const double hours = s.number(last, "hours");
+    // A pattern of kinds: the liner's life is the kind's that reaches the replacement height
+    // first (summary.csv's kindK_life_h equal to life_h); its own area and rates count.
+    std::string kind_pre, area_col = "area_mm2";
+    for (int k = 0; s.has_column("kind" + std::to_string(k) + "_life_h"); ++k)
+      if (s.number(first, "kind" + std::to_string(k) + "_life_h") == r.life_h) {
+        kind_pre = "kind." + std::to_string(k) + ".";
+        area_col = "kind" + std::to_string(k) + "_area_mm2";
+        break;
+      }
+    const double hours = s.number(last, "hours") - s.number(first, "hours");
     r.area_loss_mm2_per_1000h =
-        hours > 0.0 ? (s.number(first, "area_mm2") - s.number(last, "area_mm2")) / hours * 1000.0 : std::nan("");
+        hours > 0.0 ? (s.number(first, area_col) - s.number(last, area_col)) / hours * 1000.0 : std::nan("");
     std::vector<StageRate> rates;
     for (const auto& [k, row] : rows) {
       const io::KeyValues rec = io::read_key_values(
           io::join_path(io::stages_dir(dir), c.name + "_stage" + std::to_string(k) + ".record"));
       StageRate sr;
       sr.hours = to_number(io::find_value(rec, "hours"));
-      sr.area_loss_rate_m2_per_s = to_number(io::find_value(rec, "area_loss_rate_m2_per_s"));
-      sr.rel_sem = to_number(io::find_value(rec, "area_loss_rate_rel_sem"));
+      const bool own = !kind_pre.empty() && !io::find_value(rec, kind_pre + "area_loss_rate_rel_sem").empty();
+      sr.area_loss_rate_m2_per_s =
+          to_number(io::find_value(rec, own ? kind_pre + "area_loss_rate_m2_per_s" : "area_loss_rate_m2_per_s"));
+      sr.rel_sem = to_number(io::find_value(rec, own ? kind_pre + "area_loss_rate_rel_sem" : "area_loss_rate_rel_sem"));
       rates.push_back(sr);
     }
     r.life_sigma_h = life_sigma_h(rates, r.life_h);

@@ -25,7 +25,10 @@ std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& 
   std::string all = std::string(MILLWEAR_VERSION) + "\n" + io::read_file(screen_file) + "\n--\n" +
                     io::read_file(def.base_scene);
   for (const auto& p : def.profiles) all += "\n--\n" + io::read_file(p);
-  if (!def.equal_area.empty() && def.equal_area != "base") all += "\n--\n" + io::read_file(def.equal_area);
+  if (!def.equal_area.empty() && def.equal_area != "base" && def.equal_area_kinds.empty())
+    all += "\n--\n" + io::read_file(def.equal_area);
+  for (const auto& p : def.equal_area_kinds) all += "\n--\n" + io::read_file(p);
+  for (const auto& o : def.overrides) all += "\n--set " + o;  // written into every candidate
   return io::stable_hash_hex(all);
 }
 
@@ -43,8 +46,8 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
 
   // Everything validated before anything is written.
   ScreenInputs in;
-  in.def = load_screen(a.screen_file);
-  const Scene base = load_scene(in.def.base_scene);
+  in.def = load_screen(a.screen_file, a.overrides);
+  const Scene base = load_scene(in.def.base_scene, a.overrides);
   in.candidates = sample_family(in.def, base);
   in.varying = varying_parameters(in.def);
   in.fingerprint = screen_fingerprint(a.screen_file, in.def);
@@ -63,7 +66,8 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
     same = io::find_value(io::read_key_values(key_file), "fingerprint") == fingerprint;
     if (!same && (a.resume || !a.emit.empty()) && fs::exists(io::join_path(out, "designs"), ec))
       throw InputError(key_file, "fingerprint",
-                       "the same screen file, base scene and profiles as the screen in this folder (they changed); "
+                       "the same screen file, base scene, profiles and --set overrides as the screen in this folder "
+                       "(they changed); "
                        "use a new output folder or run without --resume/--emit to start over");
   }
   const bool keep = same && (a.resume || !a.emit.empty());
@@ -86,12 +90,13 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
   write_design_tables(out, cands);
   std::string vary;
   for (const auto& v : in.varying) vary += (vary.empty() ? "" : " ") + v;
-  io::write_file_atomic(key_file, io::format_key_values({{"fingerprint", fingerprint},
-                                                          {"name", def.name},
-                                                          {"screen_file", abs_path(a.screen_file)},
-                                                          {"power", def.power_higher_is_better ? "max" : "min"},
-                                                          {"varying", vary}},
-                                                         "millwear screen (for --resume, --emit, --collect)"));
+  io::KeyValues key{{"fingerprint", fingerprint},
+                    {"name", def.name},
+                    {"screen_file", abs_path(a.screen_file)},
+                    {"power", def.power_higher_is_better ? "max" : "min"},
+                    {"varying", vary}};
+  for (const auto& o : def.overrides) key.emplace_back("set", o);  // in order, as given
+  io::write_file_atomic(key_file, io::format_key_values(key, "millwear screen (for --resume, --emit, --collect)"));
   ScreenSetup s;
   s.name = def.name;
   s.designs = read_designs(out);

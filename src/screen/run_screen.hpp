@@ -4,9 +4,9 @@
 // pool (pool.hpp) and the screen collected (collect.hpp), or a job list for GNU parallel or
 // a Slurm array script written for them (jobs.hpp).
 //
-// OUT holds screen.key (the fingerprint of the screen file, the base scene, the profiles and
-// the program version; --resume and --emit keep OUT's finished designs only when it is the
-// same) and inputs/ (a copy of the screen file). Without --resume or --emit, or with other
+// OUT holds screen.key (the fingerprint of the screen file, the base scene, the profiles, the
+// --set overrides and the program version; --resume and --emit keep OUT's finished designs
+// only when it is the same; a `set` line per override records them) and inputs/ (a copy of the screen file). Without --resume or --emit, or with other
 // inputs, OUT's designs, logs, job lists, ranking and figures are removed first. Every
 // input is validated before anything is written, and OUT is locked (io/folder_lock.hpp) from
 // then to the ranking.
@@ -28,6 +28,7 @@ struct ScreenRequest {
   int chunk = 1;           // designs per job or array task (emit)
   int jobs = 0;            // pool: tasks at once (0: the cores); slurm: array tasks at once (0: no limit)
   std::string exe;         // the millwear executable the tasks run ("": self_executable())
+  std::vector<std::string> overrides;  // --set KEY=VALUE over the base scene (screen.hpp)
 };
 
 // The screen file read and checked, its family sampled: nothing written yet.

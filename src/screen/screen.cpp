@@ -98,7 +98,7 @@ std::string fmt(double v) { return io::format_exact(v); }
 
 }  // namespace
 
-ScreenDef load_screen(const std::string& path) {
+ScreenDef load_screen(const std::string& path, const std::vector<std::string>& overrides) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "", "screen file not found or not a regular file");
   toml::table root;
@@ -139,7 +139,23 @@ ScreenDef load_screen(const std::string& path) {
     s.fail("samples", "no samples with sampling = \"grid\" (the grid takes every combination)");
   }
   if (auto v = s.integer("seed", 0, std::numeric_limits<long long>::max())) d.seed = static_cast<std::uint64_t>(*v);
-  if (auto v = s.string("equal_area")) {
+  const toml::node* ea = s.raw().get("equal_area");
+  if (ea && ea->is_array()) {
+    const toml::array& arr = *ea->as_array();
+    if (arr.empty()) s.fail("equal_area", "\"base\", a profile file, or a list of profile files (one per kind of lifter)");
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const std::string k = "screen.equal_area[" + std::to_string(i) + "]";
+      if (!arr[i].is_string())
+        throw InputError(path, k, "expected a profile file name, " + tr::got_text(arr[i]) + tr::line_text(arr[i]));
+      const std::string p = resolve(path, arr[i].as_string()->get());
+      if (!fs::is_regular_file(p, ec))
+        throw InputError(path, k, "expected an existing profile file, relative to the screen file (tried '" + p + "')" +
+                                      tr::line_text(arr[i]));
+      load_profile(p);  // its errors name the profile file
+      d.equal_area_kinds.push_back(p);
+    }
+    d.equal_area = "kinds";
+  } else if (auto v = s.string("equal_area")) {
     if (*v == "base") {
       d.equal_area = "base";
     } else {
@@ -216,18 +232,51 @@ ScreenDef load_screen(const std::string& path) {
                            (ft ? tr::line_text(*ft) : std::string()));
   }
 
-  // The base scene: its own errors name it.
-  const Scene b = load_scene(d.base_scene);
-  if (d.profiles.empty() && b.mill.lifter.form != ProfileForm::Trapezoid) {
-    for (const char* k : {"height", "leading_face_angle", "trailing_face_angle"}) {
-      const Axis& a = std::string(k) == "height" ? d.height_mm
-                      : std::string(k) == "leading_face_angle" ? d.leading_deg : d.trailing_deg;
-      if (!a.given && !(std::string(k) == "trailing_face_angle" && d.symmetric))
-        f.missing(k, "a value: the base scene's lifter is not a trapezoid, so the family must give " +
-                         std::string("height, top_width (or screen.equal_area) and both face angles"));
+  // --set overrides: keys the screen sets for every candidate itself are not the user's.
+  for (const std::string& o : overrides) {
+    std::string key = o.substr(0, o.find('='));
+    while (!key.empty() && key.back() == ' ') key.pop_back();
+    const std::string plain = key.substr(0, key.find('['));
+    std::string setter;
+    if (plain == "name") setter = "the screen names every candidate (d000, d001, ...)";
+    else if (plain == "lifters.profile" || plain == "lifters.pattern" || plain == "lifters")
+      setter = "the family makes every candidate's lifter; change [family] or the base scene";
+    else if (plain == "lifters.rows" && d.rows.given) setter = "family.rows sets it";
+    else if ((plain == "mill.direction" || plain == "mill") && !d.directions.empty()) setter = "family.direction sets it";
+    else if (plain == "fidelity" && !d.fidelity.empty()) setter = "screen.fidelity sets it";
+    else if (plain == "wear.stages" && d.stages > 0) setter = "screen.stages sets it";
+    else if (plain == "wear.stage_hours" && d.stage_hours > 0.0) setter = "screen.stage_hours sets it";
+    if (o.find_first_of("\r\n") != std::string::npos) setter = "a value on one line";
+    if (!setter.empty())
+      throw InputError(path, "--set " + key, "a key the screen does not set for every candidate itself: " + setter);
+  }
+  d.overrides = overrides;
+
+  // The base scene, with the overrides: its own errors name it (and the --set they come from).
+  const Scene b = load_scene(d.base_scene, overrides);
+  d.kinds = b.mill.kind_count();
+  if (d.kinds > 1 && !d.profiles.empty())
+    f.fail("profiles", "no family.profiles with a base scene of a pattern of " + std::to_string(d.kinds) +
+                           " kinds of lifter (the family's trapezoid keys apply to every kind)");
+  if (!d.equal_area_kinds.empty() && static_cast<int>(d.equal_area_kinds.size()) != d.kinds)
+    s.fail("equal_area", "a list of " + std::to_string(d.kinds) + " profile file(s), one per kind of lifter of the "
+                         "base scene, got " + std::to_string(d.equal_area_kinds.size()));
+  if (d.kinds > 1 && !d.equal_area.empty() && d.equal_area != "base" && d.equal_area_kinds.empty())
+    s.fail("equal_area", "\"base\" (each kind matched to its own kind's area in the base scene) or a list of " +
+                             std::to_string(d.kinds) + " profile files, one per kind: the base scene has a pattern");
+  for (int k = 0; k < d.kinds && d.profiles.empty(); ++k) {
+    if (b.mill.kind(k).form == ProfileForm::Trapezoid) continue;
+    const std::string whose = d.kinds > 1 ? "the base scene's kind " + std::to_string(k) + " ('" + b.mill.kind(k).name + "')"
+                                          : std::string("the base scene's lifter");
+    for (const char* key : {"height", "leading_face_angle", "trailing_face_angle"}) {
+      const Axis& a = std::string(key) == "height" ? d.height_mm
+                      : std::string(key) == "leading_face_angle" ? d.leading_deg : d.trailing_deg;
+      if (!a.given && !(std::string(key) == "trailing_face_angle" && d.symmetric))
+        f.missing(key, "a value: " + whose + " is not a trapezoid, so the family must give " +
+                           std::string("height, top_width (or screen.equal_area) and both face angles"));
     }
     if (!d.top_width_mm.given && d.equal_area.empty())
-      f.missing("top_width", "a value, or screen.equal_area: the base scene's lifter is not a trapezoid");
+      f.missing("top_width", "a value, or screen.equal_area: " + whose + " is not a trapezoid");
   }
   return d;
 }
@@ -308,9 +357,17 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
     }
   }
 
-  double ref_area_m2 = 0.0;
-  if (d.equal_area == "base") ref_area_m2 = measure_profile(base.mill.lifter.points).area_m2;
-  else if (!d.equal_area.empty()) ref_area_m2 = measure_profile(load_profile(d.equal_area).points).area_m2;
+  // The area each kind is matched to (0: none): the base kind's own, the listed file of its
+  // kind, or the one file's (a plain liner).
+  const int kinds = base.mill.kind_count();
+  std::vector<double> ref_area_m2(static_cast<std::size_t>(kinds), 0.0);
+  for (int k = 0; k < kinds; ++k) {
+    double& a = ref_area_m2[static_cast<std::size_t>(k)];
+    if (d.equal_area == "base") a = measure_profile(base.mill.kind(k).points).area_m2;
+    else if (!d.equal_area_kinds.empty())
+      a = measure_profile(load_profile(d.equal_area_kinds[static_cast<std::size_t>(k)]).points).area_m2;
+    else if (!d.equal_area.empty()) a = measure_profile(load_profile(d.equal_area).points).area_m2;
+  }
 
   std::vector<Candidate> out;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -334,26 +391,45 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
       out.push_back(c);
       continue;
     }
-    c.height_mm = p[1];
-    c.top_width_mm = p[2];
-    c.leading_deg = p[3];
-    c.trailing_deg = d.symmetric ? p[3] : p[4];
-    TrapezoidDef t;
-    t.height_m = c.height_mm * 1e-3;
-    t.top_width_m = c.top_width_mm * 1e-3;
-    t.leading_face_angle_rad = c.leading_deg * kDeg;
-    t.trailing_face_angle_rad = c.trailing_deg * kDeg;
-    try {
-      if (ref_area_m2 > 0.0) {
-        t.top_width_m = top_width_for_area(t, ref_area_m2, d.equal_area);
-        c.top_width_mm = t.top_width_m * 1e3;
+    // Each kind: the family's value where it gives one, else the base kind's own (kind 0's
+    // is already in the point).
+    for (int k = 0; k < kinds && c.reason.empty(); ++k) {
+      const LifterProfile& kp = base.mill.kind(k);
+      const bool own = k > 0 && kp.form == ProfileForm::Trapezoid;
+      const TrapezoidDef& kt = kp.trapezoid;
+      KindShape ks;
+      ks.height_mm = own && !d.height_mm.given ? kt.height_m * 1e3 : p[1];
+      ks.top_width_mm = own && !d.top_width_mm.given ? kt.top_width_m * 1e3 : p[2];
+      ks.leading_deg = own && !d.leading_deg.given ? kt.leading_face_angle_rad / kDeg : p[3];
+      ks.trailing_deg = d.symmetric ? ks.leading_deg
+                        : own && !d.trailing_deg.given ? kt.trailing_face_angle_rad / kDeg : p[4];
+      TrapezoidDef t;
+      t.height_m = ks.height_mm * 1e-3;
+      t.top_width_m = ks.top_width_mm * 1e-3;
+      t.leading_face_angle_rad = ks.leading_deg * kDeg;
+      t.trailing_face_angle_rad = ks.trailing_deg * kDeg;
+      const std::string of_kind = kinds > 1 ? "kind " + std::to_string(k) + " ('" + kp.name + "'): " : "";
+      try {
+        const double target = ref_area_m2[static_cast<std::size_t>(k)];
+        if (target > 0.0) {
+          t.top_width_m = top_width_for_area(t, target, d.equal_area);
+          ks.top_width_mm = t.top_width_m * 1e3;
+        }
+        const Polyline pts = trapezoid_points(t);
+        validate_lifter_polyline(pts, "", "");
+        ks.area_mm2 = measure_profile(pts).area_m2 * 1e6;
+        if (!(ks.area_mm2 > 0.0)) c.reason = of_kind + "zero metal area";
+      } catch (const InputError& e) {
+        c.reason = of_kind + e.expected;
       }
-      const Polyline pts = trapezoid_points(t);
-      validate_lifter_polyline(pts, "", "");
-      c.area_mm2 = measure_profile(pts).area_m2 * 1e6;
-      if (!(c.area_mm2 > 0.0)) c.reason = "zero metal area";
-    } catch (const InputError& e) {
-      c.reason = e.expected;
+      if (k == 0) {
+        c.height_mm = ks.height_mm;
+        c.top_width_mm = ks.top_width_mm;
+        c.leading_deg = ks.leading_deg;
+        c.trailing_deg = ks.trailing_deg;
+        c.area_mm2 = ks.area_mm2;
+      }
+      if (kinds > 1) c.kinds.push_back(ks);
     }
     out.push_back(c);
   }
@@ -373,32 +449,62 @@ std::string task_status_path(const std::string& out, const std::string& name) {
 void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const std::string& out) {
   const std::string dir = io::join_path(out, "candidates");
   io::ensure_dir(dir);
-  const toml::table base = toml::parse_file(d.base_scene);
+  // The base scene's tables, with the --set overrides put in as load_scene puts them.
+  const toml::table base = d.overrides.empty() ? toml::parse_file(d.base_scene)
+                                               : toml::parse(overridden_scene_toml(d.base_scene, d.overrides),
+                                                             d.base_scene);
+  std::string set_text;
+  for (const std::string& o : d.overrides) set_text += " --set " + o;
+  // A trapezoid with its top width written out (no match_area_of: the file says exactly
+  // what was run).
+  const auto trapezoid_text = [&](const std::string& name, const std::string& what, double h, double top, double lead,
+                                  double trail) {
+    std::ostringstream p;
+    p << "# " << what << " of screen " << d.name << " (written by millwear screen)\n"
+      << "name = \"" << name << "\"\nform = \"trapezoid\"\n"
+      << "height = " << fmt(h) << "\n"
+      << "top_width = " << fmt(top) << "\n"
+      << "leading_face_angle = " << fmt(lead) << "\n"
+      << "trailing_face_angle = " << fmt(trail) << "\n";
+    return p.str();
+  };
   for (Candidate& c : cands) {
     if (!c.reason.empty()) continue;
     const std::string scene_path = io::join_path(dir, c.name + ".toml");
     const std::string profile_path = io::join_path(dir, c.name + "-profile.toml");
-    // The profile: a trapezoid with its top width written out (no match_area_of: the
-    // file says exactly what was run), or a copy of the listed profile file.
+    // The profile: a trapezoid, or a copy of the listed profile file; a pattern: one
+    // trapezoid per kind, NAME-kK-profile.toml.
     std::string profile;
+    std::vector<std::pair<std::string, std::string>> kind_files;  // path, text
     if (!c.profile_source.empty()) {
       profile = io::read_file(c.profile_source);
+    } else if (c.kinds.empty()) {
+      profile = trapezoid_text(c.name, "candidate " + c.name, c.height_mm, c.top_width_mm, c.leading_deg,
+                               c.trailing_deg);
     } else {
-      std::ostringstream p;
-      p << "# candidate " << c.name << " of screen " << d.name << " (written by millwear screen)\n"
-        << "name = \"" << c.name << "\"\nform = \"trapezoid\"\n"
-        << "height = " << fmt(c.height_mm) << "\n"
-        << "top_width = " << fmt(c.top_width_mm) << "\n"
-        << "leading_face_angle = " << fmt(c.leading_deg) << "\n"
-        << "trailing_face_angle = " << fmt(c.trailing_deg) << "\n";
-      profile = p.str();
+      for (std::size_t k = 0; k < c.kinds.size(); ++k) {
+        const KindShape& ks = c.kinds[k];
+        const std::string kname = c.name + "-k" + std::to_string(k);
+        kind_files.emplace_back(io::join_path(dir, kname + "-profile.toml"),
+                                trapezoid_text(kname, "kind " + std::to_string(k) + " of candidate " + c.name,
+                                               ks.height_mm, ks.top_width_mm, ks.leading_deg, ks.trailing_deg));
+      }
     }
     // The scene: the base scene's tables with the candidate's changes.
     toml::table t = base;
     t.insert_or_assign("name", c.name);
     if (!d.fidelity.empty()) t.insert_or_assign("fidelity", d.fidelity);
     if (auto* lif = t["lifters"].as_table()) {
-      lif->insert_or_assign("profile", c.name + "-profile.toml");
+      if (kind_files.empty()) {
+        lif->erase("pattern");
+        lif->insert_or_assign("profile", c.name + "-profile.toml");
+      } else {
+        lif->erase("profile");
+        toml::array names;
+        for (std::size_t k = 0; k < kind_files.size(); ++k)
+          names.push_back(c.name + "-k" + std::to_string(k) + "-profile.toml");
+        lif->insert_or_assign("pattern", std::move(names));
+      }
       lif->insert_or_assign("rows", static_cast<int64_t>(c.rows));
     }
     if (auto* mill = t["mill"].as_table()) {
@@ -413,12 +519,20 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
     }
     std::ostringstream os;
     os << "# candidate " << c.name << " of screen " << d.name << ": base scene " << d.base_scene
+       << (set_text.empty() ? "" : " with" + set_text + ",")
        << " with its lifter, rows and direction (written by millwear screen)\n"
        << toml::toml_formatter{t} << "\n";
-    io::write_file_atomic(profile_path, profile);
+    if (kind_files.empty()) {
+      io::write_file_atomic(profile_path, profile);
+      c.profile_file = "candidates/" + c.name + "-profile.toml";
+    }
+    for (std::size_t k = 0; k < kind_files.size(); ++k) {
+      io::write_file_atomic(kind_files[k].first, kind_files[k].second);
+      c.kinds[k].profile_file = "candidates/" + fs::path(kind_files[k].first).filename().string();
+    }
+    if (!c.kinds.empty()) c.profile_file = c.kinds.front().profile_file;
     io::write_file_atomic(scene_path, os.str());
     c.scene_file = "candidates/" + c.name + ".toml";
-    c.profile_file = "candidates/" + c.name + "-profile.toml";
     try {
       const Scene s = load_scene(scene_path);
       build_scene_mill(s);
@@ -430,6 +544,8 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
       std::error_code ec;
       fs::remove(scene_path, ec);
       fs::remove(profile_path, ec);
+      for (const auto& kf : kind_files) fs::remove(kf.first, ec);
+      for (KindShape& ks : c.kinds) ks.profile_file.clear();
       c.scene_file.clear();
       c.profile_file.clear();
     }
@@ -441,25 +557,46 @@ const std::vector<std::string> kDesignColumns = {
     "task", "design", "sample", "height_mm", "top_width_mm", "leading_face_angle_deg", "trailing_face_angle_deg",
     "rows", "direction", "area_mm2", "profile_source", "scene_file", "profile_file"};
 
-std::vector<io::CsvCell> design_cells(long long task, const Candidate& c) {
-  return {task, c.name, c.sample, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg,
-          c.rows, c.direction, c.area_mm2, c.profile_source, c.scene_file, c.profile_file};
+// Every kind's columns of a pattern's candidates, after the columns above.
+const std::vector<std::string> kKindColumns = {"height_mm", "top_width_mm", "leading_face_angle_deg",
+                                               "trailing_face_angle_deg", "area_mm2", "profile_file"};
+std::string kind_column(std::size_t k, const std::string& c) { return "kind" + std::to_string(k) + "_" + c; }
+
+std::vector<io::CsvCell> design_cells(long long task, const Candidate& c, std::size_t kinds) {
+  std::vector<io::CsvCell> cells{task, c.name, c.sample, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg,
+                                 c.rows, c.direction, c.area_mm2, c.profile_source, c.scene_file, c.profile_file};
+  for (std::size_t k = 0; k < kinds; ++k) {
+    if (k >= c.kinds.size()) {  // a candidate rejected at an earlier kind
+      for (std::size_t i = 0; i < kKindColumns.size(); ++i) cells.emplace_back(std::string());
+      continue;
+    }
+    const KindShape& s = c.kinds[k];
+    for (const io::CsvCell& x : std::vector<io::CsvCell>{s.height_mm, s.top_width_mm, s.leading_deg, s.trailing_deg,
+                                                         s.area_mm2, s.profile_file})
+      cells.push_back(x);
+  }
+  return cells;
 }
 }  // namespace
 
 void write_design_tables(const std::string& out, const std::vector<Candidate>& cands) {
+  std::size_t kinds = 0;
+  for (const Candidate& c : cands) kinds = std::max(kinds, c.kinds.size());
+  std::vector<std::string> cols = kDesignColumns;
+  for (std::size_t k = 0; k < kinds; ++k)
+    for (const std::string& n : kKindColumns) cols.push_back(kind_column(k, n));
   // Exact numbers: the tasks read them back as the candidate's record.
-  io::CsvTable good(kDesignColumns, io::CsvOptions{10, true});
-  std::vector<std::string> rej_cols = kDesignColumns;
+  io::CsvTable good(cols, io::CsvOptions{10, true});
+  std::vector<std::string> rej_cols = cols;
   rej_cols.erase(rej_cols.begin());
   rej_cols.push_back("reason");
   io::CsvTable bad(rej_cols);
   long long task = 0;
   for (const Candidate& c : cands) {
     if (c.reason.empty()) {
-      good.add_row(design_cells(task++, c));
+      good.add_row(design_cells(task++, c, kinds));
     } else {
-      auto cells = design_cells(0, c);
+      auto cells = design_cells(0, c, kinds);
       cells.erase(cells.begin());
       cells.push_back(c.reason);
       bad.add_row(cells);
@@ -486,6 +623,16 @@ std::vector<Candidate> read_designs(const std::string& out) {
     c.profile_source = t.text(r, t.column("profile_source"));
     c.scene_file = t.text(r, t.column("scene_file"));
     c.profile_file = t.text(r, t.column("profile_file"));
+    for (std::size_t k = 0; t.has_column(kind_column(k, "area_mm2")); ++k) {
+      KindShape s;
+      s.height_mm = t.number(r, kind_column(k, "height_mm"));
+      s.top_width_mm = t.number(r, kind_column(k, "top_width_mm"));
+      s.leading_deg = t.number(r, kind_column(k, "leading_face_angle_deg"));
+      s.trailing_deg = t.number(r, kind_column(k, "trailing_face_angle_deg"));
+      s.area_mm2 = t.number(r, kind_column(k, "area_mm2"));
+      s.profile_file = t.text(r, t.column(kind_column(k, "profile_file")));
+      c.kinds.push_back(s);
+    }
     if (static_cast<std::size_t>(t.number(r, "task")) != r || !io::is_valid_design_name(c.name))
       throw InputError(t.path, "line " + std::to_string(t.row_line[r]), "task numbers 0, 1, 2, ... in order and a design name");
     v.push_back(c);

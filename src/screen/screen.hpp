@@ -19,7 +19,9 @@
 //   seed = 1                         # latin_hypercube: random seed
 //   equal_area = "base"              # optional: "base" (the base scene's lifter) or a profile
 //                                    # file; each candidate's top width is chosen so its metal
-//                                    # area equals the reference's
+//                                    # area equals the reference's. With a base scene of a
+//                                    # pattern of kinds (hi-lo): "base" matches each kind to its
+//                                    # own kind's area, or a list of files, one per kind
 //   power = "min"                    # Pareto sense of power draw: "min" (a cost) or "max"
 //
 //   [family]                         # each: a number, a list, or {min, max, steps}
@@ -36,6 +38,18 @@
 // trapezoid keys). In a grid, a {min, max, steps} range is `steps` evenly spaced values;
 // in a Latin hypercube a range without steps is sampled continuously, one value per
 // stratum, and a list one level per stratum.
+//
+// A base scene with a [lifters] pattern (kinds of lifter repeating over the rows, e.g. hi-lo)
+// gives candidates of the same pattern: each kind a trapezoid whose parameters the family
+// gives where it has them (the same value for every kind) and the base kind's own where it
+// does not (so a face-angle family keeps the high and the low lifters' heights). Not with
+// family.profiles.
+//
+// `--set KEY=VALUE` overrides (ScreenDef::overrides) go over the base scene before anything
+// is read from it, as in every command that reads a scene, and are written into every
+// candidate's scene file: the local pool, GNU parallel and Slurm tasks read them there. A key
+// the screen sets for every candidate itself (name, the lifters, and rows, direction,
+// fidelity, stages or stage hours when the screen file gives them) is refused.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -66,6 +80,9 @@ struct ScreenDef {
   int samples = 0;
   std::uint64_t seed = 1;
   std::string equal_area;        // "" none, "base", or a resolved profile file
+  std::vector<std::string> equal_area_kinds;  // equal_area as a list: one resolved file per kind
+  std::vector<std::string> overrides;         // --set KEY=VALUE over the base scene, in order
+  int kinds = 1;                 // kinds of lifter of the base scene (its pattern's; 1 without)
   bool power_higher_is_better = false;
   // Family, file units (mm, deg).
   Axis height_mm, top_width_mm, leading_deg, trailing_deg, rows;
@@ -74,8 +91,16 @@ struct ScreenDef {
   std::vector<std::string> profiles;    // resolved profile files; empty = trapezoid family
 };
 
-// Read and validate a screen file and its base scene. Throws InputError.
-ScreenDef load_screen(const std::string& path);
+// Read and validate a screen file and its base scene (with the --set overrides on it).
+// Throws InputError.
+ScreenDef load_screen(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// One kind of lifter of a candidate whose base scene has a pattern. Numbers in file units.
+struct KindShape {
+  double height_mm = 0.0, top_width_mm = 0.0, leading_deg = 0.0, trailing_deg = 0.0;
+  double area_mm2 = 0.0;
+  std::string profile_file;       // written profile (relative to OUT)
+};
 
 // One candidate lifter design. Numbers in file units (mm, deg).
 struct Candidate {
@@ -88,6 +113,9 @@ struct Candidate {
   double area_mm2 = 0.0;
   std::string reason;             // non-empty: rejected, and why
   std::string scene_file, profile_file;  // written candidate files (relative to OUT)
+  // A base scene with a pattern: every kind's lifter, kind 0's also in the fields above.
+  // Empty for a plain liner.
+  std::vector<KindShape> kinds;
 };
 
 // The candidates of the family in a fixed order (grid: the last parameter varies fastest;
@@ -99,15 +127,18 @@ std::vector<Candidate> sample_family(const ScreenDef& def, const Scene& base);
 // The parameters that vary in the family, by column name (height_mm, leading_face_angle_deg, ...).
 std::vector<std::string> varying_parameters(const ScreenDef& def);
 
-// Writes OUT/candidates/NAME.toml (the base scene with the candidate's name, lifter, rows,
-// direction and the screen's overrides) and NAME-profile.toml for every candidate without
+// Writes OUT/candidates/NAME.toml (the base scene, with the --set overrides, and the
+// candidate's name, lifter, rows, direction and the screen's overrides) and NAME-profile.toml
+// (a pattern: NAME-kK-profile.toml per kind K) for every candidate without
 // a reason, then reads each back with load_scene and builds its mill: a candidate that
 // fails (self-intersecting or zero-area profile, lifters touching their neighbours, too
 // tall, below the replacement height) gets the reason and its files are removed.
 void write_candidates(const ScreenDef& def, std::vector<Candidate>& candidates, const std::string& out);
 
 // OUT/designs.csv (valid candidates, in task order: row I is `screen-task OUT I`) and
-// OUT/rejected.csv (the others, with the reason).
+// OUT/rejected.csv (the others, with the reason). Candidates of a pattern add the columns
+// kindK_height_mm, kindK_top_width_mm, kindK_leading_face_angle_deg,
+// kindK_trailing_face_angle_deg, kindK_area_mm2, kindK_profile_file for every kind K.
 void write_design_tables(const std::string& out, const std::vector<Candidate>& candidates);
 // Reads OUT/designs.csv back (what every task and --collect use). Throws InputError.
 std::vector<Candidate> read_designs(const std::string& out);

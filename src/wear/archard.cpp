@@ -92,6 +92,20 @@ double lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<do
   return sum / static_cast<double>(unit_power.size());
 }
 
+std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
+  const std::size_t kinds = static_cast<std::size_t>(mill.kinds);
+  std::vector<double> sum(kinds, 0.0), count(kinds, 0.0);
+  for (std::size_t u = 0; u < unit_power.size(); ++u) {
+    double p = 0.0;
+    for (std::size_t j = 0; j < unit_power[u].size(); ++j)
+      if (is_lifter_edge(mill.units[u], static_cast<int>(j))) p += unit_power[u][j];
+    sum[u % kinds] += p;
+    count[u % kinds] += 1.0;
+  }
+  for (std::size_t k = 0; k < kinds; ++k) sum[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
+  return sum;
+}
+
 double real_wear_rate(const Scene& scene, const MillGeometry& mill,
                       const std::vector<double>& shear_power_W) {
   const WearDef& w = scene.wear;

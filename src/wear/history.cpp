@@ -77,21 +77,6 @@ NewLiner new_liner(const Scene& scene) {
   return n;
 }
 
-// Shear power on the lifters of each kind, per row of that kind (W).
-std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
-  const std::size_t kinds = static_cast<std::size_t>(mill.kinds);
-  std::vector<double> sum(kinds, 0.0), count(kinds, 0.0);
-  for (std::size_t u = 0; u < unit_power.size(); ++u) {
-    double p = 0.0;
-    for (std::size_t j = 0; j < unit_power[u].size(); ++j)
-      if (is_lifter_edge(mill.units[u], static_cast<int>(j))) p += unit_power[u][j];
-    sum[u % kinds] += p;
-    count[u % kinds] += 1.0;
-  }
-  for (std::size_t k = 0; k < kinds; ++k) sum[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
-  return sum;
-}
-
 // Worn to the shell: the first row of any kind (row 0 for a plain liner, as ever).
 bool any_worn_out(const std::vector<LinerUnit>& units, int kinds, double radius_m,
                   const std::vector<LifterMetrics>& start) {
@@ -172,6 +157,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   const double t = scene.slice_thickness();
   rec.area_loss_rate_m2_per_s = c_real * w.lifter_power_mean_W / t;
   for (double p : kind_lifter_power_W(mill, w.unit_power_W)) rec.kind_area_loss_rate_m2_per_s.push_back(c_real * p / t);
+  if (mill.kinds > 1) rec.kind_area_loss_rate_rel_sem = w.kind_lifter_power_rel_sem;
   const double c_shell = shell_wear_rate(scene, c_real);
   rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
   rec.charge_errors = w.charge_errors;

@@ -25,6 +25,7 @@ struct StageRecord {
   // (m^2 per operating s, at this geometry). One entry for a plain liner.
   std::vector<LifterMetrics> kinds;
   std::vector<double> kind_area_loss_rate_m2_per_s;
+  std::vector<double> kind_area_loss_rate_rel_sem;  // rule 2's error of each (a pattern only)
   ChargeFigures charge;           // measured on this geometry
   double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
@@ -54,7 +55,8 @@ struct StageRecord {
 struct WearHistory {
   std::vector<StageRecord> stages;
   double start_hours = 0.0;       // operating hours of its first stage
-  double life_h = 0.0;            // hours to the replacement height (on the stages' clock)
+  double life_h = 0.0;            // hours to the replacement height (on the stages' clock);
+                                  // a pattern: its shortest-lived kind's
   bool life_extrapolated = false;
   // Per kind of a pattern (one entry for a plain liner): life of that kind's lifters.
   std::vector<double> kind_life_h;

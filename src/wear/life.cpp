@@ -56,6 +56,16 @@ void compute_life(WearHistory& h, double replacement_height_m) {
     h.kind_life_h.push_back(kl.hours);
     h.kind_life_extrapolated.push_back(kl.extrapolated);
   }
+  // A liner of several kinds is relined when any of its kinds reaches the replacement
+  // height: the shortest-lived kind's life is the liner's (a plain liner keeps its row-0
+  // life above).
+  if (kinds > 1) {
+    std::size_t first = 0;
+    for (std::size_t k = 1; k < kinds; ++k)
+      if (h.kind_life_h[k] < h.kind_life_h[first]) first = k;
+    h.life_h = h.kind_life_h[first];
+    h.life_extrapolated = h.kind_life_extrapolated[first];
+  }
 }
 
 }  // namespace millwear

@@ -73,6 +73,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   WindowWork w;
   std::vector<double> batch_power;
   std::vector<ChargeFigures> batch_figures;
+  std::vector<std::vector<double>> kind_batch_power(mill.kinds > 1 ? static_cast<std::size_t>(mill.kinds) : 0);
   for (int b = 0; b < kMaxWindowBatches; ++b) {
     check_stop();
     engine.reset_window();
@@ -91,8 +92,13 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     const Accounting& acc = engine.accounting();
     std::vector<double> p(acc.shear_work_J.size());
     for (std::size_t e = 0; e < p.size(); ++e) p[e] = acc.shear_work_J[e] / acc.time_s;
-    batch_power.push_back(lifter_power_W(mill, unit_edge_work(mill, p, scene.wear.average_rows)));
+    const auto unit_power = unit_edge_work(mill, p, scene.wear.average_rows);
+    batch_power.push_back(lifter_power_W(mill, unit_power));
     batch_figures.push_back(charge_figures(acc, scene, engine.state().mill_speed_rad_s));
+    if (!kind_batch_power.empty()) {
+      const std::vector<double> kp = kind_lifter_power_W(mill, unit_power);
+      for (std::size_t k = 0; k < kind_batch_power.size(); ++k) kind_batch_power[k].push_back(kp[k]);
+    }
     accumulate_work(w.accounting, acc);
     const int n = static_cast<int>(batch_power.size());
     if (n < kWindowBatches) continue;
@@ -101,6 +107,7 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
       break;
   }
   w.charge_errors = charge_figure_errors(batch_figures);
+  for (const auto& kb : kind_batch_power) w.kind_lifter_power_rel_sem.push_back(batch_means(kb).rel_sem);
   w.simulated_s = w.accounting.time_s;
   w.edge_power_W.resize(w.accounting.shear_work_J.size());
   for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)

@@ -22,6 +22,7 @@ struct WindowWork {
   double lifter_power_mean_W = 0.0;                 // per row, summed over lifter edges
   double lifter_power_rel_sem = 0.0;                // batch-means relative standard error
   ChargeFigureErrors charge_errors;                 // batch-means errors of the charge figures
+  std::vector<double> kind_lifter_power_rel_sem;    // a pattern: the same for each kind's lifters
   double simulated_s = 0.0;
   // With scene.outputs.vtk: the charge at vtk_frames even times over the window (rounded up
   // to whole frames per batch), for the ParaView files.

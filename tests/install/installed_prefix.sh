@@ -66,7 +66,7 @@ offers 'scenes/?' millwear run sc ||
 
 # Every installed scene resolves its ../profiles/ from where it was installed; the screen
 # file its base scene and equal-area profile (--emit writes the job list, runs nothing).
-for s in lab-mill lab-worn-start sag-1x30 sag-2x30 sag-2x30-vs-1x30 sag-hi-lo; do
+for s in lab-mill lab-hi-lo lab-worn-start sag-1x30 sag-2x30 sag-2x30-vs-1x30 sag-hi-lo; do
   (cd "$tmp/here" && millwear run "$p/share/millwear/scenarios/$s.toml" -o out-check --check \
      >/dev/null) || fail "the installed scene $s.toml does not validate"
 done
