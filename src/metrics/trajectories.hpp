@@ -9,7 +9,7 @@
 //
 // Definitions (docs/trajectories.md says them with the figures):
 //  - Free: between two frames a disk is free when its velocity changed by gravity alone,
-//    each component within kFreeTolerance of g dt of the ballistic change (no contact acted).
+//    each component within free_tolerance x g dt of the ballistic change (no contact acted).
 //  - Flight from the lifters: a run of free intervals whose first starts at a frame where the
 //    disk touched the liner (its centre within (1 + touch_gap) radii of the liner polyline,
 //    mill frame) on the rising side (0 < angle < 180 deg), and in which the disk gets at
