@@ -94,7 +94,6 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   }
   r.impacts = tracker.impacts();
   r.flight_paths = tracker.paths();
-  r.launches = tracker.launches();
   r.window_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.accounting = engine->accounting();
   r.figures = charge_figures(r.accounting, scene, sign * scene.angular_speed_rad_s());

@@ -25,7 +25,6 @@ struct ChargeRunResult {
   // ending at final_state).
   std::vector<Impact> impacts;
   std::vector<FlightPath> flight_paths;
-  std::size_t launches = 0;
   MillGeometry mill;
   std::vector<EngineEvent> events;
   std::size_t disks = 0;
