@@ -45,11 +45,16 @@ bool has_magic(const fs::path& p, const std::string& magic) {
   return s.size() > magic.size() && s.compare(0, magic.size(), magic) == 0;
 }
 
-const char* const kColumns[] = {"design", "stage", "hours", "area_mm2", "area_norm", "area_loss_pct",
-                                "height_mm", "power_kw", "power_norm", "collision_kw",
-                                "collision_norm", "utilization", "utilization_norm", "life_h",
-                                "life_extrapolated", "packed_shear_pct", "charge_t", "specific_power_kw_per_t",
-                                "liner_wear_g_per_kwh"};
+// Every figure FIG with its standard error FIG_se beside it.
+const char* const kColumns[] = {
+    "design", "stage", "hours", "replicates", "error_source",
+    "area_mm2", "area_mm2_se", "area_loss_pct", "area_loss_pct_se", "height_mm", "height_mm_se",
+    "power_kw", "power_kw_se", "collision_kw", "collision_kw_se", "utilization", "utilization_se",
+    "liner_shear_kw", "liner_shear_kw_se", "packed_shear_pct", "packed_shear_pct_se", "charge_t", "charge_t_se",
+    "specific_power_kw_per_t", "specific_power_kw_per_t_se", "liner_wear_g_per_kwh", "liner_wear_g_per_kwh_se",
+    "centre_of_mass_deg", "centre_of_mass_deg_se", "toe_deg", "toe_deg_se", "shoulder_deg", "shoulder_deg_se",
+    "area_norm", "area_norm_se", "power_norm", "power_norm_se", "collision_norm", "collision_norm_se",
+    "utilization_norm", "utilization_norm_se", "life_h", "life_h_se", "life_extrapolated", "centrifuged"};
 
 }  // namespace
 

@@ -109,8 +109,11 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
   EXPECT_EQ(t.text(2, t.column("toe_deg")), "centrifuged");
   EXPECT_EQ(t.text(2, t.column("shoulder_deg")), "centrifuged");
   EXPECT_EQ(t.text(2, t.column("centrifuged")), "1");
+  EXPECT_EQ(t.text(2, t.column("liner_impact_share")), "centrifuged");
   for (std::size_t row : {0u, 1u}) {
     EXPECT_EQ(t.text(row, t.column("centrifuged")), "0");
+    EXPECT_GE(col("liner_impact_share", row), 0.0);  // a share of the impact energy
+    EXPECT_LE(col("liner_impact_share", row), 1.0);
     EXPECT_LT(col("toe_deg", row), 0.0);        // the toe on the falling side of 6 o'clock
     EXPECT_GT(col("shoulder_deg", row), 90.0);  // the shoulder above 3 o'clock on the rising side
   }

@@ -15,6 +15,7 @@
 #include "plots/plots.hpp"
 #include "study/charge_outputs.hpp"
 #include "io/folder_lock.hpp"
+#include "metrics/trajectories.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
@@ -68,12 +69,27 @@ int run_charge(const ChargeArgs& args) {
                 "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"
                 "          (README \"Numerical limits\")\n",
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
+  const ImpactSummary im = summarize_impacts(result.impacts, static_cast<int>(result.batches.size()),
+                                             f.summary.toe_deg, f.summary.shoulder_deg, f.summary.centrifuged);
+  const double flights_per_s = f.summary.time_s > 0 ? static_cast<double>(im.window.impacts) / f.summary.time_s : 0.0;
+  if (im.window.impacts == 0)
+    std::printf("  flights      none from the lifters landed in the window\n");
+  else if (f.summary.centrifuged)
+    std::printf("  flights      %.1f/s from the lifters (slice); centrifuged: no toe to set their impacts against\n",
+                flights_per_s);
+  else
+    std::printf("  flights      %.1f/s from the lifters (slice); of their impact energy %.1f +- %.1f%% lands above\n"
+                "               the toe, %.1f +- %.1f%% on the bare liner there (impacts.csv, docs/trajectories.md)\n",
+                flights_per_s, 100.0 * im.window.above_toe_share, 100.0 * im.above_toe_share.sem,
+                100.0 * im.window.liner_share, 100.0 * im.liner_share.sem);
   std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
               args.out.c_str());
   bool figures_failed = false;
   try {
     const auto figs = render_charge_figures(args.out, scene);
-    if (!figs.empty()) std::printf("  figures in %s/plots (spectrum, snapshot_%s)\n", args.out.c_str(), scene.name.c_str());
+    if (!figs.empty())
+      std::printf("  figures in %s/plots (spectrum, snapshot_%s, impacts_%s, trajectories_%s)\n", args.out.c_str(),
+                  scene.name.c_str(), scene.name.c_str(), scene.name.c_str());
   } catch (const std::exception& e) {
     std::cerr << "millwear: warning: figures: " << e.what() << "\n";
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone

@@ -1,11 +1,21 @@
 #include "engine/charge_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "metrics/batch_means.hpp"
 
 namespace millwear {
+
+namespace {
+
+// The trajectory envelope: flights launched in the window's last half revolution, a point
+// every half degree of the mill's turn (a flight of a quarter turn gets about 180).
+constexpr double kPathRevolutions = 0.5;
+constexpr double kPathPointsPerRevolution = 720.0;
+
+}  // namespace
 
 double initial_direction_sign(const Scene& scene) {
   return scene.mill.direction == Direction::Reverse ? -1.0 : 1.0;
@@ -58,18 +68,32 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   const int frames_per_batch =
       scene.outputs.vtk ? (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches : 1;
   const long long pieces = static_cast<long long>(kWindowBatches) * frames_per_batch;
+  // Flights: the charge at every step; the paths of the last half revolution's launches.
+  FlightOptions flight;
+  flight.gravity_m_s2 = kGravity;
+  const double revolution_s = scene.revolution_time_s();
+  const double window_end_s = engine->state().time_s + static_cast<double>(steps) * engine->time_step_s();
+  flight.path_from_s = std::max(engine->state().time_s, window_end_s - kPathRevolutions * revolution_s);
+  flight.path_to_s = window_end_s;
+  flight.path_interval_s = revolution_s / kPathPointsPerRevolution;
+  FlightTracker tracker(r.mill.boundary, engine->state(), flight);
   Accounting batch_start = engine->accounting();
   long long done = 0;
   for (long long k = 1; k <= pieces; ++k) {
     const long long upto = steps * k / pieces;
-    engine->step(static_cast<int>(upto - done));
-    done = upto;
+    for (; done < upto; ++done) {
+      engine->step(1);
+      tracker.observe(engine->state());
+    }
     if (scene.outputs.vtk) r.frames.push_back(engine->state());
     if (k % frames_per_batch != 0) continue;
     r.batches.push_back(charge_figures(accounting_since(engine->accounting(), batch_start), scene,
                                        sign * scene.angular_speed_rad_s()));
     batch_start = engine->accounting();
+    tracker.set_batch(static_cast<int>(r.batches.size()));
   }
+  r.impacts = tracker.impacts();
+  r.flight_paths = tracker.paths();
   r.window_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.accounting = engine->accounting();
   r.figures = charge_figures(r.accounting, scene, sign * scene.angular_speed_rad_s());

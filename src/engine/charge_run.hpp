@@ -4,6 +4,7 @@
 
 #include "engine/engine.hpp"
 #include "metrics/charge_summary.hpp"
+#include "metrics/trajectories.hpp"
 
 namespace millwear {
 
@@ -18,6 +19,12 @@ struct ChargeRunResult {
   // included), for the ParaView files.
   std::vector<ChargeState> frames;
   ChargeState final_state;
+  // Flights from the lifters over the window, the charge followed at every step
+  // (metrics/trajectories.hpp): every first impact, tagged with its batch, and the paths of
+  // the flights launched in the window's last half revolution (the trajectory envelope,
+  // ending at final_state).
+  std::vector<Impact> impacts;
+  std::vector<FlightPath> flight_paths;
   MillGeometry mill;
   std::vector<EngineEvent> events;
   std::size_t disks = 0;
@@ -28,8 +35,9 @@ struct ChargeRunResult {
 };
 
 // Fill, settle and spin up, then run scene.run.revolutions at the scene's speed
-// (forward for bidirectional mills). The window is stepped in pieces (batches, frames);
-// the steps are the same as in one piece, so the figures do not depend on them.
+// (forward for bidirectional mills). The window is stepped one step at a time, each step's
+// charge shown to a FlightTracker, and cut into batches (and frames); the steps are the same
+// as in one piece, so the figures do not depend on them.
 ChargeRunResult run_charge_only(const Scene& scene);
 
 // The sums of a window between two readings of the same engine's accounting (`before` taken

@@ -1,13 +1,19 @@
 // The files of `millwear charge` (see charge_outputs.hpp).
 #include "study/charge_outputs.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <sstream>
 
+#include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "io/stage_files.hpp"
+#include "metrics/batch_means.hpp"
+#include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/archard.hpp"
@@ -20,6 +26,91 @@ std::string fmt(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
+}
+
+// The rows of charge_summary.csv on the flights from the lifters: their rate, their impact
+// power, and the shares of it above the toe and on the bare liner there, with batch-means
+// errors ("centrifuged" where there is no toe, "none" without a landed flight).
+std::string impact_rows(const Scene& scene, const ChargeRunResult& r) {
+  const ChargeSummary& s = r.figures.summary;
+  const double per_m = 1e-3 / scene.slice_thickness();
+  const ImpactSummary im = summarize_impacts(r.impacts, static_cast<int>(r.batches.size()), s.toe_deg,
+                                             s.shoulder_deg, s.centrifuged);
+  const auto share = [&](double v) {
+    return s.centrifuged ? std::string("centrifuged") : im.window.impacts == 0 ? std::string("none") : fmt(v);
+  };
+  const auto share_se = [&](const BatchMeans& b) {
+    return s.centrifuged || im.window.impacts == 0 ? std::string("") : fmt(b.sem);
+  };
+  const std::string se_unit = "standard error (batch means over " + std::to_string(r.batches.size()) +
+                              " sub-windows; a lower bound)";
+  std::ostringstream o;
+  o << "flights_per_s," << fmt(s.time_s > 0 ? static_cast<double>(im.window.impacts) / s.time_s : 0.0)
+    << ",flights from the lifters landed per second (in the slice)\n"
+    << "impact_power_per_m," << fmt(s.time_s > 0 ? im.window.energy_J / s.time_s * per_m : 0.0)
+    << ",kW/m (first-impact energy of those flights)\n"
+    << "impact_above_toe_share," << share(im.window.above_toe_share)
+    << ",of the first-impact energy landing above the toe (on the liner or the charge)\n"
+    << "impact_above_toe_share_se," << share_se(im.above_toe_share) << "," << se_unit << "\n"
+    << "liner_impact_share," << share(im.window.liner_share)
+    << ",of the first-impact energy landing on the bare liner above the toe\n"
+    << "liner_impact_share_se," << share_se(im.liner_share) << "," << se_unit << "\n";
+  return o.str();
+}
+
+// The species' names as column suffixes: as the scene names them, a repeated name with its
+// index after it.
+std::vector<std::string> species_labels(const Scene& scene) {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < scene.charge.species.size(); ++k) {
+    std::string name = scene.charge.species[k].name;
+    if (std::find(out.begin(), out.end(), name) != out.end()) name += "_" + std::to_string(k);
+    out.push_back(name);
+  }
+  return out;
+}
+
+// impacts.csv: the first impacts binned by angle, every species and each alone.
+void write_impacts_csv(const std::string& path, const Scene& scene, const ChargeRunResult& r) {
+  const int species = static_cast<int>(scene.charge.species.size());
+  const ImpactDistribution d = bin_impacts(r.impacts, species);
+  const double t = r.figures.summary.time_s;
+  const double per_s = t > 0.0 ? 1.0 / t : 0.0;
+  const double per_m = per_s / scene.slice_thickness();
+  std::vector<std::string> header{"angle_deg_lower", "angle_deg_upper", "impacts_per_s", "impact_power_W_per_m",
+                                  "liner_impact_power_W_per_m"};
+  for (const std::string& name : species_labels(scene)) {
+    header.push_back("impacts_per_s_" + name);
+    header.push_back("impact_power_W_per_m_" + name);
+  }
+  io::CsvTable table(header);
+  for (int k = 0; k < kImpactBins; ++k) {
+    const auto b = static_cast<std::size_t>(k);
+    std::vector<double> values{-180.0 + k * kImpactBinDeg, -180.0 + (k + 1) * kImpactBinDeg, d.count[b] * per_s,
+                               d.energy_J[b] * per_m, d.liner_energy_J[b] * per_m};
+    for (int sp = 0; sp < species; ++sp) {
+      values.push_back(d.species_count[static_cast<std::size_t>(sp)][b] * per_s);
+      values.push_back(d.species_energy_J[static_cast<std::size_t>(sp)][b] * per_m);
+    }
+    table.add_row(std::vector<io::CsvCell>(values.begin(), values.end()));
+  }
+  table.write(path);
+}
+
+// trajectories_NAME.csv: the flight paths, world frame, one block of rows per path (a blank
+// line between blocks, so gnuplot draws each path apart); `end` marks a landed path's impact.
+void write_trajectories_csv(const std::string& path, const ChargeRunResult& r) {
+  std::ostringstream o;
+  o << "path,disk,species,landed,end,x_m,y_m\n";
+  for (std::size_t p = 0; p < r.flight_paths.size(); ++p) {
+    const FlightPath& f = r.flight_paths[p];
+    if (p) o << "\n";
+    for (std::size_t k = 0; k < f.points_m.size(); ++k)
+      o << p << ',' << f.disk << ',' << f.species << ',' << (f.landed ? 1 : 0) << ','
+        << (f.landed && k + 1 == f.points_m.size() ? 1 : 0) << ',' << fmt(f.points_m[k].x) << ','
+        << fmt(f.points_m[k].y) << '\n';
+  }
+  io::write_file_atomic(path, o.str());
 }
 
 }  // namespace
@@ -52,6 +143,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "charge_mass_per_m," << fmt(s.mass_kg / t) << ",kg/m\n"
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
+      << impact_rows(scene, r)
       << "escaped_disks," << s.escaped << ",\n"
       << "disk_steps_per_s," << fmt(r.window_wall_s > 0 ? r.disk_steps / r.window_wall_s : 0.0) << ",1/s\n"
       << "time_collide," << fmt(r.timing.collide_s) << ",s\n"
@@ -108,6 +200,8 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     }
     write_vtk_series(out + "/vtk", scene.name, scene, r.mill, r.frames, liner_fields(scene, r.mill, r.accounting, c));
   }
+  write_impacts_csv(io::join_path(out, "impacts.csv"), scene, r);
+  write_trajectories_csv(io::join_path(out, "trajectories_" + scene.name + ".csv"), r);
   if (scene.outputs.snapshot) {
     // The charge and the liner at the window's end, in the world frame; the liner coloured by
     // the shear power it took over the window.
@@ -121,8 +215,81 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
   }
 }
 
+namespace {
+
+// The value of a quantity in charge_summary.csv ("" if it has no such row).
+std::string summary_value(const io::CsvData& summary, const std::string& quantity) {
+  const std::size_t q = summary.column("quantity"), v = summary.column("value");
+  for (const auto& row : summary.rows)
+    if (row[q] == quantity) return row[v];
+  return "";
+}
+
+// A share as a percentage with its error, for a figure's title.
+std::string percent_text(const std::string& share, const std::string& se) {
+  char* end = nullptr;
+  const double v = std::strtod(share.c_str(), &end);
+  if (share.empty() || *end != '\0') return share.empty() ? "none" : share;
+  char buf[96];
+  const double e = std::strtod(se.c_str(), nullptr);
+  std::snprintf(buf, sizeof buf, se.empty() ? "%.1f%%" : "%.1f +- %.1f%%", 100.0 * v, 100.0 * e);
+  return buf;
+}
+
+}  // namespace
+
 std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
-  return plots::render_all_figures(out, {scene.name});
+  std::vector<std::string> written, failures;
+  try {
+    written = plots::render_all_figures(out, {scene.name});
+  } catch (const RunError& e) {
+    failures.push_back(e.what());
+  }
+  // The impact and trajectory figures: the species named and coloured as in the snapshot,
+  // the toe and shoulder from charge_summary.csv.
+  std::map<std::string, std::string> vars;
+  std::string names, colours;
+  std::vector<bool> balls;
+  for (const SpeciesDef& sp : scene.charge.species) balls.push_back(sp.is_ball);
+  for (const std::string& name : species_labels(scene)) names += (names.empty() ? "" : " ") + name;
+  for (const std::string& c : plots::species_colours(balls)) colours += (colours.empty() ? "" : " ") + c;
+  const io::CsvData summary = io::read_csv(io::join_path(out, "charge_summary.csv"));
+  const std::string toe = summary_value(summary, "toe_angle");
+  vars["datadir"] = out;
+  vars["design"] = scene.name;
+  vars["species_names"] = names;
+  vars["species_colours"] = colours;
+  vars["centrifuged"] = toe == "centrifuged" ? "1" : "0";
+  vars["toe_deg"] = toe == "centrifuged" ? "0" : toe;
+  vars["shoulder_deg"] = toe == "centrifuged" ? "0" : summary_value(summary, "shoulder_angle");
+  vars["turning"] = initial_direction_sign(scene) > 0 ? "1" : "-1";
+  vars["liner_share_text"] = percent_text(summary_value(summary, "liner_impact_share"),
+                                          summary_value(summary, "liner_impact_share_se"));
+  vars["above_toe_share_text"] = percent_text(summary_value(summary, "impact_above_toe_share"),
+                                              summary_value(summary, "impact_above_toe_share_se"));
+  const std::string plots_out = io::plots_out_dir(out);
+  io::ensure_dir(plots_out);
+  const std::string log = io::join_path(plots_out, "gnuplot.log");
+  auto draw = [&](const std::string& figure, const std::string& name) {
+    std::map<std::string, std::string> v = vars;
+    v["outbase"] = io::join_path(plots_out, name);
+    try {
+      const auto files = plots::render_figure(plots::script_path(figure), v, log);
+      written.insert(written.end(), files.begin(), files.end());
+    } catch (const RunError& e) {
+      failures.push_back(name + ": " + e.what());
+    }
+  };
+  draw("impacts", "impacts_" + scene.name);
+  // The envelope is drawn over the snapshot (outputs.snapshot).
+  if (io::file_exists(io::snapshot_path(out, scene.name)) && io::file_exists(io::liner_path(out, scene.name)))
+    draw("trajectories", "trajectories_" + scene.name);
+  if (!failures.empty()) {
+    std::string msg = "some figures failed (" + std::to_string(written.size()) + " files written):";
+    for (const auto& f : failures) msg += "\n  " + f;
+    throw RunError(msg);
+  }
+  return written;
 }
 
 }  // namespace millwear

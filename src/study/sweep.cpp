@@ -24,6 +24,7 @@
 #include "io/run_folder.hpp"
 #include "metrics/batch_means.hpp"
 #include "metrics/estimates.hpp"
+#include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -116,6 +117,10 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
   p.shear_kW_sem = sem(shear_kW);
   p.toe_deg_sem = sem([](const ChargeFigures& b) { return b.summary.toe_deg; });
   p.shoulder_deg_sem = sem([](const ChargeFigures& b) { return b.summary.shoulder_deg; });
+  const ImpactSummary im = summarize_impacts(r.impacts, static_cast<int>(r.batches.size()), f.summary.toe_deg,
+                                             f.summary.shoulder_deg, f.summary.centrifuged);
+  p.liner_impact_share = im.window.liner_share;
+  p.liner_impact_share_sem = im.liner_share.sem;
 
   const std::string dir = point_dir(out, index, k);
   io::ensure_dir(dir);
@@ -128,15 +133,25 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
                   "power_kW", "power_kW_sem", "specific_power_kW_per_t", "specific_power_kW_per_t_sem",
                   "collision_power_kW", "collision_power_kW_sem", "liner_shear_power_kW",
                   "liner_shear_power_kW_sem", "toe_deg", "toe_deg_sem", "shoulder_deg", "shoulder_deg_sem",
-                  "centrifuged", "replicates", "error_source", "simulated_s", "wall_s", "lost_disks", "error"});
+                  "centrifuged", "liner_impact_share", "liner_impact_share_sem", "replicates", "error_source",
+                  "simulated_s", "wall_s", "lost_disks", "error"});
   // A centrifuged charge has no toe or shoulder: the cells say so (a plot skips them).
   const auto angle = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("centrifuged") : io::CsvCell(v); };
   const auto angle_sem = [](const SweepPoint& p, double v) { return p.centrifuged ? io::CsvCell("") : io::CsvCell(v); };
+  // The share has no toe to go by when centrifuged, and no flight to go by when none landed.
+  const auto share = [&](const SweepPoint& p) {
+    return std::isfinite(p.liner_impact_share) ? io::CsvCell(p.liner_impact_share)
+                                               : io::CsvCell(p.centrifuged ? "centrifuged" : "none");
+  };
+  const auto share_sem = [](const SweepPoint& p) {
+    return std::isfinite(p.liner_impact_share) ? io::CsvCell(p.liner_impact_share_sem) : io::CsvCell("");
+  };
   for (const SweepPoint& p : r.points)
     t.add_row({r.axis.key, p.value, p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
                p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
                p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
-               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, p.replicates,
+               angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, share(p), share_sem(p),
+               p.replicates,
                std::string(error_source_name(p.replicates > 1 ? ErrorSource::Replicates : ErrorSource::BatchMeans)),
                p.simulated_s, p.wall_s, p.lost_disks, p.error});
   t.write(io::join_path(out, "sweep.csv"));
@@ -215,7 +230,8 @@ SweepPoint fold_replicates(const std::vector<SweepPoint>& reps) {
       {&SweepPoint::collision_kW, &SweepPoint::collision_kW_sem},
       {&SweepPoint::shear_kW, &SweepPoint::shear_kW_sem},
       {&SweepPoint::toe_deg, &SweepPoint::toe_deg_sem},
-      {&SweepPoint::shoulder_deg, &SweepPoint::shoulder_deg_sem}};
+      {&SweepPoint::shoulder_deg, &SweepPoint::shoulder_deg_sem},
+      {&SweepPoint::liner_impact_share, &SweepPoint::liner_impact_share_sem}};
   for (const auto& [value, sem] : figures) std::tie(p.*value, p.*sem) = fold(value, sem);
   p.charge_t = 0.0;
   p.simulated_s = p.wall_s = 0.0;

@@ -7,7 +7,8 @@
 //                         power, liner shear power, each with its standard error (batch means
 //                         over the measured window, metrics/batch_means.hpp, a lower bound; or
 //                         with replicates, the standard error of their mean); toe and shoulder
-//                         read "centrifuged" where the charge covers the whole shell
+//                         read "centrifuged" where the charge covers the whole shell; the
+//                         liner-damage share (liner_impact_share, docs/trajectories.md)
 //   OUT/points/NN/        each point's `millwear charge` files (charge_summary.csv, ...);
 //                         with --replicates N, replicate K's in OUT/points/NN.rK/
 //   OUT/plots/            sweep_power, sweep_toe_shoulder, sweep_collision_shear (PNG, SVG)
@@ -65,6 +66,9 @@ struct SweepPoint {
   double toe_deg = 0.0, toe_deg_sem = 0.0;              // from 6 o'clock, + rising side
   double shoulder_deg = 0.0, shoulder_deg_sem = 0.0;
   bool centrifuged = false;   // over the window: no toe or shoulder (metrics/charge_summary.hpp)
+  // Of the first-impact energy of the flights from the lifters, the share on the bare liner
+  // above the toe (metrics/trajectories.hpp; NaN without a landed flight or a toe).
+  double liner_impact_share = 0.0, liner_impact_share_sem = 0.0;
   double simulated_s = 0.0, wall_s = 0.0;
   int replicates = 1;                          // charges folded into the figures
   std::string error;                           // a lost disk or a failed run: figures suspect
