@@ -164,13 +164,14 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
   double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
   double hmax = 0.0;  // the last survey's hours
   for (double h : survey_hours) hmax = std::max(hmax, h);
-  for (int run = 1; run <= opt.max_runs; ++run) {
+  // One history of scene s, fitted on its own; booked as run `run` (replicate `replicate`).
+  const auto run_and_fit = [&](const Scene& s, int run, int replicate) -> const CalibrationRun& {
     const auto t0 = std::chrono::steady_clock::now();
-    const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
     WearHistory h = run_history ? run_history(s) : run_wear_history(s);
     throw_if_failed(h);
     CalibrationRun r;
     r.run = run;
+    r.replicate = replicate;
     r.seed = s.solver.seed;
     r.c_m3_per_J = h.wear_rate_m3_per_J;
     for (const StageRecord& st : h.stages) r.reached_hours = std::max(r.reached_hours, st.hours);
@@ -180,7 +181,12 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.runs.push_back(r);
     result.last_history = std::move(h);
-    if (on_run) on_run(r);
+    if (on_run) on_run(result.runs.back());
+    return result.runs.back();
+  };
+  for (int run = 1; run <= opt.max_runs; ++run) {
+    const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
+    const CalibrationRun& r = run_and_fit(s, run, 1);
     c = r.c_estimate;
     // A scale change inside this history's own statistical error cannot be resolved by
     // another history (it would only draw new noise): that is converged too.
@@ -193,24 +199,9 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
   }
   // Replicates: the calibrated C again with other seeds, each history fitted on its own.
   for (int k = 2; k <= opt.replicates; ++k) {
-    const auto t0 = std::chrono::steady_clock::now();
     Scene s = scene_for_survey_hours(scene, survey_hours, result.runs.back().c_m3_per_J, opt.reach);
     s.solver.seed += static_cast<std::uint64_t>(k - 1);
-    WearHistory h = run_history ? run_history(s) : run_wear_history(s);
-    throw_if_failed(h);
-    CalibrationRun r;
-    r.run = static_cast<int>(result.runs.size()) + 1;
-    r.replicate = k;
-    r.seed = s.solver.seed;
-    r.c_m3_per_J = h.wear_rate_m3_per_J;
-    for (const StageRecord& st : h.stages) r.reached_hours = std::max(r.reached_hours, st.hours);
-    r.fit = fit_history(h.stages);
-    r.c_estimate = r.fit.scale * r.c_m3_per_J;
-    r.events = h.events;
-    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    result.runs.push_back(r);
-    result.last_history = std::move(h);
-    if (on_run) on_run(r);
+    run_and_fit(s, static_cast<int>(result.runs.size()) + 1, k);
   }
   const CalibrationRun& last = result.runs.back();
   // Every history after the first ran near the answer and gives its own estimate, with its
