@@ -155,6 +155,48 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughGnuParallel) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// --replicates N: every task runs N histories (seeds s .. s + N - 1) through `millwear run`'s
+// path; the life's sigma is the standard error of their mean, which for two histories is half
+// their difference; replicate 1 is the plain screen's history, bit for bit.
+TEST_F(ScreenRun, ReplicatesGiveTheLifeErrorFromTheSpreadOfTheHistories) {
+  const fs::path out = root_ / "replicates";
+  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --quiet --replicates 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("standard error of the mean of 2 replicates"), std::string::npos) << r.output;
+  EXPECT_NE(slurp(out / "screen.key").find("\nreplicates=2\n"), std::string::npos);
+  const io::CsvData rank = io::read_csv((out / "ranking.csv").string());
+  const io::CsvData ref = io::read_csv((ref_ / "ranking.csv").string());
+  ASSERT_EQ(rank.row_count(), 4u);
+  for (std::size_t i = 0; i < rank.row_count(); ++i) {
+    const std::string name = rank.text(i, rank.column("design"));
+    EXPECT_EQ(rank.number(i, "replicates"), 2.0) << name;
+    EXPECT_EQ(rank.text(i, rank.column("error_source")), "replicates") << name;
+    // The two histories, from the design's replicates.csv.
+    const io::CsvData h = io::read_csv((out / "designs" / name / "replicates.csv").string());
+    double life[3] = {std::nan(""), std::nan(""), std::nan("")};
+    for (std::size_t k = 0; k < h.row_count(); ++k)
+      if (h.number(k, "stage") == 0.0) life[static_cast<int>(h.number(k, "replicate"))] = h.number(k, "life_h");
+    ASSERT_TRUE(std::isfinite(life[1]) && std::isfinite(life[2])) << name;
+    EXPECT_NE(life[1], life[2]) << name;  // different seeds, different histories
+    EXPECT_NEAR(rank.number(i, "life_h"), 0.5 * (life[1] + life[2]), 1e-6 * life[1]) << name;
+    EXPECT_NEAR(rank.number(i, "life_sigma_h"), 0.5 * std::fabs(life[1] - life[2]), 1e-6 * life[1]) << name;
+    // Replicate 1 is the plain screen's history.
+    for (std::size_t j = 0; j < ref.row_count(); ++j)
+      if (ref.text(j, ref.column("design")) == name) {
+        EXPECT_EQ(ref.text(j, ref.column("error_source")), "batch_means_lower_bound");
+        EXPECT_EQ(ref.number(j, "replicates"), 1.0);
+        EXPECT_NEAR(life[1], ref.number(j, "life_h"), 1e-6 * life[1]) << name;
+      }
+  }
+  // Resuming with another number of replicates would mix two screens in one folder.
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --resume --quiet --replicates 3");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--replicates"), std::string::npos) << r.output;
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(root_ / "bad") + " --replicates 0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(root_ / "bad"));
+}
+
 // Stops the private Slurm on every way out of the test.
 struct SlurmGuard {
   fs::path dir;

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 
@@ -46,6 +47,9 @@ struct ScreenArgs {
 int print_collected(const std::string& out, const CollectOutcome& o) {
   std::printf("%4s %-10s %12s %10s %4s %10s %8s %12s %6s\n", "rank", "design", "life_h", "+-2sigma", "tie",
               "power_kW", "util", "loss/1000h", "front");
+  int replicates = 0;
+  for (const auto& r : o.ranked)
+    if (r.status == "finished") replicates = std::max(replicates, r.replicates);
   for (const auto& r : o.ranked) {
     if (r.status != "finished") continue;
     std::printf("%4d %-10s %11.0f%s %10.0f %4s %10.4g %8.4f %12.1f %6s\n", r.rank, r.design.name.c_str(), r.life_h,
@@ -55,6 +59,11 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
   }
   std::printf("(* life extrapolated; = tied with the best within 2 sigma; front P: life vs power, U: life vs "
               "utilisation)\n");
+  if (replicates > 1)
+    std::printf("sigma: standard error of the mean of %d replicates per design\n", replicates);
+  else if (replicates == 1)
+    std::printf("sigma: one history per design, from its batch means (a lower bound; --replicates N measures the "
+                "spread between histories)\n");
   for (const auto& r : o.ranked)
     if (r.status == "failed" || r.status == "missing")
       std::fprintf(stderr, "millwear: design %s %s: %s\n", r.design.name.c_str(), r.status.c_str(), r.reason.c_str());
@@ -157,6 +166,9 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
   cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")->check(CLI::Range(1, 100000));
   add_set_option(cmd, &r.overrides);
+  cmd->add_option("--replicates", r.replicates,
+                  "histories per design, seeds s, s+1, ... (default 1): the life's error from their spread; "
+                  "with 1 it is the batch-means lower bound");
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <map>
 
 #include "io/atomic_write.hpp"
@@ -86,18 +87,33 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     r.power_W = watts_from_kW(s.number(first, "power_kw"));
     r.collision_W = watts_from_kW(s.number(first, "collision_kw"));
     r.utilization = s.number(first, "utilization");
+    r.power_se_W = watts_from_kW(s.number(first, "power_kw_se"));
+    r.collision_se_W = watts_from_kW(s.number(first, "collision_kw_se"));
+    r.utilization_se = s.number(first, "utilization_se");
     // A pattern of kinds: the liner's life is the kind's that reaches the replacement height
-    // first (summary.csv's kindK_life_h equal to life_h); its own area and rates count.
+    // first (the shortest kindK_life_h in summary.csv); its own area and rates count.
     std::string kind_pre, area_col = "area_mm2";
-    for (int k = 0; s.has_column("kind" + std::to_string(k) + "_life_h"); ++k)
-      if (s.number(first, "kind" + std::to_string(k) + "_life_h") == r.life_h) {
+    double shortest = std::numeric_limits<double>::infinity();
+    for (int k = 0; s.has_column("kind" + std::to_string(k) + "_life_h"); ++k) {
+      const double life_k = s.number(first, "kind" + std::to_string(k) + "_life_h");
+      if (life_k < shortest) {
+        shortest = life_k;
         kind_pre = "kind." + std::to_string(k) + ".";
         area_col = "kind" + std::to_string(k) + "_area_mm2";
-        break;
       }
+    }
     const double hours = s.number(last, "hours") - s.number(first, "hours");
     r.area_loss_mm2_per_1000h =
         hours > 0.0 ? (s.number(first, area_col) - s.number(last, area_col)) / hours * 1000.0 : std::nan("");
+    // With replicates, the life's error is the standard error of their mean (summary.csv);
+    // with one history, it is propagated from the stages' batch means (a lower bound).
+    r.replicates = s.has_column("replicates") ? static_cast<int>(s.number(first, "replicates")) : 1;
+    if (r.replicates > 1) {
+      r.life_sigma_h = s.number(first, "life_h_se");
+      r.error_source = "replicates";
+      r.status = "finished";
+      return r;
+    }
     std::vector<StageRate> rates;
     for (const auto& [k, row] : rows) {
       const io::KeyValues rec = io::read_key_values(
@@ -177,13 +193,17 @@ std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power
 
 void write_ranking(const std::string& out, const std::vector<DesignResult>& ranked) {
   io::CsvTable t({"rank", "design", "status", "life_h", "life_sigma_h", "life_extrapolated", "tied_with_best",
-                  "power_kw", "collision_kw", "utilization", "area_loss_mm2_per_1000h", "pareto_power",
+                  "replicates", "error_source", "power_kw", "power_kw_se", "collision_kw", "collision_kw_se",
+                  "utilization", "utilization_se", "area_loss_mm2_per_1000h", "pareto_power",
                   "pareto_utilization", "height_mm", "top_width_mm", "leading_face_angle_deg",
                   "trailing_face_angle_deg", "rows", "direction", "area_mm2", "reason"});
   for (const auto& r : ranked) {
     const Candidate& c = r.design;
+    const bool done = r.status == "finished";
     t.add_row({r.rank, c.name, r.status, r.life_h, r.life_sigma_h, r.life_extrapolated, r.tied_with_best,
-               in_kW(r.power_W), in_kW(r.collision_W), r.utilization, r.area_loss_mm2_per_1000h, r.pareto_power,
+               done ? io::CsvCell(r.replicates) : io::CsvCell(std::string()), done ? r.error_source : std::string(),
+               in_kW(r.power_W), in_kW(r.power_se_W), in_kW(r.collision_W), in_kW(r.collision_se_W), r.utilization,
+               r.utilization_se, r.area_loss_mm2_per_1000h, r.pareto_power,
                r.pareto_utilization, c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg, c.rows,
                c.direction, c.area_mm2, r.reason});
   }

@@ -10,6 +10,10 @@
 //     sigma_life / life = sqrt(sum_k (A_k s_k)^2) / sum_k A_k,
 // with A_k = rate_k x (hours of the life spent in segment k), the area that segment's rate
 // removes; segments are independent windows, so their errors add in quadrature.
+// With replicates (`screen --replicates N`: N histories per design, seeds s .. s + N - 1),
+// sigma is instead the standard error of their mean life, from their spread (summary.csv's
+// life_h_se): the batch-means figure above is a lower bound, as the histories scatter more
+// than one history's windows say.
 // Ties: a finished design is tied with the best if their lives differ by at most twice the
 // combined standard uncertainty, 2 sqrt(sigma_best^2 + sigma^2) (about 95%).
 #include <string>
@@ -37,8 +41,11 @@ struct DesignResult {
   std::string reason;              // failed: the error; missing: what was found
   double life_h = std::nan("");
   double life_sigma_h = std::nan("");
+  int replicates = 1;                                    // histories behind the figures
+  std::string error_source = "batch_means_lower_bound";  // or "replicates" (their spread)
   bool life_extrapolated = false;
   double power_W = std::nan(""), collision_W = std::nan(""), utilization = std::nan("");  // new liner, per mill
+  double power_se_W = std::nan(""), collision_se_W = std::nan(""), utilization_se = std::nan("");  // their errors
   double area_loss_mm2_per_1000h = std::nan("");  // over the simulated stages, from summary.csv's mm^2 and hours
   // Filled by rank_designs.
   int rank = 0;                    // 1 = longest life; 0 = not ranked
@@ -61,7 +68,8 @@ std::vector<bool> pareto_front(const std::vector<double>& a, const std::vector<d
 std::vector<DesignResult> rank_designs(std::vector<DesignResult> results, bool power_higher_is_better);
 
 // OUT/ranking.csv. Columns: rank, design, status, life_h, life_sigma_h, life_extrapolated,
-// tied_with_best, power_kw, collision_kw, utilization, area_loss_mm2_per_1000h, pareto_power,
+// tied_with_best, replicates, error_source, power_kw, power_kw_se, collision_kw,
+// collision_kw_se, utilization, utilization_se, area_loss_mm2_per_1000h, pareto_power,
 // pareto_utilization, the design's parameters, reason. No wall times: the file depends only
 // on the designs' results (bit-identical for any number of workers).
 void write_ranking(const std::string& out, const std::vector<DesignResult>& ranked);

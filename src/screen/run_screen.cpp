@@ -11,6 +11,7 @@
 #include "io/run_folder.hpp"
 #include "screen/jobs.hpp"
 #include "screen/task.hpp"
+#include "study/plan.hpp"
 
 namespace millwear::screen {
 
@@ -21,7 +22,7 @@ namespace {
 std::string abs_path(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
 
 // The screen file, the base scene, the candidates' profiles and the build.
-std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& def) {
+std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& def, int replicates) {
   std::string all = std::string(MILLWEAR_VERSION) + "\n" + io::read_file(screen_file) + "\n--\n" +
                     io::read_file(def.base_scene);
   for (const auto& p : def.profiles) all += "\n--\n" + io::read_file(p);
@@ -29,6 +30,7 @@ std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& 
     all += "\n--\n" + io::read_file(def.equal_area);
   for (const auto& p : def.equal_area_kinds) all += "\n--\n" + io::read_file(p);
   for (const auto& o : def.overrides) all += "\n--set " + o;  // written into every candidate
+  if (replicates > 1) all += "\n--replicates " + std::to_string(replicates);  // the tasks' histories
   return io::stable_hash_hex(all);
 }
 
@@ -50,7 +52,10 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   const Scene base = load_scene(in.def.base_scene, a.overrides);
   in.candidates = sample_family(in.def, base);
   in.varying = varying_parameters(in.def);
-  in.fingerprint = screen_fingerprint(a.screen_file, in.def);
+  if (a.replicates < 1 || a.replicates > study::kMaxReplicates)
+    throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) +
+                                             " histories per design, got " + std::to_string(a.replicates));
+  in.fingerprint = screen_fingerprint(a.screen_file, in.def, a.replicates);
   return in;
 }
 
@@ -66,7 +71,8 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
     same = io::find_value(io::read_key_values(key_file), "fingerprint") == fingerprint;
     if (!same && (a.resume || !a.emit.empty()) && fs::exists(io::join_path(out, "designs"), ec))
       throw InputError(key_file, "fingerprint",
-                       "the same screen file, base scene, profiles and --set overrides as the screen in this folder "
+                       "the same screen file, base scene, profiles, --set overrides and --replicates as the screen in "
+                       "this folder "
                        "(they changed); "
                        "use a new output folder or run without --resume/--emit to start over");
   }
@@ -94,7 +100,8 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                     {"name", def.name},
                     {"screen_file", abs_path(a.screen_file)},
                     {"power", def.power_higher_is_better ? "max" : "min"},
-                    {"varying", vary}};
+                    {"varying", vary},
+                    {"replicates", std::to_string(a.replicates)}};
   for (const auto& o : def.overrides) key.emplace_back("set", o);  // in order, as given
   io::write_file_atomic(key_file, io::format_key_values(key, "millwear screen (for --resume, --emit, --collect)"));
   ScreenSetup s;

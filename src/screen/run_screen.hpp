@@ -5,8 +5,9 @@
 // a Slurm array script written for them (jobs.hpp).
 //
 // OUT holds screen.key (the fingerprint of the screen file, the base scene, the profiles, the
-// --set overrides and the program version; --resume and --emit keep OUT's finished designs
-// only when it is the same; a `set` line per override records them) and inputs/ (a copy of the screen file). Without --resume or --emit, or with other
+// --set overrides, the replicates and the program version; --resume and --emit keep OUT's
+// finished designs only when it is the same; a `set` line per override records them, and
+// `replicates` the histories each task runs) and inputs/ (a copy of the screen file). Without --resume or --emit, or with other
 // inputs, OUT's designs, logs, job lists, ranking and figures are removed first. Every
 // input is validated before anything is written, and OUT is locked (io/folder_lock.hpp) from
 // then to the ranking.
@@ -29,6 +30,7 @@ struct ScreenRequest {
   int jobs = 0;            // pool: tasks at once (0: the cores); slurm: array tasks at once (0: no limit)
   std::string exe;         // the millwear executable the tasks run ("": self_executable())
   std::vector<std::string> overrides;  // --set KEY=VALUE over the base scene (screen.hpp)
+  int replicates = 1;      // histories per design (seeds s .. s + N - 1): life's error from their spread
 };
 
 // The screen file read and checked, its family sampled: nothing written yet.

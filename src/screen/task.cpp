@@ -8,6 +8,7 @@
 #include "io/atomic_write.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "screen/collect.hpp"
 #include "study/plan.hpp"
 #include "study/run_designs.hpp"
 
@@ -46,7 +47,12 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
   try {
     // The same code path as `millwear run`: the candidate's folder is what run writes. A
     // re-run task (Slurm requeue, re-emitted job) continues its stages.
-    const study::Plan plan = study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir, "", -1, {}});
+    // Replicates as the screen asked (screen.key): N histories, one after another in this task.
+    const std::string key_file = screen_key_path(out);
+    const int replicates =
+        io::file_exists(key_file) ? std::stoi(io::find_value(io::read_key_values(key_file), "replicates", "1")) : 1;
+    const study::Plan plan =
+        study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir, "", -1, {}, replicates});
     study::RunState state(plan);
     study::RunOptions opt;
     opt.out = dir;

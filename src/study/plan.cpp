@@ -130,8 +130,6 @@ void add_comparison(Plan& plan, const std::string& file, const toml::table& root
   plan.comparison_files.push_back(file);
 }
 
-constexpr int kMaxReplicates = 1000;
-
 // Each design followed by its replicates 2..n (seeds s+1 .. s+n-1, named DESIGN.rK).
 void add_replicates(Plan& plan, int n) {
   std::vector<DesignInput> all;

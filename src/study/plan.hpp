@@ -44,6 +44,9 @@ struct Plan {
   std::string fidelity;  // the override, or the shared fidelity of the scenes, or "mixed"
 };
 
+// The most histories per design `--replicates` accepts.
+constexpr int kMaxReplicates = 1000;
+
 struct PlanArgs {
   std::vector<std::string> scenes;  // scene or comparison files
   std::string fidelity;             // preset applied to every design ("": each scene's own)
