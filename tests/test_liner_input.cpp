@@ -466,6 +466,48 @@ TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
   }
 }
 
+// With replicates, every kind's figures in summary.csv are the mean of the histories' (their
+// rows in replicates.csv) with the standard error of that mean: for two histories, half their
+// difference. With one history they carry batch-means errors.
+TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
+  TempDir dir("hilo-replicates");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                      "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  const std::string scene =
+      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
+  const fs::path out = dir.path() / "out";
+  const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(scene) + " -o " +
+                                                 millwear::testing::quoted(out) + " -q --replicates 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData sum = io::read_csv((out / "summary.csv").string());
+  const io::CsvData reps = io::read_csv((out / "replicates.csv").string());
+  ASSERT_EQ(sum.row_count(), 2u);
+  ASSERT_EQ(reps.row_count(), 4u);  // 2 histories x 2 stages
+  for (std::size_t row = 0; row < sum.row_count(); ++row) {
+    const double stage = sum.number(row, "stage");
+    for (const char* kind : {"kind0_", "kind1_"})
+      for (const char* c : {"area_mm2", "area_loss_pct", "height_mm", "area_loss_rate_mm2_per_1000h", "life_h"}) {
+        const std::string col = std::string(kind) + c;
+        std::vector<double> x;
+        for (std::size_t i = 0; i < reps.row_count(); ++i)
+          if (reps.number(i, "stage") == stage) {
+            x.push_back(reps.number(i, col));
+            // Each history's own row carries its batch-means error.
+            if (stage > 0.0 || std::string(c) == "area_loss_rate_mm2_per_1000h")
+              EXPECT_GT(reps.number(i, col + "_se"), 0.0) << col << " stage " << stage;
+          }
+        ASSERT_EQ(x.size(), 2u) << col;
+        const double scale = std::max(std::fabs(x[0]), 1.0);
+        EXPECT_NEAR(sum.number(row, col), 0.5 * (x[0] + x[1]), 1e-8 * scale) << col << " stage " << stage;
+        EXPECT_NEAR(sum.number(row, col + "_se"), 0.5 * std::fabs(x[0] - x[1]), 1e-8 * scale) << col << " stage " << stage;
+      }
+  }
+  // The histories differ where the charge does: the wear rates of stage 0.
+  EXPECT_GT(sum.number(0, "kind0_area_loss_rate_mm2_per_1000h_se"), 0.0);
+  EXPECT_EQ(sum.text(0, sum.column("error_source")), "replicates");
+}
+
 // ---- run --continue --------------------------------------------------------------------
 
 TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {

@@ -134,16 +134,18 @@ std::vector<std::string> summary_header(bool histories) {
   return h;
 }
 
-// The estimates' rows; `reference` normalises the *_norm columns.
-void add_kind_cells(std::vector<CsvCell>& row, const DesignReport* d, int stage, std::size_t k);
+// Kind k's cells of one stage row of `d` (empty where the design has no kind k).
+void add_kind_cells(std::vector<CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
+                    std::size_t k);
 
-// The estimates' rows; `reference` normalises the *_norm columns; `kinds_from` gives the
-// kindK_ columns.
+// The estimates' rows; `reference` normalises the *_norm columns; `scene` names the kinds
+// of the kindK_ columns.
 void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history,
-              const DesignReport* kinds_from, std::size_t kinds) {
+              const Scene* scene, std::size_t kinds) {
   const StageEstimate* ref0 = reference && !reference->stages.empty() && reference->stages.front().stage == 0
                                   ? &reference->stages.front() : nullptr;
-  for (const StageEstimate& s : d.stages) {
+  for (std::size_t i = 0; i < d.stages.size(); ++i) {
+    const StageEstimate& s = d.stages[i];
     std::vector<CsvCell> row{d.name};
     if (history)
       row.insert(row.end(), {history->name, history->replicate,
@@ -159,7 +161,7 @@ void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* refere
       row.insert(row.end(), {e.mean / by, e.se / by});
     }
     row.insert(row.end(), {d.life_h.mean, d.life_h.se, d.life_extrapolated, s.centrifuged});
-    for (std::size_t k = 0; k < kinds; ++k) add_kind_cells(row, kinds_from, s.stage, k);
+    for (std::size_t k = 0; k < kinds; ++k) add_kind_cells(row, d, scene, i, k);
     t.add_row(row);
   }
 }
@@ -174,32 +176,28 @@ const DesignEstimate* find_estimate(const std::vector<DesignEstimate>& all, cons
 
 namespace {
 
-// summary.csv's columns of each kind of lifter of a pattern, after the common ones.
-const std::vector<std::string> kKindSummaryColumns = {"profile", "area_mm2", "area_loss_pct", "height_mm",
-                                                      "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated"};
+// summary.csv's columns of each kind of lifter of a pattern, after the common ones: each
+// figure with its standard error, as the design's own.
+const std::vector<std::string> kKindSummaryColumns = {
+    "profile", "area_mm2", "area_mm2_se", "area_loss_pct", "area_loss_pct_se", "height_mm", "height_mm_se",
+    "area_loss_rate_mm2_per_1000h", "area_loss_rate_mm2_per_1000h_se", "life_h", "life_h_se", "life_extrapolated"};
 
-// Kind k's cells of one stage row (empty cells where the design has no kind k).
-void add_kind_cells(std::vector<CsvCell>& row, const DesignReport* d, int stage, std::size_t k) {
-  const auto r_it = d ? d->stages.find(stage) : std::map<int, StageRecord>::const_iterator();
-  const std::size_t kinds = d ? static_cast<std::size_t>(d->scene->mill.kind_count()) : 0;
-  if (kinds < 2 || k >= kinds || r_it == d->stages.end() || k >= r_it->second.kinds.size()) {
+void add_kind_cells(std::vector<CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
+                    std::size_t k) {
+  const StageEstimate& s = d.stages[stage_index];
+  if (!scene || k >= s.kinds.size() || static_cast<int>(k) >= scene->mill.kind_count()) {
     for (std::size_t i = 0; i < kKindSummaryColumns.size(); ++i) row.emplace_back(std::string());
     return;
   }
-  const StageRecord& r = r_it->second;
-  const auto own0 = d->stages.find(0);
-  const double area0 = own0 != d->stages.end() && k < own0->second.kinds.size()
-                           ? own0->second.kinds[k].area_m2 * 1e6 : std::nan("");
-  const double area = r.kinds[k].area_m2 * 1e6;
-  const double rate = k < r.kind_area_loss_rate_m2_per_s.size()
-                          ? r.kind_area_loss_rate_m2_per_s[k] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
-  row.emplace_back(d->scene->mill.kind(static_cast<int>(k)).name);
-  row.emplace_back(area);
-  row.emplace_back(100.0 * (1.0 - area / area0));
-  row.emplace_back(r.kinds[k].height_m * 1e3);
-  row.emplace_back(rate);
-  row.emplace_back(k < d->kind_life_h.size() ? d->kind_life_h[k] : std::nan(""));
-  row.emplace_back(k < d->kind_life_extrapolated.size() ? bool(d->kind_life_extrapolated[k]) : true);
+  const KindEstimate& e = s.kinds[k];
+  const double per_1000h_mm2 = kSecondsPerHour * 1000.0 * 1e6;
+  const Estimate life = k < d.kind_life_h.size() ? d.kind_life_h[k] : Estimate{};
+  row.emplace_back(scene->mill.kind(static_cast<int>(k)).name);
+  row.insert(row.end(), {e.area_m2.mean * 1e6, e.area_m2.se * 1e6, 100.0 * e.area_loss_fraction.mean,
+                         100.0 * e.area_loss_fraction.se, e.height_m.mean * 1e3, e.height_m.se * 1e3,
+                         e.area_loss_rate_m2_per_s.mean * per_1000h_mm2, e.area_loss_rate_m2_per_s.se * per_1000h_mm2,
+                         life.mean, life.se});
+  row.emplace_back(k < d.kind_life_extrapolated.size() ? bool(d.kind_life_extrapolated[k]) : true);
 }
 
 // The most kinds of any design with a pattern (0: none has one).
@@ -225,13 +223,16 @@ const DesignReport* find_history(const RunReport& report, const std::string& nam
 }  // namespace
 
 // summary.csv: one row per design and stage, every figure with its standard error; with a
-// pattern of kinds, every kind's lifter in kindK_ columns on the same row (from the design's
-// first history).
+// pattern of kinds, every kind's lifter in kindK_ columns on the same row, with errors as the
+// design's own (replicates folded).
 void write_summary(const RunReport& report) {
   const std::size_t kinds = pattern_kinds(report);
   CsvTable t(with_kind_columns(summary_header(false), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
-  for (const DesignEstimate& d : report.estimates) add_rows(t, d, ref, nullptr, find_history(report, d.name), kinds);
+  for (const DesignEstimate& d : report.estimates) {
+    const DesignReport* first = find_history(report, d.name);
+    add_rows(t, d, ref, nullptr, first ? first->scene : nullptr, kinds);
+  }
   t.write(summary_path(report.out));
 }
 
@@ -243,7 +244,7 @@ void write_replicates(const RunReport& report) {
   CsvTable t(with_kind_columns(summary_header(true), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
   for (std::size_t i = 0; i < report.designs.size() && i < report.history_estimates.size(); ++i)
-    add_rows(t, report.history_estimates[i], ref, &report.designs[i], &report.designs[i], kinds);
+    add_rows(t, report.history_estimates[i], ref, &report.designs[i], report.designs[i].scene, kinds);
   t.write(replicates_path(report.out));
 }
 

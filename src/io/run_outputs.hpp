@@ -61,8 +61,9 @@ struct RunReport {
 // history's batch means: a lower bound).
 // A run with a design of a pattern of kinds adds, for every kind K, the
 // columns kindK_profile, kindK_area_mm2, kindK_area_loss_pct, kindK_height_mm,
-// kindK_area_loss_rate_mm2_per_1000h, kindK_life_h, kindK_life_extrapolated (empty cells for
-// a design without kind K); a run without one has the plain columns only.
+// kindK_area_loss_rate_mm2_per_1000h, kindK_life_h (each with its _se beside it, from the
+// same source as the design's), kindK_life_extrapolated (empty cells for a design without
+// kind K); a run without one has the plain columns only.
 void write_summary(const RunReport& report);
 // OUT/replicates.csv, with replicates: summary.csv's columns per history (history, replicate,
 // seed added), errors from its own batch means.

@@ -77,7 +77,34 @@ DesignEstimate combine_histories(const std::string& name, const std::vector<Desi
           &StageEstimate::shoulder_deg, &StageEstimate::packed_shear_share})
       s.*f = mean_of(histories, k, f);
     for (const DesignEstimate& h : histories) s.centrifuged += h.stages[k].centrifuged;
+    std::size_t kinds = histories.front().stages[k].kinds.size();
+    for (const DesignEstimate& h : histories) kinds = std::min(kinds, h.stages[k].kinds.size());
+    for (std::size_t i = 0; i < kinds; ++i) {
+      KindEstimate e;
+      for (Estimate KindEstimate::*f : {&KindEstimate::area_m2, &KindEstimate::area_loss_fraction,
+                                        &KindEstimate::height_m, &KindEstimate::area_loss_rate_m2_per_s}) {
+        std::vector<double> x;
+        for (const DesignEstimate& h : histories) {
+          const double v = (h.stages[k].kinds[i].*f).mean;
+          if (std::isfinite(v)) x.push_back(v);
+        }
+        e.*f = mean_and_se(x);
+      }
+      s.kinds.push_back(e);
+    }
     d.stages.push_back(s);
+  }
+  std::size_t kinds = histories.front().kind_life_h.size();
+  for (const DesignEstimate& h : histories) kinds = std::min(kinds, h.kind_life_h.size());
+  for (std::size_t i = 0; i < kinds; ++i) {
+    std::vector<double> x;
+    bool extrapolated = false;
+    for (const DesignEstimate& h : histories) {
+      if (std::isfinite(h.kind_life_h[i].mean)) x.push_back(h.kind_life_h[i].mean);
+      extrapolated = extrapolated || (i < h.kind_life_extrapolated.size() ? h.kind_life_extrapolated[i] : true);
+    }
+    d.kind_life_h.push_back(x.size() == histories.size() ? mean_and_se(x) : Estimate{std::nan(""), std::nan("")});
+    d.kind_life_extrapolated.push_back(extrapolated);
   }
   std::vector<double> life;
   d.life_extrapolated = false;

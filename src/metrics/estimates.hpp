@@ -45,6 +45,11 @@ struct Difference {
 // a and b with `replicates` histories each (1: batch-means errors).
 Difference compare(const Estimate& a, const Estimate& b, int replicates);
 
+// One kind of lifter of a pattern at one stage (SI; the mean over the rows of the kind).
+struct KindEstimate {
+  Estimate area_m2, area_loss_fraction, height_m, area_loss_rate_m2_per_s;
+};
+
 // A design's figures at one stage of its wear history (SI; power per mill).
 struct StageEstimate {
   int stage = 0;
@@ -55,6 +60,7 @@ struct StageEstimate {
   Estimate centre_of_mass_deg, toe_deg, shoulder_deg;  // toe, shoulder NaN where centrifuged
   Estimate packed_shear_share;
   int centrifuged = 0;  // histories whose charge centrifuged at this stage
+  std::vector<KindEstimate> kinds;  // a pattern of kinds: each kind's lifter; else empty
 };
 
 // A design's figures over its history, with their errors.
@@ -65,6 +71,10 @@ struct DesignEstimate {
   std::vector<StageEstimate> stages;  // the stages every history finished
   Estimate life_h;
   bool life_extrapolated = true;      // any history's life was extrapolated
+  // A pattern of kinds: each kind's life (the liner's is the shortest) and whether any
+  // history's was extrapolated; else empty.
+  std::vector<Estimate> kind_life_h;
+  std::vector<bool> kind_life_extrapolated;
 };
 
 // Mean and standard error over independent histories of one design: each figure's mean over

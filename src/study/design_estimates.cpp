@@ -19,8 +19,60 @@ Estimate with_rel_error(double value, double rel) { return {value, std::abs(valu
 
 }  // namespace
 
+namespace {
+
+// A pattern's kinds through the stages, with the same propagation as the design's lifter: a
+// kind's area lost so far has the variance of its own rates' batch means over the hours each
+// acted; its height and life follow that area's relative error.
+void add_kind_estimates(const std::map<int, StageRecord>& stages, const std::vector<double>& kind_life_h,
+                        const std::vector<bool>& kind_life_extrapolated, DesignEstimate& d) {
+  const auto own0 = stages.find(0);
+  if (own0 == stages.end() || own0->second.kinds.size() < 2) return;
+  const std::size_t kinds = own0->second.kinds.size();
+  std::vector<double> area_var(kinds, 0.0), area_se(kinds, std::nan(""));
+  const StageRecord* previous = nullptr;
+  std::size_t row = 0;
+  for (const auto& [k, r] : stages) {
+    (void)k;
+    for (std::size_t i = 0; i < kinds; ++i) {
+      if (previous && i < previous->kind_area_loss_rate_m2_per_s.size() &&
+          i < previous->kind_area_loss_rate_rel_sem.size()) {
+        const double dt_s = (r.hours - previous->hours) * kSecondsPerHour;
+        const double rate_se = previous->kind_area_loss_rate_m2_per_s[i] * previous->kind_area_loss_rate_rel_sem[i];
+        area_var[i] += (rate_se * dt_s) * (rate_se * dt_s);
+      }
+      KindEstimate e;
+      if (i < r.kinds.size()) {
+        const double area0 = own0->second.kinds[i].area_m2, height0 = own0->second.kinds[i].height_m;
+        area_se[i] = std::sqrt(area_var[i]);
+        e.area_m2 = {r.kinds[i].area_m2, area_se[i]};
+        e.area_loss_fraction = {1.0 - r.kinds[i].area_m2 / area0, area_se[i] / area0};
+        const double lost = area0 - r.kinds[i].area_m2;
+        e.height_m = {r.kinds[i].height_m, lost > 0.0 ? (height0 - r.kinds[i].height_m) * area_se[i] / lost : 0.0};
+      }
+      if (i < r.kind_area_loss_rate_m2_per_s.size())
+        e.area_loss_rate_m2_per_s = with_rel_error(
+            r.kind_area_loss_rate_m2_per_s[i],
+            i < r.kind_area_loss_rate_rel_sem.size() ? r.kind_area_loss_rate_rel_sem[i] : std::nan(""));
+      d.stages[row].kinds.push_back(e);
+    }
+    previous = &r;
+    ++row;
+  }
+  const StageRecord& last = stages.rbegin()->second;
+  for (std::size_t i = 0; i < kinds; ++i) {
+    const double life = i < kind_life_h.size() ? kind_life_h[i] : std::nan("");
+    const double lost = i < last.kinds.size() ? own0->second.kinds[i].area_m2 - last.kinds[i].area_m2 : 0.0;
+    d.kind_life_h.push_back({life, std::isfinite(life) && lost > 0.0 ? life * area_se[i] / lost : std::nan("")});
+    d.kind_life_extrapolated.push_back(i < kind_life_extrapolated.size() ? kind_life_extrapolated[i] : true);
+  }
+}
+
+}  // namespace
+
 DesignEstimate estimate_history(const std::string& name, const Scene& scene, const std::map<int, StageRecord>& stages,
-                                double life_h, bool life_extrapolated) {
+                                double life_h, bool life_extrapolated, const std::vector<double>& kind_life_h,
+                                const std::vector<bool>& kind_life_extrapolated) {
   DesignEstimate d;
   d.name = name;
   d.replicates = 1;
@@ -79,6 +131,7 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
     const double lost = area0 - last.area_m2.mean;
     d.life_h = {life_h, lost > 0.0 ? life_h * last.area_m2.se / lost : std::nan("")};
   }
+  add_kind_estimates(stages, kind_life_h, kind_life_extrapolated, d);
   return d;
 }
 

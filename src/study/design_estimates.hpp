@@ -15,8 +15,11 @@ namespace millwear::study {
 // adds up the errors of the wear rates of stages 0..k-1 (each rate's batch-means error over
 // the hours it acts), taken as independent; the height's and the life's follow the area's
 // relative error.
+// A pattern of kinds adds each kind's lifter and life (kind_life_h from compute_life) in the
+// same way, from each kind's own rates.
 DesignEstimate estimate_history(const std::string& name, const Scene& scene, const std::map<int, StageRecord>& stages,
-                                double life_h, bool life_extrapolated);
+                                double life_h, bool life_extrapolated, const std::vector<double>& kind_life_h = {},
+                                const std::vector<bool>& kind_life_extrapolated = {});
 
 // Every design against the reference: life; area loss at the last stage both finished; power,
 // specific power, collision power, utilization, liner shear power and liner wear per energy

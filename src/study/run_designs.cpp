@@ -70,6 +70,19 @@ void life_of(const DesignInput& d, const DesignState& st, double& life_h, bool& 
   }
 }
 
+// A pattern's life of each kind of lifter (empty for a plain liner).
+void kind_lives_of(const DesignInput& d, const DesignState& st, std::vector<double>& life_h,
+                   std::vector<bool>& extrapolated) {
+  life_h.clear();
+  extrapolated.clear();
+  if (d.scene.mill.kind_count() < 2 || st.stages.empty()) return;
+  WearHistory h;
+  for (const auto& [k, rec] : st.stages) h.stages.push_back(rec);
+  compute_life(h, d.scene.wear.replacement_height_m);
+  life_h = h.kind_life_h;
+  extrapolated = h.kind_life_extrapolated;
+}
+
 namespace {
 
 // Books a file as written by this run (for the manifest's list). Caller holds the mutex.
@@ -88,7 +101,11 @@ RunEstimates run_estimates(const RunState& state) {
     double life_h = std::nan("");
     bool extrapolated = true;
     life_of(d, *state.designs[i], life_h, extrapolated);
-    e.histories.push_back(estimate_history(d.name, d.scene, state.designs[i]->stages, life_h, extrapolated));
+    std::vector<double> kind_life_h;
+    std::vector<bool> kind_extrapolated;
+    kind_lives_of(d, *state.designs[i], kind_life_h, kind_extrapolated);
+    e.histories.push_back(estimate_history(d.name, d.scene, state.designs[i]->stages, life_h, extrapolated,
+                                           kind_life_h, kind_extrapolated));
   }
   for (const std::string& name : design_names(plan)) {
     std::vector<DesignEstimate> histories;
@@ -139,13 +156,7 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
     dr.continue_hours = d.continue_hours;
     dr.changes = d.changes;
     dr.life_from_hours = d.continue_run.empty() ? d.scene.wear.start_hours : d.continue_hours;
-    if (d.scene.mill.kind_count() > 1 && !st.stages.empty()) {
-      WearHistory h;
-      for (const auto& [k, rec] : st.stages) h.stages.push_back(rec);
-      compute_life(h, d.scene.wear.replacement_height_m);
-      dr.kind_life_h = h.kind_life_h;
-      dr.kind_life_extrapolated = h.kind_life_extrapolated;
-    }
+    kind_lives_of(d, st, dr.kind_life_h, dr.kind_life_extrapolated);
     r.designs.push_back(std::move(dr));
   }
   RunEstimates e = run_estimates(ctx);

@@ -109,5 +109,8 @@ RunEstimates run_estimates(const RunState& state);
 
 // Life of a design from its stages so far (a finished history carries its own).
 void life_of(const DesignInput& design, const DesignState& state, double& life_h, bool& extrapolated);
+// A pattern's life of each kind of lifter from its stages so far (empty for a plain liner).
+void kind_lives_of(const DesignInput& design, const DesignState& state, std::vector<double>& life_h,
+                   std::vector<bool>& extrapolated);
 
 }  // namespace millwear::study
