@@ -174,15 +174,37 @@ Accounting bed_occupancy(double outside) {
 }
 
 TEST(ChargeShape, ABedHasItsToeAndShoulderWhereTheBandEmpties) {
-  const ChargeSummary s = summarize(bed_occupancy(0.1), 1.0, 9.81);
+  // An empty band outside the bed: half the bed's value is crossed half-way between the
+  // centres of the last full bin and the first empty one, on the bed's edge.
+  ChargeSummary s = summarize(bed_occupancy(0.0), 1.0, 9.81);
   EXPECT_FALSE(s.centrifuged);
-  EXPECT_DOUBLE_EQ(s.shoulder_deg, 120.0);  // first bin under half the bed's value, rising side
+  EXPECT_DOUBLE_EQ(s.shoulder_deg, 120.0);
   EXPECT_DOUBLE_EQ(s.toe_deg, -60.0);
+  // A thin layer of 0.1 outside: occupancy linear between bin centres 117.5 and 122.5 deg
+  // (1 to 0.1) crosses 0.5 at 117.5 + 5 x 0.5 / 0.9 deg; the toe likewise below -57.5 deg.
+  s = summarize(bed_occupancy(0.1), 1.0, 9.81);
+  EXPECT_NEAR(s.shoulder_deg, 117.5 + 5.0 * 0.5 / 0.9, 1e-12);
+  EXPECT_NEAR(s.toe_deg, -(57.5 + 5.0 * 0.5 / 0.9), 1e-12);
+}
+
+TEST(ChargeShape, TheEdgeMovesContinuouslyWithTheOccupancy) {
+  // The first bin past the bed filling from 0 to just under half: the shoulder moves from the
+  // bed's edge toward the next bin's centre, never jumping a bin.
+  double last = 0.0;
+  for (double f : {0.0, 0.1, 0.2, 0.3, 0.4, 0.45, 0.49}) {
+    Accounting acc = bed_occupancy(0.0);
+    acc.shell_band_occupancy[24] = f;  // [120, 125) deg, rising side
+    const double shoulder = summarize(acc, 1.0, 9.81).shoulder_deg;
+    EXPECT_NEAR(shoulder, 117.5 + 5.0 * 0.5 / (1.0 - f), 1e-12) << f;
+    EXPECT_GT(shoulder, last) << f;
+    EXPECT_LT(shoulder, 122.5) << f;
+    last = shoulder;
+  }
 }
 
 TEST(ChargeShape, TheRisingSideFollowsTheDirectionOfRotation) {
   // Turning clockwise, the side at negative angles rises: the same bed reads mirrored.
-  const ChargeSummary s = summarize(bed_occupancy(0.1), -1.0, 9.81);
+  const ChargeSummary s = summarize(bed_occupancy(0.0), -1.0, 9.81);
   EXPECT_DOUBLE_EQ(s.shoulder_deg, 60.0);
   EXPECT_DOUBLE_EQ(s.toe_deg, -120.0);
 }

@@ -16,18 +16,24 @@ namespace {
 constexpr double kBedThreshold = 0.5;
 
 // Walk from the bottom bin in direction dir (+1 rising side) until occupancy drops under
-// half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge.
+// half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge: where the
+// occupancy, taken at each bin's centre and linear between centres, crosses the threshold.
 double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) {
   const double peak = *std::max_element(occ.begin(), occ.end());
   if (!(peak > 0.0)) return 0.0;
   const double threshold = kBedThreshold * peak;
   const double bin_deg = 360.0 / kShapeAngleBins;
+  double previous = 0.0;  // the occupancy of the bin before on the walk
   for (int k = 0; k < kShapeAngleBins; ++k) {
     const int bin = ((dir > 0 ? k : -k - 1) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
     if (occ[bin] < threshold) {
-      // Resolution is one bin (5 deg): the edge is the first bin under half the peak.
-      return dir > 0 ? k * bin_deg : -(k * bin_deg);
+      // Between the centres of the last bin at or above the threshold (k - 1) and this one;
+      // a bottom bin already under it puts the edge at 6 o'clock.
+      const double edge = k == 0 ? 0.0
+                                 : (k - 0.5) * bin_deg + bin_deg * (previous - threshold) / (previous - occ[bin]);
+      return dir > 0 ? edge : -edge;
     }
+    previous = occ[bin];
   }
   return dir * 180.0;
 }

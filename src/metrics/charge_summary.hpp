@@ -7,8 +7,10 @@
 // the largest particle diameters inside the lifter tips (the engine's shape band). Each step
 // adds every disk's area inside the band to its 5 deg angle bin, so a bin's sum over the
 // window is its time-averaged solids area. The bed's value is the fullest bin. Walking from
-// 6 o'clock up the rising side, the shoulder is the first bin whose solids fall under half the
-// bed's value; walking down the falling side, the toe likewise. A charge whose band holds more
+// 6 o'clock up the rising side, the shoulder is where the solids fall under half the bed's
+// value: between the centres of the last bin at or above it and the first below it, by linear
+// interpolation (so it moves continuously, not in 5 deg steps); walking down the falling side,
+// the toe likewise. A charge whose band holds more
 // than half the bed's value all the way round covers the whole shell: it is centrifuged, and
 // has no toe or shoulder (toe_deg and shoulder_deg then read -180 and 180 in the rising-side
 // frame, and `centrifuged` says why).
