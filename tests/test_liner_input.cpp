@@ -494,8 +494,9 @@ TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
           if (reps.number(i, "stage") == stage) {
             x.push_back(reps.number(i, col));
             // Each history's own row carries its batch-means error.
-            if (stage > 0.0 || std::string(c) == "area_loss_rate_mm2_per_1000h")
+            if (stage > 0.0 || std::string(c) == "area_loss_rate_mm2_per_1000h") {
               EXPECT_GT(reps.number(i, col + "_se"), 0.0) << col << " stage " << stage;
+            }
           }
         ASSERT_EQ(x.size(), 2u) << col;
         const double scale = std::max(std::fabs(x[0]), 1.0);

@@ -88,3 +88,19 @@ TEST(SoftThreads, ThreadCountDoesNotChangeTheBitsOnTenThousandDisks) {
     expect_same_bits(s1, a1, s, a, threads);
   }
 }
+
+// Without --threads the step takes one thread per kDisksPerStepThread disks, up to the count
+// it was given; a count given on the command line is used as it is.
+TEST(SoftThreads, ACountFittedToTheSizeTakesAThreadPerBlockOfDisks) {
+  SolverDef s;
+  s.threads = 2;
+  s.threads_fit_size = true;
+  EXPECT_EQ(step_thread_count(s, 217), 1);
+  EXPECT_EQ(step_thread_count(s, kDisksPerStepThread - 1), 1);
+  EXPECT_EQ(step_thread_count(s, 2 * kDisksPerStepThread), 2);
+  EXPECT_EQ(step_thread_count(s, 100 * kDisksPerStepThread), 2);  // never more than given
+  s.threads_fit_size = false;
+  EXPECT_EQ(step_thread_count(s, 217), 2);
+  s.threads = 0;
+  EXPECT_EQ(step_thread_count(s, 217), 1);
+}

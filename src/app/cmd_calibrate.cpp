@@ -29,6 +29,7 @@ struct CalibrateArgs {
 int run_calibrate(CalibrateArgs a) {
   a.request.options.rel_tol = a.tolerance_pct / 100.0;
   a.request.threads = step_threads(a.threads);
+  a.request.threads_fit_size = a.threads == 0;
   validation::CalibrateCallbacks cb;
   bool areas = false;
   cb.on_start = [&](const Scene& scene, const validation::Measurements& m, const validation::CalibrationOptions& o) {

@@ -42,6 +42,7 @@ int run_charge(const ChargeArgs& args) {
   if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
   scene.solver.threads = step_threads(args.threads);
+  scene.solver.threads_fit_size = args.threads == 0;
   check_run_limits(scene, args.scene);
   const io::FolderLock lock(args.out);  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();

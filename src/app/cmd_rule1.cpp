@@ -43,6 +43,7 @@ int run_rule1(const Rule1Args& a) {
   const int factors_given = a.factors.empty() ? 4 : static_cast<int>(a.factors.size());
   const int at_once = std::min(a.jobs > 0 ? a.jobs : cores, factors_given * a.replicates);
   scene.solver.threads = a.threads > 0 ? a.threads : std::max(1, cores / std::max(1, at_once));
+  scene.solver.threads_fit_size = a.threads == 0;
   check_run_limits(scene, a.scene);  // before anything is filled or written
   Rule1Options opt;
   opt.factors = a.factors;

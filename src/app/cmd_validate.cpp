@@ -106,6 +106,7 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->callback([args, action] {
     *action = [args] {
       validation::ValidateRequest request = *args;
+      request.threads_fit_size = request.threads == 0;
       request.threads = step_threads(request.threads);
       return run_validate(request);
     };

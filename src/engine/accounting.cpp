@@ -124,22 +124,15 @@ void account_collision_event(Accounting& acc, double energy_J) {
   acc.spectrum_energy_J[bin] += energy_J;
 }
 
-void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
-                  double band_m, double gravity_m_s2) {
-  acc.time_s += dt_s;
-  acc.steps += 1;
-  acc.streaks.step += 1;
-  acc.streaks.clock_s += dt_s;
-  // The engine has turned the mill for this step: the next step's contacts start here.
-  acc.streaks.cos_mill = std::cos(s.mill_angle_rad);
-  acc.streaks.sin_mill = std::sin(s.mill_angle_rad);
-  if (!acc.options.charge_shape) return;
+void shape_sample(const ChargeState& s, std::size_t i0, std::size_t i1, double dt_s, double radius_m, double band_m,
+                  ShapeSample& out) {
   double mass = 0.0;
   Vec2 moment;
   const double band_inner = radius_m - band_m;
   const double band_inner_sq = band_inner * band_inner;
   const double bins_per_rad = kShapeAngleBins / (2.0 * kPi);
-  for (std::size_t i = 0; i < s.size(); ++i) {
+  out.occupancy.fill(0.0);
+  for (std::size_t i = i0; i < i1; ++i) {
     if (!s.active[i]) continue;
     const double m = s.mass_kg[i];
     const Vec2 p = s.position_m[i];
@@ -151,13 +144,42 @@ void account_step(Accounting& acc, const ChargeState& s, double dt_s, double rad
       if (phi < 0) phi += 2.0 * kPi;
       int bin = static_cast<int>(phi * bins_per_rad);
       if (bin >= kShapeAngleBins) bin = kShapeAngleBins - 1;
-      acc.shell_band_occupancy[bin] += s.radius_m[i] * s.radius_m[i] * dt_s;
+      out.occupancy[static_cast<std::size_t>(bin)] += s.radius_m[i] * s.radius_m[i] * dt_s;
     }
   }
-  (void)gravity_m_s2;
+  out.mass_kg = mass;
+  out.moment_kg_m = moment;
+}
+
+void account_step_samples(Accounting& acc, const ChargeState& s, double dt_s, const ShapeSample* samples,
+                          std::size_t count) {
+  acc.time_s += dt_s;
+  acc.steps += 1;
+  acc.streaks.step += 1;
+  acc.streaks.clock_s += dt_s;
+  // The engine has turned the mill for this step: the next step's contacts start here.
+  acc.streaks.cos_mill = std::cos(s.mill_angle_rad);
+  acc.streaks.sin_mill = std::sin(s.mill_angle_rad);
+  if (!acc.options.charge_shape) return;
+  double mass = 0.0;
+  Vec2 moment;
+  for (std::size_t r = 0; r < count; ++r) {
+    mass += samples[r].mass_kg;
+    moment += samples[r].moment_kg_m;
+    for (int b = 0; b < kShapeAngleBins; ++b)
+      acc.shell_band_occupancy[static_cast<std::size_t>(b)] += samples[r].occupancy[static_cast<std::size_t>(b)];
+  }
   acc.mass_time_kg_s += mass * dt_s;
   acc.moment_time_kg_m_s += dt_s * moment;
   acc.shape_samples += dt_s;
+}
+
+void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
+                  double band_m, double gravity_m_s2) {
+  (void)gravity_m_s2;
+  ShapeSample sample;
+  if (acc.options.charge_shape) shape_sample(s, 0, s.size(), dt_s, radius_m, band_m, sample);
+  account_step_samples(acc, s, dt_s, &sample, 1);
 }
 
 }  // namespace millwear

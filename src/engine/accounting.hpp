@@ -106,6 +106,19 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
                      bool edge_is_shell);
 // A particle-particle collision event ended with energy_J dissipated in total.
 void account_collision_event(Accounting& acc, double energy_J);
+// One step's charge-shape sample of disks [i0, i1): their mass, first moment and the shell
+// band's occupancy per angle bin (radius^2 x dt_s), for account_step to add.
+struct ShapeSample {
+  double mass_kg = 0.0;
+  Vec2 moment_kg_m;
+  std::array<double, kShapeAngleBins> occupancy{};
+};
+void shape_sample(const ChargeState& s, std::size_t i0, std::size_t i1, double dt_s, double radius_m, double band_m,
+                  ShapeSample& out);
+// The step's clock and its shape sample (the samples of consecutive disk ranges, added in
+// range order: the same bits however many threads took them).
+void account_step_samples(Accounting& acc, const ChargeState& s, double dt_s, const ShapeSample* samples,
+                          std::size_t count);
 // Once per step after the contacts: charge shape sample and time.
 void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
                   double band_m, double gravity_m_s2);

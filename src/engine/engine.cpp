@@ -1,6 +1,7 @@
 // Backend dispatch and the settle / spin-up sequence shared by every backend.
 #include "engine/engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -81,6 +82,13 @@ double charge_potential_J(const ChargeState& s, double gravity_m_s2) {
   for (std::size_t i = 0; i < s.size(); ++i)
     if (s.active[i]) e += s.mass_kg[i] * gravity_m_s2 * s.position_m[i].y;
   return e;
+}
+
+int step_thread_count(const SolverDef& solver, std::size_t disks) {
+  const int threads = std::max(1, solver.threads);
+  if (!solver.threads_fit_size) return threads;
+  const auto fit = static_cast<int>(std::min<std::size_t>(disks / kDisksPerStepThread, 1024));
+  return std::max(1, std::min(threads, fit));
 }
 
 }  // namespace millwear

@@ -81,4 +81,13 @@ void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sig
 // Number of steps for a given simulated time.
 int steps_for(double seconds, double dt_s);
 
+// Disks per thread of a soft step when the thread count fits the charge's size
+// (SolverDef::threads_fit_size): below about this many disks a step runs no faster on
+// two threads than on one (docs/benchmarks.md).
+constexpr std::size_t kDisksPerStepThread = 4096;
+
+// The threads a soft step of `disks` disks uses: the settings' count, or with
+// threads_fit_size at most one per kDisksPerStepThread disks (at least one).
+int step_thread_count(const SolverDef& solver, std::size_t disks);
+
 }  // namespace millwear

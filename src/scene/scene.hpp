@@ -82,8 +82,12 @@ struct SolverDef {
   std::uint64_t seed = 1;
   double size_cutoff_m = 0.0;        // drop rock sizes below this (0: keep all)
   // Threads of one soft engine's step (not read from scene files: the command line's
-  // --threads sets it). The results do not depend on it, bit for bit.
+  // --threads sets it). The results do not depend on it, bit for bit. With threads_fit_size
+  // (no --threads given) it is the most the step uses: one thread per
+  // kDisksPerStepThread disks of the charge (engine/engine.hpp), as a smaller charge runs no faster
+  // on more.
   int threads = 1;
+  bool threads_fit_size = false;
 };
 
 enum class WearMode { Staged, Continuous };

@@ -32,6 +32,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
+  scene.solver.threads_fit_size = a.threads_fit_size;
   check_run_limits(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
   bool worn = false;

@@ -23,6 +23,7 @@ struct CalibrateRequest {
   std::string out;               // "": the copy goes next to the scene, no tables
   std::string fidelity;          // "": the scene's own
   int threads = 1;               // threads of the engine's step (results do not depend on it)
+  bool threads_fit_size = false; // at most: as many as the charge's size uses (SolverDef)
   // --set KEY=VALUE (scene/scene.hpp); not the wear rate, which the calibration finds. The
   // calibrated copy is the file's text: its header comment lists them, they are not in it.
   std::vector<std::string> overrides;

@@ -279,6 +279,7 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
     } else {
       Scene scene = d.scene;
       scene.solver.threads = ctx.engine_threads;
+      scene.solver.threads_fit_size = ctx.engine_threads_fit_size;
       history = run_wear_history(scene, cb, resume_from);
     }
     have = true;
@@ -433,6 +434,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : hw, plan.designs.size()));
   // The cores the designs at once leave go to their steps (bit-identical for any count).
   ctx.engine_threads = opt.threads > 0 ? opt.threads : std::max(1, static_cast<int>(hw) / std::max(1, ctx.jobs));
+  ctx.engine_threads_fit_size = opt.threads == 0;
 
   // One run per folder, for the whole run: a second one is refused here, before it reads
   // or deletes anything.

@@ -78,6 +78,7 @@ struct RunState {
   Clock::time_point t0 = Clock::now();
   int jobs = 1;
   int engine_threads = 1;  // threads of each design's engine step
+  bool engine_threads_fit_size = false;  // ... at most (no --threads given: SolverDef)
   bool resumed = false;
   std::map<std::string, std::vector<std::string>> copied;  // design -> inputs/ names
   std::set<std::string> written;  // files of the run, relative to OUT (the manifest's list)

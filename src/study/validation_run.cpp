@@ -181,6 +181,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
+  scene.solver.threads_fit_size = a.threads_fit_size;
   check_run_limits(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
   const io::FolderLock lock(a.out);  // one writer per folder, for the whole run

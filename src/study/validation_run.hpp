@@ -39,6 +39,7 @@ struct ValidateRequest {
   std::string from;        // a finished `millwear run` folder, or "" to run the history
   std::string fidelity;    // "": the scene's own
   int threads = 1;         // threads of the engine's step (results do not depend on it)
+  bool threads_fit_size = false;  // at most: as many as the charge's size uses (SolverDef)
   std::vector<std::string> overrides;  // --set KEY=VALUE (scene/scene.hpp)
 };
 

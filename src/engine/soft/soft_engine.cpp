@@ -14,8 +14,10 @@
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
 #include "engine/soft/soft_engine.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <vector>
 
 #include "engine/soft/broad_phase.hpp"
 #include "engine/soft/contact_set.hpp"
@@ -60,6 +62,7 @@ class SoftEngine final : public Engine {
  private:
   void step_once();
   void count_rows();
+  void account_shape();
   Report report() { return {charge_, accounting_, events_}; }
 
   // Model: fixed for the engine's life, and the liner (set_liner).
@@ -77,6 +80,7 @@ class SoftEngine final : public Engine {
   SolverRows rows_;
   MatchScratch match_;
   FinishScratch finish_;
+  std::vector<ShapeSample> shape_;  // per disk range of the shape sample
   Workers workers_;
 };
 
@@ -86,7 +90,7 @@ SoftEngine::SoftEngine(const Scene& scene, const MillGeometry& mill, const Charg
       charge_(initial),
       disks_(load_disks(initial)),
       start_(make_step_start(disks_.n)),
-      workers_(scene.solver.threads) {
+      workers_(step_thread_count(scene.solver, initial.size())) {
   accounting_.options = opts;
   broad_.reserve(disks_.n);
   contacts_.reserve(disks_.n);
@@ -145,7 +149,7 @@ void SoftEngine::step_once() {
     relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_, workers_);
   }
   store_lanes(rows_, contacts_.pairs, workers_);
-  apply_restitution(model_, contacts_, disks_);
+  apply_restitution(model_, contacts_, rows_, disks_, workers_);
   timing_.solve_s += watch.lap();
   count_rows();
 
@@ -154,9 +158,22 @@ void SoftEngine::step_once() {
   advance_clock(model_, charge_);
   if (inside_liner_check_due(accounting_.steps))
     check_inside_liner(model_, liner_, disks_, report());
-  account_step(accounting_, charge_, model_.dt_s, model_.mill_radius_m,
-               model_.shape_band_m + liner_.band_m, kGravity);
+  account_shape();
   timing_.account_s += watch.lap();
+}
+
+// The step's clock and charge-shape sample, by disk ranges at once (added in range order).
+void SoftEngine::account_shape() {
+  const std::size_t n = charge_.size();
+  const int ranges = accounting_.options.charge_shape ? std::max(1, range_count(n, kDisksPerRange)) : 0;
+  shape_.resize(static_cast<std::size_t>(ranges));
+  const double band_m = model_.shape_band_m + liner_.band_m;
+  workers_.run(ranges, [&](int r) {
+    const std::size_t i0 = static_cast<std::size_t>(r) * kDisksPerRange;
+    shape_sample(charge_, i0, std::min(n, i0 + kDisksPerRange), model_.dt_s, model_.mill_radius_m, band_m,
+                 shape_[static_cast<std::size_t>(r)]);
+  });
+  account_step_samples(accounting_, charge_, model_.dt_s, shape_.data(), shape_.size());
 }
 
 // Rows per disk-step for the benchmarks: whether a cost per disk-step grows with the work.

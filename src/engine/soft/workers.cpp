@@ -14,16 +14,18 @@ namespace millwear::soft {
 
 namespace {
 
-// Claim word: generation in the top 24 bits, range count in the next 20, next range in the
-// low 20.
+// Claim word: generation in the top 24 bits, the block's end in the next 20, the next range
+// in the low 20.
 constexpr int kCountBits = 20;
 constexpr std::uint64_t kCountMask = (1ull << kCountBits) - 1;
+constexpr std::uint64_t kGenerationMask = (1ull << 24) - 1;
 constexpr int kMaxRanges = static_cast<int>(kCountMask);
 std::uint64_t generation_of(std::uint64_t w) { return w >> (2 * kCountBits); }
-int ranges_of(std::uint64_t w) { return static_cast<int>((w >> kCountBits) & kCountMask); }
+int end_of(std::uint64_t w) { return static_cast<int>((w >> kCountBits) & kCountMask); }
 int next_of(std::uint64_t w) { return static_cast<int>(w & kCountMask); }
-std::uint64_t pack(std::uint64_t gen, int ranges) {
-  return (gen << (2 * kCountBits)) | (static_cast<std::uint64_t>(ranges) << kCountBits);
+std::uint64_t pack(std::uint64_t gen, int end, int next) {
+  return (gen << (2 * kCountBits)) | (static_cast<std::uint64_t>(end) << kCountBits) |
+         static_cast<std::uint64_t>(next);
 }
 
 // A helper between stages: pure spinning first (a step hands out a stage every few
@@ -35,8 +37,9 @@ constexpr int kYields = 1 << 12;
 
 Workers::Workers(int threads) {
   const int helpers = std::max(1, threads) - 1;
+  claims_ = std::make_unique<Claim[]>(static_cast<std::size_t>(helpers) + 1);
   helpers_.reserve(static_cast<std::size_t>(helpers));
-  for (int t = 0; t < helpers; ++t) helpers_.emplace_back([this] { helper_loop(); });
+  for (int t = 0; t < helpers; ++t) helpers_.emplace_back([this, t] { helper_loop(t + 1); });
 }
 
 Workers::~Workers() {
@@ -48,17 +51,19 @@ Workers::~Workers() {
   for (std::thread& t : helpers_) t.join();
 }
 
-void Workers::work_on_ranges(std::uint64_t gen) {
-  std::uint64_t w = claim_.load(std::memory_order_acquire);
-  for (;;) {
-    if (generation_of(w) != gen || next_of(w) >= ranges_of(w)) return;
-    if (!claim_.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel,
-                                      std::memory_order_acquire))
-      continue;
-    // The range is ours and unfinished: the stage cannot change under us.
-    job_(ctx_, next_of(w));
-    done_.fetch_add(1, std::memory_order_release);
-    w = claim_.load(std::memory_order_acquire);
+void Workers::work_on_ranges(std::uint64_t gen, int self) {
+  const int threads = this->threads();
+  for (int k = 0; k < threads; ++k) {
+    std::atomic<std::uint64_t>& claim = claims_[static_cast<std::size_t>((self + k) % threads)].word;
+    std::uint64_t w = claim.load(std::memory_order_acquire);
+    for (;;) {
+      if (generation_of(w) != gen || next_of(w) >= end_of(w)) break;
+      if (!claim.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+      // The range is ours and unfinished: the stage cannot change under us.
+      job_(ctx_, next_of(w));
+      done_.fetch_add(1, std::memory_order_release);
+      w = claim.load(std::memory_order_acquire);
+    }
   }
 }
 
@@ -81,27 +86,32 @@ void Workers::dispatch(int ranges, Job job, const void* ctx) {
     return;
   }
   // Generations wrap at 2^24; a helper compares them for equality only.
-  const std::uint64_t gen =
-      (generation_of(claim_.load(std::memory_order_relaxed)) + 1) & ((1ull << 24) - 1);
+  const std::uint64_t gen = (generation_.load(std::memory_order_relaxed) + 1) & kGenerationMask;
   job_ = job;
   ctx_ = ctx;
   done_.store(0, std::memory_order_relaxed);
-  claim_.store(pack(gen, ranges), std::memory_order_seq_cst);
+  const int threads = this->threads();
+  for (int t = 0; t < threads; ++t) {
+    const int begin = static_cast<int>(static_cast<std::int64_t>(ranges) * t / threads);
+    const int end = static_cast<int>(static_cast<std::int64_t>(ranges) * (t + 1) / threads);
+    claims_[static_cast<std::size_t>(t)].word.store(pack(gen, end, begin), std::memory_order_relaxed);
+  }
+  generation_.store(gen, std::memory_order_seq_cst);
   if (sleeping_.load(std::memory_order_seq_cst) > 0) {
     { std::lock_guard<std::mutex> lock(mutex_); }
     wake_.notify_all();
   }
-  work_on_ranges(gen);
+  work_on_ranges(gen, 0);
   for (int spins = 0; done_.load(std::memory_order_acquire) < ranges; ++spins) {
     if (spins < kSpinPauses) MW_PAUSE();
     else std::this_thread::yield();  // a helper was descheduled: give it the core
   }
 }
 
-void Workers::helper_loop() {
+void Workers::helper_loop(int self) {
   std::uint64_t seen = 0;
   for (;;) {
-    std::uint64_t gen = generation_of(claim_.load(std::memory_order_acquire));
+    std::uint64_t gen = generation_.load(std::memory_order_acquire);
     for (int spins = 0; gen == seen && !stop_.load(std::memory_order_relaxed); ++spins) {
       if (spins < kSpinPauses) {
         MW_PAUSE();
@@ -110,17 +120,15 @@ void Workers::helper_loop() {
       } else {
         std::unique_lock<std::mutex> lock(mutex_);
         sleeping_.fetch_add(1, std::memory_order_seq_cst);
-        wake_.wait(lock, [&] {
-          return stop_.load() || generation_of(claim_.load(std::memory_order_seq_cst)) != seen;
-        });
+        wake_.wait(lock, [&] { return stop_.load() || generation_.load(std::memory_order_seq_cst) != seen; });
         sleeping_.fetch_sub(1, std::memory_order_seq_cst);
         spins = 0;
       }
-      gen = generation_of(claim_.load(std::memory_order_acquire));
+      gen = generation_.load(std::memory_order_acquire);
     }
     if (stop_.load()) return;
     seen = gen;
-    work_on_ranges(gen);
+    work_on_ranges(gen, self);
   }
 }
 

@@ -10,13 +10,21 @@
 // 1, 2, 3 or 4 threads (tests/test_engine.cpp, "ThreadCountDoesNotChangeTheBits").
 //
 // Cost. A stage is handed out by bumping a generation counter that the helpers spin on
-// (then yield, then sleep on a condition variable after a long idle spell), and the ranges
-// are claimed through one atomic counter. Nothing is allocated per stage: the job is a
-// function pointer and a context pointer. With one thread, or a stage of one range, the
-// ranges run inline on the caller, in order.
+// (then yield, then sleep on a condition variable after a long idle spell). Nothing is
+// allocated per stage: the job is a function pointer and a context pointer. With one thread,
+// or a stage of one range, the ranges run inline on the caller, in order.
+//
+// Affinity. The ranges of a stage are cut into one contiguous block per thread (thread t of
+// T: ranges [R t / T, R (t + 1) / T)), each with its own claim counter on its own cache
+// line. A thread runs its own block first, then takes what is left of the others'. Ranges
+// follow the disks' cell order, so a thread keeps meeting the same disks stage after stage
+// (colour after colour, substep after substep) and finds them in its own cache: with one
+// shared counter the ranges fell to the threads at random, and a disk's cache line moved
+// between the cores at nearly every colour.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -52,19 +60,25 @@ class Workers {
     (*static_cast<const F*>(ctx))(r);
   }
   void dispatch(int ranges, Job job, const void* ctx);
-  // Claims and runs ranges of generation gen until none is left.
-  void work_on_ranges(std::uint64_t gen);
-  void helper_loop();
+  // Claims and runs ranges of generation gen until none is left: thread `self`'s block
+  // first, then the others' in turn.
+  void work_on_ranges(std::uint64_t gen, int self);
+  void helper_loop(int self);
+
+  // A thread's claim word: the stage's generation, the end of the thread's block and the
+  // next range of it to claim. A range is claimed by compare-and-swap, so a helper late from
+  // an earlier stage can never claim a range of a later one (its generation differs), and
+  // the job it then reads cannot change before that range is done.
+  struct alignas(64) Claim {
+    std::atomic<std::uint64_t> word{0};
+  };
 
   std::vector<std::thread> helpers_;
   // The stage being run.
-  // The stage being run. The claim word packs the stage's generation, its range count and
-  // the next range to claim: a thread claims a range by compare-and-swap, so a helper late
-  // from an earlier stage can never claim a range of a later one (its generation differs),
-  // and the job it then reads cannot change before that range is done.
   Job job_ = nullptr;
   const void* ctx_ = nullptr;
-  std::atomic<std::uint64_t> claim_{0};
+  std::unique_ptr<Claim[]> claims_;         // one per thread, the caller's first
+  std::atomic<std::uint64_t> generation_{0};  // bumped when every claim word is set
   std::atomic<int> done_{0};     // ranges of the current stage finished
   std::atomic<int> sleeping_{0};
   std::atomic<bool> stop_{false};
