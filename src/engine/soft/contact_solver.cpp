@@ -265,7 +265,6 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     if (rows.warm[p].size() < m) rows.warm[p].resize(capacity);
   }
   if (rows.live.size() < m) rows.live.resize(capacity);
-  if (rows.far_all.size() < m) rows.far_all.resize(capacity);
   // Blocks and where their rows start (the rows are in key order: by lower disk).
   rows.block_disks = std::max(1, block_disks);
   rows.blocks = std::max(1, (disks.n + rows.block_disks - 1) / rows.block_disks);
@@ -276,7 +275,6 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     rows.warm_n[p].assign(blocks, 0);
   }
   rows.live_count.assign(blocks, 0);
-  rows.far_all_n.assign(blocks, 0);
   const PairGap* gap = pairs.gap.data();
   for (std::size_t k = 0; k <= blocks; ++k) {
     const int a0 = static_cast<int>(std::min<std::size_t>(k * static_cast<std::size_t>(rows.block_disks),
@@ -318,12 +316,11 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
   workers.run(rows.blocks, [&](int k) {
     const auto kk = static_cast<std::size_t>(k);
     const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
-    int count[kPhases] = {}, warm_count[kPhases] = {}, far_count = 0;
+    int count[kPhases] = {}, warm_count[kPhases] = {};
     for (std::size_t q = q0; q < q1; ++q) {
       const std::uint8_t st = pairs.state[q];
-      const int p = phase_of(gap[q].b, k, rows.block_disks);
-      if (p == kFar) rows.far_all[q0 + static_cast<std::size_t>(far_count++)] = static_cast<int>(q);
       if (st & kInLane) continue;
+      const int p = phase_of(gap[q].b, k, rows.block_disks);
       rows.list[p][q0 + static_cast<std::size_t>(count[p]++)] = static_cast<int>(q);
       if (st & kLive) rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
     }
@@ -331,7 +328,6 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
       rows.n[p][kk] = count[p];
       rows.warm_n[p][kk] = warm_count[p];
     }
-    rows.far_all_n[kk] = far_count;
   });
   // Liner ranges: about kLinerRowsPerRange rows each, cut only where the disk changes.
   const LinerSet& liner = contacts.liner;
@@ -489,21 +485,18 @@ void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {
   });
 }
 
-void apply_restitution(const Model& model, Contacts& contacts, const SolverRows& rows, Disks& disks,
-                       Workers& workers) {
+void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
   const double thr = -model.restitution_threshold_m_s;
   Body* body = disks.body.data();
   PairSet& pairs = contacts.pairs;
-  // Every row of block k that belongs to phase p, in key order: the phases' schedule keeps
-  // rows that share a disk on one thread, in the same order for any thread count.
-  auto bounce = [&](std::size_t q) {
+  for (std::size_t q = 0; q < pairs.size(); ++q) {
     // Only a row that closed fast enough with some restitution bounces: one byte tells
     // (kBounce), and the cold info and sums of the others stay untouched.
-    if (!(pairs.state[q] & kBounce)) return;
-    const PairGap& g = pairs.gap[q];
+    if (!(pairs.state[q] & kBounce)) continue;
     const ContactInfo& info = pairs.info[q];
     StepSum& sum = pairs.sum[q];
-    if (sum.pn == 0.0) return;
+    if (sum.pn == 0.0) continue;
+    const PairGap& g = pairs.gap[q];
     PairRow& c = pairs.row[q];
     Body& A = body[g.a];
     Body& B = body[g.b];
@@ -517,39 +510,24 @@ void apply_restitution(const Model& model, Contacts& contacts, const SolverRows&
     A.vy += A.im * d * g.ny;
     B.vx -= B.im * d * g.nx;
     B.vy -= B.im * d * g.ny;
-  };
-  for_phases(workers, rows, [&](int p, int k) {
-    const auto kk = static_cast<std::size_t>(k);
-    if (p == kFar) {  // listed by the colouring
-      const int* far = rows.far_all.data() + rows.first[kk];
-      for (int t = 0; t < rows.far_all_n[kk]; ++t) bounce(static_cast<std::size_t>(far[t]));
-      return;
-    }
-    for (std::size_t q = rows.first[kk]; q < rows.first[kk + 1]; ++q) {
-      if (!(pairs.state[q] & kBounce) || phase_of(pairs.gap[q].b, k, rows.block_disks) != p) continue;
-      bounce(q);
-    }
-  });
-  // The liner rows after the pairs, by liner ranges (a disk's rows are never split).
+  }
   LinerSet& liner = contacts.liner;
-  for_liner_ranges(workers, rows, [&](std::size_t q0, std::size_t q1) {
-    for (std::size_t q = q0; q < q1; ++q) {
-      const ContactInfo& info = liner.info[q];
-      StepSum& sum = liner.sum[q];
-      if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
-      const LinerGap& g = liner.gap[q];
-      LinerRow& c = liner.row[q];
-      Body& A = body[g.a];
-      const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-      const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
-      const double d = next - c.ln;
-      c.ln = next;
-      liner.state[q] = kBuilt | has_impulse(c);
-      sum.pn += d;
-      A.vx += A.im * d * g.nx;
-      A.vy += A.im * d * g.ny;
-    }
-  });
+  for (std::size_t q = 0; q < liner.size(); ++q) {
+    const ContactInfo& info = liner.info[q];
+    StepSum& sum = liner.sum[q];
+    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
+    const LinerGap& g = liner.gap[q];
+    LinerRow& c = liner.row[q];
+    Body& A = body[g.a];
+    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
+    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
+    const double d = next - c.ln;
+    c.ln = next;
+    liner.state[q] = kBuilt | has_impulse(c);
+    sum.pn += d;
+    A.vx += A.im * d * g.nx;
+    A.vy += A.im * d * g.ny;
+  }
 }
 
 }  // namespace millwear::soft

@@ -58,9 +58,6 @@ struct SolverRows {
   std::vector<int> n[kPhases], warm_n[kPhases];
   // Scratch of the colouring: the live rows of each block, at live[first[k] ..].
   std::vector<int> live, live_count;
-  // Every far row of block k, in lanes or not, at far_all[first[k] ..], far_all_n[k] of
-  // them: the restitution's far phase.
-  std::vector<int> far_all, far_all_n;
   // The liner rows' ranges: [liner_first[r], liner_first[r + 1]), never splitting a disk's.
   std::vector<std::size_t> liner_first;
   std::size_t live_n = 0;         // pair rows carrying an impulse into the step (timing)
@@ -88,10 +85,8 @@ void relax(const Model& model, const StepStart& start, double elapsed_s,
 // The lanes' impulses, step sums and live bits back to the contact arrays.
 void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // Contacts that closed faster than the threshold and carried load get the impulse that
-// sends them apart at e times that speed: the pair rows in the serial rows' phases (every
-// row of a block, coloured or not), then the liner rows by their ranges.
-void apply_restitution(const Model& model, Contacts& contacts, const SolverRows& rows, Disks& disks,
-                       Workers& workers);
+// sends them apart at e times that speed.
+void apply_restitution(const Model& model, Contacts& contacts, Disks& disks);
 
 // Disks per range of the per-disk stages (integration, margins, write-back).
 constexpr std::size_t kDisksPerRange = 1024;
