@@ -419,8 +419,11 @@ TEST(Pattern, HighLiftersWearFasterThanLowOnes) {
 // summary.csv of a hi-lo run: every kind's lifter on each stage's row (the figures of
 // kinds.csv, read without joining files), the liner's life that of the kind that reaches the
 // replacement height first, and the kinds figure.
-TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
-  TempDir dir("hilo-summary");
+// The lab mill with a pattern of its 2x30 lifter and a 12 mm low trapezoid, run one stage
+// into DIR/out with `extra` options; returns the output folder.
+namespace {
+
+fs::path run_hilo_lab(const TempDir& dir, const std::string& extra) {
   const std::string lab = source_path("profiles/lab-2x30.toml");
   dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
                       "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
@@ -428,8 +431,17 @@ TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
       dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
   const fs::path out = dir.path() / "out";
   const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(scene) + " -o " +
-                                                 millwear::testing::quoted(out) + " -q");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+                                                 millwear::testing::quoted(out) + " -q" + extra);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return out;
+}
+
+}  // namespace
+
+TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
+  TempDir dir("hilo-summary");
+  const fs::path out = run_hilo_lab(dir, "");
+  ASSERT_FALSE(::testing::Test::HasFailure());
   const io::CsvData sum = io::read_csv((out / "summary.csv").string());
   const io::CsvData kinds = io::read_csv((out / "kinds.csv").string());
   ASSERT_EQ(sum.row_count(), 2u);  // stages 0 and 1
@@ -471,15 +483,8 @@ TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
 // difference. With one history they carry batch-means errors.
 TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
   TempDir dir("hilo-replicates");
-  const std::string lab = source_path("profiles/lab-2x30.toml");
-  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
-                      "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
-  const std::string scene =
-      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
-  const fs::path out = dir.path() / "out";
-  const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(scene) + " -o " +
-                                                 millwear::testing::quoted(out) + " -q --replicates 2");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path out = run_hilo_lab(dir, " --replicates 2");
+  ASSERT_FALSE(::testing::Test::HasFailure());
   const io::CsvData sum = io::read_csv((out / "summary.csv").string());
   const io::CsvData reps = io::read_csv((out / "replicates.csv").string());
   ASSERT_EQ(sum.row_count(), 2u);
