@@ -382,6 +382,19 @@ TEST_F(SceneUnits, SizeCutoffDropsSmallRockSizesOnly) {
   EXPECT_DOUBLE_EQ(s.smallest_particle_radius_m(), 0.010);
 }
 
+TEST_F(SceneUnits, ASizeClassAtTheCutoffStaysWhateverTheRounding) {
+  // Classes 20 and 10 mm; a cut-off computed as 0.1 x 0.1 m lands a hair above 10 mm in
+  // doubles (as 1.5 x 25 mm does above a 37.5 mm class): the class at the cut-off stays, and
+  // a cut-off clearly above it drops it.
+  Scene s = load_scene(scene_with("seed = 3", "seed = 3"));
+  ASSERT_EQ(s.species_as_placed()[1].diameters_m.size(), 2u);
+  s.solver.size_cutoff_m = 0.1 * 0.1;
+  ASSERT_GT(s.solver.size_cutoff_m, s.charge.species[1].smallest_diameter_m());
+  EXPECT_EQ(s.species_as_placed()[1].diameters_m.size(), 2u);
+  s.solver.size_cutoff_m = 0.0101;
+  EXPECT_EQ(s.species_as_placed()[1].diameters_m.size(), 1u);
+}
+
 TEST_F(SceneUnits, GatesGaudinSchuhmannGivesEachClassItsShareOfThePassingCurve) {
   const Scene s = load_scene(scene_with("sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]",
                                         "sizes = [20.0, 10.0, 5.0]\ndistribution = \"gates-gaudin-schuhmann\"\n"

@@ -54,8 +54,11 @@ SpeciesDef SpeciesDef::without_sizes_below(double cutoff_m) const {
   out.diameters_m.clear();
   out.mass_fractions.clear();
   double kept = 0.0;
+  // A class at the cut-off stays, to rounding: 1.5 x 25 mm reached by arithmetic is a hair
+  // above a 37.5 mm class read from a file.
+  const double below = cutoff_m * (1.0 - 1e-9);
   for (std::size_t i = 0; i < diameters_m.size(); ++i) {
-    if (diameters_m[i] < cutoff_m) continue;
+    if (diameters_m[i] < below) continue;
     out.diameters_m.push_back(diameters_m[i]);
     out.mass_fractions.push_back(mass_fractions[i]);
     kept += mass_fractions[i];
