@@ -191,8 +191,10 @@ TEST(TradeoffLadder, AFineChargeLaddersTheFiftyMillimetreCutOff) {
   std::set<std::string> cuts;
   for (const auto& s : tradeoff_ladder(fine, o).settings)
     if (s.knob == "size_cutoff") cuts.insert(s.label);
-  // Rocks from 25 mm: 1.25 and 1.5 x the smallest, and 50 mm (25 mm would cut nothing).
-  EXPECT_EQ(cuts, (std::set<std::string>{"size_cutoff=31.25mm", "size_cutoff=37.5mm", "size_cutoff=50mm"}));
+  // Rock classes 25, 37.5, 62.5 ... mm: 1.25 and 1.5 x the smallest (31.25 and 37.5 mm) both
+  // drop the 25 mm class alone, so only the first is laddered; 50 mm drops 25 and 37.5 (25 mm
+  // would cut nothing).
+  EXPECT_EQ(cuts, (std::set<std::string>{"size_cutoff=31.25mm", "size_cutoff=50mm"}));
   // The default comparison's rocks start at 100 mm: no absolute rows there.
   std::set<std::string> coarse;
   for (const auto& s : tradeoff_ladder(load_scene(source_path("scenarios/sag-2x30.toml")), o).settings)

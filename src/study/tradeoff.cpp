@@ -202,7 +202,8 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
   // Size cut-off: relative to the smallest rock, as an absolute size means nothing across
   // scenes; and, for a fine charge (rocks finer than 50 mm, e.g. a size distribution down to
   // 25 mm), the cut-offs 25 and 50 mm that SAG scenes use. Only values that cut something and
-  // keep part of every rock species of every design are laddered.
+  // keep part of every rock species of every design are laddered, and of values that leave
+  // the same charge (size classes: 31.25 and 37.5 mm both drop only a 25 mm class) the first.
   {
     double smallest_rock = INFINITY, largest_rock_min = INFINITY;
     for (const Scene& d : std_scenes)
@@ -218,9 +219,23 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
         if (mm * 1e-3 > smallest_rock) cuts.push_back(mm * 1e-3);
       for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
       std::sort(cuts.begin(), cuts.end());
+      // The charge a cut-off leaves: every design's rock species' smallest size kept.
+      auto charge_left = [&](double cut) {
+        std::vector<double> smallest;
+        for (Scene d : std_scenes) {
+          d.solver.size_cutoff_m = cut;
+          for (const auto& sp : d.species_as_placed())
+            if (!sp.is_ball) smallest.push_back(sp.smallest_diameter_m());
+        }
+        return smallest;
+      };
+      std::vector<std::vector<double>> left;
       for (std::size_t i = 0; i < cuts.size(); ++i) {
         const double cut = cuts[i];
-        if (cut >= largest_rock_min || (i > 0 && cut == cuts[i - 1])) continue;
+        if (cut >= largest_rock_min) continue;
+        std::vector<double> charge = charge_left(cut);
+        if (std::find(left.begin(), left.end(), charge) != left.end()) continue;
+        left.push_back(std::move(charge));
         values.push_back({num(cut * 1e3) + "mm", [cut](Scene& s) { s.solver.size_cutoff_m = cut; }});
       }
     }
