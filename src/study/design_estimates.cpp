@@ -21,49 +21,69 @@ Estimate with_rel_error(double value, double rel) { return {value, std::abs(valu
 
 namespace {
 
-// A pattern's kinds through the stages, with the same propagation as the design's lifter: a
-// kind's area lost so far has the variance of its own rates' batch means over the hours each
-// acted; its height and life follow that area's relative error.
+// One lifter (the design's, or one kind of a pattern) at a stage: its area and height, and
+// the area-loss rate measured there with the rate's batch-means relative error.
+struct LifterAtStage {
+  double hours = 0.0, area_m2 = 0.0, height_m = 0.0, rate_m2_per_s = 0.0, rate_rel_sem = 0.0;
+};
+
+// The lifter through the stages, with errors: the area lost by stage k has the variance of the
+// rates of the stages before it over the hours each acted (independent windows); the height
+// follows the area's error in proportion to what each has lost; the life (life_h, NaN if
+// none) follows the relative error of the area lost by the last stage. area0 and height0 are
+// the new lifter's.
+std::vector<KindEstimate> track_lifter(const std::vector<LifterAtStage>& at, double area0, double height0,
+                                       double life_h, Estimate& life) {
+  std::vector<KindEstimate> out;
+  double area_var = 0.0;  // m^4
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    const LifterAtStage& r = at[k];
+    if (k > 0) {
+      const LifterAtStage& previous = at[k - 1];
+      const double dt_s = (r.hours - previous.hours) * kSecondsPerHour;
+      const double rate_se = previous.rate_m2_per_s * previous.rate_rel_sem;
+      area_var += (rate_se * dt_s) * (rate_se * dt_s);
+    }
+    KindEstimate e;
+    const double area_se = std::sqrt(area_var);
+    e.area_m2 = {r.area_m2, area_se};
+    e.area_loss_fraction = {1.0 - r.area_m2 / area0, area_se / area0};
+    const double lost = area0 - r.area_m2;
+    e.height_m = {r.height_m, lost > 0.0 ? (height0 - r.height_m) * area_se / lost : 0.0};
+    e.area_loss_rate_m2_per_s = with_rel_error(r.rate_m2_per_s, r.rate_rel_sem);
+    out.push_back(e);
+  }
+  life = Estimate{};
+  if (!out.empty() && std::isfinite(life_h)) {
+    const KindEstimate& last = out.back();
+    const double lost = area0 - last.area_m2.mean;
+    life = {life_h, lost > 0.0 ? life_h * last.area_m2.se / lost : std::nan("")};
+  }
+  return out;
+}
+
+// A pattern's kinds, each tracked as the design's lifter is, from its own rates.
 void add_kind_estimates(const std::map<int, StageRecord>& stages, const std::vector<double>& kind_life_h,
                         const std::vector<bool>& kind_life_extrapolated, DesignEstimate& d) {
   const auto own0 = stages.find(0);
   if (own0 == stages.end() || own0->second.kinds.size() < 2) return;
   const std::size_t kinds = own0->second.kinds.size();
-  std::vector<double> area_var(kinds, 0.0), area_se(kinds, std::nan(""));
-  const StageRecord* previous = nullptr;
-  std::size_t row = 0;
-  for (const auto& [k, r] : stages) {
-    (void)k;
-    for (std::size_t i = 0; i < kinds; ++i) {
-      if (previous && i < previous->kind_area_loss_rate_m2_per_s.size() &&
-          i < previous->kind_area_loss_rate_rel_sem.size()) {
-        const double dt_s = (r.hours - previous->hours) * kSecondsPerHour;
-        const double rate_se = previous->kind_area_loss_rate_m2_per_s[i] * previous->kind_area_loss_rate_rel_sem[i];
-        area_var[i] += (rate_se * dt_s) * (rate_se * dt_s);
-      }
-      KindEstimate e;
-      if (i < r.kinds.size()) {
-        const double area0 = own0->second.kinds[i].area_m2, height0 = own0->second.kinds[i].height_m;
-        area_se[i] = std::sqrt(area_var[i]);
-        e.area_m2 = {r.kinds[i].area_m2, area_se[i]};
-        e.area_loss_fraction = {1.0 - r.kinds[i].area_m2 / area0, area_se[i] / area0};
-        const double lost = area0 - r.kinds[i].area_m2;
-        e.height_m = {r.kinds[i].height_m, lost > 0.0 ? (height0 - r.kinds[i].height_m) * area_se[i] / lost : 0.0};
-      }
-      if (i < r.kind_area_loss_rate_m2_per_s.size())
-        e.area_loss_rate_m2_per_s = with_rel_error(
-            r.kind_area_loss_rate_m2_per_s[i],
-            i < r.kind_area_loss_rate_rel_sem.size() ? r.kind_area_loss_rate_rel_sem[i] : std::nan(""));
-      d.stages[row].kinds.push_back(e);
-    }
-    previous = &r;
-    ++row;
-  }
-  const StageRecord& last = stages.rbegin()->second;
   for (std::size_t i = 0; i < kinds; ++i) {
-    const double life = i < kind_life_h.size() ? kind_life_h[i] : std::nan("");
-    const double lost = i < last.kinds.size() ? own0->second.kinds[i].area_m2 - last.kinds[i].area_m2 : 0.0;
-    d.kind_life_h.push_back({life, std::isfinite(life) && lost > 0.0 ? life * area_se[i] / lost : std::nan("")});
+    std::vector<LifterAtStage> at;
+    for (const auto& [k, r] : stages) {
+      (void)k;
+      const bool has = i < r.kinds.size();
+      const double nan = std::nan("");
+      at.push_back({r.hours, has ? r.kinds[i].area_m2 : nan, has ? r.kinds[i].height_m : nan,
+                    i < r.kind_area_loss_rate_m2_per_s.size() ? r.kind_area_loss_rate_m2_per_s[i] : nan,
+                    i < r.kind_area_loss_rate_rel_sem.size() ? r.kind_area_loss_rate_rel_sem[i] : nan});
+    }
+    Estimate life;
+    const std::vector<KindEstimate> track =
+        track_lifter(at, own0->second.kinds[i].area_m2, own0->second.kinds[i].height_m,
+                     i < kind_life_h.size() ? kind_life_h[i] : std::nan(""), life);
+    for (std::size_t k = 0; k < track.size(); ++k) d.stages[k].kinds.push_back(track[k]);
+    d.kind_life_h.push_back(life);
     d.kind_life_extrapolated.push_back(i < kind_life_extrapolated.size() ? kind_life_extrapolated[i] : true);
   }
 }
@@ -83,25 +103,21 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
   const auto own0 = stages.find(0);
   const double area0 = own0 != stages.end() ? own0->second.lifter.area_m2 : std::nan("");
   const double height0 = own0 != stages.end() ? own0->second.lifter.height_m : std::nan("");
-  // Variance of the area lost so far, from the rates of the stages before (m^4).
-  double area_var = 0.0;
-  const StageRecord* previous = nullptr;
+  std::vector<LifterAtStage> at;
   for (const auto& [k, r] : stages) {
-    if (previous) {
-      const double dt_s = (r.hours - previous->hours) * kSecondsPerHour;
-      const double rate_se = previous->area_loss_rate_m2_per_s * previous->area_loss_rate_rel_sem;
-      area_var += (rate_se * dt_s) * (rate_se * dt_s);
-    }
-    previous = &r;
+    (void)k;
+    at.push_back({r.hours, r.lifter.area_m2, r.lifter.height_m, r.area_loss_rate_m2_per_s, r.area_loss_rate_rel_sem});
+  }
+  const std::vector<KindEstimate> lifter = track_lifter(at, area0, height0, life_h, d.life_h);
+  std::size_t index = 0;
+  for (const auto& [k, r] : stages) {
     StageEstimate s;
     s.stage = k;
     s.hours = r.hours;
-    const double area_se = std::sqrt(area_var);
-    s.area_m2 = {r.lifter.area_m2, area_se};
-    s.area_loss_fraction = {1.0 - r.lifter.area_m2 / area0, area_se / area0};
-    // The height follows the area's error in proportion to what each has lost.
-    const double lost = area0 - r.lifter.area_m2;
-    s.height_m = {r.lifter.height_m, lost > 0.0 ? (height0 - r.lifter.height_m) * area_se / lost : 0.0};
+    const KindEstimate& l = lifter[index++];
+    s.area_m2 = l.area_m2;
+    s.area_loss_fraction = l.area_loss_fraction;
+    s.height_m = l.height_m;
     const ChargeFigures& f = r.charge;
     const ChargeFigureErrors& e = r.charge_errors;
     s.power_W = {f.power_kW_per_m * 1e3 * len, e.power_kW_per_m * 1e3 * len};
@@ -124,12 +140,6 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
     }
     s.packed_shear_share = {f.summary.packed_shear_share, e.packed_shear_share};
     d.stages.push_back(s);
-  }
-  // The life follows the relative error of the area lost by the last stage.
-  if (!d.stages.empty() && std::isfinite(life_h)) {
-    const StageEstimate& last = d.stages.back();
-    const double lost = area0 - last.area_m2.mean;
-    d.life_h = {life_h, lost > 0.0 ? life_h * last.area_m2.se / lost : std::nan("")};
   }
   add_kind_estimates(stages, kind_life_h, kind_life_extrapolated, d);
   return d;
