@@ -106,6 +106,7 @@ void reorder_by_cell(const Model& model, const LinerModel& liner, const StepBoun
   permute(disks.active, broad.bytes);
   permute(disks.species, broad.bytes);
   permute(disks.id, broad.ids);
+  for (std::size_t i = 0; i < n; ++i) disks.slot[static_cast<std::size_t>(disks.id[i])] = static_cast<int>(i);
 
   PairSet& pairs = contacts.pairs_old;
   for (std::size_t q = 0; q < pairs.size(); ++q) {

@@ -209,21 +209,27 @@ void for_phases(Workers& workers, const SolverRows& rows, const Fn& fn) {
 }
 
 // fn(chunk0, chunk1) over the chunks of each colour in turn, a colour's ranges at once.
+// The threads' blocks are cut by disk (Workers::run_by_disk): a colour's chunks are in key
+// order, so a chunk's first lane holds its lowest disk.
 template <class Fn>
-void for_colours(Workers& workers, const ColouredRows& coloured, const Fn& fn) {
+void for_colours(Workers& workers, int disks, ColouredRows& coloured, const Fn& fn) {
+  const WideRows* wide = coloured.rows();
   for (int c = 0; c < coloured.colours(); ++c) {
     const std::size_t c0 = coloured.colour_begin(c), c1 = coloured.colour_begin(c + 1);
-    workers.run(range_count(c1 - c0, kChunksPerRange), [&](int r) {
+    const auto disk_of = [&](int r) { return wide[c0 + static_cast<std::size_t>(r) * kChunksPerRange].a[0]; };
+    workers.run_by_disk(range_count(c1 - c0, kChunksPerRange), disks, disk_of, [&](int r) {
       const std::size_t k0 = c0 + static_cast<std::size_t>(r) * kChunksPerRange;
       fn(k0, std::min(c1, k0 + kChunksPerRange));
     });
   }
 }
 
+// The liner rows are in key order too: by disk.
 template <class Fn>
-void for_liner_ranges(Workers& workers, const SolverRows& rows, const Fn& fn) {
+void for_liner_ranges(Workers& workers, int disks, const LinerSet& liner, const SolverRows& rows, const Fn& fn) {
   const int ranges = static_cast<int>(rows.liner_first.size()) - 1;
-  workers.run(ranges, [&](int r) {
+  const auto disk_of = [&](int r) { return liner.gap[rows.liner_first[static_cast<std::size_t>(r)]].a; };
+  workers.run_by_disk(ranges, disks, disk_of, [&](int r) {
     fn(rows.liner_first[static_cast<std::size_t>(r)], rows.liner_first[static_cast<std::size_t>(r) + 1]);
   });
 }
@@ -355,7 +361,7 @@ void integrate_velocities(const Model& model, Disks& disks, Workers& workers) {
 void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
   Body* body = disks.body.data();
   WideRows* wide = rows.coloured.rows();
-  for_colours(workers, rows.coloured,
+  for_colours(workers, disks.n, rows.coloured,
               [&](std::size_t k0, std::size_t k1) { wide_warm_start(body, wide + k0, k1 - k0); });
   // Of the serial rows only the live ones: a row without impulse applies nothing (adding its
   // zero impulses would leave every velocity as it was), and most rows are such margins.
@@ -380,7 +386,7 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
     }
   });
   const LinerSet& liner = contacts.liner;
-  for_liner_ranges(workers, rows, [&](std::size_t q0, std::size_t q1) {
+  for_liner_ranges(workers, disks.n, contacts.liner, rows, [&](std::size_t q0, std::size_t q1) {
     for (std::size_t q = q0; q < q1; ++q) {
       const LinerGap& g = liner.gap[q];
       const LinerRow& c = liner.row[q];
@@ -417,16 +423,16 @@ void pass(const Model& model, const StepStart& start, double elapsed_s, double o
     sf.mass_scale = soft.mass_scale;
     sf.impulse_scale = soft.impulse_scale;
     sf.push = model.push_out_m_s;
-    for_colours(workers, rows.coloured,
+    for_colours(workers, disks.n, rows.coloured,
                 [&](std::size_t k0, std::size_t k1) { wide_solve(body, wide + k0, k1 - k0, sf); });
   } else {
     WideSums* sums = rows.coloured.sums();
     const double inv_h = 1.0 / model.substep_s;
-    for_colours(workers, rows.coloured, [&](std::size_t k0, std::size_t k1) {
+    for_colours(workers, disks.n, rows.coloured, [&](std::size_t k0, std::size_t k1) {
       wide_relax(body, wide + k0, sums + k0, k1 - k0, inv_h);
     });
   }
-  for_liner_ranges(workers, rows, [&](std::size_t q0, std::size_t q1) {
+  for_liner_ranges(workers, disks.n, contacts.liner, rows, [&](std::size_t q0, std::size_t q1) {
     pass_liner<kBias>(model, elapsed_s, omega, contacts.liner, q0, q1, body);
   });
 }

@@ -9,6 +9,7 @@ Disks load_disks(const ChargeState& charge) {
   d.n = static_cast<int>(charge.size());
   const auto n = static_cast<std::size_t>(d.n);
   d.id.resize(n);
+  d.slot.resize(n);
   d.body.resize(n + 1);
   for (auto* v : {&d.x, &d.y, &d.angle, &d.radius, &d.mass}) v->resize(n);
   d.active.resize(n);
@@ -16,6 +17,7 @@ Disks load_disks(const ChargeState& charge) {
   d.margin.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     d.id[i] = static_cast<int>(i);
+    d.slot[i] = static_cast<int>(i);
     d.x[i] = charge.position_m[i].x;
     d.y[i] = charge.position_m[i].y;
     Body& b = d.body[i];

@@ -17,6 +17,7 @@ namespace millwear::soft {
 struct Disks {
   int n = 0;
   std::vector<int> id;        // the caller's index of each disk
+  std::vector<int> slot;      // by the caller's index: the disk's place in the solver's order
   // n + 1 bodies: body n is the dummy that the padding lanes of the wide solve read and
   // write (zero inverse mass and inertia, never reordered).
   std::vector<Body> body;

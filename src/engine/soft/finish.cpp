@@ -50,7 +50,6 @@ void write_back_and_check(const Model& model, const LinerModel& liner, const Ste
     for (std::size_t k = i0; k < i1; ++k) {
       scratch.verdict[k] = 0;
       if (!disks.active[k]) continue;
-      const auto id = static_cast<std::size_t>(disks.id[k]);
       const double x = disks.x[k], y = disks.y[k];
       const Body& b = disks.body[k];
       if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(b.vx) ||
@@ -63,10 +62,6 @@ void write_back_and_check(const Model& model, const LinerModel& liner, const Ste
       // final velocity): its potential energy is the solver's share of the energy balance.
       const double corr_y = (y - start.y[k]) - model.dt_s * b.vy;
       position_J -= disks.mass[k] * g * corr_y;
-      charge.position_m[id] = {x, y};
-      charge.velocity_m_s[id] = {b.vx, b.vy};
-      charge.angle_rad[id] = disks.angle[k];
-      charge.spin_rad_s[id] = b.w;
       const double escape_r = liner.max_r_m + kLostDepthRadii * disks.radius[k];
       if (x * x + y * y > escape_r * escape_r) {
         scratch.verdict[k] = 2;
@@ -75,6 +70,20 @@ void write_back_and_check(const Model& model, const LinerModel& liner, const Ste
     }
     scratch.position_J[static_cast<std::size_t>(r)] = position_J;
     scratch.flagged[static_cast<std::size_t>(r)] = flagged;
+  });
+  // The state by id, in ranges of ids: each range writes a contiguous run of the charge's
+  // arrays (written in the solver's order, the ranges would share cache lines at random).
+  workers.run(ranges, [&](int r) {
+    const std::size_t j0 = static_cast<std::size_t>(r) * kPerRange, j1 = std::min(n, j0 + kPerRange);
+    for (std::size_t j = j0; j < j1; ++j) {
+      const auto k = static_cast<std::size_t>(disks.slot[j]);
+      if (!disks.active[k] || scratch.verdict[k] == 1) continue;
+      const Body& b = disks.body[k];
+      charge.position_m[j] = {disks.x[k], disks.y[k]};
+      charge.velocity_m_s[j] = {b.vx, b.vy};
+      charge.angle_rad[j] = disks.angle[k];
+      charge.spin_rad_s[j] = b.w;
+    }
   });
   for (int r = 0; r < ranges; ++r) {
     acc.solver_position_J += scratch.position_J[static_cast<std::size_t>(r)];

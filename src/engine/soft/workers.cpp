@@ -38,6 +38,7 @@ constexpr int kYields = 1 << 12;
 Workers::Workers(int threads) {
   const int helpers = std::max(1, threads) - 1;
   claims_ = std::make_unique<Claim[]>(static_cast<std::size_t>(helpers) + 1);
+  begins_.assign(static_cast<std::size_t>(helpers) + 2, 0);
   helpers_.reserve(static_cast<std::size_t>(helpers));
   for (int t = 0; t < helpers; ++t) helpers_.emplace_back([this, t] { helper_loop(t + 1); });
 }
@@ -55,19 +56,23 @@ void Workers::work_on_ranges(std::uint64_t gen, int self) {
   const int threads = this->threads();
   for (int k = 0; k < threads; ++k) {
     std::atomic<std::uint64_t>& claim = claims_[static_cast<std::size_t>((self + k) % threads)].word;
+    // Its own block from the front; another's from the back, so that the owner keeps the
+    // ranges next to those it has run (and their disks in its cache).
+    const bool own = k == 0;
     std::uint64_t w = claim.load(std::memory_order_acquire);
     for (;;) {
       if (generation_of(w) != gen || next_of(w) >= end_of(w)) break;
-      if (!claim.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
+      const std::uint64_t claimed = own ? w + 1 : w - (1ull << kCountBits);
+      if (!claim.compare_exchange_weak(w, claimed, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
       // The range is ours and unfinished: the stage cannot change under us.
-      job_(ctx_, next_of(w));
+      job_(ctx_, own ? next_of(w) : end_of(w) - 1);
       done_.fetch_add(1, std::memory_order_release);
       w = claim.load(std::memory_order_acquire);
     }
   }
 }
 
-void Workers::dispatch(int ranges, Job job, const void* ctx) {
+void Workers::dispatch(int ranges, Job job, const void* ctx, const int* begins) {
   if (ranges > kMaxRanges) {
     // Far beyond any stage of a mill slice; split rather than overflow the claim word.
     for (int r0 = 0; r0 < ranges; r0 += kMaxRanges) {
@@ -81,7 +86,7 @@ void Workers::dispatch(int ranges, Job job, const void* ctx) {
                  const auto* o = static_cast<const Offset*>(c);
                  o->job(o->ctx, o->r0 + r);
                },
-               &off);
+               &off, nullptr);
     }
     return;
   }
@@ -92,8 +97,8 @@ void Workers::dispatch(int ranges, Job job, const void* ctx) {
   done_.store(0, std::memory_order_relaxed);
   const int threads = this->threads();
   for (int t = 0; t < threads; ++t) {
-    const int begin = static_cast<int>(static_cast<std::int64_t>(ranges) * t / threads);
-    const int end = static_cast<int>(static_cast<std::int64_t>(ranges) * (t + 1) / threads);
+    const int begin = begins ? begins[t] : static_cast<int>(static_cast<std::int64_t>(ranges) * t / threads);
+    const int end = begins ? begins[t + 1] : static_cast<int>(static_cast<std::int64_t>(ranges) * (t + 1) / threads);
     claims_[static_cast<std::size_t>(t)].word.store(pack(gen, end, begin), std::memory_order_relaxed);
   }
   generation_.store(gen, std::memory_order_seq_cst);

@@ -16,11 +16,11 @@
 //
 // Affinity. The ranges of a stage are cut into one contiguous block per thread (thread t of
 // T: ranges [R t / T, R (t + 1) / T)), each with its own claim counter on its own cache
-// line. A thread runs its own block first, then takes what is left of the others'. Ranges
-// follow the disks' cell order, so a thread keeps meeting the same disks stage after stage
-// (colour after colour, substep after substep) and finds them in its own cache: with one
-// shared counter the ranges fell to the threads at random, and a disk's cache line moved
-// between the cores at nearly every colour.
+// line. A thread runs its own block from the front, then takes what is left of the others'
+// from their back. Ranges follow the disks' cell order, so a thread keeps meeting the same
+// disks stage after stage (colour after colour, substep after substep) and finds them in its
+// own cache: with one shared counter the ranges fell to the threads at random, and a disk's
+// cache line moved between the cores at nearly every colour.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -50,7 +50,34 @@ class Workers {
       for (int r = 0; r < ranges; ++r) fn(r);
       return;
     }
-    dispatch(ranges, &call<F>, &fn);
+    dispatch(ranges, &call<F>, &fn, nullptr);
+  }
+
+  // As run, with the threads' blocks cut where the stage's disks are: disk_of(r) is the
+  // first disk range r touches (non-decreasing in r), and thread t of T starts at the first
+  // range at or past disk n t / T. A stage whose ranges hold unequal shares of the disks
+  // (the colours, the liner rows) then gives each thread the disks it has in the disk
+  // stages, so that their cache lines stay on its core.
+  template <class F, class D>
+  void run_by_disk(int ranges, int n, const D& disk_of, const F& fn) {
+    if (ranges <= 0) return;
+    if (ranges == 1 || helpers_.empty()) {
+      for (int r = 0; r < ranges; ++r) fn(r);
+      return;
+    }
+    const int threads = this->threads();
+    for (int t = 1; t < threads; ++t) {
+      const auto bound = static_cast<std::int64_t>(n) * t / threads;
+      int lo = begins_[static_cast<std::size_t>(t) - 1], hi = ranges;
+      while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (disk_of(mid) < bound) lo = mid + 1;
+        else hi = mid;
+      }
+      begins_[static_cast<std::size_t>(t)] = lo;
+    }
+    begins_[static_cast<std::size_t>(threads)] = ranges;
+    dispatch(ranges, &call<F>, &fn, begins_.data());
   }
 
  private:
@@ -59,7 +86,9 @@ class Workers {
   static void call(const void* ctx, int r) {
     (*static_cast<const F*>(ctx))(r);
   }
-  void dispatch(int ranges, Job job, const void* ctx);
+  // begins: thread t's block starts at begins[t] (begins[threads] = ranges); null: equal
+  // blocks.
+  void dispatch(int ranges, Job job, const void* ctx, const int* begins);
   // Claims and runs ranges of generation gen until none is left: thread `self`'s block
   // first, then the others' in turn.
   void work_on_ranges(std::uint64_t gen, int self);
@@ -78,6 +107,7 @@ class Workers {
   Job job_ = nullptr;
   const void* ctx_ = nullptr;
   std::unique_ptr<Claim[]> claims_;         // one per thread, the caller's first
+  std::vector<int> begins_;                 // run_by_disk's blocks: threads + 1, begins_[0] = 0
   std::atomic<std::uint64_t> generation_{0};  // bumped when every claim word is set
   std::atomic<int> done_{0};     // ranges of the current stage finished
   std::atomic<int> sleeping_{0};
