@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <vector>
 
 #include "../bench/probe_scene.hpp"
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
+#include "engine/soft/workers.hpp"
 #include "engine_fixtures.hpp"
 
 using namespace millwear;
@@ -89,6 +92,35 @@ TEST(SoftThreads, ThreadCountDoesNotChangeTheBitsOnTenThousandDisks) {
     Accounting a;
     run(threads, s, a);
     expect_same_bits(s1, a1, s, a, threads);
+  }
+}
+
+// The pool runs every range of a stage exactly once, whatever the thread count, the number
+// of ranges and how the blocks are cut (equal blocks, blocks cut by disk, a thread whose
+// block is empty so that it only steals), stage after stage.
+TEST(SoftThreads, ThePoolRunsEveryRangeOnce) {
+  for (int threads = 1; threads <= 4; ++threads) {
+    soft::Workers workers(threads);
+    for (int ranges : {0, 1, 2, 3, 7, 64, 1000}) {
+      std::vector<std::atomic<int>> runs(static_cast<std::size_t>(ranges));
+      for (auto& r : runs) r.store(0);
+      constexpr int kStages = 300;
+      for (int stage = 0; stage < kStages; ++stage) {
+        const auto count = [&](int r) { runs[static_cast<std::size_t>(r)].fetch_add(1); };
+        if (stage % 3 == 0) {
+          workers.run(ranges, count);
+        } else if (stage % 3 == 1) {
+          // Ranges spread evenly over disks [0, 10 ranges).
+          workers.run_by_disk(ranges, 10 * ranges, [](int r) { return 10 * r; }, count);
+        } else {
+          // Every range at disk 0: every thread but the first has an empty block.
+          workers.run_by_disk(ranges, 10 * ranges, [](int) { return 0; }, count);
+        }
+      }
+      for (int r = 0; r < ranges; ++r)
+        ASSERT_EQ(runs[static_cast<std::size_t>(r)].load(), kStages)
+            << "range " << r << " of " << ranges << ", threads " << threads;
+    }
   }
 }
 

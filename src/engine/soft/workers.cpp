@@ -54,6 +54,7 @@ Workers::~Workers() {
 
 void Workers::work_on_ranges(std::uint64_t gen, int self) {
   const int threads = this->threads();
+  int ran = 0;
   for (int k = 0; k < threads; ++k) {
     std::atomic<std::uint64_t>& claim = claims_[static_cast<std::size_t>((self + k) % threads)].word;
     // Its own block from the front; another's from the back, so that the owner keeps the
@@ -66,10 +67,13 @@ void Workers::work_on_ranges(std::uint64_t gen, int self) {
       if (!claim.compare_exchange_weak(w, claimed, std::memory_order_acq_rel, std::memory_order_acquire)) continue;
       // The range is ours and unfinished: the stage cannot change under us.
       job_(ctx_, own ? next_of(w) : end_of(w) - 1);
-      done_.fetch_add(1, std::memory_order_release);
+      ++ran;
       w = claim.load(std::memory_order_acquire);
     }
   }
+  // One addition per thread and stage: the count's cache line moves between the cores once
+  // per thread, not once per range.
+  if (ran > 0) done_.fetch_add(ran, std::memory_order_release);
 }
 
 void Workers::dispatch(int ranges, Job job, const void* ctx, const int* begins) {
