@@ -21,6 +21,11 @@
 //     Loads a snapshot, runs that many steps and prints a fingerprint (a hash of the final
 //     state and of the accounting sums; equal fingerprints = bit-identical results) and the
 //     rate. Short and repeatable: the target for valgrind --tool=callgrind and perf stat.
+//   build/bench_backends --pool [--threads N]
+//     The soft step's worker pool alone: wall time to hand out and collect one stage of R
+//     ranges (R = 1 .. 64), each range empty or a fixed piece of arithmetic, against the same
+//     work on the caller alone. What a stage costs beyond its work, which the step pays once
+//     per colour of each pass of each substep.
 // Prints tables; asserts nothing (speed is measured here, never in tests).
 #include <chrono>
 #include <cmath>
@@ -34,6 +39,7 @@
 
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
+#include "engine/soft/workers.hpp"
 #include "probe_scene.hpp"
 #include "scene/scene.hpp"
 
@@ -389,6 +395,43 @@ int run_snapshot(const std::string& path, int steps, const char* backend) {
 
 }  // namespace
 
+// Hands out stages of `ranges` ranges, each `work` rounds of arithmetic on its own slot,
+// for about a second; returns microseconds per stage.
+double pool_stage_us(soft::Workers& workers, int ranges, int work) {
+  struct alignas(64) Slot {
+    double x = 1.0;
+  };
+  std::vector<Slot> slots(static_cast<std::size_t>(ranges));
+  const auto body = [&](int r) {
+    double x = slots[static_cast<std::size_t>(r)].x;
+    for (int k = 0; k < work; ++k) x = x * 0.999999 + 1e-9;
+    slots[static_cast<std::size_t>(r)].x = x;
+  };
+  long long stages = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  double elapsed = 0.0;
+  while (elapsed < 1.0) {
+    for (int k = 0; k < 1000; ++k) workers.run(ranges, body);
+    stages += 1000;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return elapsed / static_cast<double>(stages) * 1e6;
+}
+
+int pool_table() {
+  soft::Workers alone(1), pool(g_threads);
+  std::printf("worker pool, %d thread(s): microseconds per stage (wall)\n", g_threads);
+  std::printf(" ranges   work/range    caller alone    pool   pool - alone/%d\n", g_threads);
+  for (int work : {0, 500}) {
+    for (int ranges : {1, 2, 4, 16, 64}) {
+      const double a = pool_stage_us(alone, ranges, work);
+      const double p = pool_stage_us(pool, ranges, work);
+      std::printf("%7d %12d %15.3f %7.3f %17.3f\n", ranges, work, a, p, p - a / g_threads);
+    }
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   // --threads N anywhere: the threads of one soft engine's step (default 1).
   for (int i = 1; i + 1 < argc; ++i) {
@@ -405,6 +448,7 @@ int main(int argc, char** argv) {
   if (argc > 2 && std::strcmp(argv[1], "--compare") == 0)
     return compare(argv[2], argc > 3 ? std::atof(argv[3]) : 6.0, argc > 4 ? std::atoi(argv[4]) : 6,
                    argc > 5 ? argv[5] : nullptr);
+  if (argc > 1 && std::strcmp(argv[1], "--pool") == 0) return pool_table();
   if (argc > 1 && std::strcmp(argv[1], "--equal-size") == 0) return equal_size_table(argc > 2 ? std::atof(argv[2]) : 1.0);
   return speed_table(argc > 1 ? std::atof(argv[1]) : 1.0);
 }
