@@ -234,14 +234,6 @@ void for_liner_ranges(Workers& workers, int disks, const LinerSet& liner, const 
   });
 }
 
-template <class Fn>
-void for_disk_ranges(Workers& workers, int n, const Fn& fn) {
-  const auto count = static_cast<std::size_t>(n);
-  workers.run(range_count(count, kDisksPerRange), [&](int r) {
-    const std::size_t i0 = static_cast<std::size_t>(r) * kDisksPerRange;
-    fn(static_cast<int>(i0), static_cast<int>(std::min(count, i0 + kDisksPerRange)));
-  });
-}
 
 // A row of a pair whose lower disk is in block k: which phase it belongs to.
 Phase phase_of(int b, int k, int block_disks) {
@@ -352,7 +344,7 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
 void integrate_velocities(const Model& model, Disks& disks, Workers& workers) {
   const double gh = kGravity * model.substep_s;
   Body* body = disks.body.data();
-  for_disk_ranges(workers, disks.n, [&](int i0, int i1) {
+  workers.run_disks(disks.n, [&](int i0, int i1) {
     for (int i = i0; i < i1; ++i)
       if (body[i].im > 0.0) body[i].vy -= gh;
   });
@@ -448,7 +440,7 @@ void solve(const Model& model, const StepStart& start, double elapsed_s,
 void integrate_positions(const Model& model, Disks& disks, Workers& workers) {
   const double h = model.substep_s;
   Body* body = disks.body.data();
-  for_disk_ranges(workers, disks.n, [&](int i0, int i1) {
+  workers.run_disks(disks.n, [&](int i0, int i1) {
     for (int i = i0; i < i1; ++i) {
       const auto k = static_cast<std::size_t>(i);
       if (!disks.active[k]) continue;

@@ -88,7 +88,7 @@ void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // sends them apart at e times that speed.
 void apply_restitution(const Model& model, Contacts& contacts, Disks& disks);
 
-// Disks per range of the per-disk stages (integration, margins, write-back).
+// Disks per range of the charge-shape sample, whose partial sums are added in range order.
 constexpr std::size_t kDisksPerRange = 1024;
 
 }  // namespace millwear::soft

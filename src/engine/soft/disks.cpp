@@ -45,11 +45,8 @@ StepStart make_step_start(int n) {
 
 void record_step_start(const Model& model, Disks& disks, StepStart& start, Workers& workers) {
   const double g = kGravity;
-  constexpr std::size_t kPerRange = 1024;
-  const auto n = static_cast<std::size_t>(disks.n);
-  workers.run(range_count(n, kPerRange), [&](int r) {
-    const std::size_t k0 = static_cast<std::size_t>(r) * kPerRange;
-    for (std::size_t k = k0; k < std::min(n, k0 + kPerRange); ++k) {
+  workers.run_disks(disks.n, [&](int i0, int i1) {
+    for (auto k = static_cast<std::size_t>(i0); k < static_cast<std::size_t>(i1); ++k) {
       Body& b = disks.body[k];
       start.x[k] = disks.x[k];
       start.y[k] = disks.y[k];

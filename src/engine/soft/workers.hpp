@@ -21,6 +21,7 @@
 // disks stage after stage (colour after colour, substep after substep) and finds them in its
 // own cache: with one shared counter the ranges fell to the threads at random, and a disk's
 // cache line moved between the cores at nearly every colour.
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -33,6 +34,9 @@ namespace millwear::soft {
 
 class Workers {
  public:
+  // The grain of the threads' shares of the disks (run_by_disk, run_disks).
+  static constexpr int kDiskGrain = 256;
+
   // threads: the caller plus threads - 1 helpers (at least 1).
   explicit Workers(int threads);
   ~Workers();
@@ -58,6 +62,17 @@ class Workers {
   // range at or past disk n t / T. A stage whose ranges hold unequal shares of the disks
   // (the colours, the liner rows) then gives each thread the disks it has in the disk
   // stages, so that their cache lines stay on its core.
+  // fn(i0, i1) over disks [0, n) in ranges of kDiskGrain, cut into the threads' blocks as
+  // run_by_disk cuts them: for a stage that does the same to every disk whatever the ranges
+  // (integration, the step's start), so that a disk meets the thread that has it in the
+  // colours.
+  template <class F>
+  void run_disks(int n, const F& fn) {
+    const auto disk_of = [](int r) { return r * kDiskGrain; };
+    run_by_disk((n + kDiskGrain - 1) / kDiskGrain, n, disk_of,
+                [&](int r) { fn(r * kDiskGrain, std::min(n, (r + 1) * kDiskGrain)); });
+  }
+
   template <class F, class D>
   void run_by_disk(int ranges, int n, const D& disk_of, const F& fn) {
     if (ranges <= 0) return;
@@ -67,7 +82,8 @@ class Workers {
     }
     const int threads = this->threads();
     for (int t = 1; t < threads; ++t) {
-      const auto bound = static_cast<std::int64_t>(n) * t / threads;
+      // Rounded up to a whole kDiskGrain, where run_disks cuts its blocks too.
+      const auto bound = (static_cast<std::int64_t>(n) * t / threads + kDiskGrain - 1) / kDiskGrain * kDiskGrain;
       int lo = begins_[static_cast<std::size_t>(t) - 1], hi = ranges;
       while (lo < hi) {
         const int mid = lo + (hi - lo) / 2;
