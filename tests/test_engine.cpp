@@ -18,18 +18,27 @@ namespace millwear {
 namespace {
 
 
-// Every physics check runs on both backends (the Box2D library and our soft solver).
-class EngineTest : public ::testing::TestWithParam<Backend> {
+// Every physics check runs on both backends (the Box2D library and our soft solver), and on
+// the soft solver's threaded step too (three threads: more than this machine's cores, and
+// blocks that do not split evenly).
+struct EngineCase {
+  Backend backend;
+  int threads;
+};
+
+class EngineTest : public ::testing::TestWithParam<EngineCase> {
  protected:
-  Backend backend() const { return GetParam(); }
+  EngineCase backend() const { return GetParam(); }
   Scene with_backend(Scene s) const {
-    s.solver.backend = GetParam();
+    s.solver.backend = GetParam().backend;
+    s.solver.threads = GetParam().threads;
     return s;
   }
 };
 
-std::string backend_label(const ::testing::TestParamInfo<Backend>& info) {
-  return info.param == Backend::Box2D ? "box2d" : "soft";
+std::string backend_label(const ::testing::TestParamInfo<EngineCase>& info) {
+  if (info.param.backend == Backend::Box2D) return "box2d";
+  return info.param.threads == 1 ? "soft" : "soft_threads" + std::to_string(info.param.threads);
 }
 
 // A closed box whose floor is an incline from (-2, 1) to (2, -1), counter-clockwise.
@@ -122,15 +131,17 @@ TEST_P(EngineTest, EmptyMillDrawsNoTorque) {
 }
 
 // One measured run of the lab mill per backend, shared by the steady-state checks below.
-const ChargeRunResult& lab_run(Backend backend) {
-  static std::map<Backend, ChargeRunResult> results;
-  auto it = results.find(backend);
+const ChargeRunResult& lab_run(EngineCase c) {
+  static std::map<std::pair<Backend, int>, ChargeRunResult> results;
+  const std::pair<Backend, int> key{c.backend, c.threads};
+  auto it = results.find(key);
   if (it == results.end()) {
     Scene scene = testing::lab_mill();
-    scene.solver.backend = backend;
+    scene.solver.backend = c.backend;
+    scene.solver.threads = c.threads;
     scene.mill.direction = Direction::Forward;
     scene.run.revolutions = 3.0;
-    it = results.emplace(backend, run_charge_only(scene)).first;
+    it = results.emplace(key, run_charge_only(scene)).first;
   }
   return it->second;
 }
@@ -533,7 +544,9 @@ TEST(SoftEngine, AgreesWithTheLibraryOnTheLabMill) {
   agree("leading-face share", a.lead_share, b.lead_share, 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Engine, EngineTest, ::testing::Values(Backend::Box2D, Backend::Soft),
+INSTANTIATE_TEST_SUITE_P(Engine, EngineTest,
+                         ::testing::Values(EngineCase{Backend::Box2D, 1}, EngineCase{Backend::Soft, 1},
+                                           EngineCase{Backend::Soft, 3}),
                          backend_label);
 
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {
