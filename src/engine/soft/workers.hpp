@@ -57,11 +57,6 @@ class Workers {
     dispatch(ranges, &call<F>, &fn, nullptr);
   }
 
-  // As run, with the threads' blocks cut where the stage's disks are: disk_of(r) is the
-  // first disk range r touches (non-decreasing in r), and thread t of T starts at the first
-  // range at or past disk n t / T. A stage whose ranges hold unequal shares of the disks
-  // (the colours, the liner rows) then gives each thread the disks it has in the disk
-  // stages, so that their cache lines stay on its core.
   // fn(i0, i1) over disks [0, n) in ranges of kDiskGrain, cut into the threads' blocks as
   // run_by_disk cuts them: for a stage that does the same to every disk whatever the ranges
   // (integration, the step's start), so that a disk meets the thread that has it in the
@@ -73,6 +68,11 @@ class Workers {
                 [&](int r) { fn(r * kDiskGrain, std::min(n, (r + 1) * kDiskGrain)); });
   }
 
+  // As run, with the threads' blocks cut where the stage's disks are: disk_of(r) is the
+  // first disk range r touches (non-decreasing in r), and thread t of T starts at the first
+  // range at or past disk n t / T rounded up to a whole kDiskGrain. A stage whose ranges
+  // hold unequal shares of the disks (the colours, the liner rows) then gives each thread
+  // the disks it has in the disk stages, so that their cache lines stay on its core.
   template <class F, class D>
   void run_by_disk(int ranges, int n, const D& disk_of, const F& fn) {
     if (ranges <= 0) return;
