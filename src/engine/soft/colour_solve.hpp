@@ -106,6 +106,7 @@ class ColouredRows {
   // they may be solved in any order, or at once, with the same bits.
   std::size_t colour_begin(int c) const { return first_[c]; }
   WideRows* rows() { return wide_.data(); }
+  const WideRows* rows() const { return wide_.data(); }
   WideSums* sums() { return sums_.data(); }
   WideRows& chunk_of(std::size_t slot) { return wide_[slot / kLanes]; }
   WideSums& sums_of(std::size_t slot) { return sums_[slot / kLanes]; }

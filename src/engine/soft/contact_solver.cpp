@@ -212,7 +212,7 @@ void for_phases(Workers& workers, const SolverRows& rows, const Fn& fn) {
 // The threads' blocks are cut by disk (Workers::run_by_disk): a colour's chunks are in key
 // order, so a chunk's first lane holds its lowest disk.
 template <class Fn>
-void for_colours(Workers& workers, int disks, ColouredRows& coloured, const Fn& fn) {
+void for_colours(Workers& workers, int disks, const ColouredRows& coloured, const Fn& fn) {
   const WideRows* wide = coloured.rows();
   for (int c = 0; c < coloured.colours(); ++c) {
     const std::size_t c0 = coloured.colour_begin(c), c1 = coloured.colour_begin(c + 1);
@@ -233,7 +233,6 @@ void for_liner_ranges(Workers& workers, int disks, const LinerSet& liner, const 
     fn(rows.liner_first[static_cast<std::size_t>(r)], rows.liner_first[static_cast<std::size_t>(r) + 1]);
   });
 }
-
 
 // A row of a pair whose lower disk is in block k: which phase it belongs to.
 Phase phase_of(int b, int k, int block_disks) {
