@@ -155,17 +155,17 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
   // its index in the key-ordered list.
   pairs.resize(total);
   int* upper = search.upper.data();
-  workers.run(range_count(n, kPerRange), [&](int rg) {
-    const std::size_t i0 = static_cast<std::size_t>(rg) * kPerRange;
-    const std::size_t i1 = std::min(n, i0 + kPerRange);
-    int b0 = i0 == 0 ? 0 : bucket[i0 - 1];
-    for (std::size_t i = i0; i < i1; ++i) {
-      const int b1 = bucket[i];
+  // By disk, in the disk stages' ranges: the work per disk varies with its pair count, and
+  // small ranges even it out between the threads.
+  workers.run_disks(disks.n, [&](int i0, int i1) {
+    int b0 = i0 == 0 ? 0 : bucket[static_cast<std::size_t>(i0) - 1];
+    for (int i = i0; i < i1; ++i) {
+      const int b1 = bucket[static_cast<std::size_t>(i)];
       // A handful per disk: insertion sort.
       for (int p = b0 + 1; p < b1; ++p)
         for (int q = p; q > b0 && upper[q - 1] > upper[q]; --q) std::swap(upper[q - 1], upper[q]);
       for (int p = b0; p < b1; ++p)
-        add_pair_contact(disks, pairs, static_cast<std::size_t>(p), static_cast<int>(i), upper[p]);
+        add_pair_contact(disks, pairs, static_cast<std::size_t>(p), i, upper[p]);
       b0 = b1;
     }
   });
