@@ -196,7 +196,6 @@ void load_lanes(const PairSet& pairs, ColouredRows& coloured, std::size_t t0, st
 constexpr std::size_t kLinerRowsPerRange = 128;
 constexpr std::size_t kChunksPerRange = 32;
 constexpr std::size_t kColouredPerRange = 2048;
-constexpr std::size_t kBounceRowsPerRange = 4096;
 
 // fn(phase, block) for every block's list of every phase, in the order and with the
 // concurrency of "Threads" (contact_solver.hpp).
@@ -490,75 +489,48 @@ void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {
   });
 }
 
-void apply_restitution(const Model& model, Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
+void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
   const double thr = -model.restitution_threshold_m_s;
   Body* body = disks.body.data();
   PairSet& pairs = contacts.pairs;
-  LinerSet& liner = contacts.liner;
-  // Which rows bounce: found in ranges at once (a row's own impulse decides, and applying
-  // restitution changes no other row's), then applied on one thread in key order, pairs
-  // before the liner.
-  const std::size_t np = pairs.size(), nl = liner.size();
-  const int pair_ranges = range_count(np, kBounceRowsPerRange);
-  const int ranges = pair_ranges + range_count(nl, kBounceRowsPerRange);
-  if (rows.bounce.size() < np + nl) rows.bounce.resize(pairs.row.size() + liner.row.size());
-  rows.bounce_n.resize(static_cast<std::size_t>(ranges));
-  workers.run(ranges, [&](int r) {
-    const bool is_pair = r < pair_ranges;
-    const std::size_t q0 = static_cast<std::size_t>(is_pair ? r : r - pair_ranges) * kBounceRowsPerRange;
-    const std::size_t q1 = std::min(is_pair ? np : nl, q0 + kBounceRowsPerRange);
-    int* out = rows.bounce.data() + (is_pair ? 0 : np) + q0;
-    int count = 0;
-    for (std::size_t q = q0; q < q1; ++q) {
-      // Only a row that closed fast enough with some restitution bounces: for the pairs one
-      // byte tells (kBounce), and the cold info and sums of the others stay untouched.
-      const bool bounces = is_pair ? (pairs.state[q] & kBounce) && pairs.sum[q].pn != 0.0
-                                   : liner.sum[q].pn != 0.0 && liner.info[q].e != 0.0 && !(liner.info[q].vn0 > thr);
-      out[count] = static_cast<int>(q);
-      count += bounces ? 1 : 0;
-    }
-    rows.bounce_n[static_cast<std::size_t>(r)] = count;
-  });
-  for (int r = 0; r < pair_ranges; ++r) {
-    const int* list = rows.bounce.data() + static_cast<std::size_t>(r) * kBounceRowsPerRange;
-    for (int t = 0; t < rows.bounce_n[static_cast<std::size_t>(r)]; ++t) {
-      const auto q = static_cast<std::size_t>(list[t]);
-      const ContactInfo& info = pairs.info[q];
-      StepSum& sum = pairs.sum[q];
-      const PairGap& g = pairs.gap[q];
-      PairRow& c = pairs.row[q];
-      Body& A = body[g.a];
-      Body& B = body[g.b];
-      const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
-      const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
-      const double d = next - c.ln;
-      c.ln = next;
-      pairs.state[q] = kBounce | kBuilt | has_impulse(c);
-      sum.pn += d;
-      A.vx += A.im * d * g.nx;
-      A.vy += A.im * d * g.ny;
-      B.vx -= B.im * d * g.nx;
-      B.vy -= B.im * d * g.ny;
-    }
+  for (std::size_t q = 0; q < pairs.size(); ++q) {
+    // Only a row that closed fast enough with some restitution bounces: one byte tells
+    // (kBounce), and the cold info and sums of the others stay untouched.
+    if (!(pairs.state[q] & kBounce)) continue;
+    const ContactInfo& info = pairs.info[q];
+    StepSum& sum = pairs.sum[q];
+    if (sum.pn == 0.0) continue;
+    const PairGap& g = pairs.gap[q];
+    PairRow& c = pairs.row[q];
+    Body& A = body[g.a];
+    Body& B = body[g.b];
+    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
+    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
+    const double d = next - c.ln;
+    c.ln = next;
+    pairs.state[q] = kBounce | kBuilt | has_impulse(c);
+    sum.pn += d;
+    A.vx += A.im * d * g.nx;
+    A.vy += A.im * d * g.ny;
+    B.vx -= B.im * d * g.nx;
+    B.vy -= B.im * d * g.ny;
   }
-  for (int r = pair_ranges; r < ranges; ++r) {
-    const int* list = rows.bounce.data() + np + static_cast<std::size_t>(r - pair_ranges) * kBounceRowsPerRange;
-    for (int t = 0; t < rows.bounce_n[static_cast<std::size_t>(r)]; ++t) {
-      const auto q = static_cast<std::size_t>(list[t]);
-      const ContactInfo& info = liner.info[q];
-      StepSum& sum = liner.sum[q];
-      const LinerGap& g = liner.gap[q];
-      LinerRow& c = liner.row[q];
-      Body& A = body[g.a];
-      const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-      const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
-      const double d = next - c.ln;
-      c.ln = next;
-      liner.state[q] = kBuilt | has_impulse(c);
-      sum.pn += d;
-      A.vx += A.im * d * g.nx;
-      A.vy += A.im * d * g.ny;
-    }
+  LinerSet& liner = contacts.liner;
+  for (std::size_t q = 0; q < liner.size(); ++q) {
+    const ContactInfo& info = liner.info[q];
+    StepSum& sum = liner.sum[q];
+    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
+    const LinerGap& g = liner.gap[q];
+    LinerRow& c = liner.row[q];
+    Body& A = body[g.a];
+    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
+    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
+    const double d = next - c.ln;
+    c.ln = next;
+    liner.state[q] = kBuilt | has_impulse(c);
+    sum.pn += d;
+    A.vx += A.im * d * g.nx;
+    A.vy += A.im * d * g.ny;
   }
 }
 

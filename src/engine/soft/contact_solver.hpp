@@ -25,7 +25,7 @@
 // block of their lower disk a in three phases: rows whose disks are both in that block
 // (the blocks run at once), rows reaching into the next block (even blocks at once, then
 // odd ones: two such rows of one parity never share a disk), and the few reaching further
-// (one after another). Within a list, key order. The first two phases and the even blocks'
+// (one after another). Within a list, key order. The inside rows and the even blocks'
 // next rows share a stage: a range takes two blocks, their inside rows, then the rows from
 // the first into the second. The chunks of one colour share no disk
 // and run at once; the liner rows run in ranges that never split one disk's rows. Every
@@ -63,8 +63,6 @@ struct SolverRows {
   // The liner rows' ranges: [liner_first[r], liner_first[r + 1]), never splitting a disk's.
   std::vector<std::size_t> liner_first;
   std::size_t live_n = 0;         // pair rows carrying an impulse into the step (timing)
-  // Scratch of the restitution: the bouncing rows of each range (pairs, then liner).
-  std::vector<int> bounce, bounce_n;
 };
 
 // Plan the step's rows: the blocks and their phase lists, the colouring of the live rows
@@ -90,7 +88,7 @@ void relax(const Model& model, const StepStart& start, double elapsed_s,
 void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // Contacts that closed faster than the threshold and carried load get the impulse that
 // sends them apart at e times that speed.
-void apply_restitution(const Model& model, Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers);
+void apply_restitution(const Model& model, Contacts& contacts, Disks& disks);
 
 // Disks per range of the charge-shape sample, whose partial sums are added in range order.
 constexpr std::size_t kDisksPerRange = 1024;

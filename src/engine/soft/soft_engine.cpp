@@ -149,7 +149,7 @@ void SoftEngine::step_once() {
     relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_, workers_);
   }
   store_lanes(rows_, contacts_.pairs, workers_);
-  apply_restitution(model_, contacts_, rows_, disks_, workers_);
+  apply_restitution(model_, contacts_, disks_);
   timing_.solve_s += watch.lap();
   count_rows();
 
