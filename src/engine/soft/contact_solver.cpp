@@ -198,9 +198,8 @@ constexpr std::size_t kChunksPerRange = 32;
 constexpr std::size_t kColouredPerRange = 2048;
 
 // fn(phase, block) for every block's list of every phase, in the order and with the
-// concurrency of "Threads" (contact_solver.hpp).
-// Two stages, not three: a range takes blocks 2r and 2r + 1, their inside rows and then the
-// rows from 2r into 2r + 1. The rows of one range touch only its two blocks, and each disk
+// concurrency of "Threads" (contact_solver.hpp), in two stages rather than three: a range
+// takes blocks 2r and 2r + 1, their inside rows and then the rows from 2r into 2r + 1. The rows of one range touch only its two blocks, and each disk
 // still meets its inside rows before its rows into the next block, so the bits are those
 // of running every inside row, then the even blocks' next rows, then the odd ones'.
 template <class Fn>
