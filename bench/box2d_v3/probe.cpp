@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <random>
+#include <utility>
 #include <vector>
 
 static double now(clockid_t c) {
@@ -77,19 +78,27 @@ int main(int argc, char** argv) {
   for (int k = 0; k < rows; ++k) {
     const double th = 2 * PI * k / rows;
     const double ux = std::cos(th), uy = std::sin(th), tx = -std::sin(th), ty = std::cos(th);
-    auto base_point = [&](double side) {  // side -1: clockwise side of the lifter, +1: CCW side
-      const double px = (R - lh) * ux + side * 0.5 * ltop * tx, py = (R - lh) * uy + side * 0.5 * ltop * ty;
+    // side -1: the clockwise side of the lifter, +1: the counter-clockwise side.
+    // A corner of the lifter's top: the face starts there.
+    auto top_corner = [&](double side) {
+      return std::pair<double, double>{(R - lh) * ux + side * 0.5 * ltop * tx, (R - lh) * uy + side * 0.5 * ltop * ty};
+    };
+    // Where the face from that corner meets the shell: |p + s d| = R, d a unit vector.
+    auto base_point = [&](double side) {
+      const auto [px, py] = top_corner(side);
       const double dx = std::cos(face) * ux + side * std::sin(face) * tx;
       const double dy = std::cos(face) * uy + side * std::sin(face) * ty;
-      // |p + s d| = R, d unit
       const double b = px * dx + py * dy, c = px * px + py * py - R * R;
       const double s = -b + std::sqrt(b * b - c);
       return b2Vec2{static_cast<float>(px + s * dx), static_cast<float>(py + s * dy)};
     };
+    auto point = [](std::pair<double, double> p) {
+      return b2Vec2{static_cast<float>(p.first), static_cast<float>(p.second)};
+    };
     const b2Vec2 b0 = base_point(-1), b1 = base_point(+1);
     ccw.push_back(b0);
-    ccw.push_back({static_cast<float>((R - lh) * ux - 0.5 * ltop * tx), static_cast<float>((R - lh) * uy - 0.5 * ltop * ty)});
-    ccw.push_back({static_cast<float>((R - lh) * ux + 0.5 * ltop * tx), static_cast<float>((R - lh) * uy + 0.5 * ltop * ty)});
+    ccw.push_back(point(top_corner(-1)));
+    ccw.push_back(point(top_corner(+1)));
     ccw.push_back(b1);
     // shell arc from b1 to the next lifter's b0, 8 segments (7 interior points)
     // angular half-width of the lifter base, measured in the lifter's own frame (no wrap-around)

@@ -199,9 +199,10 @@ constexpr std::size_t kColouredPerRange = 2048;
 
 // fn(phase, block) for every block's list of every phase, in the order and with the
 // concurrency of "Threads" (contact_solver.hpp), in two stages rather than three: a range
-// takes blocks 2r and 2r + 1, their inside rows and then the rows from 2r into 2r + 1. The rows of one range touch only its two blocks, and each disk
-// still meets its inside rows before its rows into the next block, so the bits are those
-// of running every inside row, then the even blocks' next rows, then the odd ones'.
+// takes blocks 2r and 2r + 1, their inside rows and then the rows from 2r into 2r + 1. The
+// rows of one range touch only its two blocks, and each disk still meets its inside rows
+// before its rows into the next block, so the bits are those of running every inside row,
+// then the even blocks' next rows, then the odd ones'.
 template <class Fn>
 void for_phases(Workers& workers, const SolverRows& rows, const Fn& fn) {
   const int blocks = rows.blocks;
@@ -383,7 +384,7 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
     }
   });
   const LinerSet& liner = contacts.liner;
-  for_liner_ranges(workers, disks.n, contacts.liner, rows, [&](std::size_t q0, std::size_t q1) {
+  for_liner_ranges(workers, disks.n, liner, rows, [&](std::size_t q0, std::size_t q1) {
     for (std::size_t q = q0; q < q1; ++q) {
       const LinerGap& g = liner.gap[q];
       const LinerRow& c = liner.row[q];
