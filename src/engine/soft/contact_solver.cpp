@@ -241,10 +241,11 @@ void for_liner_ranges(Workers& workers, int disks, const LinerSet& liner, const 
   });
 }
 
-// A row of a pair whose lower disk is in block k: which phase it belongs to.
-Phase phase_of(int b, int k, int block_disks) {
-  const int kb = b / block_disks;
-  return kb == k ? kInside : kb == k + 1 ? kNext : kFar;
+// A row of a pair whose lower disk is in block k, which ends before disk `end`: which phase
+// it belongs to (b > a, so b is in block k or after it; compared, not divided: this runs for
+// every row of every step).
+Phase phase_of(int b, int end, int block_disks) {
+  return b < end ? kInside : b - end < block_disks ? kNext : kFar;
 }
 
 // State bit of a row placed in a lane this step (the colouring's; store_lanes rewrites the
@@ -320,11 +321,12 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
   workers.run(rows.blocks, [&](int k) {
     const auto kk = static_cast<std::size_t>(k);
     const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
+    const int end = (k + 1) * rows.block_disks;
     int count[kPhases] = {}, warm_count[kPhases] = {};
     for (std::size_t q = q0; q < q1; ++q) {
       const std::uint8_t st = pairs.state[q];
       if (st & kInLane) continue;
-      const int p = phase_of(gap[q].b, k, rows.block_disks);
+      const int p = phase_of(gap[q].b, end, rows.block_disks);
       rows.list[p][q0 + static_cast<std::size_t>(count[p]++)] = static_cast<int>(q);
       if (st & kLive) rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
     }
