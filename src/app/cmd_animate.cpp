@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
 #include "study/animation.hpp"
@@ -38,7 +39,7 @@ void register_animate(CLI::App& app, Action* action) {
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required();
   cmd->add_option("-o,--out", args->out, "output file, FILE.gif")->required();
   cmd->add_option("--seconds", args->seconds, "simulated seconds shown (default 3)")
-      ->check(CLI::Range(0.1, 60.0));
+      ->check(finite_in(0.1, 60.0));
   cmd->add_option("--frames", args->frames, "frames in the GIF (default 60)")->check(CLI::Range(10, 200));
   cmd->add_option("--size", args->size, "image size in pixels, square (default 640)")->check(CLI::Range(200, 2000));
   cmd->add_option("--history", args->history, "a finished `millwear run` output folder of this design");

@@ -13,6 +13,7 @@
 
 #include <cstdio>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
@@ -99,7 +100,7 @@ void register_hardness(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--reference-hardness", args->reference_hardness,
                   "normalise a so that CT = 1 at this hardness (default: corrected total time = actual)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->callback([args, action] { *action = [args] { return run_hardness(*args); }; });
 }
 

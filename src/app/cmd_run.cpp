@@ -15,6 +15,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
 #include "app/duration_text.hpp"
@@ -184,7 +185,7 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_option("--progress-every", args->progress_every_s,
                   "without a terminal: a plain progress line every SECONDS and at each stage (default 60)")
-      ->check(CLI::Range(1.0, 86400.0));
+      ->check(finite_in(1.0, 86400.0));
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
       ->check(CLI::Range(1, 1024));

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
@@ -73,7 +74,7 @@ void register_sweep(CLI::App& app, Action* action) {
   add_set_option(cmd, &args->overrides);
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)");
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions per point (default: the scene's)")
-      ->check(CLI::Range(1e-6, 1e4));
+      ->check(finite_in(1e-6, 1e4));
   cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--replicates", args->replicates,
                   "charges per value, seeds s .. s+N-1: figures are their mean with its standard error "

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <mutex>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
 #include "app/output_folder.hpp"
@@ -100,7 +101,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_flag("--quick", r.options.quick, "the three presets only (no one-knob ladder)");
   cmd->add_option("--stages", r.options.stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
   cmd->add_option("--stage-hours", r.options.stage_hours, "hours per stage (default: the scene's)")
-      ->check(CLI::Range(1.0, 1e6));
+      ->check(finite_in(1.0, 1e6));
   cmd->add_option("-j,--jobs", r.jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-plot", *no_plot, "skip the figure");

@@ -10,8 +10,8 @@ namespace millwear::app {
 
 inline void add_threads_option(CLI::App* cmd, int& threads) {
   cmd->add_option("--threads", threads,
-                  "threads of the soft engine's step (default: the hardware's cores; the results are "
-                  "the same bits for any count)")
+                  "threads of the soft engine's step (default: one per 4,096 disks, up to the cores the "
+                  "designs at once leave; the results are the same bits for any count)")
       ->check(CLI::Range(1, 256));
 }
 

@@ -1,0 +1,61 @@
+#pragma once
+// The checks of the commands' number options. CLI11's own Range lets "nan" through (every
+// comparison with NaN is false) and prints an open bound as DBL_MAX in full; these refuse
+// anything but a finite number in range (exit 2, as every bad command line) and say what
+// was expected.
+#include <CLI/CLI.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace millwear::app {
+
+namespace number_checks_detail {
+
+inline std::string shown(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// The option's text as a finite double; false if it is not one (trailing text, NaN, inf).
+inline bool finite_number(const std::string& text, double& v) {
+  if (text.empty()) return false;
+  const char* begin = text.c_str();
+  char* end = nullptr;
+  errno = 0;
+  v = std::strtod(begin, &end);
+  return end != begin && *end == '\0' && errno != ERANGE && std::isfinite(v);
+}
+
+}  // namespace number_checks_detail
+
+// A finite number in [lo, hi].
+inline CLI::Validator finite_in(double lo, double hi) {
+  using namespace number_checks_detail;
+  const std::string range = "[" + shown(lo) + ", " + shown(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!finite_number(text, v) || v < lo || v > hi) return "expected a number in " + range + ", got " + text;
+        return "";
+      },
+      "NUMBER in " + range, "finite_in");
+}
+
+// A finite number above zero.
+inline CLI::Validator finite_positive() {
+  using namespace number_checks_detail;
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        if (!finite_number(text, v) || !(v > 0.0)) return "expected a finite number > 0, got " + text;
+        return "";
+      },
+      "NUMBER > 0", "finite_positive");
+}
+
+}  // namespace millwear::app
