@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "app/number_checks.hpp"
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
@@ -17,7 +18,7 @@
 #include "io/folder_lock.hpp"
 #include "metrics/trajectories.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear::app {
@@ -43,7 +44,7 @@ int run_charge(const ChargeArgs& args) {
   if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
   scene.solver.threads = step_threads(args.threads);
   scene.solver.threads_fit_size = args.threads == 0;
-  check_run_limits(scene, args.scene);
+  check_scene(scene, args.scene);
   const io::FolderLock lock(args.out);  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
@@ -116,7 +117,7 @@ void register_charge(CLI::App& app, Action* action) {
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
   add_threads_option(cmd, args->threads);
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
-      ->check(CLI::Range(1e-6, 1e4));
+      ->check(finite_in(1e-6, 1e4));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of the measured window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });

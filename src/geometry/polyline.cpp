@@ -109,7 +109,9 @@ bool is_simple_open(const Polyline& line) {
   return true;
 }
 
-Polyline without_loops(const Polyline& line) {
+Polyline without_loops(const Polyline& line, Polygon* largest) {
+  if (largest) largest->clear();
+  double largest_m2 = 0.0;
   Polyline out;
   out.reserve(line.size());
   const std::size_t n = line.size();
@@ -135,6 +137,16 @@ Polyline without_loops(const Polyline& line) {
     if (cut == n) {
       ++i;
       continue;
+    }
+    if (largest) {
+      Polygon loop{at};
+      loop.insert(loop.end(), line.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                  line.begin() + static_cast<std::ptrdiff_t>(cut) + 1);
+      const double a = std::abs(signed_area(loop));
+      if (a > largest_m2) {
+        largest_m2 = a;
+        *largest = std::move(loop);
+      }
     }
     if (!(at == out.back())) out.push_back(at);
     // Continue from the crossing along edge `cut` (past its end if the crossing is it).

@@ -24,8 +24,9 @@ bool is_simple_open(const Polyline& line);
 
 // The polyline with every loop cut out: where an edge crosses a later one, the part between
 // the two goes and the line runs on from the crossing. What moving a surface into the metal
-// by more than a convex corner's radius leaves (a swallowtail) is such a loop.
-Polyline without_loops(const Polyline& line);
+// by more than a convex corner's radius leaves (a swallowtail) is such a loop. With
+// `largest`, the loop of largest area cut (its ring, crossing point first; empty if none).
+Polyline without_loops(const Polyline& line, Polygon* largest = nullptr);
 
 double polyline_length(const Polyline& line);
 // Cumulative arc length at each vertex (first is 0).

@@ -325,6 +325,8 @@ constexpr double kSamePointM = 1e-6;
 // The ends of a measured surface may lie this far above the shell line and still count as on
 // it (the rounding of a file written in mm).
 constexpr double kEndTolM = 1e-6;
+// The largest loop cut out of a measured surface as noise, a share of the lifter's area.
+constexpr double kMaxNoiseLoopShare = 0.01;
 
 }  // namespace
 
@@ -424,12 +426,24 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   for (const Vec2& p : raw)
     if (s.empty() || length(p - s.back()) > kSamePointM) s.push_back(p);
   // Noise on a steep face can step back over the points before it: cut such loops out.
-  s = without_loops(s);
+  Polygon loop;
+  s = without_loops(s, &loop);
   prof.dropped_points = static_cast<int>(raw.size() - s.size());
   if (!is_simple_open(s))
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
   prof.measured = s;
   prof.points = lifter_of_surface(s, name, "x_mm,y_mm");
+  // A gauge's noise makes loops of a fraction of a square millimetre; a loop holding a real
+  // share of the lifter is points out of order, and cutting it would change the lifter.
+  const double loop_m2 = loop.empty() ? 0.0 : std::abs(signed_area(loop));
+  const double lifter_m2 = std::abs(signed_area(prof.points));
+  if (loop_m2 > kMaxNoiseLoopShare * lifter_m2)
+    throw InputError(name, "x_mm,y_mm",
+                     "a surface that does not cross itself: it crosses itself at x = " + fmt_num(loop[0].x * 1e3) +
+                         ", y = " + fmt_num(loop[0].y * 1e3) + " mm around a loop of " + fmt_num(loop_m2 * 1e6) +
+                         " mm^2, " + fmt_num(100.0 * loop_m2 / lifter_m2) +
+                         "% of the lifter (loops of gauge noise, cut out, hold under " +
+                         fmt_num(100.0 * kMaxNoiseLoopShare) + "%): are the points in order along the surface?");
   // A whole unit's scan: its ends one pitch apart.
   const auto [pitch_m, pitch_line] = pitch_comment(text, name);
   if (pitch_line != 0) {

@@ -536,8 +536,7 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
     try {
       const Scene s = load_scene(scene_path);
       build_scene_mill(s);
-      check_run_limits(s, scene_path);
-      check_smoothing_radius(s, scene_path);  // a lifter narrower than the smoothing would vanish
+      check_scene(s, scene_path);  // a lifter narrower than the smoothing would vanish
       if (c.area_mm2 <= 0.0) c.area_mm2 = measure_profile(s.mill.lifter.points).area_m2 * 1e6;
     } catch (const InputError& e) {
       c.reason = (e.where.empty() ? "" : e.where + ": ") + e.expected;

@@ -21,7 +21,7 @@
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear::study {
@@ -229,7 +229,7 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
     throw InputError(a.scene_file, "", "a scene file (not found or not a regular file)");
   Scene scene = load_scene(a.scene_file, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  check_scene(scene, a.scene_file);  // before anything is filled or written
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
   const std::string outbase = a.out.substr(0, a.out.size() - 4);

@@ -43,8 +43,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   Scene scene = load_scene(scene_file, overrides);  // throws InputError naming the file and key
   if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
   // The measured limits too, so a scene outside them stops here (exit 2), before any work.
-  check_run_limits(scene, scene_file);
-  check_smoothing_radius(scene, scene_file);
+  check_scene(scene, scene_file);
   for (const auto& d : plan.designs)
     if (d.name == scene.name)
       throw InputError(scene_file, "name",

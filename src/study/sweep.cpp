@@ -29,6 +29,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "study/charge_outputs.hpp"
+#include "wear/reshape.hpp"
 
 #ifndef MILLWEAR_VERSION
 #define MILLWEAR_VERSION "unknown"
@@ -318,7 +319,7 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     s.overrides = q.overrides;  // the varied key is the sweep's, recorded apart
     if (!q.fidelity.empty()) apply_fidelity(s, q.fidelity);
     if (q.revolutions > 0.0) s.run.revolutions = q.revolutions;
-    check_run_limits(s, q.scene_file);
+    check_scene(s, q.scene_file);
     scenes.push_back(std::move(s));
   }
   return scenes;

@@ -1,8 +1,6 @@
 // Speed against accuracy: the fidelity ladder, its runs and their errors (see tradeoff.hpp).
 #include "study/tradeoff.hpp"
 
-#include "scene/limits.hpp"
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -17,6 +15,7 @@
 #include "common/errors.hpp"
 #include "geometry/polyline.hpp"
 #include "scene/fidelity.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear {
 
@@ -56,7 +55,7 @@ struct HistoryDigest {
 // Every setting's scenes within the run limits, before any of them runs.
 void check_ladder(const TradeoffLadder& ladder) {
   for (const auto& setting : ladder.settings)
-    for (const Scene& s : setting.scenes) check_run_limits(s, s.source_file);
+    for (const Scene& s : setting.scenes) check_scene(s, s.source_file);
 }
 
 }  // namespace

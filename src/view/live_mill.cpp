@@ -353,8 +353,7 @@ std::string LiveMill::start_wear(double hours) {
   if (!(hours > 0.0)) return "wear hours: expected a positive number of operating hours";
   ws.wear.stages = std::max(1, static_cast<int>(std::ceil(hours / ws.wear.stage_hours - 1e-9)));
   try {
-    check_run_limits(ws, scene_file_);
-    check_smoothing_radius(ws, scene_file_);
+    check_scene(ws, scene_file_);
   } catch (const InputError& x) {
     return x.what();
   }

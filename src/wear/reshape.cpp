@@ -202,7 +202,12 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind) {
     loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
     return loss;
   }
-  const LifterMetrics before = measure_lifter(unit, R);
+  // A measured lifter starts re-smoothed once. Its area is taken as the file gives it, so
+  // that what the first pass removes counts too (a scan of a fin thinner than the particles
+  // would otherwise start as a sliver and lose nothing more); its height as it starts, since
+  // the highest point of a noisy scan is a spike of the noise.
+  LifterMetrics before = measure_lifter(unit, R);
+  if (!scene.mill.kind(kind).measured.empty()) before.area_m2 = measure_lifter(new_liner_unit(scene, kind), R).area_m2;
   try {
     const LinerUnit after = apply_wear(unit, std::vector<double>(unit.surface.size() - 1, 0.0), R, smoothing_m,
                                        scene.mill.mesh);
@@ -226,6 +231,11 @@ double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, cons
 
 void check_smoothing_radius(const Scene& scene, const std::string& file) {
   for (int kind = 0; kind < scene.mill.kind_count(); ++kind) check_smoothing_radius(scene, file, kind);
+}
+
+void check_scene(const Scene& scene, const std::string& file) {
+  check_run_limits(scene, file);
+  check_smoothing_radius(scene, file);
 }
 
 // A measured profile's lifter once re-smoothed: no part thinner than the smallest particle
@@ -254,21 +264,25 @@ void check_smoothing_radius(const Scene& scene, const std::string& file, int kin
     (too_much(mid) ? hi : lo) = mid;
   }
   const SmoothingLoss l = smoothing_loss(scene, r, kind);
-  char buf[512];
+  const LifterProfile& profile = scene.mill.kind(kind);
+  const std::string measured =
+      profile.measured.empty() ? "" : " (measured profile " + profile.source_file + ")";
+  char buf[640];
   if (lo <= 0.0) {
     // Not a radius problem: the lifter as meshed does not survive any re-smoothing.
     std::snprintf(buf, sizeof buf,
-                  "a lifter that survives re-smoothing: even at %.2g mm it removes over %.0f%% of the new lifter "
+                  "a lifter that survives re-smoothing: even at %.2g mm it removes over %.0f%% of the new lifter%s "
                   "(at %.3g mm: %.0f%% of its area, %.0f%% of its height); look at the profile and at "
                   "lifters.lifter_edge",
-                  hi * 1e3, 100.0 * kMaxSmoothingAreaLoss, r * 1e3, 100.0 * l.area_fraction, 100.0 * l.height_fraction);
+                  hi * 1e3, 100.0 * kMaxSmoothingAreaLoss, measured.c_str(), r * 1e3, 100.0 * l.area_fraction,
+                  100.0 * l.height_fraction);
     throw InputError(file, "wear.smoothing_radius", buf);
   }
   std::snprintf(buf, sizeof buf,
-                "a smoothing radius of at most %.3g mm for this lifter: re-smoothing the new lifter at %.3g mm "
+                "a smoothing radius of at most %.3g mm for this lifter%s: re-smoothing the new lifter at %.3g mm "
                 "removes %.0f%% of its area and %.0f%% of its height before any wear (the radius is wider than half "
                 "its narrowest part; bounds %.0f%% and %.0f%%)%s",
-                lo * 1e3, r * 1e3, 100.0 * l.area_fraction, 100.0 * l.height_fraction, 100.0 * kMaxSmoothingAreaLoss,
+                lo * 1e3, measured.c_str(), r * 1e3, 100.0 * l.area_fraction, 100.0 * l.height_fraction, 100.0 * kMaxSmoothingAreaLoss,
                 100.0 * kMaxSmoothingHeightLoss,
                 scene.wear.smoothing_radius_m > 0.0 ? "" : "; the default is the smallest particle radius: set "
                                                            "wear.smoothing_radius");

@@ -53,6 +53,11 @@ constexpr double kSliverEdgeFraction = 0.01;
 void check_smoothing_radius(const Scene& scene, const std::string& file);
 // The same for one kind of lifter of a pattern.
 void check_smoothing_radius(const Scene& scene, const std::string& file, int kind);
+// Every check a scene passes before a command fills, runs or writes anything: the numerical
+// limits (check_run_limits, scene/limits.hpp), then check_smoothing_radius, which also checks
+// a measured lifter once re-smoothed. The commands that only turn the charge check the same,
+// so a scene is valid for every command or for none.
+void check_scene(const Scene& scene, const std::string& file);
 
 // Lifter area one wear update removed beyond its Archard depths (m^2): the area the
 // re-smoothing took (the corners it rounded; negative: Archard's edge strips overstate what
