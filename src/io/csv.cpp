@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -114,7 +115,9 @@ double CsvData::number(std::size_t row, std::size_t col) const {
   char* end = nullptr;
   errno = 0;
   double v = std::strtod(begin, &end);
-  bool ok = end != begin;
+  // strtod reads "0x14" as 20: no spreadsheet or gauge writes hexadecimal, so it is a typo.
+  const char* digits = begin + std::strspn(begin, " \t+-");
+  bool ok = end != begin && !(digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X'));
   if (ok) {
     while (*end == ' ' || *end == '\t') ++end;
     ok = *end == '\0';
@@ -124,6 +127,22 @@ double CsvData::number(std::size_t row, std::size_t col) const {
   if (!ok)
     throw InputError(path, "line " + std::to_string(row_line.at(row)),
                      "a number in column " + header.at(col) + ", found '" + field + "'");
+  return v;
+}
+
+double CsvData::finite_number(std::size_t row, std::size_t col) const {
+  const double v = number(row, col);
+  if (!std::isfinite(v))
+    throw InputError(path, "line " + std::to_string(row_line.at(row)),
+                     "a finite number in column " + header.at(col) + ", found '" + text(row, col) + "'");
+  return v;
+}
+
+std::vector<double> CsvData::finite_numbers(const std::string& col) const {
+  const std::size_t c = column(col);
+  std::vector<double> v;
+  v.reserve(rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) v.push_back(finite_number(r, c));
   return v;
 }
 

@@ -90,12 +90,16 @@ struct CsvData {
   std::size_t column(const std::string& name) const;
   const std::string& text(std::size_t row, std::size_t col) const;
   // The field as a double (strtod, whole field, surrounding spaces allowed; nan/inf
-  // accepted; in a ';' file one ',' is the decimal separator).
+  // accepted, hexadecimal not; in a ';' file one ',' is the decimal separator).
   // Throws InputError(path, "line N", "a number in column NAME, found 'X'").
   double number(std::size_t row, std::size_t col) const;
   double number(std::size_t row, const std::string& col) const { return number(row, column(col)); }
   // A whole column as numbers (same errors as number()).
   std::vector<double> numbers(const std::string& col) const;
+  // As number() and numbers(), nan and inf refused too: for files that never hold them (the
+  // stage files millwear writes and reads back).
+  double finite_number(std::size_t row, std::size_t col) const;
+  std::vector<double> finite_numbers(const std::string& col) const;
   std::vector<std::string> texts(const std::string& col) const;
 };
 

@@ -106,7 +106,8 @@ struct Reader {
     const std::string v = get(key);
     char* end = nullptr;
     const double d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0') throw InputError(path, key, "a number, found '" + v + "'");
+    // Every number a stage file holds is finite: a NaN here is a damaged file, not a result.
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw InputError(path, key, "a finite number, found '" + v + "'");
     return d;
   }
   long long integer(const std::string& key) const {
@@ -133,12 +134,12 @@ void write_charge_csv(const ChargeState& st, const std::string& path) {
 
 void read_charge_csv(const std::string& path, ChargeState& st) {
   io::CsvData ch = read_csv(path);
-  const auto x = ch.numbers("x_m"), y = ch.numbers("y_m"), vx = ch.numbers("vx_m_s"),
-             vy = ch.numbers("vy_m_s"), sp = ch.numbers("species"), ac = ch.numbers("active");
-  st.angle_rad = ch.numbers("angle_rad");
-  st.spin_rad_s = ch.numbers("spin_rad_s");
-  st.radius_m = ch.numbers("radius_m");
-  st.mass_kg = ch.numbers("mass_kg");
+  const auto x = ch.finite_numbers("x_m"), y = ch.finite_numbers("y_m"), vx = ch.finite_numbers("vx_m_s"),
+             vy = ch.finite_numbers("vy_m_s"), sp = ch.finite_numbers("species"), ac = ch.finite_numbers("active");
+  st.angle_rad = ch.finite_numbers("angle_rad");
+  st.spin_rad_s = ch.finite_numbers("spin_rad_s");
+  st.radius_m = ch.finite_numbers("radius_m");
+  st.mass_kg = ch.finite_numbers("mass_kg");
   for (std::size_t i = 0; i < x.size(); ++i) {
     st.position_m.push_back({x[i], y[i]});
     st.velocity_m_s.push_back({vx[i], vy[i]});
@@ -248,17 +249,17 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   {
     const std::size_t uc = units.column("unit"), xc = units.column("x_m"), yc = units.column("y_m");
     for (std::size_t i = 0; i < units.row_count(); ++i) {
-      const double u = units.number(i, uc);
+      const double u = units.finite_number(i, uc);
       if (!(u >= 0 && u < static_cast<double>(nunits)))
         throw InputError(units.path, "line " + std::to_string(units.row_line[i]),
                          "a unit index below " + std::to_string(nunits));
-      rec.units[static_cast<std::size_t>(u)].surface.push_back({units.number(i, xc), units.number(i, yc)});
+      rec.units[static_cast<std::size_t>(u)].surface.push_back({units.finite_number(i, xc), units.finite_number(i, yc)});
     }
   }
   io::CsvData spec = read_csv(base + ".spectrum.csv");
-  rec.spectrum_count_per_s = spec.numbers("count_per_s");
-  rec.spectrum_energy_W = spec.numbers("energy_W");
-  rec.edge_wear_rate_m_per_s = read_csv(base + ".edges.csv").numbers("wear_rate_m_per_s");
+  rec.spectrum_count_per_s = spec.finite_numbers("count_per_s");
+  rec.spectrum_energy_W = spec.finite_numbers("energy_W");
+  rec.edge_wear_rate_m_per_s = read_csv(base + ".edges.csv").finite_numbers("wear_rate_m_per_s");
 
   read_charge_csv(base + ".charge.csv", rec.snapshot);
   // A stage that started from the previous stage's charge has it in .start.csv.
