@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -64,15 +65,44 @@ KeyValues read_holder(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// The folders on the way to `path` that do not exist, innermost first.
+std::vector<std::string> missing_folders(const std::string& path) {
+  std::vector<std::string> missing;
+  std::error_code ec;
+  for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    if (p.has_filename()) missing.push_back(p.string());
+    if (p == p.parent_path()) break;
+  }
+  return missing;
+}
+
+}  // namespace
+
 void check_output_folder(const std::string& path) {
   if (path.empty()) throw InputError("", "-o", "an output folder");
   std::error_code ec;
-  if (fs::exists(path, ec) && !fs::is_directory(path, ec))
-    throw InputError(path, "-o", "an output folder, but a file of that name exists");
+  if (fs::exists(path, ec)) {
+    if (!fs::is_directory(path, ec)) throw InputError(path, "-o", "an output folder, but a file of that name exists");
+    if (::access(path.c_str(), W_OK | X_OK) != 0)
+      throw InputError(path, "-o", std::string("an output folder this user can write into (") + std::strerror(errno) + ")");
+    return;
+  }
+  // The first folder on the way that does not exist is made and removed again: a path that
+  // cannot be made (a file on the way, no permission, a read-only file system) is refused
+  // now, not once the work is done.
+  const std::vector<std::string> missing = missing_folders(path);
+  if (missing.empty()) return;
+  const std::string& first = missing.back();
+  if (::mkdir(first.c_str(), 0777) != 0)
+    throw InputError(path, "-o", "an output folder that can be made, but " + first + " cannot (" + std::strerror(errno) + ")");
+  ::rmdir(first.c_str());
 }
 
 FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_path(folder, kFolderLockName)) {
   check_output_folder(folder);
+  made_ = missing_folders(folder);
   ensure_dir(folder);
   // The file is removed on release; a process that opened it just before that would hold a
   // lock on a file no longer in the folder. So after flock, the file must still be the one
@@ -112,6 +142,10 @@ FolderLock::~FolderLock() {
   // Unlink while still holding it: a waiting process then finds the path gone and retries.
   ::unlink(path_.c_str());
   ::close(fd_);
+  // The folders the lock made, if the run left them empty (refused, or stopped before its
+  // first file): rmdir removes only an empty one, innermost first.
+  for (const std::string& f : made_)
+    if (::rmdir(f.c_str()) != 0) break;
 }
 
 }  // namespace millwear::io

@@ -8,18 +8,20 @@
 //   # millwear folder lock
 //   pid=12345
 //   command=millwear run scene.toml -o OUT
-// It is removed when the lock is released, so a finished or refused run leaves the folder
-// as it found it. The kernel drops a flock when its process dies, so a lock file left by a
+// It is removed when the lock is released, and so is the folder if the lock made it and the
+// run left it empty, so a finished or refused run leaves the folder as it found it. The kernel drops a flock when its process dies, so a lock file left by a
 // killed run does not block the next one: it is simply taken over.
 #include <string>
+#include <vector>
 
 namespace millwear::io {
 
 // Name of the lock file inside a locked folder.
 constexpr const char* kFolderLockName = ".millwear.lock";
 
-// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a folder.
-// Writes nothing: call it before any work, so that `-o FILE` stops every command alike.
+// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a writable
+// folder, or cannot be made (it makes the first missing folder on the way and removes it
+// again). Call it before any work, so that a bad -o stops every command alike.
 void check_output_folder(const std::string& path);
 
 class FolderLock {
@@ -37,6 +39,7 @@ class FolderLock {
 
  private:
   std::string folder_, path_;
+  std::vector<std::string> made_;  // folders that did not exist, innermost first
   int fd_ = -1;
 };
 
