@@ -8,6 +8,8 @@
 #include <fstream>
 #include <numeric>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli_support.hpp"
 #include "common/errors.hpp"
@@ -339,4 +341,164 @@ TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
                      r.output.find("No space left on device") != std::string::npos;
   EXPECT_TRUE(named) << r.output;
   EXPECT_EQ(r.output.find("pclose returned error"), std::string::npos) << r.output;
+}
+
+// ---- measured profiles -----------------------------------------------------------------------
+
+// A scan of a fin 0.2 mm wide is all but gone once re-smoothed: refused by the commands that
+// wear and those that only turn the charge, naming the file, the key and the profile.
+TEST(HostileMeasured, AScanThinnerThanTheParticlesIsRefusedByEveryCommand) {
+  const fs::path dir = scratch("measured-fin");
+  write(dir / "fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
+  std::string s = lab_mill_with("", "");
+  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"fin.csv\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  for (const char* cmd : {"charge", "run"}) {
+    const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
+    expect_refused(r, scene.string(), "wear.smoothing_radius", dir / "out");
+    EXPECT_NE(r.output.find("fin.csv"), std::string::npos) << r.output;
+  }
+}
+
+// Gauge noise makes loops of a fraction of a square millimetre, which are cut out; points out
+// of order that cross over a real part of the lifter are refused, not reshaped.
+TEST(HostileMeasured, ASurfaceCrossingOverItsLifterIsRefusedNotReshaped) {
+  const fs::path dir = scratch("measured-crossing");
+  const fs::path crossing = dir / "crossing.csv";
+  write(crossing, "x_mm,y_mm\n-20,-1\n-16.55,0\n5,20\n-5,20\n16.55,0\n20,-1\n");
+  const auto r = run_millwear("profile " + quoted(crossing));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("crossing.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("x_mm,y_mm"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("crosses itself"), std::string::npos) << r.output;
+  // The same lifter with a small noise loop on its leading face reads, the loop cut out.
+  const fs::path noisy = dir / "noisy.csv";
+  write(noisy, "x_mm,y_mm\n-20,-1\n-16.55,0\n-5,20\n5,20\n10.8,10\n10.4,10.2\n10.6,9.2\n16.55,0\n20,-1\n");
+  const auto ok = run_millwear("profile " + quoted(noisy));
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("repeated or looping dropped"), std::string::npos) << ok.output;
+}
+
+TEST(HostileMeasured, HexadecimalCellsAreRefused) {
+  const fs::path dir = scratch("measured-hex");
+  const fs::path hex = dir / "hex.csv";
+  write(hex, "x_mm,y_mm\n-20,0\n-5,0x14\n5,20\n20,0\n");
+  const auto r = run_millwear("profile " + quoted(hex));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0x14"), std::string::npos) << r.output;
+}
+
+// ---- the command line ------------------------------------------------------------------------
+
+// "nan" passes every comparison: each number option refuses it (and inf) by name, before any
+// work, where CLI11's own range check let it through.
+TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
+  const fs::path dir = scratch("options-nan");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string out = quoted(dir / "out");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"charge " + lab + " -o " + out + " --revolutions nan", "--revolutions"},
+      {"sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8 --revolutions nan", "--revolutions"},
+      {"tradeoff " + lab + " -o " + out + " --stage-hours nan", "--stage-hours"},
+      {"rule1 " + lab + " --tolerance nan", "--tolerance"},
+      {"rule1 " + lab + " --factors 1e5 nan", "--factors"},
+      {"animate " + lab + " -o " + quoted(dir / "a.gif") + " --seconds nan", "--seconds"},
+      {"hardness " + quoted(fs::path(kSource + "/validation/hardness-synthetic.csv")) + " -o " + out +
+           " --reference-hardness nan",
+       "--reference-hardness"},
+      {"calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) + " --measured " +
+           quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " + out + " --tolerance inf",
+       "--tolerance"},
+      {"run " + lab + " -o " + out + " --progress-every -nan", "--progress-every"},
+  };
+  for (const auto& [args, option] : cases) {
+    const auto r = run_millwear(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(option), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << args;
+    EXPECT_FALSE(fs::exists(dir / "a.gif")) << args;
+  }
+}
+
+TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
+  const fs::path dir = scratch("options-conflict");
+  const auto cal = run_millwear("calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) + " --measured " +
+                                quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " + quoted(dir / "out") +
+                                " --min-runs 5 --max-runs 2");
+  EXPECT_EQ(cal.exit_code, 2) << cal.output;
+  EXPECT_NE(cal.output.find("--min-runs"), std::string::npos) << cal.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  const auto r1 = run_millwear("rule1 " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " --factors 1e5 2e5 1e5");
+  EXPECT_EQ(r1.exit_code, 2) << r1.output;
+  EXPECT_NE(r1.output.find("--factors"), std::string::npos) << r1.output;
+  const auto sc = run_millwear("screen " + quoted(fs::path(kSource + "/scenarios/screen-sag-face-angle.toml")) + " -o " +
+                               quoted(dir / "out") + " --chunk 2");
+  EXPECT_EQ(sc.exit_code, 2) << sc.output;
+  EXPECT_NE(sc.output.find("--emit"), std::string::npos) << sc.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// An output folder that cannot be made is bad input (exit 2) found before any work, and a
+// command refused after its folder was made leaves no empty folder behind.
+TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLeft) {
+  const fs::path dir = scratch("options-folder");
+  write(dir / "afile", "x");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const char* cmd : {"run", "charge"}) {
+    const auto r = run_millwear(std::string(cmd) + " " + lab + " -o " + quoted(dir / "afile" / "sub"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("afile"), std::string::npos) << r.output;
+  }
+  // validate finds that --from holds no run only once it holds its output folder, which must
+  // not outlive the refusal.
+  const fs::path surveys = dir / "areas.csv";
+  write(surveys, "hours,area_mm2\n0,414.6\n100,400\n");
+  fs::create_directories(dir / "no-run");
+  const auto v = run_millwear("validate " + lab + " --measured " + quoted(surveys) + " -o " +
+                              quoted(dir / "new" / "out") + " --from " + quoted(dir / "no-run"));
+  EXPECT_EQ(v.exit_code, 2) << v.output;
+  EXPECT_NE(v.output.find("no-run"), std::string::npos) << v.output;
+  EXPECT_FALSE(fs::exists(dir / "new")) << v.output;
+}
+
+// ---- files read back -------------------------------------------------------------------------
+
+// A stage file that says "nan" is a damaged file: refused on --resume naming file and key,
+// not carried into summary.csv as a figure.
+TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
+  const fs::path dir = scratch("stage-nan");
+  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const fs::path out = dir / "out";
+  const auto first = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  fs::path record;
+  for (const auto& e : fs::directory_iterator(out / "stages"))
+    if (e.path().extension() == ".record" && e.path().string().find("stage1") != std::string::npos) record = e.path();
+  ASSERT_FALSE(record.empty());
+  std::string text = read_text(record);
+  const auto at = text.find("lifter.area_m2=");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, text.find('\n', at) - at, "lifter.area_m2=nan");
+  write(record, text);
+  const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find(record.filename().string()), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("lifter.area_m2"), std::string::npos) << again.output;
+}
+
+// Surveys in metres or of another mill: refused naming the file and the survey's line.
+TEST(HostileSurveys, SurveyPointsOutsideTheLinerUnitAreRefused) {
+  const fs::path dir = scratch("survey-far");
+  const fs::path surveys = dir / "far.csv";
+  write(surveys, "hours,x_mm,y_mm\n0,-16,0\n0,0,20\n0,16,0\n100,-16000,0\n100,0,18000\n100,16000,0\n");
+  const auto r = run_millwear("validate " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " --measured " +
+                              quoted(surveys) + " -o " + quoted(dir / "out"));
+  expect_refused(r, surveys.string(), "line 5", dir / "out");
 }

@@ -9,6 +9,7 @@
 
 #include <cstdio>
 
+#include "app/number_checks.hpp"
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
@@ -27,6 +28,9 @@ struct CalibrateArgs {
 };
 
 int run_calibrate(CalibrateArgs a) {
+  if (a.request.options.min_runs > a.request.options.max_runs)
+    throw InputError("", "--min-runs", "at most --max-runs (" + std::to_string(a.request.options.max_runs) +
+                                           "), got " + std::to_string(a.request.options.min_runs));
   a.request.options.rel_tol = a.tolerance_pct / 100.0;
   a.request.threads = step_threads(a.threads);
   a.request.threads_fit_size = a.threads == 0;
@@ -104,7 +108,7 @@ void register_calibrate(CLI::App& app, Action* action) {
                   "and their spread measures the charge's noise")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (default 1)")
-      ->check(CLI::Range(1e-6, 100.0));
+      ->check(finite_in(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
               "squares on the area loss of every row after 0 h (two or more such rows give the fit's own\n"

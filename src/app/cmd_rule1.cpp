@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
 #include "app/output_folder.hpp"
@@ -14,7 +15,7 @@
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
 #include "study/rule1.hpp"
 
 namespace millwear::app {
@@ -44,7 +45,7 @@ int run_rule1(const Rule1Args& a) {
   const int at_once = std::min(a.jobs > 0 ? a.jobs : cores, factors_given * a.replicates);
   scene.solver.threads = a.threads > 0 ? a.threads : std::max(1, cores / std::max(1, at_once));
   scene.solver.threads_fit_size = a.threads == 0;
-  check_run_limits(scene, a.scene);  // before anything is filled or written
+  check_scene(scene, a.scene);  // before anything is filled or written
   Rule1Options opt;
   opt.factors = a.factors;
   if (opt.factors.empty()) {
@@ -121,11 +122,11 @@ void register_rule1(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder: rule1.csv, the profiles and Fig. 5 (default: print only)")
       ->check(output_folder());
   cmd->add_option("--factors", args->factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--replicates", args->replicates, "histories per factor, seeds s, s+1, ... (default 4)")
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--tolerance", args->tolerance_pct, "allowed deviation, % of lifter height (default 5)")
-      ->check(CLI::Range(1e-6, 100.0));
+      ->check(finite_in(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("-j,--jobs", args->jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");

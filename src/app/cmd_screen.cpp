@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/duration_text.hpp"
 #include "app/output_folder.hpp"
@@ -163,8 +164,10 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_option("-j,--jobs", r.jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--resume", r.resume, "keep finished designs (and finished stages) in OUT, run the rest");
-  cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
-  cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")->check(CLI::Range(1, 100000));
+  auto* emit = cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
+  cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")
+      ->check(CLI::Range(1, 100000))
+      ->needs(emit);
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--replicates", r.replicates,
                   "histories per design, seeds s, s+1, ... (default 1): the life's error from their spread; "
@@ -173,7 +176,7 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,
                   "without a terminal: a plain progress line every SECONDS and at each design (default 60)")
-      ->check(CLI::Range(1.0, 86400.0));
+      ->check(finite_in(1.0, 86400.0));
   cmd->callback([args, action] { *action = [args] { return screen_command(*args); }; });
 }
 

@@ -5,6 +5,7 @@
 // Exit codes: 0 done; 1 the run or a figure failed; 2 bad input.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 
 #include "app/threads_option.hpp"
@@ -49,9 +50,11 @@ void print_areas(const validation::ValidateOutcome& o) {
               "err_mm2", "err_%", "meas_loss", "sim_loss", "loss_%");
   for (std::size_t i = 0; i < o.areas.size(); ++i) {
     const auto& c = o.areas[i];
-    std::printf("%7zu %6zu %8.0f %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8.2f\n", i + 1, c.line, c.hours,
+    char loss_pct[32] = "-";  // no measured loss (the 0 h survey): no percentage of it
+    if (!std::isnan(c.loss_error_pct)) std::snprintf(loss_pct, sizeof loss_pct, "%.2f", c.loss_error_pct);
+    std::printf("%7zu %6zu %8.0f %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8s\n", i + 1, c.line, c.hours,
                 c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct,
-                c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6, c.loss_error_pct);
+                c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6, loss_pct);
   }
   std::printf("(errors: simulated - measured; area %% of the new lifter area %.1f mm^2; loss %% of the measured loss; "
               "losses from %s %.1f mm^2)\n",

@@ -1,8 +1,10 @@
 #include "study/area_surveys.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 
@@ -94,6 +96,22 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const st
                        (surveys.losses ? "area losses are not positive" : "areas grow with time") +
                        " (the reference area is " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") +
                        ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
+}
+
+void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file) {
+  if (measured.areas_only || rows <= 0) return;
+  const double half_pitch_m = kPi * radius_m / rows;
+  for (const Survey& s : measured.profiles)
+    for (const Vec2& p : s.profile_m) {
+      if (std::abs(p.x) <= 1.01 * half_pitch_m && std::abs(p.y) < radius_m) continue;
+      char buf[320];
+      std::snprintf(buf, sizeof buf,
+                    "survey points within the lifter's liner unit, lifter-local mm: |x_mm| at most half the pitch "
+                    "(%.1f mm) and |y_mm| under the mill radius (%.1f mm); the survey at %g h has the point "
+                    "(%g, %g) mm",
+                    half_pitch_m * 1e3, radius_m * 1e3, s.hours, p.x * 1e3, p.y * 1e3);
+      throw InputError(file, "line " + std::to_string(s.first_line), buf);
+    }
 }
 
 std::vector<double> Measurements::hours() const {

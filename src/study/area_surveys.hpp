@@ -72,4 +72,10 @@ struct Measurements {
 Measurements parse_measurements(const std::string& text, const std::string& name);
 Measurements read_measurements(const std::string& path);
 
+// Profile surveys of a lifter of a mill of radius radius_m with `rows` rows: throws
+// InputError(file, line of the survey, ...) for a point outside its liner unit (|x| over half
+// the pitch at the shell, 1% allowed) or outside the mill (|y| at or over the radius): a
+// survey in other units or of another mill, which no fit could use.
+void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file);
+
 }  // namespace millwear::validation

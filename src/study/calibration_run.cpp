@@ -13,7 +13,7 @@
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
 #include "scene/scene_edit.hpp"
 #include "study/area_fit.hpp"
 #include "study/profile_fit.hpp"
@@ -33,8 +33,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
   scene.solver.threads_fit_size = a.threads_fit_size;
-  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  check_scene(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
+  check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > 0.0;
   if (!worn)

@@ -1,6 +1,8 @@
 // `millwear validate` as one call (see validation_run.hpp).
 #include "study/validation_run.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 #include <map>
 
@@ -12,7 +14,7 @@
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::validation {
 
@@ -145,9 +147,11 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
   AreaSurveys simulated;
   for (std::size_t i = 0; i < o.areas.size(); ++i) {
     const auto& c = o.areas[i];
+    // No measured loss (the 0 h survey): no percentage of it, an empty cell rather than NaN.
+    const io::CsvCell loss_pct = std::isnan(c.loss_error_pct) ? io::CsvCell("") : io::CsvCell(c.loss_error_pct);
     table.add_row({static_cast<int>(i + 1), c.line, c.hours, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6,
                    c.area_error_m2 * 1e6, c.area_error_pct, c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6,
-                   c.loss_error_m2 * 1e6, c.loss_error_pct});
+                   c.loss_error_m2 * 1e6, loss_pct});
     measured_plot.add_row({c.hours, c.measured_area_m2 * 1e6});
     simulated.surveys.push_back({c.hours, c.simulated_area_m2, 0});
   }
@@ -182,8 +186,9 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.solver.threads = a.threads;
   scene.solver.threads_fit_size = a.threads_fit_size;
-  check_run_limits(scene, a.scene_file);  // before anything is filled or written
+  check_scene(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
+  check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   const io::FolderLock lock(a.out);  // one writer per folder, for the whole run
   const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
   ValidateOutcome o;
