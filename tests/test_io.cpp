@@ -130,10 +130,47 @@ TEST(IoFolderLock, ASecondLockIsRefusedNamingTheFolderAndTheHoldersPid) {
       EXPECT_NE(m.find("process " + std::to_string(::getpid())), std::string::npos) << m;
     }
   }
-  // Released: the lock file is gone and the folder can be locked again.
-  EXPECT_EQ(count_entries(out), 0);
+  // Released: the lock file is gone, and so is the folder the lock made, left empty; it can
+  // be locked again.
+  EXPECT_FALSE(fs::exists(out));
   io::FolderLock again(out);
   EXPECT_TRUE(io::file_exists(again.path()));
+}
+
+// A released lock leaves the folder as it found it: a folder that was there stays (empty), a
+// folder it made stays if something was written into it and goes if nothing was (the folders
+// made on the way stay: other commands may be making theirs beside it).
+TEST(IoFolderLock, ReleasedItLeavesTheFolderAsItFoundIt) {
+  TempDir dir;
+  const std::string there = dir / "there";
+  fs::create_directories(there);
+  { io::FolderLock lock(there); }
+  EXPECT_TRUE(fs::is_directory(there));
+  EXPECT_EQ(count_entries(there), 0);
+  const std::string written = dir / "a/written";
+  {
+    io::FolderLock lock(written);
+    io::write_file_atomic(written + "/result.csv", "x\n1\n");
+  }
+  EXPECT_TRUE(io::file_exists(written + "/result.csv"));
+  EXPECT_EQ(count_entries(written), 1);
+  const std::string empty = dir / "b/c/empty";
+  { io::FolderLock lock(empty); }
+  EXPECT_FALSE(fs::exists(empty));
+  EXPECT_TRUE(fs::is_directory(dir / "b/c"));
+}
+
+TEST(IoFolderLock, AFolderThatCannotBeMadeIsAnInputErrorBeforeAnythingIsWritten) {
+  TempDir dir;
+  io::write_file_atomic(dir / "file", "a file, not a folder");
+  try {
+    io::check_output_folder(dir / "file/out");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "-o");
+    EXPECT_NE(std::string(e.what()).find("file"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(count_entries(dir.path), 1);
 }
 
 TEST(IoFolderLock, AFileGivenAsTheFolderIsAnInputErrorNamingIt) {

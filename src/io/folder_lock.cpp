@@ -8,7 +8,6 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
-#include <vector>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -65,50 +64,39 @@ KeyValues read_holder(const std::string& path) {
 
 }  // namespace
 
-namespace {
-
-// The folders on the way to `path` that do not exist, innermost first.
-std::vector<std::string> missing_folders(const std::string& path) {
-  std::vector<std::string> missing;
-  std::error_code ec;
-  for (fs::path p = fs::path(path).lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
-    if (p.has_filename()) missing.push_back(p.string());
-    if (p == p.parent_path()) break;
-  }
-  return missing;
-}
-
-}  // namespace
-
 void check_output_folder(const std::string& path) {
   if (path.empty()) throw InputError("", "-o", "an output folder");
   std::error_code ec;
-  if (fs::exists(path, ec)) {
-    if (!fs::is_directory(path, ec)) throw InputError(path, "-o", "an output folder, but a file of that name exists");
-    if (::access(path.c_str(), W_OK | X_OK) != 0)
-      throw InputError(path, "-o", std::string("an output folder this user can write into (") + std::strerror(errno) + ")");
-    return;
-  }
-  // The first folder on the way that does not exist is made and removed again: a path that
-  // cannot be made (a file on the way, no permission, a read-only file system) is refused
-  // now, not once the work is done.
-  const std::vector<std::string> missing = missing_folders(path);
-  if (missing.empty()) return;
-  const std::string& first = missing.back();
-  if (::mkdir(first.c_str(), 0777) != 0)
-    throw InputError(path, "-o", "an output folder that can be made, but " + first + " cannot (" + std::strerror(errno) + ")");
-  ::rmdir(first.c_str());
+  if (fs::exists(path, ec) && !fs::is_directory(path, ec))
+    throw InputError(path, "-o", "an output folder, but a file of that name exists");
+  // The nearest folder on the way that exists must be one this user can write into: a path
+  // that cannot be made (a file on the way, no permission) is refused now, not once the work
+  // is done. Nothing is made here (screen tasks make their folders side by side).
+  fs::path p = fs::path(path).lexically_normal();
+  while (!p.empty() && !fs::exists(p, ec)) p = p.parent_path();
+  if (p.empty()) p = ".";
+  if (!fs::is_directory(p, ec))
+    throw InputError(path, "-o", "an output folder that can be made, but " + p.string() + " is a file");
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw InputError(path, "-o",
+                     "an output folder that can be made, but " + p.string() + " is not writable (" + std::strerror(errno) + ")");
 }
 
 FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_path(folder, kFolderLockName)) {
   check_output_folder(folder);
-  made_ = missing_folders(folder);
+  std::error_code ec;
+  made_ = !fs::exists(folder, ec);
   ensure_dir(folder);
   // The file is removed on release; a process that opened it just before that would hold a
   // lock on a file no longer in the folder. So after flock, the file must still be the one
   // at the path, else start again.
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0 && errno == ENOENT) {
+      // The holder that made the folder released it empty and removed it: make it again.
+      ensure_dir(folder);
+      continue;
+    }
     if (fd < 0)
       throw RunError("cannot create the lock file " + path_ + " (" + std::strerror(errno) + ")");
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -142,10 +130,10 @@ FolderLock::~FolderLock() {
   // Unlink while still holding it: a waiting process then finds the path gone and retries.
   ::unlink(path_.c_str());
   ::close(fd_);
-  // The folders the lock made, if the run left them empty (refused, or stopped before its
-  // first file): rmdir removes only an empty one, innermost first.
-  for (const std::string& f : made_)
-    if (::rmdir(f.c_str()) != 0) break;
+  // The folder, if the lock made it and the command left it empty (refused, or stopped before
+  // its first file): rmdir removes only an empty folder. The folders made on the way stay:
+  // other commands may be making theirs beside it.
+  if (made_) ::rmdir(folder_.c_str());
 }
 
 }  // namespace millwear::io

@@ -9,19 +9,18 @@
 //   pid=12345
 //   command=millwear run scene.toml -o OUT
 // It is removed when the lock is released, and so is the folder if the lock made it and the
-// run left it empty, so a finished or refused run leaves the folder as it found it. The kernel drops a flock when its process dies, so a lock file left by a
+// command left it empty, so a finished or refused command leaves the folder as it found it. The kernel drops a flock when its process dies, so a lock file left by a
 // killed run does not block the next one: it is simply taken over.
 #include <string>
-#include <vector>
 
 namespace millwear::io {
 
 // Name of the lock file inside a locked folder.
 constexpr const char* kFolderLockName = ".millwear.lock";
 
-// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a writable
-// folder, or cannot be made (it makes the first missing folder on the way and removes it
-// again). Call it before any work, so that a bad -o stops every command alike.
+// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a folder, or if
+// the nearest folder on its way that exists is a file or not writable. Makes nothing: call it
+// before any work, so that a bad -o stops every command alike.
 void check_output_folder(const std::string& path);
 
 class FolderLock {
@@ -39,7 +38,7 @@ class FolderLock {
 
  private:
   std::string folder_, path_;
-  std::vector<std::string> made_;  // folders that did not exist, innermost first
+  bool made_ = false;  // the folder did not exist before the lock
   int fd_ = -1;
 };
 

@@ -161,15 +161,9 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
     throw InputError("", "--replicates", "1 to 1000 histories per factor, got " + std::to_string(options.replicates));
   const auto nrep = static_cast<std::uint64_t>(options.replicates);
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
-  for (std::size_t i = 0; i < factors.size(); ++i) {
-    const double f = factors[i];
+  for (double f : factors) {
     if (!(f > 0.0 && f <= 1e12))
       throw InputError("", "--factors", "factors in (0, 1e12], got " + std::to_string(f));
-    if (i > 0 && f == factors[i - 1]) {
-      char twice[64];
-      std::snprintf(twice, sizeof twice, "%g twice", f);
-      throw InputError("", "--factors", std::string("each factor once (--replicates runs one several times), got ") + twice);
-    }
     check_run_limits(factor_scene(scene, f, scene.solver.seed), scene.source_file);
   }
 
