@@ -15,7 +15,7 @@
 #include "common/errors.hpp"
 #include "geometry/polyline.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/reshape.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear {
 
@@ -52,10 +52,12 @@ struct HistoryDigest {
   bool life_extrapolated = false;
 };
 
-// Every setting's scenes within the run limits, before any of them runs.
+// Every setting's scenes within the run limits, before any of them runs. The smoothing radius
+// is not checked here: a rung whose radius the history refuses is reported as failed, which is
+// what that rung measures.
 void check_ladder(const TradeoffLadder& ladder) {
   for (const auto& setting : ladder.settings)
-    for (const Scene& s : setting.scenes) check_scene(s, s.source_file);
+    for (const Scene& s : setting.scenes) check_run_limits(s, s.source_file);
 }
 
 }  // namespace
