@@ -213,7 +213,15 @@ void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec))
       throw InputError(file, key, "expected an existing profile file; tried '" + resolved.string() + "'" + line_text(at));
-    return load_profile(resolved.string());  // its errors name the profile file
+    try {
+      return load_profile(resolved.string());  // its errors name the profile file ...
+    } catch (const InputError& e) {
+      // ... and the scene key that named it (a scene given where a profile belongs, say).
+      const auto line = at.source().begin.line;
+      throw InputError(e.file, e.where,
+                       e.expected + " (the profile named by " + key + " in " + file +
+                           (line > 0 ? ", line " + std::to_string(line) : std::string()) + ")");
+    }
   };
   if (r.has("profile")) {
     const auto rel = r.string("profile");

@@ -105,6 +105,9 @@ inline std::string value_text(const toml::node& n) {
 
 inline std::string got_text(const toml::node& n) {
   std::string v = value_text(n);
+  // A float with an integral value (1e3) shown as one, so that "expected an integer ...,
+  // got 1000.0" does not read as a contradiction.
+  if (n.is_floating_point() && v.find_first_of(".eEinIN") == std::string::npos) v += ".0";
   if (v.size() > 40) v = v.substr(0, 37) + "...";
   if (n.is_number()) return "got " + v;
   return "got " + type_name(n.type()) + (v.empty() ? "" : " " + v);
