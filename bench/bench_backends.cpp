@@ -450,5 +450,22 @@ int main(int argc, char** argv) {
                    argc > 5 ? argv[5] : nullptr);
   if (argc > 1 && std::strcmp(argv[1], "--pool") == 0) return pool_table();
   if (argc > 1 && std::strcmp(argv[1], "--equal-size") == 0) return equal_size_table(argc > 2 ? std::atof(argv[2]) : 1.0);
-  return speed_table(argc > 1 ? std::atof(argv[1]) : 1.0);
+  const char* usage =
+      "usage: bench_backends [SECONDS] | --equal-size [SECONDS] | --compare SCENE [REVOLUTIONS] [BATCHES] "
+      "[box2d|soft]\n       | --snapshot NAME FILE | --run FILE STEPS [box2d|soft] | --pool, each with "
+      "[--threads N]\n(what each prints: the comment at the top of bench/bench_backends.cpp)\n";
+  if (argc > 1 && (std::strcmp(argv[1], "-h") == 0 || std::strcmp(argv[1], "--help") == 0)) {
+    std::fputs(usage, stdout);
+    return 0;
+  }
+  double seconds = 1.0;
+  if (argc > 1) {
+    char* end = nullptr;
+    seconds = std::strtod(argv[1], &end);
+    if (argc > 2 || *end != '\0' || !(seconds > 0.0 && seconds <= 1e4)) {
+      std::fputs(usage, stderr);
+      return 2;
+    }
+  }
+  return speed_table(seconds);
 }
