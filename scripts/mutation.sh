@@ -7,6 +7,8 @@
 # worker per core (JOBS=N to choose), writes one row per case to BUILD_DIR/mutation-report.tsv
 # and prints the outcome classes and every failing case. Exits 1 if any case failed.
 set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
+millwear_install  # the Debian packages, as run.sh and test.sh install them
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$root/build}"
 [ $# -gt 0 ] && shift

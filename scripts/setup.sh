@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Shared setup for run.sh and test.sh: install what is missing (Debian packages only),
+# Shared setup for run.sh, test.sh and mutation.sh: install what is missing (Debian packages only),
 # then configure and build Release into build/. Sourced, not run.
 set -euo pipefail
 
