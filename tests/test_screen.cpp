@@ -584,6 +584,30 @@ TEST(ScreenInput, CandidatesThatCannotBeBuiltAreRejectedWithTheReason) {
   fs::remove_all(dir);
 }
 
+// A measured scan in the list of profiles is a candidate like a drawn one: copied as a CSV (as
+// TOML it would not read), its scene valid; a scan too thin for the charge is rejected.
+TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
+  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-csv-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "fin.csv") << "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n";
+  const fs::path f = write_screen(dir, "scans.toml",
+                                  "[screen]\nbase = '" + lab_base() + "'\n[family]\nprofiles = ['" +
+                                      src("profiles/lab-survey-2000h.csv") + "', 'fin.csv']\n");
+  const Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out") + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData good = io::read_csv((dir / "out/designs.csv").string());
+  const io::CsvData bad = io::read_csv((dir / "out/rejected.csv").string());
+  ASSERT_EQ(good.row_count(), 1u);
+  EXPECT_EQ(good.text(0, good.column("profile_file")), "candidates/d000-profile.csv");
+  const Scene s = load_scene((dir / "out" / good.text(0, good.column("scene_file"))).string());
+  EXPECT_FALSE(s.mill.lifter.measured.empty());
+  ASSERT_EQ(bad.row_count(), 1u);
+  EXPECT_NE(bad.text(0, bad.column("reason")).find("wear.smoothing_radius"), std::string::npos)
+      << bad.text(0, bad.column("reason"));
+  fs::remove_all(dir);
+}
+
 // --set KEY=VALUE over the base scene: in every candidate's scene file (what the pool, GNU
 // parallel and Slurm tasks read), recorded in screen.key, part of the fingerprint; a task run
 // from the emitted list runs the overridden scene.

@@ -7,6 +7,7 @@
 #include "screen/screen.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -471,9 +472,12 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
   for (Candidate& c : cands) {
     if (!c.reason.empty()) continue;
     const std::string scene_path = io::join_path(dir, c.name + ".toml");
-    const std::string profile_path = io::join_path(dir, c.name + "-profile.toml");
-    // The profile: a trapezoid, or a copy of the listed profile file; a pattern: one
-    // trapezoid per kind, NAME-kK-profile.toml.
+    // The profile: a trapezoid, or a copy of the listed profile file (a measured CSV stays
+    // one); a pattern: one trapezoid per kind, NAME-kK-profile.toml.
+    std::string ext = fs::path(c.profile_source).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string profile_name = c.name + (ext == ".csv" ? "-profile.csv" : "-profile.toml");
+    const std::string profile_path = io::join_path(dir, profile_name);
     std::string profile;
     std::vector<std::pair<std::string, std::string>> kind_files;  // path, text
     if (!c.profile_source.empty()) {
@@ -497,7 +501,7 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
     if (auto* lif = t["lifters"].as_table()) {
       if (kind_files.empty()) {
         lif->erase("pattern");
-        lif->insert_or_assign("profile", c.name + "-profile.toml");
+        lif->insert_or_assign("profile", profile_name);
       } else {
         lif->erase("profile");
         toml::array names;
@@ -524,7 +528,7 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
        << toml::toml_formatter{t} << "\n";
     if (kind_files.empty()) {
       io::write_file_atomic(profile_path, profile);
-      c.profile_file = "candidates/" + c.name + "-profile.toml";
+      c.profile_file = "candidates/" + profile_name;
     }
     for (std::size_t k = 0; k < kind_files.size(); ++k) {
       io::write_file_atomic(kind_files[k].first, kind_files[k].second);
