@@ -54,6 +54,16 @@ std::string lab_mill_with(const std::string& from, const std::string& to) {
   return s;
 }
 
+// The lab mill scene with `profile` (a file in dir) as its lifter, written as dir/scene.toml.
+fs::path lab_mill_with_profile(const fs::path& dir, const std::string& profile) {
+  std::string s = lab_mill_with("", "");
+  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + profile + "\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  return scene;
+}
+
 // A refusal: exit 2, the message names the file and the key, nothing was written.
 void expect_refused(const millwear::testing::CliResult& r, const std::string& file, const std::string& key,
                     const fs::path& out) {
@@ -265,11 +275,7 @@ TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
   for (int i = 1; i <= 32; ++i) points += ", [" + std::to_string(-16 + i) + ".0, " + (i % 2 ? "40.0" : "1.0") + "]";
   points += ", [16.5, 0.0]]";
   write(dir / "saw.toml", "name = \"saw\"\nform = \"polyline\"\npoints = " + points + "\n");
-  std::string s = lab_mill_with("", "");
-  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"saw.toml\"");
-  const fs::path scene = dir / "scene.toml";
-  write(scene, s);
+  const fs::path scene = lab_mill_with_profile(dir, "saw.toml");
   for (const char* cmd : {"charge", "run"}) {
     const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
     expect_refused(r, scene.string(), "lifters.profile", dir / "out");
@@ -283,11 +289,7 @@ TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
   std::string p = read_text(kSource + "/profiles/lab-2x30.toml");
   p.replace(p.find("top_width = 10.0"), 16, "top_width = 4000");  // the shell is 1,885 mm round
   write(dir / "wide.toml", p);
-  std::string s = lab_mill_with("", "");
-  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"wide.toml\"");
-  const fs::path scene = dir / "scene.toml";
-  write(scene, s);
+  const fs::path scene = lab_mill_with_profile(dir, "wide.toml");
   const auto r = run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out"));
   expect_refused(r, scene.string(), "lifters.profile", dir / "out");
   EXPECT_NE(r.output.find("circumference"), std::string::npos) << r.output;
@@ -350,11 +352,7 @@ TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
 TEST(HostileMeasured, AScanThinnerThanTheParticlesIsRefusedByEveryCommand) {
   const fs::path dir = scratch("measured-fin");
   write(dir / "fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
-  std::string s = lab_mill_with("", "");
-  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"fin.csv\"");
-  const fs::path scene = dir / "scene.toml";
-  write(scene, s);
+  const fs::path scene = lab_mill_with_profile(dir, "fin.csv");
   for (const char* cmd : {"charge", "run"}) {
     const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
     expect_refused(r, scene.string(), "wear.smoothing_radius", dir / "out");
