@@ -348,15 +348,15 @@ TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
 // ---- measured profiles -----------------------------------------------------------------------
 
 // A scan of a fin 0.2 mm wide is all but gone once re-smoothed: refused by the commands that
-// wear and those that only turn the charge, naming the file, the key and the profile.
+// wear and those that only turn the charge, naming the file and its columns.
 TEST(HostileMeasured, AScanThinnerThanTheParticlesIsRefusedByEveryCommand) {
   const fs::path dir = scratch("measured-fin");
   write(dir / "fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
   const fs::path scene = lab_mill_with_profile(dir, "fin.csv");
   for (const char* cmd : {"charge", "run"}) {
     const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
-    expect_refused(r, scene.string(), "wear.smoothing_radius", dir / "out");
-    EXPECT_NE(r.output.find("fin.csv"), std::string::npos) << r.output;
+    expect_refused(r, (dir / "fin.csv").string(), "x_mm,y_mm", dir / "out");
+    EXPECT_NE(r.output.find("thinner than the particles"), std::string::npos) << r.output;
   }
 }
 
@@ -423,6 +423,12 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
 
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
+  // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.
+  const auto one = run_millwear("calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) +
+                                " --measured " + quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " +
+                                quoted(dir / "one") + " --max-runs 1 --set wear.stages=1");
+  EXPECT_NE(one.exit_code, 2) << one.output;
+  EXPECT_EQ(one.output.find("--min-runs"), std::string::npos) << one.output;
   const auto cal = run_millwear("calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) + " --measured " +
                                 quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " + quoted(dir / "out") +
                                 " --min-runs 5 --max-runs 2");
@@ -486,6 +492,27 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find(record.filename().string()), std::string::npos) << again.output;
   EXPECT_NE(again.output.find("lifter.area_m2"), std::string::npos) << again.output;
+}
+
+// A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
+// file, which is what the file means, and the run resumes from it.
+TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {
+  const fs::path dir = scratch("stage-centrifuged");
+  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  s.replace(s.find("speed = 0.75"), 12, "speed = 1.60");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const fs::path out = dir / "out";
+  const auto first = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  bool undefined = false;
+  for (const auto& e : fs::directory_iterator(out / "stages"))
+    if (e.path().extension() == ".record") undefined |= read_text(e.path()).find("charge_se.toe_deg=nan") != std::string::npos;
+  ASSERT_TRUE(undefined) << "the charge did not centrifuge: the case is not tested";
+  const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
 }
 
 // Surveys in metres or of another mill: refused naming the file and the survey's line.

@@ -25,10 +25,12 @@ struct CalibrateArgs {
   validation::CalibrateRequest request;
   double tolerance_pct = 1.0;
   int threads = 0;
+  bool min_runs_given = false;
 };
 
 int run_calibrate(CalibrateArgs a) {
-  if (a.request.options.min_runs > a.request.options.max_runs)
+  // Both given and contradicting: refused. The default minimum (2) yields to --max-runs 1.
+  if (a.min_runs_given && a.request.options.min_runs > a.request.options.max_runs)
     throw InputError("", "--min-runs", "at most --max-runs (" + std::to_string(a.request.options.max_runs) +
                                            "), got " + std::to_string(a.request.options.min_runs));
   a.request.options.rel_tol = a.tolerance_pct / 100.0;
@@ -99,7 +101,7 @@ void register_calibrate(CLI::App& app, Action* action) {
   add_threads_option(cmd, args->threads);
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));
-  cmd->add_option("--min-runs", r.options.min_runs,
+  CLI::Option* min_runs = cmd->add_option("--min-runs", r.options.min_runs,
                   "wear histories at least (default 2); every history after the first is an estimate, and C is "
                   "their mean")
       ->check(CLI::Range(1, 1000));
@@ -113,7 +115,10 @@ void register_calibrate(CLI::App& app, Action* action) {
               "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
               "squares on the area loss of every row after 0 h (two or more such rows give the fit's own\n"
               "error). C is printed with U = 2 sigma (about 95%).");
-  cmd->callback([args, action] { *action = [args] { return run_calibrate(*args); }; });
+  cmd->callback([args, action, min_runs] {
+    args->min_runs_given = min_runs->count() > 0;
+    *action = [args] { return run_calibrate(*args); };
+  });
 }
 
 }  // namespace millwear::app

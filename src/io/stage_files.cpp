@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <string_view>
 #include <utility>
 
 #include "common/errors.hpp"
@@ -106,10 +107,15 @@ struct Reader {
     const std::string v = get(key);
     char* end = nullptr;
     const double d = std::strtod(v.c_str(), &end);
-    // Every number a stage file holds is finite: a NaN here is a damaged file, not a result.
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) throw InputError(path, key, "a finite number, found '" + v + "'");
+    // A stage's figures are finite: a NaN here is a damaged file, not a result ...
+    const bool undefined_error = std::isnan(d) && key.compare(0, kErrorPrefix.size(), kErrorPrefix) == 0;
+    if (v.empty() || *end != '\0' || !(std::isfinite(d) || undefined_error))
+      throw InputError(path, key, "a finite number, found '" + v + "'");
     return d;
   }
+  // ... but for the standard errors of the charge's figures, which are NaN where a figure has
+  // none (the toe and shoulder of a window in which the charge centrifuged).
+  static constexpr std::string_view kErrorPrefix = "charge_se.";
   long long integer(const std::string& key) const {
     const std::string v = get(key);
     char* end = nullptr;
@@ -134,10 +140,19 @@ void write_charge_csv(const ChargeState& st, const std::string& path) {
 
 void read_charge_csv(const std::string& path, ChargeState& st) {
   io::CsvData ch = read_csv(path);
-  const auto x = ch.finite_numbers("x_m"), y = ch.finite_numbers("y_m"), vx = ch.finite_numbers("vx_m_s"),
-             vy = ch.finite_numbers("vy_m_s"), sp = ch.finite_numbers("species"), ac = ch.finite_numbers("active");
-  st.angle_rad = ch.finite_numbers("angle_rad");
-  st.spin_rad_s = ch.finite_numbers("spin_rad_s");
+  const auto ac = ch.finite_numbers("active");
+  // A disk lost to a non-finite state stays in the file as it was, inactive: only the active
+  // disks' numbers must be finite.
+  const auto column = [&](const char* name) {
+    const std::size_t c = ch.column(name);
+    std::vector<double> v(ch.row_count());
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = ac[i] != 0.0 ? ch.finite_number(i, c) : ch.number(i, c);
+    return v;
+  };
+  const auto x = column("x_m"), y = column("y_m"), vx = column("vx_m_s"), vy = column("vy_m_s"),
+             sp = ch.finite_numbers("species");
+  st.angle_rad = column("angle_rad");
+  st.spin_rad_s = column("spin_rad_s");
   st.radius_m = ch.finite_numbers("radius_m");
   st.mass_kg = ch.finite_numbers("mass_kg");
   for (std::size_t i = 0; i < x.size(); ++i) {
