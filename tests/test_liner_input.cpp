@@ -71,11 +71,12 @@ std::string lab_scene_text(const std::string& lifters, const std::string& wear_e
   return out.str();
 }
 
-// The lab lifter (20 mm high, 10 mm top, 30/30 deg) as a scan: points every 0.5 mm in x, a
-// shell 5 mm below the original line out to 3 mm past the feet, Gaussian noise of sigma_mm on
-// y, every tenth point written twice. Returns the file text; `repeats` counts the doubles.
-std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7) {
-  const double h = 20.0, top = 10.0, run = h * std::tan(30.0 * kPi / 180.0), hb = 0.5 * top + run;
+// The lab lifter (20 mm high, or h_mm when worn, 10 mm top, 30/30 deg) as a scan: points every
+// 0.5 mm in x, a shell 5 mm below the original line out to 3 mm past the feet, Gaussian noise of
+// sigma_mm on y, every tenth point written twice. Returns the file text; `repeats` counts the
+// doubles.
+std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7, double h_mm = 20.0) {
+  const double h = h_mm, top = 10.0, run = h * std::tan(30.0 * kPi / 180.0), hb = 0.5 * top + run;
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma_mm);
   std::string text = "# a laser scan: the lab lifter, shell 5 mm below its original line\nx_mm,y_mm\n";
@@ -260,6 +261,30 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
 
 // The noisy scan at 2000 h: the history starts there, its stage 0 is the file's lifter
 // re-smoothed (area within the reported change), later stages are valid profiles again.
+// A worn lifter scanned with gauge noise starts from its scan re-smoothed: whatever the draw,
+// the noise the first pass takes is not refused. A scan of a fin thinner than the particles,
+// which the first pass all but removes, is, naming the file.
+TEST(WornStart, NoisyScansOfAWornLifterAreTakenAndAFinIsRefused) {
+  TempDir dir("worn-noise");
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    int repeats = 0;
+    dir.file("scan.csv", noisy_scan(0.5, repeats, seed, 8.0));
+    const std::string scene_file =
+        dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"\nstart_hours = 2000", "", 1));
+    const Scene scene = load_scene(scene_file);
+    EXPECT_NO_THROW(check_scene(scene, scene_file)) << "seed " << seed;
+  }
+  const std::string fin = dir.file("fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
+  const std::string fin_scene = dir.file("f.toml", lab_scene_text("rows = 12\nprofile = \"fin.csv\"", "", 1));
+  try {
+    check_scene(load_scene(fin_scene), fin_scene);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, fin);
+    EXPECT_EQ(e.where, "x_mm,y_mm");
+  }
+}
+
 TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
   TempDir dir("worn");
   int repeats = 0;

@@ -603,7 +603,7 @@ TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
   const Scene s = load_scene((dir / "out" / good.text(0, good.column("scene_file"))).string());
   EXPECT_FALSE(s.mill.lifter.measured.empty());
   ASSERT_EQ(bad.row_count(), 1u);
-  EXPECT_NE(bad.text(0, bad.column("reason")).find("wear.smoothing_radius"), std::string::npos)
+  EXPECT_NE(bad.text(0, bad.column("reason")).find("thinner than the particles"), std::string::npos)
       << bad.text(0, bad.column("reason"));
   fs::remove_all(dir);
 }

@@ -202,12 +202,7 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind) {
     loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
     return loss;
   }
-  // A measured lifter starts re-smoothed once. Its area is taken as the file gives it, so
-  // that what the first pass removes counts too (a scan of a fin thinner than the particles
-  // would otherwise start as a sliver and lose nothing more); its height as it starts, since
-  // the highest point of a noisy scan is a spike of the noise.
-  LifterMetrics before = measure_lifter(unit, R);
-  if (!scene.mill.kind(kind).measured.empty()) before.area_m2 = measure_lifter(new_liner_unit(scene, kind), R).area_m2;
+  const LifterMetrics before = measure_lifter(unit, R);
   try {
     const LinerUnit after = apply_wear(unit, std::vector<double>(unit.surface.size() - 1, 0.0), R, smoothing_m,
                                        scene.mill.mesh);
@@ -238,13 +233,27 @@ void check_scene(const Scene& scene, const std::string& file) {
   check_smoothing_radius(scene, file);
 }
 
-// A measured profile's lifter once re-smoothed: no part thinner than the smallest particle
-// radius (scene/limits.cpp checks a drawn profile as read).
+// A measured profile's lifter once re-smoothed: most of the scan's metal left (the first pass
+// takes the gauge's noise, a few per cent; a scan of a fin thinner than the particles would
+// start as a sliver, which the bounds on later passes cannot see), and no part thinner than
+// the smallest particle radius (scene/limits.cpp checks a drawn profile as read).
 void check_measured_features(const Scene& scene, const std::string& file, int kind) {
   const LifterProfile& p = scene.mill.kind(kind);
   const double needed = scene.smallest_particle_radius_m();
   if (p.measured.empty() || !(needed > 0.0)) return;
-  const LinerUnit unit = starting_unit(scene, kind, smoothing_radius(scene));
+  const double r = smoothing_radius(scene);
+  const LinerUnit unit = starting_unit(scene, kind, r);
+  const double scan_m2 = measure_lifter(new_liner_unit(scene, kind), scene.radius_m()).area_m2;
+  const double start_m2 = measure_lifter(unit, scene.radius_m()).area_m2;
+  if (!(start_m2 >= (1.0 - kMaxScanSmoothingLoss) * scan_m2)) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "a measured lifter the particles can see: re-smoothing the scan at %.3g mm (wear.smoothing_radius) "
+                  "takes %.0f%% of its lifter's area (%.4g of %.4g mm^2; gauge noise takes a few per cent), so most "
+                  "of it is thinner than the particles",
+                  r * 1e3, 100.0 * (1.0 - start_m2 / scan_m2), start_m2 * 1e6, scan_m2 * 1e6);
+    throw InputError(p.source_file, "x_mm,y_mm", buf);
+  }
   const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
   if (thinnest < needed) refuse_thin_lifter(scene, file, kind, needed, thinnest, true);
 }

@@ -43,6 +43,9 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind = 
 // it away without any shear work.
 constexpr double kMaxSmoothingAreaLoss = 0.05;
 constexpr double kMaxSmoothingHeightLoss = 0.05;
+// The largest share of a measured lifter's area (as scanned) the first re-smoothing, which
+// takes the gauge's noise, may remove: more, and the scan is mostly thinner than the particles.
+constexpr double kMaxScanSmoothingLoss = 0.5;
 // apply_wear merges points closer than this fraction of the lifter edge (mesh.lifter_edge_m):
 // the bound on how far a worn surface can stand outside the one before (rounding aside).
 constexpr double kSliverEdgeFraction = 0.01;
