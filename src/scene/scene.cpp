@@ -464,7 +464,7 @@ void read_outputs(const TableReader& r, Scene& s) {
 }
 
 // Checks across sections, once everything is read (profile loaded, preset applied).
-void check_scene(const Scene& s, const std::string& file) {
+void check_across_sections(const Scene& s, const std::string& file) {
   const double R = s.radius_m();
   if (s.wear.shell_wear_rate_m3_per_J > 0.0 && !s.wear.shell_wear)
     throw InputError(file, "wear.shell_wear_rate", "no shell_wear_rate with wear.shell_wear = false");
@@ -747,7 +747,7 @@ Scene read_scene(const toml::table& root, const std::string& path) {
                s, path);
 
   apply_fidelity(s, fidelity);
-  check_scene(s, path);
+  check_across_sections(s, path);
   return s;
 }
 
