@@ -66,6 +66,20 @@ TEST(SweepVary, AValueOutsideTheKeysRangeIsRefusedNamingTheVary) {
   }
 }
 
+// A value inside the key's range that breaks a limit of the scene as a whole: the refusal
+// names the limit's key and the point.
+TEST(SweepVary, APointPastAScenesLimitIsRefusedNamingThePoint) {
+  study::SweepRequest q;
+  q.scene_file = shipped("scenarios/lab-mill.toml");
+  q.vary = "wear.smoothing_radius=2,30";
+  try {
+    study::sweep_scenes(q, study::parse_vary(q.vary));
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "wear.smoothing_radius (at --vary wear.smoothing_radius=30)") << e.what();
+  }
+}
+
 // The window stepped in pieces (batches, ParaView frames) takes the same steps as in one.
 TEST(SweepCharge, FramesAndBatchesDoNotChangeTheFigures) {
   Scene s = load_scene(shipped("scenarios/lab-mill.toml"), {"run.revolutions=0.5"});

@@ -319,7 +319,12 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     s.overrides = q.overrides;  // the varied key is the sweep's, recorded apart
     if (!q.fidelity.empty()) apply_fidelity(s, q.fidelity);
     if (q.revolutions > 0.0) s.run.revolutions = q.revolutions;
-    check_scene(s, q.scene_file);
+    try {
+      check_scene(s, q.scene_file);
+    } catch (const InputError& e) {
+      // A limit this point's value breaks: name the point too.
+      throw InputError(e.file, e.where + " (at --vary " + vary + ")", e.expected);
+    }
     scenes.push_back(std::move(s));
   }
   return scenes;
