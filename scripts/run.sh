@@ -12,10 +12,12 @@ cd "$MILLWEAR_ROOT"
 ./build/millwear profile profiles/*.toml
 echo
 out="${OUT:-out/default}"
+where="$out"
+[[ "$out" == /* ]] || where="$MILLWEAR_ROOT/$out"  # a relative OUT is under the repository
 resume=()
 if [[ "${RESUME:-0}" == "1" ]]; then resume=(--resume); fi
 ./build/millwear run scenarios/sag-2x30-vs-1x30.toml -o "$out" --fidelity "${FIDELITY:-standard}" "${resume[@]}"
 echo
-echo "Figures (PNG and SVG): $MILLWEAR_ROOT/$out/plots/"
+echo "Figures (PNG and SVG): $where/plots/"
 ls "$out/plots/"*.png 2>/dev/null | sed 's/^/  /'
-echo "Table: $MILLWEAR_ROOT/$out/summary.csv   Manifest: $MILLWEAR_ROOT/$out/manifest.json"
+echo "Table: $where/summary.csv   Manifest: $where/manifest.json"
