@@ -181,6 +181,24 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
   fs::remove_all(dir);
 }
 
+// Values past what the panel's controls allow are refused with the script's line before the
+// window opens (a time scale of 1e9 hung the first frame; wear of 1e12 h overflowed a count).
+TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
+  const fs::path dir = temp_dir("script-range");
+  for (const char* bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12"}) {
+    write(dir / "s.txt", std::string("0 report\n") + bad + "\n1 quit\n");
+    const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
+    EXPECT_NE(r.err.find("line 2"), std::string::npos) << bad << "\n" << r.err;
+    EXPECT_TRUE(reports(r.out).empty()) << bad << ": the window ran";
+  }
+  // A script saved with a byte-order mark reads.
+  write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");
+  const Result ok = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "bom.txt").string()), dir);
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  fs::remove_all(dir);
+}
+
 // The power the view reads over its steady batches, and `millwear charge` on the scene the view
 // saved, measure one process: they agree within four standard errors of their difference.
 // The view's batch-means error is scaled to charge's shorter window for charge's own.

@@ -32,6 +32,18 @@ const std::map<std::string, Shape>& commands() {
   return c;
 }
 
+// The ranges of the numbers the panel's controls also bound: the time-scale slider, the trail
+// count, the wear mode's hours (the scene's operating-hours bound).
+struct Range {
+  double lo, hi;
+  bool integer;
+};
+const std::map<std::string, Range>& ranges() {
+  static const std::map<std::string, Range> r{
+      {"time_scale", {0.05, 4.0, false}}, {"trails", {0.0, 16.0, true}}, {"wear", {1e-6, 1e6, false}}};
+  return r;
+}
+
 bool is_number(const std::string& s, double& v) {
   char* end = nullptr;
   v = std::strtod(s.c_str(), &end);
@@ -47,6 +59,7 @@ std::vector<ScriptCommand> read_script(const std::string& file) {
   std::vector<ScriptCommand> out;
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
+    if (n == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::vector<std::string> w;
@@ -74,6 +87,15 @@ std::vector<ScriptCommand> read_script(const std::string& file) {
     for (int k = 0; k < std::min(na, s.numbers); ++k) {
       double v;
       if (!is_number(c.args[k], v)) throw InputError(file, where, c.name + ": a number, found '" + c.args[k] + "'");
+      if (const auto r = ranges().find(c.name); r != ranges().end()) {
+        const Range b = r->second;
+        if (v < b.lo || v > b.hi || (b.integer && v != std::floor(v))) {
+          std::ostringstream e;
+          e << c.name << ": " << (b.integer ? "a whole number" : "a number") << " in [" << b.lo << ", " << b.hi
+            << "], found '" << c.args[k] << "'";
+          throw InputError(file, where, e.str());
+        }
+      }
     }
     if (c.name == "direction" && c.args[0] != "forward" && c.args[0] != "reverse")
       throw InputError(file, where, "direction: forward or reverse, found '" + c.args[0] + "'");
