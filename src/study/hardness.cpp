@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -13,6 +14,9 @@
 namespace millwear::validation {
 
 namespace {
+
+// The smallest spread of the hardness values, max / min - 1, from which b is fitted.
+constexpr double kMinHardnessSpread = 1e-3;
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
@@ -83,9 +87,16 @@ HardnessData parse_hardness(const std::string& text, const std::string& name) {
     throw InputError(name, "line " + std::to_string(d.row_line.empty() ? 2 : d.row_line.back() + 1),
                      "at least 3 periods (two fit parameters and one degree of freedom), found " +
                          std::to_string(data.periods.size()));
-  bool varies = false;
-  for (const auto& p : data.periods) varies |= p.hardness != data.periods.front().hardness;
-  if (!varies) throw InputError(name, "column hardness", "at least two different hardness values (b is fitted from them)");
+  // b is the slope against log hardness: values that differ in their tenth digit give a slope
+  // of 1e10 and NaN for a; a tenth of a per cent is below any hardness test's resolution.
+  double lo = data.periods.front().hardness, hi = lo;
+  for (const auto& p : data.periods) {
+    lo = std::min(lo, p.hardness);
+    hi = std::max(hi, p.hardness);
+  }
+  if (!(hi >= lo * (1.0 + kMinHardnessSpread)))
+    throw InputError(name, "column hardness",
+                     "at least two hardness values 0.1% or more apart (b is fitted from their logarithms)");
   return data;
 }
 
