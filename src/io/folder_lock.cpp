@@ -51,11 +51,15 @@ KeyValues read_holder(const std::string& path) {
   return {};
 }
 
-[[noreturn]] void refuse(const std::string& folder, const std::string& path) {
+std::string holder_text(const std::string& path) {
   const KeyValues kv = read_holder(path);
   const std::string pid = find_value(kv, "pid"), command = find_value(kv, "command");
-  const std::string who = pid.empty() ? "another process (its pid could not be read from " + path + ")"
-                                      : "millwear process " + pid + (command.empty() ? "" : " (" + command + ")");
+  return pid.empty() ? "another process (its pid could not be read from " + path + ")"
+                     : "millwear process " + pid + (command.empty() ? "" : " (" + command + ")");
+}
+
+[[noreturn]] void refuse(const std::string& folder, const std::string& path) {
+  const std::string who = holder_text(path);
   throw InputError(folder, "-o",
                    "an output folder no other run is writing into, but " + who +
                        " holds its lock " + kFolderLockName +
@@ -63,6 +67,16 @@ KeyValues read_holder(const std::string& path) {
 }
 
 }  // namespace
+
+std::string folder_holder(const std::string& folder) {
+  const std::string path = join_path(folder, kFolderLockName);
+  // A read-only descriptor is enough for flock, so a run folder on a read-only disk reads.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";  // no lock file: no holder (a holder removes it as it releases)
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held ? holder_text(path) : "";
+}
 
 void check_output_folder(const std::string& path) {
   if (path.empty()) throw InputError("", "-o", "an output folder");

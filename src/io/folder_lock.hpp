@@ -23,6 +23,11 @@ constexpr const char* kFolderLockName = ".millwear.lock";
 // before any work, so that a bad -o stops every command alike.
 void check_output_folder(const std::string& path);
 
+// Who holds `folder`'s lock ("millwear process PID (COMMAND)"), or "" if no process does.
+// Takes nothing and writes nothing: for a command that only reads a run folder, which must
+// not read one still being written.
+std::string folder_holder(const std::string& folder);
+
 class FolderLock {
  public:
   // Checks the path (check_output_folder), creates the folder if needed (ensure_dir) and

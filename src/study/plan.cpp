@@ -11,6 +11,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/hash.hpp"
+#include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "io/run_outputs.hpp"
 #include "io/stage_files.hpp"
@@ -163,6 +164,9 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     throw InputError(run, "--continue", "a run folder of `millwear run` (with manifest.json)");
   if (!args.out.empty() && fs::exists(args.out, ec) && fs::equivalent(run, args.out, ec))
     throw InputError(args.out, "-o", "an output folder other than the run it continues (" + run + ")");
+  if (const std::string holder = io::folder_holder(run); !holder.empty())
+    throw InputError(run, "--continue", "a run no process is writing, but " + holder +
+                                            " holds its lock; wait for it to end");
   for (DesignInput& d : plan.designs) {
     const int last = io::last_finished_stage(run, d.name);
     if (last < 0)
