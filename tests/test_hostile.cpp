@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/names.hpp"
 #include "geometry/polyline.hpp"
+#include "io/folder_lock.hpp"
 #include "scene/filling.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
@@ -493,6 +494,28 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find(record.filename().string()), std::string::npos) << again.output;
   EXPECT_NE(again.output.find("lifter.area_m2"), std::string::npos) << again.output;
+}
+
+// --continue reads a finished run: one another process is still writing is refused, naming it.
+TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
+  const fs::path dir = scratch("continue-locked");
+  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const fs::path run = dir / "run";
+  ASSERT_EQ(run_millwear("run " + quoted(scene) + " -o " + quoted(run) + " --quiet --set wear.stages=1").exit_code, 0);
+  const std::string cont = "run " + quoted(scene) + " -o " + quoted(dir / "next") + " --quiet --continue " + quoted(run);
+  {
+    const millwear::io::FolderLock writer(run.string());  // as a run still writing into it
+    const auto r = run_millwear(cont);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("holds its lock"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "next"));
+  }
+  const auto r = run_millwear(cont);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage

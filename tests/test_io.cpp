@@ -160,6 +160,21 @@ TEST(IoFolderLock, ReleasedItLeavesTheFolderAsItFoundIt) {
   EXPECT_TRUE(fs::is_directory(dir / "b/c"));
 }
 
+// A command that only reads a run folder asks who holds it: the holder's pid while the lock
+// is held, nobody once it is released.
+TEST(IoFolderLock, TheHolderOfAFolderIsNamedWhileItHoldsIt) {
+  TempDir dir;
+  const std::string out = dir / "run";
+  fs::create_directories(out);
+  EXPECT_EQ(io::folder_holder(out), "");
+  {
+    io::FolderLock lock(out);
+    EXPECT_NE(io::folder_holder(out).find("process " + std::to_string(::getpid())), std::string::npos)
+        << io::folder_holder(out);
+  }
+  EXPECT_EQ(io::folder_holder(out), "");
+}
+
 TEST(IoFolderLock, AFolderThatCannotBeMadeIsAnInputErrorBeforeAnythingIsWritten) {
   TempDir dir;
   io::write_file_atomic(dir / "file", "a file, not a folder");

@@ -282,6 +282,21 @@ TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// A damaged designs.csv is refused naming it; the ranking already there is left as it was.
+TEST_F(ScreenRun, CollectRefusesADamagedDesignsListAndKeepsTheRanking) {
+  const fs::path out = root_ / "damaged";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  const std::string ranking = slurp(out / "ranking.csv");
+  const std::string header = slurp(out / "designs.csv").substr(0, slurp(out / "designs.csv").find('\n') + 1);
+  for (const std::string& text : {std::string("hello\x01world\n"), header}) {
+    std::ofstream(out / "designs.csv", std::ios::binary) << text;
+    const Result r = millwear_cmd("screen --collect " + q(out));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("designs.csv"), std::string::npos) << r.output;
+    EXPECT_EQ(slurp(out / "ranking.csv"), ranking);
+  }
+}
+
 namespace {
 
 // Every regular file under dir (relative path) with its modification time.

@@ -628,7 +628,10 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
   expect("# c\ndays,area_loss_mm2,hardness\n1,2,3\n2,0,3\n3,2,3\n", "line 4", "wear in [1e-9, 1e9]");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,x\n3,2,3\n", "line 3", "hardness");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,4\n", "line 4", "at least 3 periods");
-  expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,3\n3,2,3\n", "column hardness", "two different");
+  expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,3\n3,2,3\n", "column hardness", "0.1% or more apart");
+  // Values apart in their tenth digit fitted b = 3.6e10 and wrote NaN.
+  expect("days,area_loss_mm2,hardness\n1,2,13.2\n2,2.1,13.2000000001\n3,2,13.2\n", "column hardness",
+         "0.1% or more apart");
 }
 
 }  // namespace
