@@ -282,6 +282,19 @@ TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// Task numbers are checked before any task runs: an empty one (an unset array index) is not
+// task 0, and a bad one after a good one runs neither.
+TEST_F(ScreenRun, TaskNumbersAreCheckedBeforeAnyTaskRuns) {
+  const fs::path out = root_ / "tasks";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  const std::string status = slurp(out / "designs/d000/task.status");
+  for (const std::string& args : {std::string("''"), std::string("0 99"), std::string("0 x")}) {
+    const Result r = millwear_cmd("screen-task " + q(out) + " " + args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_EQ(slurp(out / "designs/d000/task.status"), status) << args << ": task 0 ran";
+  }
+}
+
 // A damaged designs.csv is refused naming it; the ranking already there is left as it was.
 TEST_F(ScreenRun, CollectRefusesADamagedDesignsListAndKeepsTheRanking) {
   const fs::path out = root_ / "damaged";

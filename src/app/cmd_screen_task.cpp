@@ -45,7 +45,16 @@ void register_screen_task(CLI::App& app, Action* action) {
       "screen-task", "Run design(s) I of a screen's OUT/designs.csv into OUT/designs/NAME (what GNU parallel and Slurm "
                      "array tasks run)");
   cmd->add_option("out", *out, "the screen's output folder")->required()->check(output_folder());
-  cmd->add_option("task", *idx, "task numbers (rows of designs.csv, from 0)")->required();
+  cmd->add_option("task", *idx, "task numbers (rows of designs.csv, from 0)")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            // Digits only: an empty argument (an unset $SLURM_ARRAY_TASK_ID) is no task 0.
+            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+              return "expected a task number 0, 1, 2, ..., got '" + text + "'";
+            return "";
+          },
+          "I", "task number"));
   cmd->callback([out, idx, action] { *action = [out, idx] { return screen_task_command(*out, *idx); }; });
 }
 

@@ -102,6 +102,10 @@ CollectOutcome collect_screen(const std::string& out, bool take_lock) {
   const std::string key_file = screen_key_path(out);
   const io::KeyValues key = io::file_exists(key_file) ? io::read_key_values(key_file) : io::KeyValues{};
   const std::vector<Candidate> designs = read_designs(out);
+  // A screen writes every valid candidate and refuses a family with none: no design is a
+  // damaged list, not a screen to rank (over the ranking already there).
+  if (designs.empty())
+    throw InputError(designs_csv(out), "line 2", "at least one design (a screen writes every valid candidate)");
   std::vector<DesignResult> results;
   for (const auto& c : designs) results.push_back(read_design_result(out, c));
   CollectOutcome o;

@@ -611,12 +611,9 @@ void write_design_tables(const std::string& out, const std::vector<Candidate>& c
 
 std::vector<Candidate> read_designs(const std::string& out) {
   const io::CsvData t = io::read_csv(designs_csv(out));
-  // Every column and a design at least, also when the file holds no row to read them from: a
-  // damaged designs.csv is refused, not read as a screen of nothing (which would rank nothing
-  // over the ranking already there).
+  // Every column, also when the file holds no row to read them from: a damaged designs.csv is
+  // refused, not read as a screen of nothing.
   for (const std::string& col : kDesignColumns) t.column(col);
-  if (t.row_count() == 0)
-    throw InputError(t.path, "line " + std::to_string(t.header_line + 1), "at least one design (a screen writes every valid one)");
   std::vector<Candidate> v;
   for (std::size_t r = 0; r < t.row_count(); ++r) {
     Candidate c;

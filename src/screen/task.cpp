@@ -91,6 +91,11 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
 int run_screen_tasks(const std::string& out, const std::vector<int>& indices, const TaskOptions& options,
                      const std::function<void(const TaskOutcome&)>& on_task) {
   const std::vector<Candidate> designs = read_designs(out);
+  // Every task number before the first task runs: a bad one is refused with nothing run.
+  for (int i : indices)
+    if (i < 0 || i >= static_cast<int>(designs.size()))
+      throw InputError(designs_csv(out), "I",
+                       "task numbers in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(i));
   int worst = 0;
   for (int i : indices) {
     const TaskOutcome o = run_screen_task(out, designs, i, options);
