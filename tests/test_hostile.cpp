@@ -455,6 +455,13 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("afile"), std::string::npos) << r.output;
   }
+  // An output file (animate's GIF) is written after the simulation: its path is checked first.
+  fs::create_directories(dir / "folder.gif");
+  for (const fs::path& gif : {dir / "afile" / "a.gif", dir / "folder.gif"}) {
+    const auto r = run_millwear("animate " + lab + " -o " + quoted(gif));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+  }
   // validate finds that --from holds no run only once it holds its output folder, which must
   // not outlive the refusal.
   const fs::path surveys = dir / "areas.csv";

@@ -8,6 +8,7 @@
 
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "study/animation.hpp"
 
@@ -37,7 +38,7 @@ void register_animate(CLI::App& app, Action* action) {
       "animation steps through the finished stages' worn liners, coloured by wear rate\n"
       "(mm per 1000 h). Needs gnuplot with the gif terminal.");
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required();
-  cmd->add_option("-o,--out", args->out, "output file, FILE.gif")->required();
+  cmd->add_option("-o,--out", args->out, "output file, FILE.gif")->required()->check(output_file());
   cmd->add_option("--seconds", args->seconds, "simulated seconds shown (default 3)")
       ->check(finite_in(0.1, 60.0));
   cmd->add_option("--frames", args->frames, "frames in the GIF (default 60)")->check(CLI::Range(10, 200));

@@ -4,6 +4,7 @@
 // parsed, before any work, with one message for every command.
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <string>
 
 #include "common/errors.hpp"
@@ -22,6 +23,25 @@ inline CLI::Validator output_folder() {
         return "";
       },
       "FOLDER", "output folder");
+}
+
+// An output file's option (animate -o FILE.gif, view --screenshot FILE.png): not a folder, and
+// in a folder that exists or can be made and is writable, checked before any work (the file is
+// written last, after the simulation).
+inline CLI::Validator output_file() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        if (std::filesystem::is_directory(path, ec)) return path + ": an output file, but a folder of that name exists";
+        const std::string folder = std::filesystem::path(path).parent_path().string();
+        try {
+          io::check_output_folder(folder.empty() ? "." : folder);
+        } catch (const InputError& e) {
+          return path + ": an output file in " + e.expected;
+        }
+        return "";
+      },
+      "FILE", "output file");
 }
 
 }  // namespace millwear::app
