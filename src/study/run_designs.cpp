@@ -566,6 +566,14 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
     io::write_manifest(report_of(ctx, opt, true));
   }
+  if (!interrupted && opt.stop_signal && opt.stop_signal->load() != 0) {
+    // Stopped while the figures were drawn (Ctrl-C reaches gnuplot too): an interruption, not
+    // a figure that failed. Every stage is on disk; --resume draws the figures again.
+    outcome.interrupted = true;
+    outcome.signal = opt.stop_signal->load();
+    outcome.figures_failed = false;
+    outcome.figure_error.clear();
+  }
   outcome.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
   return outcome;
 
