@@ -525,6 +525,26 @@ TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// A run of another mill under the same design name (here 10 rows, the scene 12) is refused by
+// the commands that draw on a finished run, naming it; the scene's own run is taken.
+TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
+  const fs::path dir = scratch("other-mill");
+  const fs::path scene = lab_mill_with_profile(dir, kSource + "/profiles/lab-2x30.toml");
+  std::string ten = read_text(scene);
+  ten.replace(ten.find("rows = 12"), 9, "rows = 10");
+  write(dir / "ten.toml", ten);
+  const fs::path run = dir / "run10";
+  ASSERT_EQ(run_millwear("run " + quoted(dir / "ten.toml") + " -o " + quoted(run) + " --quiet --fidelity draft --set wear.stages=1")
+                .exit_code,
+            0);
+  const auto a = run_millwear("animate " + quoted(scene) + " --history " + quoted(run) + " -o " + quoted(dir / "a.gif"));
+  expect_refused(a, run.string(), "--history", dir / "a.gif");
+  const auto v = run_millwear("validate " + quoted(scene) + " --measured " +
+                              quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " --from " + quoted(run) +
+                              " -o " + quoted(dir / "v"));
+  expect_refused(v, run.string(), "--from", dir / "v");
+}
+
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
 // file, which is what the file means, and the run resumes from it.
 TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -392,6 +393,24 @@ void write_liner_csv(const std::string& out, const std::string& design, const Sc
   for (double w : rec.edge_wear_rate_m_per_s) rate.push_back(mm_per_1000h(w));
   write_liner_table(liner_path(out, design), mill, rec.mill_angle_rad, "wear_rate_mm_per_1000h", rate, rec.stage,
                     rec.hours, snapshot_marks(rec.charge.summary, rec.snapshot.mill_speed_rad_s));
+}
+
+void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std::string& run,
+                          const std::string& option) {
+  if (rec.units.empty()) return;  // a worn-out marker holds no liner
+  const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
+  const auto kinds = static_cast<std::size_t>(scene.mill.kind_count());
+  double width = 0.0;
+  for (const LinerUnit& u : rec.units)
+    if (!u.surface.empty()) width = std::max(width, u.surface.back().x - u.surface.front().x);
+  if (rec.units.size() == kinds && std::abs(width - pitch) <= 1e-6 * pitch) return;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "a run of this scene's mill (%zu lifter kind(s), %d rows, %.4g m): its stage %d of design '%s' has "
+                "%zu liner unit(s) %.1f mm wide, where the scene's pitch is %.1f mm",
+                kinds, scene.mill.rows, scene.mill.diameter_m, rec.stage, scene.name.c_str(), rec.units.size(),
+                width * 1e3, pitch * 1e3);
+  throw InputError(run, option, buf);
 }
 
 }  // namespace millwear::io

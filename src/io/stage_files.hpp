@@ -25,6 +25,12 @@ namespace millwear::io {
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec);
 // Reads stage K back. Throws InputError naming the file if anything is missing or bad.
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage);
+// A command that draws on a finished run (validate --from, animate --history) with a scene:
+// throws InputError(run, option, ...) unless stage `rec` of the run is of this scene's mill,
+// one liner unit per lifter kind, each one pitch (2 pi R / rows) wide. A run of another mill
+// or row count under the same design name is refused, not drawn on.
+void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std::string& run,
+                          const std::string& option);
 // The state files and marker of stage K of a design that are on disk (paths under OUT).
 std::vector<std::string> stage_state_files(const std::string& out, const std::string& design, int stage);
 // Deletes the state files and marker of every stage of a design (a fresh run).

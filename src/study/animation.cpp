@@ -81,12 +81,16 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
   std::vector<Segment> segments;
   for (int k = 0; k <= last; ++k) {
     StageRecord rec = io::read_stage_state(history, scene.name, k);
+    io::check_stage_of_scene(rec, scene, history, "--history");
     if (rec.units.empty() || rec.edge_wear_rate_m_per_s.empty()) continue;  // worn-out marker
     Segment s;
     s.mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+    if (rec.edge_wear_rate_m_per_s.size() != s.mill.boundary.size())
+      throw InputError(io::stages_dir(history), scene.name + "_stage" + std::to_string(k) + ".edges.csv",
+                       "one wear rate per liner edge, " + std::to_string(s.mill.boundary.size()) + ", found " +
+                           std::to_string(rec.edge_wear_rate_m_per_s.size()));
     s.edge_value = rec.edge_wear_rate_m_per_s;
     for (double& v : s.edge_value) v = mm_per_1000h(v);
-    s.edge_value.resize(s.mill.boundary.size(), 0.0);
     s.stage = k;
     s.hours = rec.hours;
     segments.push_back(std::move(s));

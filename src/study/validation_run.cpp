@@ -43,7 +43,10 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateReques
   HistorySource src = history_source(scene, a, measured);
   if (src.from_run) {
     std::vector<StageRecord> stages;
-    for (int s = 0; s <= src.last_stage; ++s) stages.push_back(io::read_stage_state(a.from, scene.name, s));
+    for (int s = 0; s <= src.last_stage; ++s) {
+      stages.push_back(io::read_stage_state(a.from, scene.name, s));
+      io::check_stage_of_scene(stages.back(), scene, a.from, "--from");
+    }
     src.reached_hours = stages.back().hours;
     const std::vector<double> hours = measured.hours();
     const std::vector<std::size_t> lines = measured.lines();
