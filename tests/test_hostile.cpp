@@ -55,6 +55,15 @@ std::string lab_mill_with(const std::string& from, const std::string& to) {
   return s;
 }
 
+// tests/data/lab-quick.toml (the lab mill at draft, two 50 h stages) with its profile found
+// from anywhere.
+std::string lab_quick() {
+  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  return s;
+}
+
 // The lab mill scene with `profile` (a file in dir) as its lifter, written as dir/scene.toml.
 fs::path lab_mill_with_profile(const fs::path& dir, const std::string& profile) {
   std::string s = lab_mill_with("", "");
@@ -241,9 +250,7 @@ TEST(HostileFilling, AFillingOfNoDiskIsRefused) {
 // infinite life.
 TEST(HostileRule1, AContinuousRunStoppedByRuleOneExitsOne) {
   const fs::path dir = scratch("rule1");
-  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
-  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  std::string s = lab_quick();
   s.replace(s.find("mode = \"staged\""), 15, "mode = \"continuous\"");
   const auto f = s.find("factor = ");
   s.replace(f, s.find('\n', f) - f, "factor = 1e9");
@@ -480,9 +487,7 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
 // not carried into summary.csv as a figure.
 TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   const fs::path dir = scratch("stage-nan");
-  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
-  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  std::string s = lab_quick();
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
   const fs::path out = dir / "out";
@@ -506,9 +511,7 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
 // --continue reads a finished run: one another process is still writing is refused, naming it.
 TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
   const fs::path dir = scratch("continue-locked");
-  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
-  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  std::string s = lab_quick();
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
   const fs::path run = dir / "run";
@@ -549,9 +552,7 @@ TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
 // file, which is what the file means, and the run resumes from it.
 TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {
   const fs::path dir = scratch("stage-centrifuged");
-  std::string s = read_text(kSource + "/tests/data/lab-quick.toml");
-  const std::string prof = "\"../../profiles/lab-2x30.toml\"";
-  s.replace(s.find(prof), prof.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  std::string s = lab_quick();
   s.replace(s.find("speed = 0.75"), 12, "speed = 1.60");
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
