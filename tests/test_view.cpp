@@ -199,6 +199,23 @@ TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
   fs::remove_all(dir);
 }
 
+// A script's files go into folders it names, made as a recording's are; a command that cannot
+// do its work names the script's line.
+TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
+  const fs::path dir = temp_dir("script-files");
+  write(dir / "s.txt", "0.2 save_scene " + (dir / "out/edited.toml").string() + "\n0.2 screenshot " +
+                          (dir / "shots/a.png").string() + "\n0.4 quit\n");
+  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out/edited.toml"));
+  EXPECT_TRUE(fs::exists(dir / "shots/a.png"));
+  write(dir / "p.txt", "0 report\n0.2 save_profiles " + (dir / "prof").string() + "\n0.4 quit\n");
+  const Result p = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "p.txt").string()), dir);
+  EXPECT_EQ(p.exit_code, 1) << p.err;
+  EXPECT_NE(p.err.find("script line 2, save_profiles"), std::string::npos) << p.err;
+  fs::remove_all(dir);
+}
+
 // The power the view reads over its steady batches, and `millwear charge` on the scene the view
 // saved, measure one process: they agree within four standard errors of their difference.
 // The view's batch-means error is scaled to charge's shorter window for charge's own.

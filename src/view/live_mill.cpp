@@ -327,6 +327,7 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
   if (!fidelity_.empty()) edits.push_back({"", "fidelity", "\"" + fidelity_ + "\"", {}});
   const std::string text = edited_scene_text(text_, scene_file_, edits, out_dir,
                                              "Scene saved by millwear view from " + scene_file_);
+  io::ensure_dir(out_dir);  // `save_scene out/lab-edited.toml` makes out/, as a recording does
   if (!lifter_file.empty()) {
     io::write_file_atomic(lifter_file, edited_profile_text_);
     written.push_back(lifter_file);

@@ -413,30 +413,36 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
       const ScriptCommand& c = script[next_command++];
       auto num = [&c](int k) { return std::strtod(c.args[static_cast<std::size_t>(k)].c_str(), nullptr); };
       std::string refused;
-      if (c.name == "speed") refused = live.set_speed(num(0));
-      else if (c.name == "filling") refused = live.set_filling(num(0), c.args.size() > 1 ? num(1) : live.scene().charge.ball_filling);
-      else if (c.name == "direction") refused = live.set_direction(c.args[0] == "reverse");
-      else if (c.name == "profile") refused = live.set_profile(c.args[0]);
-      else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
-      else if (c.name == "pause") live.set_paused(true);
-      else if (c.name == "resume") live.set_paused(false);
-      else if (c.name == "reset") live.reset();
-      else if (c.name == "time_scale") live.set_time_scale(num(0));
-      else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
-      else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
-      else if (c.name == "wear") refused = live.start_wear(num(0));
-      else if (c.name == "wait_wear") live.wait_wear();
-      else if (c.name == "save_scene") {
-        for (const auto& f : live.save_scene(c.args[0]))
-          if (hooks.notice) hooks.notice("wrote " + f);
-      } else if (c.name == "save_profiles") {
-        live.write_wear_profiles(c.args[0]);
-        if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
-      } else if (c.name == "screenshot") shot_now = c.args[0];
-      else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
-      else if (c.name == "stop_record") ui.recording = false;
-      else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
-      else if (c.name == "quit") quit = true;
+      try {
+        if (c.name == "speed") refused = live.set_speed(num(0));
+        else if (c.name == "filling") refused = live.set_filling(num(0), c.args.size() > 1 ? num(1) : live.scene().charge.ball_filling);
+        else if (c.name == "direction") refused = live.set_direction(c.args[0] == "reverse");
+        else if (c.name == "profile") refused = live.set_profile(c.args[0]);
+        else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
+        else if (c.name == "pause") live.set_paused(true);
+        else if (c.name == "resume") live.set_paused(false);
+        else if (c.name == "reset") live.reset();
+        else if (c.name == "time_scale") live.set_time_scale(num(0));
+        else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
+        else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
+        else if (c.name == "wear") refused = live.start_wear(num(0));
+        else if (c.name == "wait_wear") live.wait_wear();
+        else if (c.name == "save_scene") {
+          for (const auto& f : live.save_scene(c.args[0]))
+            if (hooks.notice) hooks.notice("wrote " + f);
+        } else if (c.name == "save_profiles") {
+          live.write_wear_profiles(c.args[0]);
+          if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
+        } else if (c.name == "screenshot") shot_now = c.args[0];
+        else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
+        else if (c.name == "stop_record") ui.recording = false;
+        else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
+        else if (c.name == "quit") quit = true;
+      } catch (const InputError& e) {  // what the command could not do names the script's line
+        throw InputError(e.file, e.where, e.expected + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
+      } catch (const RunError& e) {
+        throw RunError(std::string(e.what()) + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
+      }
       if (!refused.empty()) {
         ++out.refused;
         ui.message = refused;
