@@ -629,6 +629,9 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,x\n3,2,3\n", "line 3", "hardness");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,4\n", "line 4", "at least 3 periods");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,3\n3,2,3\n", "column hardness", "0.1% or more apart");
+  expect("period,days,area_loss_mm2,hardness\n1,1,2,3\n1,1,2,4\n3,1,2,5\n", "line 3", "each period once");
+  expect("period,days,area_loss_mm2,hardness\n1,1,2,3\n3,1,2,4\n2,1,2,5\n", "line 4", "time order");
+  expect("period,days,area_loss_mm2,hardness\n1,1,2,3\n,1,2,4\n3,1,2,5\n", "line 3", "period label");
   // Values apart in their tenth digit fitted b = 3.6e10 and wrote NaN.
   expect("days,area_loss_mm2,hardness\n1,2,13.2\n2,2.1,13.2000000001\n3,2,13.2\n", "column hardness",
          "0.1% or more apart");

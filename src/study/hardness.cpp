@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 
 #include "common/errors.hpp"
@@ -65,6 +66,24 @@ HardnessData parse_hardness(const std::string& text, const std::string& name) {
     p.line = d.row_line[r];
     const std::string where = "line " + std::to_string(p.line);
     p.label = labelled ? trim(d.text(r, d.column("period"))) : std::to_string(r + 1);
+    // One row per period, in time order: a label given twice, or blank, is a copy-paste slip,
+    // and numbered periods must count up (the periods' start times follow the rows).
+    if (labelled) {
+      if (p.label.empty()) throw InputError(name, where, "a period label in column period");
+      for (const auto& q : data.periods)
+        if (q.label == p.label)
+          throw InputError(name, where, "each period once; period " + p.label + " is on line " + std::to_string(q.line) + " too");
+      char* end = nullptr;
+      const double num = std::strtod(p.label.c_str(), &end);
+      if (*end == '\0' && !data.periods.empty()) {
+        const std::string& prev = data.periods.back().label;
+        char* pend = nullptr;
+        const double pnum = std::strtod(prev.c_str(), &pend);
+        if (*pend == '\0' && !(num > pnum))
+          throw InputError(name, where, "periods in time order, each row after the one before; period " + p.label +
+                                            " follows period " + prev);
+      }
+    }
     p.length = d.number(r, ct);
     p.wear = d.number(r, cw);
     p.hardness = d.number(r, ch);
