@@ -19,6 +19,13 @@ namespace {
 // The smallest spread of the hardness values, max / min - 1, from which b is fitted.
 constexpr double kMinHardnessSpread = 1e-3;
 
+// A period label that is a number (periods 1, 2, 3 ...), as that number.
+bool label_number(const std::string& label, double& v) {
+  char* end = nullptr;
+  v = std::strtod(label.c_str(), &end);
+  return !label.empty() && *end == '\0';
+}
+
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");
   if (b == std::string::npos) return "";
@@ -73,16 +80,11 @@ HardnessData parse_hardness(const std::string& text, const std::string& name) {
       for (const auto& q : data.periods)
         if (q.label == p.label)
           throw InputError(name, where, "each period once; period " + p.label + " is on line " + std::to_string(q.line) + " too");
-      char* end = nullptr;
-      const double num = std::strtod(p.label.c_str(), &end);
-      if (*end == '\0' && !data.periods.empty()) {
-        const std::string& prev = data.periods.back().label;
-        char* pend = nullptr;
-        const double pnum = std::strtod(prev.c_str(), &pend);
-        if (*pend == '\0' && !(num > pnum))
-          throw InputError(name, where, "periods in time order, each row after the one before; period " + p.label +
-                                            " follows period " + prev);
-      }
+      double num = 0.0, prev = 0.0;
+      if (!data.periods.empty() && label_number(p.label, num) && label_number(data.periods.back().label, prev) &&
+          !(num > prev))
+        throw InputError(name, where, "periods in time order, each row after the one before; period " + p.label +
+                                          " follows period " + data.periods.back().label);
     }
     p.length = d.number(r, ct);
     p.wear = d.number(r, cw);
