@@ -484,7 +484,8 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
 // ---- files read back -------------------------------------------------------------------------
 
 // A stage file that says "nan" is a damaged file: refused on --resume naming file and key,
-// not carried into summary.csv as a figure.
+// not carried into summary.csv as a figure. The marker's content hash of the record is taken
+// out, as a marker without hashes is taken as it is: the numbers themselves are checked too.
 TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   const fs::path dir = scratch("stage-nan");
   std::string s = lab_quick();
@@ -502,10 +503,47 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   ASSERT_NE(at, std::string::npos) << text;
   text.replace(at, text.find('\n', at) - at, "lifter.area_m2=nan");
   write(record, text);
+  const fs::path marker = out / "stages" / (record.stem().string() + ".done");
+  std::string kv = read_text(marker);
+  const auto hash = kv.find("hash.record=");
+  ASSERT_NE(hash, std::string::npos) << kv;
+  kv.erase(hash, kv.find('\n', hash) + 1 - hash);
+  write(marker, kv);
   const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
   EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find(record.filename().string()), std::string::npos) << again.output;
   EXPECT_NE(again.output.find("lifter.area_m2"), std::string::npos) << again.output;
+}
+
+// A state file cut at a line end still parses (fewer disks, fewer liner points) and would
+// resume from other numbers: its marker's content hash refuses it, naming the file, for
+// every command that reads a finished run's stages. A file left as written resumes.
+TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
+  const fs::path dir = scratch("stage-cut");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet").exit_code, 0);
+  for (const std::string ext : {".charge.csv", ".units.csv"}) {
+    const fs::path file = out / "stages" / ("lab-quick_stage1" + ext);
+    ASSERT_TRUE(fs::exists(file)) << file;
+    const std::string whole = read_text(file);
+    // The last three lines gone: what is left ends at a line end.
+    std::size_t cut = whole.size() - 1;
+    for (int k = 0; k < 3; ++k) cut = whole.rfind('\n', cut - 1);
+    write(file, whole.substr(0, cut + 1));
+    const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+    EXPECT_EQ(again.exit_code, 2) << again.output;
+    EXPECT_NE(again.output.find(file.filename().string()), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("changed or cut"), std::string::npos) << again.output;
+    const auto cont = run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "next") + " --quiet --continue " +
+                                   quoted(out) + " --stage 1");
+    EXPECT_EQ(cont.exit_code, 2) << cont.output;
+    EXPECT_NE(cont.output.find(file.filename().string()), std::string::npos) << cont.output;
+    write(file, whole);
+  }
+  const auto intact = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(intact.exit_code, 0) << intact.output;
 }
 
 // --continue reads a finished run: one another process is still writing is refused, naming it.

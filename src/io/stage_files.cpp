@@ -14,6 +14,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "mill/mill.hpp"
 
@@ -128,7 +129,7 @@ struct Reader {
 
 // A charge state as exact CSV (one row per disk); the mill's angle, speed and time go in the
 // record's key-values.
-void write_charge_csv(const ChargeState& st, const std::string& path) {
+io::CsvTable charge_table(const ChargeState& st) {
   io::CsvTable charge({"x_m", "y_m", "vx_m_s", "vy_m_s", "angle_rad", "spin_rad_s", "radius_m",
                        "mass_kg", "species", "active"},
                       kExact);
@@ -136,11 +137,10 @@ void write_charge_csv(const ChargeState& st, const std::string& path) {
     charge.add_row({st.position_m[i].x, st.position_m[i].y, st.velocity_m_s[i].x,
                     st.velocity_m_s[i].y, st.angle_rad[i], st.spin_rad_s[i], st.radius_m[i],
                     st.mass_kg[i], static_cast<int>(st.species[i]), static_cast<int>(st.active[i])});
-  charge.write(path);
+  return charge;
 }
 
-void read_charge_csv(const std::string& path, ChargeState& st) {
-  io::CsvData ch = read_csv(path);
+void read_charge_table(const io::CsvData& ch, ChargeState& st) {
   const auto ac = ch.finite_numbers("active");
   // A disk lost to a non-finite state stays in the file as it was, inactive: only the active
   // disks' numbers must be finite.
@@ -164,33 +164,59 @@ void read_charge_csv(const std::string& path, ChargeState& st) {
   }
 }
 
+// The key of a stage marker that holds a state file's content hash: "hash.units.csv".
+std::string hash_key(const std::string& ext) { return "hash" + ext; }
+
+// Writes one state file of a stage and notes its content hash for the marker.
+void write_state_file(const std::string& base, const std::string& ext, const std::string& content,
+                      io::KeyValues& hashes) {
+  write_file_atomic(base + ext, content);
+  hashes.emplace_back(hash_key(ext), stable_hash_hex(content));
+}
+
+// A state file of a finished stage, checked against the content hash its marker records:
+// a file changed or cut after the stage finished (even at a line end, where it would still
+// parse) is refused by name instead of resuming from other numbers. A marker without
+// hashes is taken as it is.
+std::string read_state_file(const std::string& base, const std::string& ext, const io::KeyValues& marker,
+                            const std::string& marker_path) {
+  std::string content = read_file(base + ext);
+  const std::string recorded = find_value(marker, hash_key(ext));
+  if (!recorded.empty() && recorded != stable_hash_hex(content))
+    throw InputError(base + ext, "",
+                     "the content recorded in " + marker_path +
+                         " (the file was changed or cut after its stage finished)");
+  return content;
+}
+
 }  // namespace
 
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec_in) {
   StageRecord rec = rec_in;  // the field table wants a mutable record; copies are cheap enough
   const std::string base = stage_base(out, design, rec.stage);
   ensure_dir(stages_dir(out));
+  io::KeyValues hashes;
 
   io::CsvTable units({"unit", "x_m", "y_m"}, kExact);
   for (std::size_t u = 0; u < rec.units.size(); ++u)
     for (const Vec2& p : rec.units[u].surface) units.add_row({u, p.x, p.y});
-  units.write(base + ".units.csv");
+  write_state_file(base, ".units.csv", units.str(), hashes);
 
   io::CsvTable spec({"bin", "count_per_s", "energy_W"}, kExact);
   const std::size_t nbins = std::max(rec.spectrum_count_per_s.size(), rec.spectrum_energy_W.size());
   for (std::size_t k = 0; k < nbins; ++k)
     spec.add_row({k, k < rec.spectrum_count_per_s.size() ? rec.spectrum_count_per_s[k] : 0.0,
                   k < rec.spectrum_energy_W.size() ? rec.spectrum_energy_W[k] : 0.0});
-  spec.write(base + ".spectrum.csv");
+  write_state_file(base, ".spectrum.csv", spec.str(), hashes);
 
   io::CsvTable edges({"edge", "wear_rate_m_per_s"}, kExact);
   for (std::size_t e = 0; e < rec.edge_wear_rate_m_per_s.size(); ++e)
     edges.add_row({e, rec.edge_wear_rate_m_per_s[e]});
-  edges.write(base + ".edges.csv");
+  write_state_file(base, ".edges.csv", edges.str(), hashes);
 
-  write_charge_csv(rec.snapshot, base + ".charge.csv");
+  write_state_file(base, ".charge.csv", charge_table(rec.snapshot).str(), hashes);
   const bool carried = rec.start_charge.size() > 0;
-  if (carried) write_charge_csv(rec.start_charge, base + ".start.csv");
+  if (carried) write_state_file(base, ".start.csv", charge_table(rec.start_charge).str(), hashes);
 
   io::KeyValues kv;
   kv.emplace_back("stage", std::to_string(rec.stage));
@@ -219,21 +245,26 @@ void write_stage_state(const std::string& out, const std::string& design, const 
     kv.emplace_back("start.mill_speed_rad_s", format_exact(rec.start_charge.mill_speed_rad_s));
     kv.emplace_back("start.time_s", format_exact(rec.start_charge.time_s));
   }
-  write_file_atomic(base + ".record", format_key_values(kv, "millwear stage record (exact)"));
+  write_state_file(base, ".record", format_key_values(kv, "millwear stage record (exact)"), hashes);
 
-  // Last: the marker says every file above is complete.
-  write_stage_done(out, design, rec.stage,
-                       {{"hours", format_number(rec.hours)},
-                        {"wall_s", format_number(rec.wall_s, 6)},
-                        {"files", design + "_stage" + std::to_string(rec.stage) +
-                                      ".{record,units.csv,spectrum.csv,edges.csv,charge.csv" +
-                                      (carried ? ",start.csv}" : "}")}});
+  // Last: the marker says every file above is complete, and holds their content hashes.
+  io::KeyValues marker{{"hours", format_number(rec.hours)},
+                       {"wall_s", format_number(rec.wall_s, 6)},
+                       {"files", design + "_stage" + std::to_string(rec.stage) +
+                                     ".{record,units.csv,spectrum.csv,edges.csv,charge.csv" +
+                                     (carried ? ",start.csv}" : "}")}};
+  marker.insert(marker.end(), hashes.begin(), hashes.end());
+  write_stage_done(out, design, rec.stage, marker);
 }
 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
   const std::string base = stage_base(out, design, stage);
+  const std::string marker_path = stage_done_marker(out, design, stage);
+  const io::KeyValues marker = file_exists(marker_path) ? read_key_values(marker_path) : io::KeyValues{};
+  const auto read_state = [&](const std::string& ext) { return read_state_file(base, ext, marker, marker_path); };
+  const auto read_state_csv = [&](const std::string& ext) { return parse_csv(read_state(ext), base + ext); };
   StageRecord rec;
-  Reader r{read_key_values(base + ".record"), base + ".record"};
+  Reader r{parse_key_values(read_state(".record"), base + ".record"), base + ".record"};
   rec.stage = static_cast<int>(r.integer("stage"));
   if (rec.stage != stage) throw InputError(r.path, "stage", "stage=" + std::to_string(stage));
   const long long nunits = r.integer("units");
@@ -261,7 +292,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
       rec.kind_area_loss_rate_rel_sem.push_back(r.number(pre + "area_loss_rate_rel_sem"));
   }
 
-  io::CsvData units = read_csv(base + ".units.csv");
+  io::CsvData units = read_state_csv(".units.csv");
   {
     const std::size_t uc = units.column("unit"), xc = units.column("x_m"), yc = units.column("y_m");
     for (std::size_t i = 0; i < units.row_count(); ++i) {
@@ -272,15 +303,15 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
       rec.units[static_cast<std::size_t>(u)].surface.push_back({units.finite_number(i, xc), units.finite_number(i, yc)});
     }
   }
-  io::CsvData spec = read_csv(base + ".spectrum.csv");
+  io::CsvData spec = read_state_csv(".spectrum.csv");
   rec.spectrum_count_per_s = spec.finite_numbers("count_per_s");
   rec.spectrum_energy_W = spec.finite_numbers("energy_W");
-  rec.edge_wear_rate_m_per_s = read_csv(base + ".edges.csv").finite_numbers("wear_rate_m_per_s");
+  rec.edge_wear_rate_m_per_s = read_state_csv(".edges.csv").finite_numbers("wear_rate_m_per_s");
 
-  read_charge_csv(base + ".charge.csv", rec.snapshot);
+  read_charge_table(read_state_csv(".charge.csv"), rec.snapshot);
   // A stage that started from the previous stage's charge has it in .start.csv.
   if (file_exists(base + ".start.csv")) {
-    read_charge_csv(base + ".start.csv", rec.start_charge);
+    read_charge_table(read_state_csv(".start.csv"), rec.start_charge);
     rec.start_charge.mill_angle_rad = r.number("start.mill_angle_rad");
     rec.start_charge.mill_speed_rad_s = r.number("start.mill_speed_rad_s");
     rec.start_charge.time_s = r.number("start.time_s");
