@@ -430,6 +430,36 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
   }
 }
 
+// Lifters so tall that the charge has no room inside their tips: every command refuses the
+// scene up front (exit 2, naming charge.filling and the largest filling that fits), where the
+// fill used to find out inside a design's thread (run: the design failed, exit 1; rule1:
+// aborted). A filling under that bound runs.
+TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand) {
+  const fs::path dir = scratch("no-room");
+  write(dir / "tall.toml",
+        "name = \"tall\"\nform = \"trapezoid\"\nheight = 145.0\ntop_width = 30.0\n"
+        "leading_face_angle = 0.0\ntrailing_face_angle = 0.0\n");
+  std::string s = lab_quick();
+  const std::string prof = "\"" + kSource + "/profiles/lab-2x30.toml\"";
+  s.replace(s.find(prof), prof.size(), quoted(dir / "tall.toml"));
+  s.replace(s.find("rows = 12"), 9, "rows = 8");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const std::string sc = quoted(scene);
+  for (const std::string cmd : {"run " + sc + " --check -o ", "run " + sc + " -q -o ", "charge " + sc + " -o ",
+                                "rule1 " + sc + " --factors 1e5 2e5 -o ", "tradeoff " + sc + " --quick -o "}) {
+    const auto r = run_millwear(cmd + quoted(dir / "out"));
+    expect_refused(r, scene.string(), "charge.filling", dir / "out");
+    EXPECT_NE(r.output.find("a filling of at most 0.19"), std::string::npos) << r.output;
+  }
+  std::string fits = s;
+  fits.replace(fits.find("filling = 0.3"), 13, "filling = 0.18");
+  fits.replace(fits.find("ball_filling = 0.3"), 18, "ball_filling = 0.18");
+  write(scene, fits);
+  const auto r = run_millwear("charge " + sc + " --revolutions 0.2 -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

@@ -70,9 +70,10 @@ double segment_area_below(double r, double h) {
 ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
   std::mt19937_64 rng(scene.solver.seed);
   const double R = mill.radius_m;
-  // The disk counts before anything is placed (every command checks all the limits on its
-  // own too, before it writes anything).
+  // The disk counts, and room for them inside the lifter tips, before anything is placed
+  // (every command checks all the limits on its own too, before it writes anything).
   check_filling(scene, scene.source_file);
+  check_charge_fits(scene, mill, scene.source_file);
   std::vector<DiskDraw> draws = draw_sizes(scene, rng);
   ChargeState s;
   s.mill_speed_rad_s = 0.0;
@@ -85,9 +86,6 @@ ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
   const double r_place = tip_radius - 0.05 * d_max;
   double solid = 0.0;
   for (const auto& d : draws) solid += 0.25 * kPi * d.diameter_m * d.diameter_m;
-  if (solid > 0.6 * kPi * r_place * r_place)
-    throw InputError(scene.source_file, "charge.filling",
-                     "a charge that fits inside the lifter tips (asked for more than 60% of it)");
 
   // Region below y_top holding about 2.5x the solid area: loose enough for quick RSA.
   double lo = -r_place, hi = r_place;

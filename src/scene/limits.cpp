@@ -2,6 +2,7 @@
 // docs/stability.md).
 #include "scene/limits.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -199,12 +200,39 @@ void check_liner_size(const Scene& scene, const std::string& file) {
                        count_text(lifters) + " on the lifters)");
 }
 
+void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::string& file) {
+  double tip_radius = mill.radius_m;
+  for (const Vec2& p : mill.boundary) tip_radius = std::min(tip_radius, length(p));
+  const double r_place = tip_radius - 0.05 * 2.0 * scene.largest_particle_radius_m();
+  const auto placed = scene.species_as_placed();
+  double solid_m2 = 0.0;
+  for (std::size_t k = 0; k < placed.size(); ++k)
+    if (scene.species_in_use(placed[k])) solid_m2 += species_area_m2(scene, k);
+  const double room_m2 = kMaxTipCircleShare * kPi * r_place * r_place;
+  if (r_place > 0.0 && solid_m2 <= room_m2) return;
+  // The disks' area is proportional to the filling (balls to ball_filling): both scale alike.
+  const double scale = r_place > 0.0 ? room_m2 / solid_m2 : 0.0;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a charge that fits inside the lifter tips: its disks (%.4g m^2 at this filling) may take %.0f%% of "
+                "the circle through the tips (radius %.4g mm), %.4g m^2; a filling of at most %.3g",
+                solid_m2, 100.0 * kMaxTipCircleShare, tip_radius * 1e3, std::max(0.0, room_m2),
+                scene.charge.filling * scale);
+  std::string expected = buf;
+  if (scene.charge.ball_filling > 0.0) {
+    std::snprintf(buf, sizeof buf, " with a ball_filling of at most %.3g", scene.charge.ball_filling * scale);
+    expected += buf;
+  }
+  throw InputError(file, "charge.filling", expected);
+}
+
 void check_run_limits(const Scene& scene, const std::string& file) {
   check_step_counts(scene, file);
   check_filling(scene, file);
   check_liner_size(scene, file);
   check_numerical_limits(scene, file);
   check_profile_features(scene, file);
+  check_charge_fits(scene, build_scene_mill(scene), file);
 }
 
 }  // namespace millwear

@@ -61,6 +61,11 @@ void check_profile_features(const Scene& scene, const std::string& file);
 void check_step_counts(const Scene& scene, const std::string& file);
 void check_filling(const Scene& scene, const std::string& file);
 void check_liner_size(const Scene& scene, const std::string& file);
+// The charge's disks go inside the circle through the lifter tips of `mill`: their area (the
+// filling's, the same for every seed) at most kMaxTipCircleShare of that circle's, less a
+// clearance of a twentieth of the largest diameter (engine/fill.cpp places them there).
+constexpr double kMaxTipCircleShare = 0.6;
+void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::string& file);
 
 // All of the above, in the order a user would fix them.
 void check_run_limits(const Scene& scene, const std::string& file);
