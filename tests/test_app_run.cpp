@@ -175,7 +175,12 @@ TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
     EXPECT_GE(st.at("wall_s").get<double>(), 0.0);
     EXPECT_GT(st.at("simulated_s").get<double>(), 0.0);
   }
-  EXPECT_EQ(d.at("settings").at("solver").at("backend"), "soft");
+  const auto& solver = d.at("settings").at("solver");
+  EXPECT_EQ(solver.at("backend"), "soft");
+  // The scene leaves the contact frequency to the solver: an eighth of the substep rate.
+  EXPECT_EQ(solver.at("contact_hertz").get<double>(), 0.0);
+  EXPECT_NEAR(solver.at("contact_hertz_used").get<double>(),
+              solver.at("substeps").get<double>() / solver.at("time_step_s").get<double>() / 8.0, 1e-9);
 }
 
 TEST_F(AppRun, ProfilesAreLifterLocalMillimetres) {

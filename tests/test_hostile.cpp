@@ -446,7 +446,7 @@ TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand)
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
   const std::string sc = quoted(scene);
-  for (const std::string cmd : {"run " + sc + " --check -o ", "run " + sc + " -q -o ", "charge " + sc + " -o ",
+  for (const std::string& cmd : {"run " + sc + " --check -o ", "run " + sc + " -q -o ", "charge " + sc + " -o ",
                                 "rule1 " + sc + " --factors 1e5 2e5 -o ", "tradeoff " + sc + " --quick -o "}) {
     const auto r = run_millwear(cmd + quoted(dir / "out"));
     expect_refused(r, scene.string(), "charge.filling", dir / "out");

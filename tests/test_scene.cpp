@@ -346,6 +346,20 @@ TEST_F(SceneUnits, SoftSolverKeysAreRead) {
   EXPECT_DOUBLE_EQ(s.solver.push_out_radii_per_s, 15.0);
 }
 
+// The soft step's frequency is contact_hertz up to an eighth of the substep rate; 0 and
+// anything above ask for that bound.
+TEST(SolverDef, ContactFrequencyUsedIsBoundedByAnEighthOfTheSubstepRate) {
+  SolverDef s;
+  s.time_step_s = 1.0 / 500.0;
+  s.substeps = 4;  // 2000 substeps per second: the bound is 250 Hz
+  s.contact_hertz = 0.0;
+  EXPECT_DOUBLE_EQ(s.contact_hertz_used(), 250.0);
+  s.contact_hertz = 120.0;
+  EXPECT_DOUBLE_EQ(s.contact_hertz_used(), 120.0);
+  s.contact_hertz = 1e7;
+  EXPECT_DOUBLE_EQ(s.contact_hertz_used(), 250.0);
+}
+
 TEST_F(SceneErrors, NonPositiveDampingRatioNamesKey) {
   const std::string f = scene_with("seed = 3", "seed = 3\ndamping_ratio = 0.0");
   expect_names(load_error(f), f, "solver.damping_ratio");

@@ -75,6 +75,13 @@ struct SolverDef {
   // ratio of particle-particle contacts (liner contacts get twice the frequency), and the
   // cap on the speed at which overlap is pushed out, in smallest particle radii per second.
   double contact_hertz = 0.0;        // 0: an eighth of the substep rate (substeps / dt / 8)
+  // The particle-particle frequency the soft step uses: contact_hertz, at most an eighth of
+  // the substep rate (Box2D v3's cap: stiffer is not resolved by one soft iteration per
+  // substep), which is also what 0 asks for.
+  double contact_hertz_used() const {
+    const double cap = 0.125 / (time_step_s / substeps);
+    return contact_hertz > 0.0 && contact_hertz < cap ? contact_hertz : cap;
+  }
   double damping_ratio = 10.0;
   double push_out_radii_per_s = 20.0;
   double settle_time_s = 2.0;        // charge settles at rest before the mill turns

@@ -10,9 +10,6 @@ namespace millwear::soft {
 
 namespace {
 
-// Box2D v3 caps the contact frequency at an eighth of the substep rate: stiffer is not
-// resolved by one soft iteration per substep.
-constexpr double kMaxHertzPerSubstepRate = 0.125;
 // A disk at rest keeps a margin of a tenth of the smallest radius, so that touching disks
 // hold their contact from step to step (warm starting) without creeping into overlap.
 constexpr double kMarginBaseRadii = 0.1;
@@ -42,9 +39,7 @@ Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeStat
   m.substeps = scene.solver.substeps;
   const double h = m.dt_s / m.substeps;
   m.substep_s = h;
-  const double hertz = scene.solver.contact_hertz > 0.0
-                           ? std::min(scene.solver.contact_hertz, kMaxHertzPerSubstepRate / h)
-                           : kMaxHertzPerSubstepRate / h;
+  const double hertz = scene.solver.contact_hertz_used();
   // Liner contacts get twice the frequency, as static contacts do in Box2D (at most a
   // quarter of the substep rate).
   m.pair_softness = make_softness(hertz, scene.solver.damping_ratio, h);
