@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/names.hpp"
 #include "geometry/polyline.hpp"
+#include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "scene/filling.hpp"
 #include "scene/limits.hpp"
@@ -458,6 +459,30 @@ TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand)
   write(scene, fits);
   const auto r = run_millwear("charge " + sc + " --revolutions 0.2 -o " + quoted(dir / "out"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// A step too coarse for the scene (accepted by the checks: they bound the substep) loses a
+// disk during the spin-up, before the measured window: charge fails (exit 1), and its
+// summary and printout count the loss instead of "escaped disks 0" from the window alone.
+TEST(HostileScenes, ADiskLostBeforeTheWindowIsCountedInTheChargeSummary) {
+  const fs::path dir = scratch("lost-early");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto r = run_millwear("charge " + quoted(scene) + " --revolutions 2 --set solver.time_step=0.02 "
+                              "--set solver.substeps=64 -o " + quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("disks were lost"), std::string::npos) << r.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "charge_summary.csv").string());
+  double lost = -1, escaped = -1;
+  for (std::size_t i = 0; i < sum.row_count(); ++i) {
+    const std::string q = sum.text(i, sum.column("quantity"));
+    if (q == "lost_disks") lost = sum.number(i, sum.column("value"));
+    if (q == "escaped_disks") escaped = sum.number(i, sum.column("value"));
+  }
+  EXPECT_EQ(escaped, 0.0) << "the disk was lost in the window: the case is not tested";
+  EXPECT_GE(lost, 1.0);
+  EXPECT_NE(r.output.find("lost disks " + std::to_string(static_cast<int>(lost)) + " since the fill"), std::string::npos)
+      << r.output;
 }
 
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {

@@ -84,7 +84,8 @@ int run_charge(const ChargeArgs& args) {
                 "               the toe, %.1f +- %.1f%% on the bare liner there (impacts.csv, docs/trajectories.md)\n",
                 flights_per_s, 100.0 * im.window.above_toe_share, 100.0 * im.above_toe_share.sem,
                 100.0 * im.window.liner_share, 100.0 * im.liner_share.sem);
-  std::printf("  escaped disks %lld; results in %s\n", static_cast<long long>(f.summary.escaped),
+  std::printf("  lost disks %lld since the fill (%lld escaped in the window); results in %s\n",
+              static_cast<long long>(result.lost_disks), static_cast<long long>(f.summary.escaped),
               args.out.c_str());
   bool figures_failed = false;
   try {

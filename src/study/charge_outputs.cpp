@@ -144,7 +144,8 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
       << impact_rows(scene, r)
-      << "escaped_disks," << s.escaped << ",\n"
+      << "escaped_disks," << s.escaped << ",in the measured window\n"
+      << "lost_disks," << r.lost_disks << ",since the fill (settling and spin-up included); any fails the run\n"
       << "disk_steps_per_s," << fmt(r.window_wall_s > 0 ? r.disk_steps / r.window_wall_s : 0.0) << ",1/s\n"
       << "time_collide," << fmt(r.timing.collide_s) << ",s\n"
       << "time_solve," << fmt(r.timing.solve_s) << ",s\n"
