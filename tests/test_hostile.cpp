@@ -485,6 +485,26 @@ TEST(HostileScenes, ADiskLostBeforeTheWindowIsCountedInTheChargeSummary) {
       << r.output;
 }
 
+// A wear rate that wears the lifter to the shell within the first stage: the history ends
+// with the worn-out geometry, whose charge figures were never measured. summary.csv leaves
+// them unknown (nan, as their errors) instead of repeating stage 0's as if measured there.
+TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
+  const fs::path dir = scratch("worn-out");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto r = run_millwear("run " + quoted(scene) + " -q --set wear.wear_rate=1e-6 -o " + quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("worn to the shell"), std::string::npos) << r.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "summary.csv").string());
+  ASSERT_GE(sum.row_count(), 2u);
+  const std::size_t last = sum.row_count() - 1;
+  EXPECT_TRUE(std::isfinite(sum.number(0, "power_kw")));
+  EXPECT_TRUE(std::isfinite(sum.number(last, "area_mm2")));
+  EXPECT_LT(sum.number(last, "height_mm"), 0.1 * sum.number(0, "height_mm"));
+  for (const char* c : {"power_kw", "collision_kw", "utilization", "liner_shear_kw", "toe_deg", "liner_wear_g_per_kwh"})
+    EXPECT_TRUE(std::isnan(sum.number(last, c))) << c << " = " << sum.number(last, c);
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

@@ -34,9 +34,10 @@ namespace millwear::app {
 namespace {
 
 // "mean +- se": the error to two significant digits and the mean to the same decimal place;
-// the mean alone (in `format`) where the error is not known.
+// the mean alone (in `format`) where the error is not known; "-" where nothing was measured.
 std::string pm(double mean, double se, const char* format = "%.4g") {
   char m[48], e[48];
+  if (std::isnan(mean)) return "-";
   if (!std::isfinite(se) || !std::isfinite(mean)) {
     std::snprintf(m, sizeof m, format, mean);
     return m;

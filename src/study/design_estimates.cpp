@@ -118,6 +118,12 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
     s.area_m2 = l.area_m2;
     s.area_loss_fraction = l.area_loss_fraction;
     s.height_m = l.height_m;
+    if (r.worn_out) {
+      // The lifter worn to the shell ends the history: its geometry is measured, but no
+      // charge ran on it, so its charge figures are left unknown (NaN), not the last stage's.
+      d.stages.push_back(s);
+      continue;
+    }
     const ChargeFigures& f = r.charge;
     const ChargeFigureErrors& e = r.charge_errors;
     s.power_W = {f.power_kW_per_m * 1e3 * len, e.power_kW_per_m * 1e3 * len};
