@@ -160,8 +160,12 @@ TEST_P(EngineTest, PowerInEqualsEnergyDissipated) {
   const ChargeSummary& s = lab_run(backend()).figures.summary;
   const double dissipated = s.collision_power_W + s.liner_dissipation_W + s.solver_dissipation_W;
   const double balance = dissipated + s.kinetic_change_W;
-  // 5%: the rest is the symplectic-Euler gravity term (order dt) and float rounding.
-  EXPECT_NEAR(balance / s.power_W, 1.0, 0.05)
+  // The soft step closes the balance to 3e-5 of the power here (what is left: the step's
+  // summed impulses against the substeps' own, and gravity's kick against the move, whose
+  // sum over a window is bounded); the library's float solver and position iterations lose
+  // about 4.6% that its contact impulses do not show.
+  const double tolerance = backend().backend == Backend::Soft ? 0.005 : 0.05;
+  EXPECT_NEAR(balance / s.power_W, 1.0, tolerance)
       << "in " << s.power_W << " W; particle-particle " << s.collision_power_W << " W, liner "
       << s.liner_dissipation_W << " W, solver " << s.solver_dissipation_W << " W, change "
       << s.kinetic_change_W << " W";
@@ -225,6 +229,30 @@ TEST_P(EngineTest, MillAtRestDoesNoShearWorkAfterSettling) {
   const ChargeSummary turning = lab_run(backend()).figures.summary;
   EXPECT_LT(at_rest / engine->accounting().time_s, 1e-3 * turning.shear_work_rate_W)
       << "at rest " << at_rest << " J in 1 s; turning " << turning.shear_work_rate_W << " W";
+}
+
+// A bed at rest dissipates nothing. Gravity's kick of g dt at the start of each step, taken
+// out again by the contacts that carry the weight, would count as M g^2 dt / 2 of
+// dissipation per second if the accounting's "before" velocity included it (a bias of the
+// order of the time step in every dissipation figure, and in the energy balance); measured
+// from the step's start velocity it is not there.
+TEST_P(EngineTest, ABedAtRestDissipatesNothing) {
+  Scene scene = with_backend(testing::lab_mill());
+  const MillGeometry mill = build_scene_mill(scene);
+  const ChargeState charge = fill_charge(scene, mill);
+  auto engine = make_engine(scene, mill, charge, accounting_options_for(scene));
+  engine->set_mill_speed(0.0);
+  engine->step(steps_for(1.0, engine->time_step_s()));  // settle
+  engine->reset_window();
+  engine->step(steps_for(1.0, engine->time_step_s()));
+  const ChargeSummary s = summarize(engine->accounting(), 0.0, kGravity);
+  double mass_kg = 0.0;
+  for (std::size_t i = 0; i < charge.size(); ++i) mass_kg += charge.active[i] ? charge.mass_kg[i] : 0.0;
+  const double kick_W = 0.5 * mass_kg * kGravity * kGravity * engine->time_step_s();
+  EXPECT_EQ(s.power_W, 0.0);
+  EXPECT_LT(std::fabs(s.collision_power_W + s.liner_dissipation_W), 0.05 * kick_W)
+      << "particle-particle " << s.collision_power_W << " W, liner " << s.liner_dissipation_W
+      << " W; gravity's kick would be " << kick_W << " W";
 }
 
 // Shear work on the leading and trailing faces of the lifters, summed over all rows; the

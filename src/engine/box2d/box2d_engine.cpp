@@ -104,7 +104,8 @@ class Box2DEngine final : public Engine {
   double liner_tolerance_m_ = 0.0;
   std::vector<int> coarse_start_, coarse_count_, fine_t_offset_;
   std::vector<double> fine_t_;
-  // Velocities the solver starts from: end of last step plus one step of gravity.
+  // Velocities at the end of the last step: the "before" of the energy accounting
+  // (soft-solver.md, "Accounting").
   std::vector<Vec2> velocity_before_;
   std::vector<double> spin_before_;
   std::vector<Vec2> position_before_;
@@ -282,7 +283,7 @@ void Box2DEngine::step(int n) {
 void Box2DEngine::step_once() {
   const std::size_t n = state_.size();
   for (std::size_t i = 0; i < n; ++i) {
-    velocity_before_[i] = state_.velocity_m_s[i] + Vec2{0.0, -kGravity * dt_};
+    velocity_before_[i] = state_.velocity_m_s[i];
     spin_before_[i] = state_.spin_rad_s[i];
     position_before_[i] = state_.position_m[i];
   }

@@ -38,13 +38,12 @@ Disks load_disks(const ChargeState& charge) {
 
 StepStart make_step_start(int n) {
   StepStart s;
-  for (auto* v : {&s.x, &s.y, &s.vx, &s.vy, &s.w, &s.vy_before})
+  for (auto* v : {&s.x, &s.y, &s.vx, &s.vy, &s.w})
     v->assign(static_cast<std::size_t>(n), 0.0);
   return s;
 }
 
-void record_step_start(const Model& model, Disks& disks, StepStart& start, Workers& workers) {
-  const double g = kGravity;
+void record_step_start(Disks& disks, StepStart& start, Workers& workers) {
   workers.run_disks(disks.n, [&](int i0, int i1) {
     for (auto k = static_cast<std::size_t>(i0); k < static_cast<std::size_t>(i1); ++k) {
       Body& b = disks.body[k];
@@ -53,7 +52,6 @@ void record_step_start(const Model& model, Disks& disks, StepStart& start, Worke
       start.vx[k] = b.vx;
       start.vy[k] = b.vy;
       start.w[k] = b.w;
-      start.vy_before[k] = disks.active[k] ? b.vy - g * model.dt_s : b.vy;
       b.dpx = 0.0;
       b.dpy = 0.0;
     }

@@ -31,17 +31,13 @@ struct Disks {
 // energy the impulses changed, the solver's position correction).
 struct StepStart {
   std::vector<double> x, y;    // positions
-  std::vector<double> vx, vy, w;
-  // The start velocity plus gravity's dt: the "before" velocity of the energy accounting,
-  // so that P . (v_before + v_after) / 2 over the contacts is exactly the kinetic energy
-  // the impulses changed.
-  std::vector<double> vy_before;
+  std::vector<double> vx, vy, w;  // also the "before" velocities of the energy accounting
 };
 
 // The initial charge, in id order; inactive disks get zero inverse mass and inertia.
 Disks load_disks(const ChargeState& charge);
 StepStart make_step_start(int n);
 // Record what the step starts from and zero the displacements; after any reordering.
-void record_step_start(const Model& model, Disks& disks, StepStart& start, Workers& workers);
+void record_step_start(Disks& disks, StepStart& start, Workers& workers);
 
 }  // namespace millwear::soft

@@ -109,7 +109,7 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
   const bool spectrum = accounting.options.collision_spectrum;
   const Body* body = disks.body.data();
   const double* vx0 = start.vx.data();
-  const double* vy0 = start.vy_before.data();
+  const double* vy0 = start.vy.data();
   const double* w0 = start.w.data();
   PairSet& pairs = contacts.pairs;
   const int ranges = range_count(pairs.size(), kPerRange);

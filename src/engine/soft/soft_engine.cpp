@@ -128,7 +128,7 @@ void SoftEngine::step_once() {
   const StepBounds bounds = update_margins(model_, disks_, broad_, workers_);
   if (reorder_due(accounting_.steps, disks_))
     reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
-  record_step_start(model_, disks_, start_, workers_);
+  record_step_start(disks_, start_, workers_);
   build_pair_grid(model_, bounds, disks_, broad_);
   timing_.broad_s += watch.lap();
 
