@@ -1,15 +1,20 @@
 # What `cmake --install` puts under the prefix, and the Debian package made from it by CPack:
 #   bin/millwear
-#   share/millwear/{plots,scenarios,profiles}   the scenarios name ../profiles/, so they
-#                                               resolve there as in the repository
+#   share/millwear/{plots,scenarios,profiles,validation}
+#                                               the scenarios and the validation examples
+#                                               name ../profiles/, so they resolve there as
+#                                               in the repository
+#   share/doc/millwear/{README.md,docs/}        README's links to docs/ resolve there
 #   share/man/man1/millwear.1.gz                from `millwear --help` by help2man
 #   share/bash-completion/completions/millwear
 # The layout is fixed (bin/ beside share/): the program finds its figure scripts at
 # EXEDIR/../share/millwear/plots (src/plots/plots.cpp). Tests and benchmarks install nothing.
 install(TARGETS millwear RUNTIME DESTINATION bin)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/plots ${PROJECT_SOURCE_DIR}/scenarios
-                  ${PROJECT_SOURCE_DIR}/profiles
+                  ${PROJECT_SOURCE_DIR}/profiles ${PROJECT_SOURCE_DIR}/validation
         DESTINATION share/millwear)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION share/doc/millwear)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs DESTINATION share/doc/millwear)
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/millwear.bash
         DESTINATION share/bash-completion/completions RENAME millwear)
 

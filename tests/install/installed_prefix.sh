@@ -18,7 +18,9 @@ export PATH="$p/bin:$PATH"
 
 for f in bin/millwear share/man/man1/millwear.1.gz share/bash-completion/completions/millwear \
          share/millwear/plots/fig7_area.gp share/millwear/plots/common.gp \
-         share/millwear/scenarios/lab-mill.toml share/millwear/profiles/lab-2x30.toml; do
+         share/millwear/scenarios/lab-mill.toml share/millwear/profiles/lab-2x30.toml \
+         share/millwear/validation/hardness-synthetic.csv share/millwear/validation/lab-mill-guess.toml \
+         share/doc/millwear/README.md share/doc/millwear/docs/run.md; do
   [ -s "$p/$f" ] || fail "$f is missing or empty in the installed tree"
 done
 
@@ -72,6 +74,11 @@ for s in lab-mill lab-hi-lo lab-worn-start sag-1x30 sag-2x30 sag-2x30-vs-1x30 sa
 done
 (cd "$tmp/here" && millwear screen "$p/share/millwear/scenarios/screen-sag-face-angle.toml" \
    -o out-screen --emit parallel >/dev/null) || fail "the installed screen file does not validate"
+# The README's validation examples, from the installed copies.
+(cd "$tmp/here" && millwear run "$p/share/millwear/validation/lab-mill-guess.toml" -o out-guess --check \
+   >/dev/null) || fail "the installed validation/lab-mill-guess.toml does not validate"
+(cd "$tmp/here" && millwear hardness "$p/share/millwear/validation/hardness-synthetic.csv" -o out-hard \
+   >/dev/null) || fail "millwear hardness on the installed validation/hardness-synthetic.csv failed"
 
 # The quick lab scene (tests/data/lab-quick.toml names ../../profiles/lab-2x30.toml), with the
 # installed profile, run from a third folder.
