@@ -505,6 +505,25 @@ TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
     EXPECT_TRUE(std::isnan(sum.number(last, c))) << c << " = " << sum.number(last, c);
 }
 
+// Figure scripts that are not there: the results stand, the command exits 1, and the
+// warning lists each figure that failed once, under one heading.
+TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
+  const fs::path dir = scratch("no-scripts");
+  fs::create_directories(dir / "scripts");
+  const auto r = millwear::testing::run_shell("MILLWEAR_PLOTS_DIR=" + quoted(dir / "scripts") + " \"" + MILLWEAR_BINARY +
+                                              "\" charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) +
+                                              " --revolutions 0.3 -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "charge_summary.csv"));
+  const auto count = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = r.output.find(what); at != std::string::npos; at = r.output.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("some figures failed"), 1u) << r.output;
+  for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

@@ -481,9 +481,20 @@ double upper_percentile(std::vector<double> v, double share) {
 
 }  // namespace
 
-std::vector<std::string> render_all_figures(const std::string& out,
-                                            const std::vector<std::string>& designs_in,
-                                            const std::string& reference_in) {
+std::vector<std::string> figures_or_throw(const FigureOutcome& outcome) {
+  if (outcome.failures.empty()) return outcome.written;
+  std::string msg = "some figures failed (" + std::to_string(outcome.written.size()) + " files written):";
+  for (const auto& f : outcome.failures) msg += "\n  " + f;
+  throw RunError(msg);
+}
+
+std::vector<std::string> render_all_figures(const std::string& out, const std::vector<std::string>& designs,
+                                            const std::string& reference) {
+  return figures_or_throw(draw_all_figures(out, designs, reference));
+}
+
+FigureOutcome draw_all_figures(const std::string& out, const std::vector<std::string>& designs_in,
+                               const std::string& reference_in) {
   const std::string plots_out = io::plots_out_dir(out), data_dir = io::plots_data_dir(out);
   const std::string log_path = io::join_path(plots_out, "gnuplot.log");
   io::ensure_dir(plots_out);
@@ -668,13 +679,7 @@ std::vector<std::string> render_all_figures(const std::string& out,
     draw("snapshot", vars, "snapshot_" + in.design);
   }
 
-  if (!failures.empty()) {
-    std::string msg = "some figures failed (" + std::to_string(written.size()) +
-                      " files written):";
-    for (const auto& f : failures) msg += "\n  " + f;
-    throw RunError(msg);
-  }
-  return written;
+  return {written, failures};
 }
 
 }  // namespace millwear::plots

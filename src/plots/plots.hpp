@@ -64,6 +64,15 @@ std::vector<std::string> render_figure(const std::string& script_path,
 std::vector<std::string> render_all_figures(const std::string& out_dir,
                                             const std::vector<std::string>& designs,
                                             const std::string& reference = "");
+// What a set of figures came to: the files written, and "NAME: why" for each that failed.
+struct FigureOutcome {
+  std::vector<std::string> written, failures;
+};
+// render_all_figures without the throw, for a command that draws figures of its own too.
+FigureOutcome draw_all_figures(const std::string& out_dir, const std::vector<std::string>& designs,
+                               const std::string& reference = "");
+// Returns the files written; throws RunError listing the failures if there are any.
+std::vector<std::string> figures_or_throw(const FigureOutcome& outcome);
 
 // The files render_all_figures writes besides the figures, those on disk: OUT/plots/gnuplot.log
 // and, per design, OUT/plots/data/DESIGN_{summary.csv,spectrum.csv,profiles.dat}.

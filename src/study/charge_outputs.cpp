@@ -240,12 +240,9 @@ std::string percent_text(const std::string& share, const std::string& se) {
 }  // namespace
 
 std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
-  std::vector<std::string> written, failures;
-  try {
-    written = plots::render_all_figures(out, {scene.name});
-  } catch (const RunError& e) {
-    failures.push_back(e.what());
-  }
+  plots::FigureOutcome figures = plots::draw_all_figures(out, {scene.name});
+  std::vector<std::string>& written = figures.written;
+  std::vector<std::string>& failures = figures.failures;
   // The impact and trajectory figures: the species named and coloured as in the snapshot,
   // the toe and shoulder from charge_summary.csv.
   std::map<std::string, std::string> vars;
@@ -285,12 +282,7 @@ std::vector<std::string> render_charge_figures(const std::string& out, const Sce
   // The envelope is drawn over the snapshot (outputs.snapshot).
   if (io::file_exists(io::snapshot_path(out, scene.name)) && io::file_exists(io::liner_path(out, scene.name)))
     draw("trajectories", "trajectories_" + scene.name);
-  if (!failures.empty()) {
-    std::string msg = "some figures failed (" + std::to_string(written.size()) + " files written):";
-    for (const auto& f : failures) msg += "\n  " + f;
-    throw RunError(msg);
-  }
-  return written;
+  return plots::figures_or_throw(figures);
 }
 
 }  // namespace millwear
