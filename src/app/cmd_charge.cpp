@@ -55,9 +55,10 @@ int run_charge(const ChargeArgs& args) {
   std::printf("%s: %zu disks, %.1f revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
               scene.name.c_str(), result.disks, scene.run.revolutions, wall,
               result.window_wall_s > 0 ? result.disk_steps / result.window_wall_s / 1e6 : 0.0);
-  std::printf("  power        %10.1f kW/m   %10.1f kW per mill (torque arm: %.1f kW/m)\n",
+  // Four significant digits: a lab mill turning slowly draws some 0.02 kW/m, a SAG mill 2000.
+  std::printf("  power        %10.4g kW/m   %10.4g kW per mill (torque arm: %.4g kW/m)\n",
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
-  std::printf("  collisions   %10.1f kW/m   liner %.1f kW/m, solver %.1f kW/m\n", f.collision_kW_per_m,
+  std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.3g kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
   const double com_deg = f.summary.centre_of_mass_deg;
   if (f.summary.centrifuged)
