@@ -524,6 +524,23 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
 }
 
+// No friction between charge and liner: no shear work, no wear, so no life. The run says so
+// instead of leaving an empty life column to explain itself.
+TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
+  const fs::path dir = scratch("no-wear");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto r = run_millwear("run " + quoted(scene) + " --set \"charge.species[0].friction_liner=0\" -o " +
+                              quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no life: the lifter's height does not fall"), std::string::npos) << r.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "summary.csv").string());
+  EXPECT_FALSE(std::isfinite(sum.number(sum.row_count() - 1, "life_h")));
+  const auto worn = run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "worn"));
+  ASSERT_EQ(worn.exit_code, 0) << worn.output;
+  EXPECT_EQ(worn.output.find("no life"), std::string::npos) << worn.output;
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

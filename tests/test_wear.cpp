@@ -46,6 +46,32 @@ Halves half_areas(const LinerUnit& u) {
   return h;
 }
 
+// Life: a height that falls 2 mm per 100 h from 20 mm reaches a 10 mm replacement height at
+// 500 h (extrapolated from the trend); a height that does not fall gives no life, and an
+// event says why instead of a silent infinity.
+TEST(Life, ExtrapolatedFromTheHeightTrendOrSaidToBeMissing) {
+  const auto history = [](std::vector<double> heights_mm) {
+    WearHistory h;
+    for (std::size_t k = 0; k < heights_mm.size(); ++k) {
+      StageRecord r;
+      r.stage = static_cast<int>(k);
+      r.hours = 100.0 * k;
+      r.lifter.height_m = heights_mm[k] * 1e-3;
+      h.stages.push_back(r);
+    }
+    compute_life(h, 0.010);
+    return h;
+  };
+  const WearHistory falling = history({20.0, 18.0, 16.0});
+  EXPECT_NEAR(falling.life_h, 500.0, 1e-9);
+  EXPECT_TRUE(falling.life_extrapolated);
+  EXPECT_TRUE(falling.events.empty());
+  const WearHistory flat = history({20.0, 20.0, 20.0});
+  EXPECT_TRUE(std::isinf(flat.life_h));
+  ASSERT_EQ(flat.events.size(), 1u);
+  EXPECT_NE(flat.events[0].find("no life"), std::string::npos) << flat.events[0];
+}
+
 TEST(Archard, KnownWorkGivesKnownDepth) {
   // A dh = C dw: 10 J on a 0.1 m x 0.05 m edge with C = 1e-9 m^3/J -> 2e-6 m.
   EXPECT_DOUBLE_EQ(archard_depth_m(10.0, 0.1, 0.05, 1e-9), 2e-6);
