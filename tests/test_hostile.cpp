@@ -541,6 +541,21 @@ TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
   EXPECT_EQ(worn.output.find("no life"), std::string::npos) << worn.output;
 }
 
+// Twice the critical speed with one revolution of spin-up: the charge is still being flung to
+// the shell in the window, and much of the drive's power goes into its energy, not into
+// dissipation. charge says the window was not steady; at the scene's own speed it does not.
+TEST(HostileScenes, AChargeStillSpinningUpIsSaidNotToBeSteady) {
+  const fs::path dir = scratch("not-steady");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto fast = run_millwear("charge " + quoted(scene) + " --set mill.speed=2.0 -o " + quoted(dir / "fast"));
+  ASSERT_EQ(fast.exit_code, 0) << fast.output;
+  EXPECT_NE(fast.output.find("was not steady in the window"), std::string::npos) << fast.output;
+  const auto steady = run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "steady"));
+  ASSERT_EQ(steady.exit_code, 0) << steady.output;
+  EXPECT_EQ(steady.output.find("not steady"), std::string::npos) << steady.output;
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const fs::path dir = scratch("options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

@@ -137,6 +137,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "collision_power_per_m," << fmt(f.collision_kW_per_m) << ",kW/m\n"
       << "liner_dissipation_per_m," << fmt(f.liner_kW_per_m) << ",kW/m\n"
       << "solver_dissipation_per_m," << fmt(f.solver_kW_per_m) << ",kW/m\n"
+      << "energy_change_per_m," << fmt(s.kinetic_change_W * 1e-3 / t) << ",kW/m (kinetic and potential; steady: near 0)\n"
       << "toe_angle," << (s.centrifuged ? "centrifuged" : fmt(s.toe_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "shoulder_angle," << (s.centrifuged ? "centrifuged" : fmt(s.shoulder_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "centre_of_mass_angle," << fmt(s.centre_of_mass_deg) << ",deg from 6 o'clock (+ rising side)\n"
