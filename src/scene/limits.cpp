@@ -72,6 +72,19 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
                   1.0 / scene.solver.time_step_s);
     throw InputError(file, "solver.time_step", buf);
   }
+  const double step_travel = step_travel_radii(scene);
+  if (substeps > 1 && step_travel > kMaxSoftStepTravelRadii) {
+    const double dt_max = scene.solver.time_step_s * kMaxSoftStepTravelRadii / step_travel;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "a time step of at most %.3g s (1/%.0f s): the soft solver finds contacts once a step, and at the "
+                  "impact speed %.2f m/s a disk would move %.1f smallest radii (%.1f mm) per step, over the limit "
+                  "of %.0f radii where disks start to leak whatever the substeps; got %.3g s (1/%.0f s)",
+                  dt_max, std::ceil(1.0 / dt_max), impact_speed_m_s(scene), step_travel,
+                  scene.smallest_particle_radius_m() * 1e3, kMaxSoftStepTravelRadii, scene.solver.time_step_s,
+                  1.0 / scene.solver.time_step_s);
+    throw InputError(file, "solver.time_step", buf);
+  }
 }
 
 void check_profile_features(const Scene& scene, const std::string& file) {

@@ -38,6 +38,12 @@ double step_travel_radii(const Scene& scene);
 // first disks at 1.97-3.15 radii (leaks grow with disk count and run length, so the limit
 // sits at the clean edge, not the first leak).
 constexpr double kMaxStepTravelRadii = 1.6;
+// The soft backend is held to kMaxStepTravelRadii per substep, and to this per step: it finds
+// the contacts and fixes their normals once a step, so whatever the substeps a disk must not
+// move too far within one. The lab mill (7.5 mm smallest radius) ran clean at 10.1 radii per
+// step (substeps 16 and 64, seeds 1-3) and at 15.1 once, and lost disks at 12.6 (substeps
+// 64) and 20.1 (docs/stability.md): the limit sits at the clean edge.
+constexpr double kMaxSoftStepTravelRadii = 10.0;
 
 // The most steps of any one phase: settling, spin-up, `charge`'s revolutions, a measuring
 // window (all its batches), the simulated time of a continuous stage. 1e8 steps of a
