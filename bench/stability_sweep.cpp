@@ -1,7 +1,9 @@
 // Stability sweep: the tiny mill of the stability suite (tests/stability_run.hpp) beyond
 // and inside every limit, printed as tables for docs/stability.md. Runs with the limit
 // checks off (guarded = false) so it shows what happens past them. Asserts nothing.
-//   build/stability_sweep [time_step|speed|filling|size_ratio|restitution|friction|all]
+//   build/stability_sweep [time_step|soft_step|speed|filling|size_ratio|restitution|friction|all]
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -35,6 +37,23 @@ int main(int argc, char** argv) {
         std::snprintf(label, sizeof label, "d_min %4.0f mm, dt 1/%-5.0f", d, hz);
         line(label, s, run_briefly(s, 1.0, false));
       }
+  }
+  if (all || what == "soft_step") {
+    // The soft backend's step, held to 1.2 radii per substep (inside kMaxStepTravelRadii)
+    // and to 64 substeps, so that only the travel per step grows.
+    std::printf("# soft step: radii per step at the impact speed (tiny mill, 15 mm, 3 revolutions)\n");
+    for (double radii : {6.0, 8.0, 10.0, 12.5, 15.0, 20.0})
+      for (int substeps : {static_cast<int>(std::ceil(radii / 1.2)), 64})
+        for (std::uint64_t seed : {1, 2, 3}) {
+          Scene s = tiny_mill(15.0, 1.67, 0.2);
+          s.solver.backend = Backend::Soft;
+          s.solver.substeps = substeps;
+          s.solver.seed = seed;
+          s.solver.time_step_s = radii * s.smallest_particle_radius_m() / impact_speed_m_s(s);
+          char label[64];
+          std::snprintf(label, sizeof label, "%4.1f r/step, %2d substeps, seed %d", radii, substeps, static_cast<int>(seed));
+          line(label, s, run_briefly(s, 3.0, false));
+        }
   }
   if (all || what == "speed") {
     std::printf("# mill speed (fraction of critical), dt 1/1000\n");

@@ -17,6 +17,7 @@
 #include "geometry/polyline.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "plots/plots.hpp"
 #include "scene/filling.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
@@ -432,9 +433,8 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
 }
 
 // Lifters so tall that the charge has no room inside their tips: every command refuses the
-// scene up front (exit 2, naming charge.filling and the largest filling that fits), where the
-// fill used to find out inside a design's thread (run: the design failed, exit 1; rule1:
-// aborted). A filling under that bound runs.
+// scene up front (exit 2, naming charge.filling and the largest filling that fits), before
+// any design's thread would meet it in the fill. A filling under that bound runs.
 TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand) {
   const fs::path dir = scratch("no-room");
   write(dir / "tall.toml",
@@ -461,15 +461,14 @@ TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand)
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
-// A step too coarse for the scene (accepted by the checks: they bound the substep) loses a
-// disk during the spin-up, before the measured window: charge fails (exit 1), and its
-// summary and printout count the loss instead of "escaped disks 0" from the window alone.
-TEST(HostileScenes, ADiskLostBeforeTheWindowIsCountedInTheChargeSummary) {
+// Contacts of 1 Hz cannot hold the charge: disks sink out of the mill from the settling on,
+// before the measured window as well as in it. charge fails (exit 1), and its summary and
+// printout count every disk lost since the fill, apart from those lost in the window.
+TEST(HostileScenes, DisksLostBeforeTheWindowAreCountedInTheChargeSummary) {
   const fs::path dir = scratch("lost-early");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
-  const auto r = run_millwear("charge " + quoted(scene) + " --revolutions 2 --set solver.time_step=0.02 "
-                              "--set solver.substeps=64 -o " + quoted(dir / "out"));
+  const auto r = run_millwear("charge " + quoted(scene) + " --set solver.contact_hertz=1 -o " + quoted(dir / "out"));
   ASSERT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("disks were lost"), std::string::npos) << r.output;
   const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "charge_summary.csv").string());
@@ -479,15 +478,14 @@ TEST(HostileScenes, ADiskLostBeforeTheWindowIsCountedInTheChargeSummary) {
     if (q == "lost_disks") lost = sum.number(i, sum.column("value"));
     if (q == "escaped_disks") escaped = sum.number(i, sum.column("value"));
   }
-  EXPECT_EQ(escaped, 0.0) << "the disk was lost in the window: the case is not tested";
-  EXPECT_GE(lost, 1.0);
+  EXPECT_GT(lost, escaped) << "no disk was lost before the window: the case is not tested";
   EXPECT_NE(r.output.find("lost disks " + std::to_string(static_cast<int>(lost)) + " since the fill"), std::string::npos)
       << r.output;
 }
 
 // A wear rate that wears the lifter to the shell within the first stage: the history ends
 // with the worn-out geometry, whose charge figures were never measured. summary.csv leaves
-// them unknown (nan, as their errors) instead of repeating stage 0's as if measured there.
+// them unknown (nan, as their errors): no stage's figures stand in for them.
 TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
   const fs::path dir = scratch("worn-out");
   const fs::path scene = dir / "scene.toml";
@@ -505,15 +503,16 @@ TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
     EXPECT_TRUE(std::isnan(sum.number(last, c))) << c << " = " << sum.number(last, c);
 }
 
-// Figure scripts that are not there: the results stand, the command exits 1, and the
-// warning lists each figure that failed once, under one heading.
+// Figure scripts that are not there: the results stand, the command exits 1 (0 on a machine
+// without gnuplot, where figures are not expected), and the warning lists each figure that
+// failed once, under one heading.
 TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   const fs::path dir = scratch("no-scripts");
   fs::create_directories(dir / "scripts");
   const auto r = millwear::testing::run_shell("MILLWEAR_PLOTS_DIR=" + quoted(dir / "scripts") + " \"" + MILLWEAR_BINARY +
                                               "\" charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) +
                                               " --revolutions 0.3 -o " + quoted(dir / "out"));
-  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.exit_code, millwear::plots::gnuplot_available() ? 1 : 0) << r.output;
   EXPECT_TRUE(fs::exists(dir / "out" / "charge_summary.csv"));
   const auto count = [&](const std::string& what) {
     std::size_t n = 0;
@@ -524,8 +523,8 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
 }
 
-// No friction between charge and liner: no shear work, no wear, so no life. The run says so
-// instead of leaving an empty life column to explain itself.
+// No friction between charge and liner: no shear work, no wear, so no life. The run's table
+// says why the life column is empty.
 TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
   const fs::path dir = scratch("no-wear");
   const fs::path scene = dir / "scene.toml";
@@ -533,7 +532,7 @@ TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
   const auto r = run_millwear("run " + quoted(scene) + " --set \"charge.species[0].friction_liner=0\" -o " +
                               quoted(dir / "out"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("no life: the lifter's height does not fall"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no life: the lifter's height does not fall over the last stages"), std::string::npos) << r.output;
   const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "summary.csv").string());
   EXPECT_FALSE(std::isfinite(sum.number(sum.row_count() - 1, "life_h")));
   const auto worn = run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "worn"));
@@ -610,8 +609,8 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
 // ---- files read back -------------------------------------------------------------------------
 
 // A stage file that says "nan" is a damaged file: refused on --resume naming file and key,
-// not carried into summary.csv as a figure. The marker's content hash of the record is taken
-// out, as a marker without hashes is taken as it is: the numbers themselves are checked too.
+// not carried into summary.csv as a figure. The marker's content hashes are taken out (a
+// marker without hashes is taken as it is): the numbers themselves are checked too.
 TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   const fs::path dir = scratch("stage-nan");
   std::string s = lab_quick();
@@ -631,9 +630,9 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   write(record, text);
   const fs::path marker = out / "stages" / (record.stem().string() + ".done");
   std::string kv = read_text(marker);
-  const auto hash = kv.find("hash.record=");
-  ASSERT_NE(hash, std::string::npos) << kv;
-  kv.erase(hash, kv.find('\n', hash) + 1 - hash);
+  ASSERT_NE(kv.find("hash.record="), std::string::npos) << kv;
+  for (auto hash = kv.find("hash."); hash != std::string::npos; hash = kv.find("hash."))
+    kv.erase(hash, kv.find('\n', hash) + 1 - hash);
   write(marker, kv);
   const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
   EXPECT_EQ(again.exit_code, 2) << again.output;
@@ -668,6 +667,26 @@ TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
     EXPECT_NE(cont.output.find(file.filename().string()), std::string::npos) << cont.output;
     write(file, whole);
   }
+  // The charge the stage started from, gone: not a fresh fill, a damaged stage.
+  const fs::path start = out / "stages" / "lab-quick_stage1.start.csv";
+  const std::string start_text = read_text(start);
+  fs::remove(start);
+  const auto gone = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(gone.exit_code, 2) << gone.output;
+  EXPECT_NE(gone.output.find(start.filename().string()), std::string::npos) << gone.output;
+  write(start, start_text);
+  // A marker that lost one file's hash: refused naming the marker and the key.
+  const fs::path marker = out / "stages" / "lab-quick_stage1.done";
+  const std::string marker_text = read_text(marker);
+  std::string edited = marker_text;
+  const auto at = edited.find("hash.edges.csv=");
+  ASSERT_NE(at, std::string::npos) << edited;
+  edited.erase(at, edited.find('\n', at) + 1 - at);
+  write(marker, edited);
+  const auto unhashed = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(unhashed.exit_code, 2) << unhashed.output;
+  EXPECT_NE(unhashed.output.find("hash.edges.csv"), std::string::npos) << unhashed.output;
+  write(marker, marker_text);
   const auto intact = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
   EXPECT_EQ(intact.exit_code, 0) << intact.output;
 }

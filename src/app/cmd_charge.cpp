@@ -62,7 +62,7 @@ int run_charge(const ChargeArgs& args) {
   // Four significant digits: a lab mill turning slowly draws some 0.02 kW/m, a SAG mill 2000.
   std::printf("  power        %10.4g kW/m   %10.4g kW per mill (torque arm: %.4g kW/m)\n",
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
-  std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.3g kW/m\n", f.collision_kW_per_m,
+  std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.4g kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
   // The window is a steady state when the drive's power goes into dissipation, not into the
   // charge's kinetic and potential energy (rule 2: long enough for the figures to settle).

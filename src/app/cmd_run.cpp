@@ -66,7 +66,7 @@ void print_final_summary(const study::RunState& state, double wall) {
                 d.error.empty() ? "" : ": ", d.error.c_str());
     for (const auto& e : d.events) std::printf("%-*s event: %s\n", 16, "", e.c_str());
     if (d.status == study::DesignStatus::Done && d.stages.size() >= 2 && !std::isfinite(d.life_h))
-      std::printf("%-*s no life: the lifter's height does not fall over the stages run, so none is extrapolated "
+      std::printf("%-*s no life: the lifter's height does not fall over the last stages, so none is extrapolated "
                   "(is there shear work on the liner?)\n", 16, "");
     if (!d.continued_from.empty()) {
       std::printf("%-*s continued from %s; changed: %s\n", 16, "", d.continued_from.c_str(),

@@ -80,10 +80,8 @@ ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
   if (draws.empty()) return s;
 
   // Disks go inside the circle through the lifter tips, with a small clearance.
-  double tip_radius = R;
-  for (const Vec2& p : mill.boundary) tip_radius = std::min(tip_radius, length(p));
   const double d_max = draws.front().diameter_m;
-  const double r_place = tip_radius - 0.05 * d_max;
+  const double r_place = charge_placement_radius_m(mill, d_max);
   double solid = 0.0;
   for (const auto& d : draws) solid += 0.25 * kPi * d.diameter_m * d.diameter_m;
 

@@ -174,18 +174,35 @@ void write_state_file(const std::string& base, const std::string& ext, const std
   hashes.emplace_back(hash_key(ext), stable_hash_hex(content));
 }
 
+// The content hashes a stage marker holds (hash.EXT=); none in a marker written without them.
+struct StageHashes {
+  io::KeyValues marker;
+  std::string path;
+  bool any = false;  // the marker holds hashes: every state file must have its own
+  bool has(const std::string& ext) const { return !find_value(marker, hash_key(ext)).empty(); }
+};
+
+StageHashes read_stage_hashes(const std::string& marker_path) {
+  StageHashes h;
+  h.path = marker_path;
+  if (file_exists(marker_path)) h.marker = read_key_values(marker_path);
+  for (const auto& kv : h.marker) h.any = h.any || kv.first.rfind("hash.", 0) == 0;
+  return h;
+}
+
 // A state file of a finished stage, checked against the content hash its marker records:
 // a file changed or cut after the stage finished (even at a line end, where it would still
-// parse) is refused by name instead of resuming from other numbers. A marker without
-// hashes is taken as it is.
-std::string read_state_file(const std::string& base, const std::string& ext, const io::KeyValues& marker,
-                            const std::string& marker_path) {
+// parse) is refused by name instead of resuming from other numbers, and so is a marker that
+// holds hashes but none for this file. A marker without any hash is taken as it is.
+std::string read_state_file(const std::string& base, const std::string& ext, const StageHashes& hashes) {
   std::string content = read_file(base + ext);
-  const std::string recorded = find_value(marker, hash_key(ext));
-  if (!recorded.empty() && recorded != stable_hash_hex(content))
+  if (!hashes.any) return content;
+  const std::string recorded = find_value(hashes.marker, hash_key(ext));
+  if (recorded.empty())
+    throw InputError(hashes.path, hash_key(ext), "the content hash of " + base + ext + " (the marker was edited)");
+  if (recorded != stable_hash_hex(content))
     throw InputError(base + ext, "",
-                     "the content recorded in " + marker_path +
-                         " (the file was changed or cut after its stage finished)");
+                     "the content recorded in " + hashes.path + " (the file was changed or cut after its stage finished)");
   return content;
 }
 
@@ -259,9 +276,8 @@ void write_stage_state(const std::string& out, const std::string& design, const 
 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
   const std::string base = stage_base(out, design, stage);
-  const std::string marker_path = stage_done_marker(out, design, stage);
-  const io::KeyValues marker = file_exists(marker_path) ? read_key_values(marker_path) : io::KeyValues{};
-  const auto read_state = [&](const std::string& ext) { return read_state_file(base, ext, marker, marker_path); };
+  const StageHashes hashes = read_stage_hashes(stage_done_marker(out, design, stage));
+  const auto read_state = [&](const std::string& ext) { return read_state_file(base, ext, hashes); };
   const auto read_state_csv = [&](const std::string& ext) { return parse_csv(read_state(ext), base + ext); };
   StageRecord rec;
   Reader r{parse_key_values(read_state(".record"), base + ".record"), base + ".record"};
@@ -309,8 +325,9 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   rec.edge_wear_rate_m_per_s = read_state_csv(".edges.csv").finite_numbers("wear_rate_m_per_s");
 
   read_charge_table(read_state_csv(".charge.csv"), rec.snapshot);
-  // A stage that started from the previous stage's charge has it in .start.csv.
-  if (file_exists(base + ".start.csv")) {
+  // A stage that started from the previous stage's charge has it in .start.csv (the marker
+  // says so where it holds hashes: a start.csv gone missing is not a fresh fill).
+  if (hashes.any ? hashes.has(".start.csv") : file_exists(base + ".start.csv")) {
     read_charge_table(read_state_csv(".start.csv"), rec.start_charge);
     rec.start_charge.mill_angle_rad = r.number("start.mill_angle_rad");
     rec.start_charge.mill_speed_rad_s = r.number("start.mill_speed_rad_s");

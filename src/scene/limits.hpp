@@ -40,10 +40,10 @@ double step_travel_radii(const Scene& scene);
 constexpr double kMaxStepTravelRadii = 1.6;
 // The soft backend is held to kMaxStepTravelRadii per substep, and to this per step: it finds
 // the contacts and fixes their normals once a step, so whatever the substeps a disk must not
-// move too far within one. The lab mill (7.5 mm smallest radius) ran clean at 10.1 radii per
-// step (substeps 16 and 64, seeds 1-3) and at 15.1 once, and lost disks at 12.6 (substeps
-// 64) and 20.1 (docs/stability.md): the limit sits at the clean edge.
-constexpr double kMaxSoftStepTravelRadii = 10.0;
+// move too far within one. The sweep (bench/stability_sweep soft_step, docs/stability.md)
+// ran 15 mm disks clean at 6 and 8 radii per step (12 runs) and lost a first disk in 2 of 6
+// runs at 10: the limit sits at the clean edge.
+constexpr double kMaxSoftStepTravelRadii = 8.0;
 
 // The most steps of any one phase: settling, spin-up, `charge`'s revolutions, a measuring
 // window (all its batches), the simulated time of a continuous stage. 1e8 steps of a
@@ -71,6 +71,9 @@ void check_liner_size(const Scene& scene, const std::string& file);
 // filling's, the same for every seed) at most kMaxTipCircleShare of that circle's, less a
 // clearance of a twentieth of the largest diameter (engine/fill.cpp places them there).
 constexpr double kMaxTipCircleShare = 0.6;
+// The circle the fill places the charge in: through the lifter tips (the boundary's point
+// nearest the centre), less the clearance of a twentieth of the largest diameter.
+double charge_placement_radius_m(const MillGeometry& mill, double largest_diameter_m);
 void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::string& file);
 
 // All of the above, in the order a user would fix them.

@@ -241,7 +241,12 @@ std::string percent_text(const std::string& share, const std::string& se) {
 }  // namespace
 
 std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
-  plots::FigureOutcome figures = plots::draw_all_figures(out, {scene.name});
+  plots::FigureOutcome figures;
+  try {
+    figures = plots::draw_all_figures(out, {scene.name});
+  } catch (const RunError& e) {  // their data could not be written: charge's own still draw
+    figures.failures.push_back(e.what());
+  }
   std::vector<std::string>& written = figures.written;
   std::vector<std::string>& failures = figures.failures;
   // The impact and trajectory figures: the species named and coloured as in the snapshot,

@@ -54,8 +54,6 @@ std::vector<DesignLines> design_lines(const RunState& ctx) {
       l.height_m = r.lifter.height_m;
       l.area_loss_fraction = own0 != st.stages.end() ? 1.0 - r.lifter.area_m2 / own0->second.lifter.area_m2
                                                      : std::nan("");
-      l.power_kW = r.charge.power_kW_per_m * d.scene.mill.length_m;
-      l.utilization = r.charge.collision_kW_per_m / r.charge.power_kW_per_m;
       if (d.scene.mill.kind_count() > 1)
         for (std::size_t k = 0; k < r.kinds.size(); ++k) {
           l.kind_area_m2.push_back(r.kinds[k].area_m2);

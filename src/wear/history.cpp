@@ -256,7 +256,8 @@ void record_worn_out(WearHistory& history, const StageRun& run, const WearCallba
   rec.kinds = kind_metrics(run.mill.units, run.mill.kinds, run.mill.radius_m);
   rec.worn_out = true;
   // No charge ran on this liner: the last stage's figures keep the record complete (and its
-  // file finite), and nothing reports them as this stage's (study/design_estimates.cpp).
+  // file finite); the figures reported leave them out (study/design_estimates.cpp, and the
+  // tradeoff's power series).
   rec.charge = history.stages.empty() ? ChargeFigures{} : history.stages.back().charge;
   history.stages.push_back(rec);
   history.events.push_back("stage " + std::to_string(rec.stage) + ": the lifter is worn to the shell at " +

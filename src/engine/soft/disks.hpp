@@ -9,7 +9,6 @@
 
 #include "engine/charge.hpp"
 #include "engine/soft/body.hpp"
-#include "engine/soft/model.hpp"
 #include "engine/soft/workers.hpp"
 
 namespace millwear::soft {
