@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "../bench/probe_scene.hpp"
+#include "common/parallel.hpp"
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/workers.hpp"
@@ -16,6 +17,31 @@
 using namespace millwear;
 
 namespace {
+
+// The loop over independent tasks runs every index once on any number of threads, and hands
+// an exception of any type back to the caller (the lowest index's when several throw) after
+// every thread has stopped, instead of ending the process.
+TEST(ParallelTasks, EveryIndexOnceAndExceptionsComeBackToTheCaller) {
+  for (int jobs : {1, 2, 3, 8}) {
+    std::vector<std::atomic<int>> ran(37);
+    for_each_index_parallel(ran.size(), jobs, [&](std::size_t i) { ran[i]++; });
+    for (const auto& r : ran) EXPECT_EQ(r.load(), 1) << jobs << " jobs";
+    try {
+      for_each_index_parallel(37, jobs, [](std::size_t i) {
+        if (i == 5 || i == 20) throw static_cast<int>(i);
+      });
+      ADD_FAILURE() << "nothing thrown with " << jobs << " jobs";
+    } catch (int i) {
+      // One job meets index 5 first and stops there; with more, 20 may be met first and
+      // stop the handing out before 5: either way one of the thrown indices.
+      if (jobs == 1) {
+        EXPECT_EQ(i, 5);
+      }
+      EXPECT_TRUE(i == 5 || i == 20) << i;
+    }
+  }
+  for_each_index_parallel(0, 4, [](std::size_t) { ADD_FAILURE() << "a task of none"; });
+}
 
 // Every position, spin and edge's shear work, and the energy sums, compared bit for bit.
 void expect_same_bits(const ChargeState& s1, const Accounting& a1, const ChargeState& s2,

@@ -3,18 +3,16 @@
 #include "study/rule1.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
-#include <exception>
-#include <mutex>
 #include <thread>
 
 #include <boost/math/distributions/fisher_f.hpp>
 
 #include "common/errors.hpp"
+#include "common/parallel.hpp"
 #include "io/atomic_write.hpp"
 #include "plots/plots.hpp"
 #include "scene/limits.hpp"
@@ -62,34 +60,6 @@ Rule1Replicate run_replicate(const Scene& s) {
   return rep;
 }
 
-// Runs fn(0..n-1) on up to `jobs` threads; each index once, any order. An exception stops
-// the handing out of indices and, once every thread has finished, is thrown again here (the
-// one of the lowest index, whichever thread met it first).
-template <class F>
-void for_each_index_parallel(std::size_t n, int jobs, F fn) {
-  std::atomic<std::size_t> next{0};
-  std::mutex mutex;
-  std::exception_ptr failure;
-  std::size_t failed_at = n;
-  auto worker = [&] {
-    for (std::size_t i = next++; i < n; i = next++) {
-      try {
-        fn(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (i < failed_at) failure = std::current_exception(), failed_at = i;
-        next = n;
-        return;
-      }
-    }
-  };
-  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n)));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
 
 // Standard normal distribution function.
 double normal_cdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }

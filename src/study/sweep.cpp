@@ -5,17 +5,16 @@
 
 #include <algorithm>
 #include <tuple>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
 #include <filesystem>
 #include <mutex>
 #include <thread>
 
 #include "common/errors.hpp"
+#include "common/parallel.hpp"
 #include "common/units.hpp"
 #include "engine/charge_run.hpp"
 #include "io/atomic_write.hpp"
@@ -349,40 +348,28 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   std::vector<std::vector<SweepPoint>> measured(static_cast<std::size_t>(n), std::vector<SweepPoint>(static_cast<std::size_t>(reps)));
   std::vector<int> left(static_cast<std::size_t>(n), reps);
   r.points.resize(static_cast<std::size_t>(n));
-  std::atomic<int> next{0};
   std::mutex mutex;
   int done = 0;
-  std::exception_ptr failure;
-  auto worker = [&] {
-    for (int t = next++; t < tasks; t = next++) {
-      const int i = t / reps, k = t % reps;
-      const auto iu = static_cast<std::size_t>(i);
-      SweepPoint p;
-      try {
-        Scene scene = scenes[iu];
-        scene.solver.seed += static_cast<std::uint64_t>(k);
-        p = measure_point(scene, i, k, r.axis, q.out);
-      } catch (const NumericalError& e) {
-        p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
-        p.error = e.what();
-      } catch (...) {
-        std::lock_guard<std::mutex> g(mutex);
-        if (!failure) failure = std::current_exception();
-        next = tasks;  // an I/O failure stops the sweep
-        return;
-      }
-      std::lock_guard<std::mutex> g(mutex);
-      measured[iu][static_cast<std::size_t>(k)] = p;
-      if (--left[iu] > 0) continue;
-      r.points[iu] = fold_replicates(measured[iu]);
-      ++done;
-      if (cb.on_point) cb.on_point(r.points[iu], done, n);
+  // A numerical failure is the point's result; anything else (an I/O failure) stops the sweep.
+  for_each_index_parallel(static_cast<std::size_t>(tasks), r.jobs, [&](std::size_t t) {
+    const int i = static_cast<int>(t) / reps, k = static_cast<int>(t) % reps;
+    const auto iu = static_cast<std::size_t>(i);
+    SweepPoint p;
+    try {
+      Scene scene = scenes[iu];
+      scene.solver.seed += static_cast<std::uint64_t>(k);
+      p = measure_point(scene, i, k, r.axis, q.out);
+    } catch (const NumericalError& e) {
+      p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
+      p.error = e.what();
     }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < r.jobs; ++j) threads.emplace_back(worker);
-  for (auto& th : threads) th.join();
-  if (failure) std::rethrow_exception(failure);
+    std::lock_guard<std::mutex> g(mutex);
+    measured[iu][static_cast<std::size_t>(k)] = p;
+    if (--left[iu] > 0) return;
+    r.points[iu] = fold_replicates(measured[iu]);
+    ++done;
+    if (cb.on_point) cb.on_point(r.points[iu], done, n);
+  });
 
   write_sweep_csv(q.out, r);
   std::vector<std::string> files{"manifest.json", "sweep.csv"};

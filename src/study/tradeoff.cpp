@@ -2,17 +2,16 @@
 #include "study/tradeoff.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <mutex>
-#include <thread>
 
 #include <time.h>
 
 #include "common/errors.hpp"
+#include "common/parallel.hpp"
 #include "geometry/polyline.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -416,64 +415,54 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
     rows[i].designs.resize(n_designs);
   }
   std::mutex mutex;
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (;;) {
-      const std::size_t task = next.fetch_add(1);
-      if (task >= n * n_designs) return;
-      const std::size_t i = task / n_designs, k = task % n_designs;
-      const TradeoffSetting& s = ladder.settings[i];
-      const Scene& scene = s.scenes[k];
-      if (cb.on_start) {
-        std::lock_guard<std::mutex> lock(mutex);
-        cb.on_start(s);
-      }
-      TradeoffDesign out;
-      out.name = scene.name;
-      HistoryDigest dig;
-      std::vector<std::string> events;
-      std::int64_t disk_steps = 0;
-      double simulated = 0.0;
-      std::string error;
-      const auto t0 = Clock::now();
-      const double c0 = thread_cpu_s();
-      try {
-        const WearHistory h = run_wear_history(scene);
-        for (const auto& st : h.stages) {
-          disk_steps += st.disk_steps;
-          simulated += st.simulated_s;
-        }
-        out.final_hours = h.stages.back().hours;
-        out.final_area_m2 = h.stages.back().lifter.area_m2;
-        out.final_height_m = h.stages.back().lifter.height_m;
-        out.life_h = h.life_h;
-        out.life_extrapolated = h.life_extrapolated;
-        for (const auto& e : h.events) events.push_back(scene.name + ": " + e);
-        dig = digest(h);
-        out.final_profile = dig.final_profile;
-      } catch (const std::runtime_error& e) {  // RunError, or InputError from a limit check
-        error = scene.name + ": " + e.what();
-      }
-      const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-      const double cpu = thread_cpu_s() - c0;
+  for_each_index_parallel(n * n_designs, jobs, [&](std::size_t task) {
+    const std::size_t i = task / n_designs, k = task % n_designs;
+    const TradeoffSetting& s = ladder.settings[i];
+    const Scene& scene = s.scenes[k];
+    if (cb.on_start) {
       std::lock_guard<std::mutex> lock(mutex);
-      TradeoffRow& row = rows[i];
-      row.wall_s += wall;
-      row.cpu_s += cpu;
-      row.disk_steps += disk_steps;
-      row.simulated_s += simulated;
-      row.events.insert(row.events.end(), events.begin(), events.end());
-      if (!error.empty()) row.error += (row.error.empty() ? "" : "; ") + error;
-      digests[i][k] = std::move(dig);
-      row.designs[k] = out;
-      if (cb.on_design) cb.on_design(s, out, wall, cpu, error);
+      cb.on_start(s);
     }
-  };
-  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n * n_designs)));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+    TradeoffDesign out;
+    out.name = scene.name;
+    HistoryDigest dig;
+    std::vector<std::string> events;
+    std::int64_t disk_steps = 0;
+    double simulated = 0.0;
+    std::string error;
+    const auto t0 = Clock::now();
+    const double c0 = thread_cpu_s();
+    try {
+      const WearHistory h = run_wear_history(scene);
+      for (const auto& st : h.stages) {
+        disk_steps += st.disk_steps;
+        simulated += st.simulated_s;
+      }
+      out.final_hours = h.stages.back().hours;
+      out.final_area_m2 = h.stages.back().lifter.area_m2;
+      out.final_height_m = h.stages.back().lifter.height_m;
+      out.life_h = h.life_h;
+      out.life_extrapolated = h.life_extrapolated;
+      for (const auto& e : h.events) events.push_back(scene.name + ": " + e);
+      dig = digest(h);
+      out.final_profile = dig.final_profile;
+    } catch (const std::runtime_error& e) {  // RunError, or InputError from a limit check
+      error = scene.name + ": " + e.what();
+    }
+    const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double cpu = thread_cpu_s() - c0;
+    std::lock_guard<std::mutex> lock(mutex);
+    TradeoffRow& row = rows[i];
+    row.wall_s += wall;
+    row.cpu_s += cpu;
+    row.disk_steps += disk_steps;
+    row.simulated_s += simulated;
+    row.events.insert(row.events.end(), events.begin(), events.end());
+    if (!error.empty()) row.error += (row.error.empty() ? "" : "; ") + error;
+    digests[i][k] = std::move(dig);
+    row.designs[k] = out;
+    if (cb.on_design) cb.on_design(s, out, wall, cpu, error);
+  });
 
   const TradeoffRow& ref = rows.front();
   if (!ref.error.empty()) throw RunError("tradeoff: the reference run failed: " + ref.error);
