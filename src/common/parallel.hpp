@@ -13,8 +13,8 @@ namespace millwear {
 
 // Calls fn(i) for every i in [0, n) on up to `jobs` threads, the caller one of them; each
 // index once, in any order. An exception stops the handing out of indices (the tasks under
-// way finish), and once every thread is done the one of the lowest index is thrown again
-// here: no exception leaves a thread, whatever its type.
+// way finish), and once every thread is done the one of the lowest index among those that
+// threw is thrown again here: no exception leaves a thread, whatever its type.
 template <class F>
 void for_each_index_parallel(std::size_t n, int jobs, const F& fn) {
   std::atomic<std::size_t> next{0};
