@@ -250,7 +250,8 @@ TEST_P(EngineTest, ABedAtRestDissipatesNothing) {
   for (std::size_t i = 0; i < charge.size(); ++i) mass_kg += charge.active[i] ? charge.mass_kg[i] : 0.0;
   const double kick_W = 0.5 * mass_kg * kGravity * kGravity * engine->time_step_s();
   EXPECT_EQ(s.power_W, 0.0);
-  EXPECT_LT(std::fabs(s.collision_power_W + s.liner_dissipation_W), 0.05 * kick_W)
+  // Measured: 1e-8 W on the library, 1e-12 W on the soft backend, against a kick of 0.64 W.
+  EXPECT_LT(std::fabs(s.collision_power_W + s.liner_dissipation_W), 1e-4 * kick_W)
       << "particle-particle " << s.collision_power_W << " W, liner " << s.liner_dissipation_W
       << " W; gravity's kick would be " << kick_W << " W";
 }
