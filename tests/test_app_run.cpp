@@ -25,6 +25,8 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
+#include "io/run_outputs.hpp"
+#include "scene/scene.hpp"
 
 namespace fs = std::filesystem;
 
@@ -181,6 +183,22 @@ TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
   EXPECT_EQ(solver.at("contact_hertz").get<double>(), 0.0);
   EXPECT_NEAR(solver.at("contact_hertz_used").get<double>(),
               solver.at("substeps").get<double>() / solver.at("time_step_s").get<double>() / 8.0, 1e-9);
+  // The library backend's settings are not the soft design's: left out.
+  EXPECT_FALSE(solver.contains("velocity_iterations"));
+  EXPECT_FALSE(solver.contains("position_iterations"));
+}
+
+TEST_F(AppRun, SettingsChangesNameTheOtherBackendsSettings) {
+  const std::string scene = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml";
+  const auto changes = millwear::io::settings_changes(
+      full_.string(), "lab-mill", millwear::load_scene(scene, {"solver.backend=box2d"}));
+  const auto has = [&](const std::string& head) {
+    return std::any_of(changes.begin(), changes.end(),
+                       [&](const std::string& c) { return c.rfind(head, 0) == 0; });
+  };
+  EXPECT_TRUE(has("solver.backend: \"soft\" -> \"box2d\"")) << ::testing::PrintToString(changes);
+  EXPECT_TRUE(has("solver.velocity_iterations: (none) -> ")) << ::testing::PrintToString(changes);
+  EXPECT_FALSE(has("solver.substeps")) << ::testing::PrintToString(changes);
 }
 
 TEST_F(AppRun, ProfilesAreLifterLocalMillimetres) {

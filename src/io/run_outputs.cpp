@@ -57,20 +57,24 @@ Json scene_settings(const Scene& s) {
       {"ball_filling", s.charge.ball_filling},
       {"bulk_packing", s.charge.bulk_packing},
       {"species", static_cast<int>(s.charge.species.size())}};
-  j["solver"] = Json{
-      {"backend", s.solver.backend == Backend::Box2D ? "box2d" : "soft"},
-      {"time_step_s", s.solver.time_step_s},
-      {"velocity_iterations", s.solver.velocity_iterations},
-      {"position_iterations", s.solver.position_iterations},
-      {"substeps", s.solver.substeps},
-      {"contact_hertz", s.solver.contact_hertz},
-      {"contact_hertz_used", s.solver.contact_hertz_used()},
-      {"damping_ratio", s.solver.damping_ratio},
-      {"push_out_radii_per_s", s.solver.push_out_radii_per_s},
-      {"settle_time_s", s.solver.settle_time_s},
-      {"spinup_revolutions", s.solver.spinup_revolutions},
-      {"seed", static_cast<unsigned long long>(s.solver.seed)},
-      {"size_cutoff_m", s.solver.size_cutoff_m}};
+  // The settings the design's backend reads; the other backend's are left out.
+  Json solver = Json{{"backend", s.solver.backend == Backend::Box2D ? "box2d" : "soft"},
+                     {"time_step_s", s.solver.time_step_s}};
+  if (s.solver.backend == Backend::Box2D) {
+    solver["velocity_iterations"] = s.solver.velocity_iterations;
+    solver["position_iterations"] = s.solver.position_iterations;
+  } else {
+    solver["substeps"] = s.solver.substeps;
+    solver["contact_hertz"] = s.solver.contact_hertz;
+    solver["contact_hertz_used"] = s.solver.contact_hertz_used();
+    solver["damping_ratio"] = s.solver.damping_ratio;
+    solver["push_out_radii_per_s"] = s.solver.push_out_radii_per_s;
+  }
+  solver["settle_time_s"] = s.solver.settle_time_s;
+  solver["spinup_revolutions"] = s.solver.spinup_revolutions;
+  solver["seed"] = static_cast<unsigned long long>(s.solver.seed);
+  solver["size_cutoff_m"] = s.solver.size_cutoff_m;
+  j["solver"] = std::move(solver);
   const WearDef& w = s.wear;
   j["wear"] = Json{
       {"mode", w.mode == WearMode::Staged ? "staged" : "continuous"},
