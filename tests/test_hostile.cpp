@@ -594,6 +594,16 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
   }
+  // A folder that takes no files whoever asks (a virtual file system; access() passes root
+  // there) is refused by trying it, not blamed on a full disk after the simulation.
+  for (const std::string& cmd : {"animate " + lab + " -o /proc/millwear-test.gif", "charge " + lab + " -o /proc/millwear-test"}) {
+    const auto r = run_millwear(cmd);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    const bool said = r.output.find("no file can be made in /proc") != std::string::npos ||
+                      r.output.find("/proc is not writable") != std::string::npos;  // not root
+    EXPECT_TRUE(said) << r.output;
+    EXPECT_EQ(r.output.find("is full"), std::string::npos) << r.output;
+  }
   // validate finds that --from holds no run only once it holds its output folder, which must
   // not outlive the refusal.
   const fs::path surveys = dir / "areas.csv";

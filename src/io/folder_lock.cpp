@@ -94,6 +94,20 @@ void check_output_folder(const std::string& path) {
   if (::access(p.c_str(), W_OK | X_OK) != 0)
     throw InputError(path, "-o",
                      "an output folder that can be made, but " + p.string() + " is not writable (" + std::strerror(errno) + ")");
+  // access() passes root everywhere and knows nothing of read-only or virtual file systems
+  // (/proc): a file made and removed at once is the test that holds.
+  const std::string probe = (p / (".millwear-probe-" + std::to_string(::getpid()))).string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int err = errno;
+    if (err != EEXIST)
+      throw InputError(path, "-o",
+                       "an output folder that can be made, but no file can be made in " + p.string() + " (" +
+                           std::strerror(err) + ")");
+    return;  // another check of this process's at the same moment: the folder takes files
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_path(folder, kFolderLockName)) {

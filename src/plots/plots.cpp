@@ -74,7 +74,8 @@ std::string parent_dir(const std::string& path) {
 std::string full_disk_hint(const std::string& dir) {
   std::error_code ec;
   const fs::space_info space = fs::space(dir.empty() ? "." : dir, ec);
-  if (ec || space.available >= (1u << 20)) return "";
+  // A virtual file system (/proc) reports no capacity at all: not a full disk.
+  if (ec || space.capacity == 0 || space.available >= (1u << 20)) return "";
   return "; the file system holding " + dir + " is full (" + std::to_string(space.available / 1024) +
          " kB free)";
 }
