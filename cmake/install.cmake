@@ -5,6 +5,9 @@
 #                                               name ../profiles/, so they resolve there as
 #                                               in the repository
 #   share/doc/millwear/{README.md,docs/}        README's links to docs/ resolve there
+#   share/millwear/docs, share/doc/millwear/{plots,validation}
+#                                               relative links, so that the Markdown files'
+#                                               links resolve as in the repository
 #   share/man/man1/millwear.1.gz                from `millwear --help` by help2man
 #   share/bash-completion/completions/millwear
 # The layout is fixed (bin/ beside share/): the program finds its figure scripts at
@@ -15,6 +18,15 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/plots ${PROJECT_SOURCE_DIR}/scenarios
         DESTINATION share/millwear)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION share/doc/millwear)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs DESTINATION share/doc/millwear)
+# The READMEs and docs/ link each other as in the repository (docs/ to ../validation/,
+# plots/ and validation/ to ../docs/): relative links between the two folders keep every
+# link whole.
+install(CODE [[
+  set(share "$ENV{DESTDIR}${CMAKE_INSTALL_PREFIX}/share")
+  file(CREATE_LINK ../doc/millwear/docs "${share}/millwear/docs" SYMBOLIC)
+  file(CREATE_LINK ../../millwear/plots "${share}/doc/millwear/plots" SYMBOLIC)
+  file(CREATE_LINK ../../millwear/validation "${share}/doc/millwear/validation" SYMBOLIC)
+]])
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/millwear.bash
         DESTINATION share/bash-completion/completions RENAME millwear)
 

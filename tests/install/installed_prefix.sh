@@ -23,6 +23,12 @@ for f in bin/millwear share/man/man1/millwear.1.gz share/bash-completion/complet
          share/doc/millwear/README.md share/doc/millwear/docs/run.md; do
   [ -s "$p/$f" ] || fail "$f is missing or empty in the installed tree"
 done
+# Every relative link of an installed Markdown file resolves in the moved tree.
+while IFS= read -r md; do
+  for target in $(grep -oE '\]\([^):#]+' "$md" | sed 's/^](//'); do
+    [ -e "$(dirname "$md")/$target" ] || fail "${md#"$p"/} links $target, which is not installed"
+  done
+done < <(find -L "$p/share" -name '*.md')
 
 # --version names the commit: seven hex digits (and -dirty) in a git checkout, else unknown.
 version="$(millwear --version)"
