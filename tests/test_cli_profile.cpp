@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <string>
 
@@ -122,4 +123,25 @@ TEST_F(CliProfile, NothingIsWrittenWhenAnyFileIsBad) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_FALSE(fs::exists(out / "2x30.csv"));
   EXPECT_EQ(r.output.find("2x30 "), std::string::npos) << "table printed before validation";
+}
+
+// A measured scan is named after its file: --csv into the scan's own folder would write the
+// lifter over the scan. Refused, the scan untouched, nothing printed; so are two profiles of
+// one name, before the table.
+TEST_F(CliProfile, CsvNeverOverwritesAnInputFile) {
+  const std::string scan_text = "# a plant's scan\nx_mm,y_mm\n-20,-1\n-10,0\n-5,20\n5,20\n10,0\n20,-1\n";
+  const std::string scan = write("scan.csv", scan_text);
+  const Result r = run("profile \"" + scan + "\" --csv \"" + dir_.string() + "\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("would overwrite it"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("area_mm2"), std::string::npos) << "table printed before the refusal";
+  std::ifstream in(scan);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), scan_text);
+
+  const std::string a = write("a.toml", "name = \"same\"\nform = \"trapezoid\"\nheight = 20.0\ntop_width = 10.0\n" + kAngles);
+  const std::string b = write("b.toml", "name = \"same\"\nform = \"trapezoid\"\nheight = 30.0\ntop_width = 10.0\n" + kAngles);
+  const Result twice = run("profile \"" + a + "\" \"" + b + "\" --csv \"" + (dir_ / "out").string() + "\"");
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("both would be written"), std::string::npos) << twice.output;
+  EXPECT_EQ(twice.output.find("area_mm2"), std::string::npos) << "table printed before the refusal";
 }

@@ -45,6 +45,27 @@ int run_profile(const ProfileArgs& args) {
   std::vector<LifterProfile> profiles;
   for (const std::string& f : args.files) profiles.push_back(load_profile(f));
 
+  // --csv: every file it would write checked before anything is printed or written.
+  namespace fs = std::filesystem;
+  if (!args.csv_dir.empty()) {
+    for (std::size_t i = 0; i < profiles.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j)
+        if (profiles[i].name == profiles[j].name)
+          throw InputError(profiles[i].source_file, "name",
+                           "expected a name different from " + profiles[j].source_file +
+                               " (both would be written to " + profiles[i].name + ".csv)");
+      // A measured scan's name is its file's: --csv into its own folder would overwrite it.
+      const fs::path target = fs::path(args.csv_dir) / (profiles[i].name + ".csv");
+      for (const LifterProfile& input : profiles) {
+        std::error_code ec;
+        if (fs::equivalent(target, input.source_file, ec))
+          throw InputError("", "--csv",
+                           "a folder other than the one holding " + input.source_file + " (" + target.string() +
+                               " would overwrite it)");
+      }
+    }
+  }
+
   char row[256];
   std::snprintf(row, sizeof row, "%-16s %12s %10s %10s %10s %10s %10s\n", "name", "area_mm2",
                 "height_mm", "base_mm", "top_mm", "lead_deg", "trail_deg");
@@ -76,13 +97,6 @@ int run_profile(const ProfileArgs& args) {
   }
 
   if (!args.csv_dir.empty()) {
-    namespace fs = std::filesystem;
-    for (std::size_t i = 0; i < profiles.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j)
-        if (profiles[i].name == profiles[j].name)
-          throw InputError(profiles[i].source_file, "name",
-                           "expected a name different from " + profiles[j].source_file +
-                               " (both would be written to " + profiles[i].name + ".csv)");
     std::error_code ec;
     fs::create_directories(args.csv_dir, ec);
     if (ec || !fs::is_directory(args.csv_dir))
