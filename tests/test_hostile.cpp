@@ -769,3 +769,18 @@ TEST(HostileSurveys, SurveyPointsOutsideTheLinerUnitAreRefused) {
                               quoted(surveys) + " -o " + quoted(dir / "out"));
   expect_refused(r, surveys.string(), "line 5", dir / "out");
 }
+
+// A rectangular scan whose shell plates lie a whole number of mesh edges below the shell line:
+// the re-meshed surface has a vertex a rounding error above the line, which is a foot, not a
+// lifter point on the line. So is a file point 0.5 um above it.
+TEST(HostileMeasured, APointARoundingErrorAboveTheShellLineIsAFoot) {
+  const fs::path dir = scratch("measured-rounding");
+  write(dir / "rect.csv", "x_mm,y_mm\n-30,-2\n-10,-2\n-10,20\n10,20\n10,-2\n30,-2\n");
+  const auto r = run_millwear("run " + quoted(lab_mill_with_profile(dir, "rect.csv")) + " -o " + quoted(dir / "out") +
+                              " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  write(dir / "tiny.csv", "x_mm,y_mm\n-60,-5\n-50,-5\n-50,0.0000005\n-50,100\n50,100\n50,-5\n60,-5\n");
+  const auto p = run_millwear("profile " + quoted(dir / "tiny.csv"));
+  EXPECT_EQ(p.exit_code, 0) << p.output;
+  EXPECT_NE(p.output.find("10000.0"), std::string::npos) << p.output;  // 100 x 100 mm
+}

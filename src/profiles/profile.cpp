@@ -342,10 +342,12 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
                      "expected both ends of the surface at or below the shell line, y <= 0 (a profile from "
                      "shell to shell; the first point is at y = " + fmt_num(s.front().y * 1e3) +
                          " mm, the last at y = " + fmt_num(s.back().y * 1e3) + " mm)");
-  // From the top outwards to the first point at or below the shell line on either side.
+  // From the top outwards to the first point on the shell line (within kEndTolM, as the ends)
+  // or below it on either side: a point a rounding error above the line is a foot, not a
+  // lifter point that validate_lifter_polyline would find on the line.
   std::size_t left = top, right = top;
-  while (left > 0 && s[left - 1].y > 0.0) --left;
-  while (right + 1 < s.size() && s[right + 1].y > 0.0) ++right;
+  while (left > 0 && s[left - 1].y > kEndTolM) --left;
+  while (right + 1 < s.size() && s[right + 1].y > kEndTolM) ++right;
   auto crossing = [](Vec2 below, Vec2 above) {  // the point at y = 0 on [below, above]
     const double t = below.y / (below.y - above.y);
     return Vec2{below.x + t * (above.x - below.x), 0.0};
