@@ -30,6 +30,15 @@ TEST(Estimates, MeanAndStandardErrorOfKnownValues) {
   EXPECT_TRUE(std::isnan(millwear::mean_and_se({}).mean));
 }
 
+// Six replicates of one new lifter: their area exactly, with no error at all (the sum's
+// rounding gave 3e-12, printed as a measured spread).
+TEST(Estimates, EqualValuesHaveExactlyNoError) {
+  const std::vector<double> same(6, 42386.090624017219);  // six: the sum rounds
+  const Estimate e = millwear::mean_and_se(same);
+  EXPECT_EQ(e.mean, 42386.090624017219);
+  EXPECT_EQ(e.se, 0.0);
+}
+
 TEST(Estimates, ADifferenceIsResolvedPastTwoCombinedErrors) {
   // Combined error sqrt(0.3^2 + 0.4^2) = 0.5: a difference of 1.01 is resolved, 0.99 is not.
   const auto yes = millwear::compare({10.0, 0.3}, {8.99, 0.4}, 4);

@@ -10,6 +10,13 @@ Estimate mean_and_se(const std::vector<double>& values) {
   Estimate e;
   const auto n = static_cast<double>(values.size());
   if (values.empty()) return e;
+  // Equal values (every replicate's new lifter): their mean and a zero error exactly, where
+  // the sum's rounding would leave an error of 1e-12 that reads as a measured spread.
+  if (std::all_of(values.begin(), values.end(), [&](double x) { return x == values.front(); })) {
+    e.mean = values.front();
+    if (values.size() >= 2) e.se = 0.0;
+    return e;
+  }
   double sum = 0.0;
   for (double x : values) sum += x;
   e.mean = sum / n;
