@@ -47,6 +47,19 @@ TEST(Rule1Statistics, ADeviationWithinItsErrorOfTheToleranceAgrees) {
   EXPECT_NEAR(row.noise_floor_m, 1e-3, 1e-15);
 }
 
+// One seed per factor: the depths have no error, so the noise floor and the chance of being
+// within the tolerance are unknown (NaN, printed "-"), not a noise of zero and a chance of 100%.
+TEST(Rule1Statistics, OneSeedPerFactorLeavesTheNoiseAndTheChanceUnknown) {
+  const Rule1Row ref = row_with({1e-3, 2e-3}, {0.0, 0.0});
+  Rule1Row row = row_with({1e-3, 2.5e-3}, {0.0, 0.0});
+  compare_rule1_row(row, ref, 1e-3);
+  EXPECT_EQ(row.verdict, Rule1Verdict::Agrees);  // 0.5 mm against a 1 mm tolerance
+  EXPECT_NEAR(row.deviation_m, 0.5e-3, 1e-15);
+  EXPECT_TRUE(std::isnan(row.deviation_se_m));
+  EXPECT_TRUE(std::isnan(row.noise_floor_m));
+  EXPECT_TRUE(std::isnan(row.chance_within));
+}
+
 // The worst station is the one most standard errors above the tolerance, not the largest
 // difference: a large difference where the seeds scatter widely says less than a smaller
 // one where they agree.

@@ -77,8 +77,10 @@ int run_rule1(const Rule1Args& a) {
         std::snprintf(dev, sizeof dev, "%.2f +- %.2f", row.deviation_m * h, row.deviation_se_m * h);
       else
         std::snprintf(dev, sizeof dev, "%.2f", row.deviation_m * h);
-      std::printf("%12.3g %10.2f %20s %12.2f %13.0f%%  %s", row.factor, sim, dev, row.noise_floor_m * h,
-                  100.0 * row.chance_within, verdict_name(row.verdict));
+      char noise[24] = "-", within[24] = "-";  // unknown with one seed
+      if (std::isfinite(row.noise_floor_m)) std::snprintf(noise, sizeof noise, "%.2f", row.noise_floor_m * h);
+      if (std::isfinite(row.chance_within)) std::snprintf(within, sizeof within, "%.0f%%", 100.0 * row.chance_within);
+      std::printf("%12.3g %10.2f %20s %12s %14s  %s", row.factor, sim, dev, noise, within, verdict_name(row.verdict));
       if (row.verdict == Rule1Verdict::Scatters)
         std::printf(" (seeds spread %.1fx the smallest factor's, p = %.3f)", std::sqrt(row.scatter_ratio),
                     row.scatter_p);

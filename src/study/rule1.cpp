@@ -97,19 +97,24 @@ std::string fmt(double v) {
 
 // The deviation of `row` from the reference row, station by station, against the tolerance.
 void compare_rule1_row(Rule1Row& row, const Rule1Row& ref, double tolerance_m) {
+  // The depths' errors are zero where a row has one replicate: then no error is known.
+  bool error_known = false;
+  for (std::size_t s = 0; s < row.depth_mean_m.size(); ++s)
+    error_known = error_known || std::hypot(row.depth_se_m[s], ref.depth_se_m[s]) > 0.0;
+  row.noise_floor_m = error_known ? 0.0 : Rule1Row::kUnknown;
   double worst_z = -HUGE_VAL;
   for (std::size_t s = 0; s < row.depth_mean_m.size(); ++s) {
     const double diff = std::fabs(row.depth_mean_m[s] - ref.depth_mean_m[s]);
     const double se = std::hypot(row.depth_se_m[s], ref.depth_se_m[s]);
     row.max_deviation_m = std::max(row.max_deviation_m, diff);
-    row.noise_floor_m = std::max(row.noise_floor_m, kSignificance * se);
+    if (error_known) row.noise_floor_m = std::max(row.noise_floor_m, kSignificance * se);
     // With no error known, the largest deviation is the worst; with one, the most standard
     // errors above the tolerance.
     const double z = se > 0.0 ? (diff - tolerance_m) / se : (diff - tolerance_m) * 1e300;
     if (z > worst_z) {
       worst_z = z;
       row.deviation_m = diff;
-      row.deviation_se_m = se;
+      row.deviation_se_m = error_known ? se : Rule1Row::kUnknown;
     }
   }
   if (row.deviation_se_m > 0.0) {
@@ -117,7 +122,9 @@ void compare_rule1_row(Rule1Row& row, const Rule1Row& ref, double tolerance_m) {
     row.verdict = row.deviation_m - tolerance_m > kSignificance * row.deviation_se_m ? Rule1Verdict::Deviates
                                                                                       : Rule1Verdict::Agrees;
   } else {
-    row.chance_within = row.deviation_m <= tolerance_m ? 1.0 : 0.0;
+    // A deviation with no error: against the tolerance as it is; no chance where no error is
+    // known at all (one seed).
+    if (error_known) row.chance_within = row.deviation_m <= tolerance_m ? 1.0 : 0.0;
     row.verdict = row.deviation_m <= tolerance_m ? Rule1Verdict::Agrees : Rule1Verdict::Deviates;
   }
   const std::size_t n = row.replicates.size(), n_ref = ref.replicates.size();

@@ -22,6 +22,7 @@
 // the largest factor that agrees, with every smaller one agreeing too.
 #include <cstdint>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "geometry/polyline.hpp"
@@ -54,22 +55,24 @@ enum class Rule1Verdict {
 const char* verdict_name(Rule1Verdict v);
 
 struct Rule1Row {
+  static constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   double factor = 0.0;
   std::vector<Rule1Replicate> replicates;
   std::vector<double> depth_mean_m;   // per station
   std::vector<double> depth_se_m;     // per station (0 with one replicate)
   // At the station where the deviation exceeds the tolerance by the most standard errors
   // (where it is largest when there is no error):
+  // NaN where a figure needs an error and one of the two rows has one replicate (no error known).
   double deviation_m = 0.0;           // |mean depth - the smallest factor's|
-  double deviation_se_m = 0.0;        // its standard error
+  double deviation_se_m = kUnknown;   // its standard error
   double max_deviation_m = 0.0;       // largest |difference| over all stations
-  double noise_floor_m = 0.0;         // largest 2 x standard error over all stations
+  double noise_floor_m = kUnknown;    // largest 2 x standard error over all stations
   double scatter_m = 0.0;             // rms over the stations of the replicates' standard deviation
-  double scatter_ratio = 0.0;         // (scatter / the smallest factor's)^2
-  double scatter_p = 1.0;             // chance of a ratio this large from equal spreads
+  double scatter_ratio = kUnknown;    // (scatter / the smallest factor's)^2
+  double scatter_p = kUnknown;        // chance of a ratio this large from equal spreads
   // Chance that the true deviation at that station is within the tolerance (normal
-  // approximation); 1 or 0 with one replicate, where no error is known.
-  double chance_within = 0.0;
+  // approximation).
+  double chance_within = kUnknown;
   Rule1Verdict verdict = Rule1Verdict::Reference;
 };
 
@@ -81,7 +84,7 @@ struct Rule1Report {
   double tolerance_pct_height = 0.0;
   int replicates = 0;
   double recommended_factor = 0.0;    // 0: none (the smallest factor itself failed)
-  double recommended_chance = 0.0;    // its chance_within (1 for the smallest factor)
+  double recommended_chance = 0.0;    // its chance_within (1 for the smallest factor; NaN: unknown)
   int recommended_row = -1;           // its index in rows
 };
 
