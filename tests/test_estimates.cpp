@@ -40,21 +40,52 @@ TEST(Estimates, EqualValuesHaveExactlyNoError) {
 }
 
 TEST(Estimates, ADifferenceIsResolvedPastTwoCombinedErrors) {
-  // Combined error sqrt(0.3^2 + 0.4^2) = 0.5: a difference of 1.01 is resolved, 0.99 is not.
-  const auto yes = millwear::compare({10.0, 0.3}, {8.99, 0.4}, 4);
+  using millwear::ErrorSource;
+  // One history's batch means: combined error sqrt(0.3^2 + 0.4^2) = 0.5; a difference of
+  // 1.01 is resolved, 0.99 is not.
+  const auto yes = millwear::compare({10.0, 0.3}, {8.99, 0.4}, 1, ErrorSource::BatchMeans);
   EXPECT_NEAR(yes.se, 0.5, 1e-12);
+  EXPECT_EQ(yes.threshold, 2.0);
   EXPECT_TRUE(yes.resolved);
   EXPECT_EQ(yes.replicates_needed, 0);
-  const auto no = millwear::compare({10.0, 0.3}, {9.01, 0.4}, 4);
+  const auto no = millwear::compare({10.0, 0.3}, {9.01, 0.4}, 1, ErrorSource::BatchMeans);
   EXPECT_FALSE(no.resolved);
-  // With n histories the error scales as sqrt(4 / n): 2 * 0.5 * sqrt(4 / n) < 0.99 from n = 5.
-  EXPECT_EQ(no.replicates_needed, 5);
-  EXPECT_LT(2.0 * 0.5 * std::sqrt(4.0 / 5.0), 0.99);
-  EXPECT_GT(2.0 * 0.5 * std::sqrt(4.0 / 4.0), 0.99);
+  // The count that would resolve it is run as replicates, so judged by their threshold: the
+  // smallest n with t(2 (n - 1)) * 0.5 / sqrt(n) < 0.99.
+  const int n = no.replicates_needed;
+  ASSERT_GE(n, 2);
+  EXPECT_LT(millwear::resolved_threshold(2.0 * (n - 1)) * 0.5 / std::sqrt(n), 0.99);
+  if (n > 2) {
+    EXPECT_GT(millwear::resolved_threshold(2.0 * (n - 2)) * 0.5 / std::sqrt(n - 1.0), 0.99);
+  }
   // No error known: no verdict either way.
-  const auto unknown = millwear::compare({1.0, std::nan("")}, {0.0, 0.1}, 1);
+  const auto unknown = millwear::compare({1.0, std::nan("")}, {0.0, 0.1}, 1, ErrorSource::BatchMeans);
   EXPECT_FALSE(unknown.resolved);
   EXPECT_EQ(unknown.replicates_needed, -1);
+}
+
+// The threshold is Student's t at the level of two standard errors of a normal variable
+// (Phi(2) = 0.97725), in closed form for one and two degrees of freedom:
+// t1 = tan(pi (0.97725 - 1/2)), t2 = sqrt(2 q^2 / (1 - q^2)) with q = 2 * 0.97725 - 1.
+TEST(Estimates, FewReplicatesNeedStudentsThreshold) {
+  using millwear::ErrorSource;
+  const double p = 0.5 * std::erfc(-2.0 / std::sqrt(2.0)), q = 2.0 * p - 1.0;
+  EXPECT_NEAR(millwear::resolved_threshold(1.0), std::tan(M_PI * (p - 0.5)), 1e-9);
+  EXPECT_NEAR(millwear::resolved_threshold(2.0), std::sqrt(2.0 * q * q / (1.0 - q * q)), 1e-9);
+  EXPECT_NEAR(millwear::resolved_threshold(1e9), 2.0, 1e-12);
+  // Two replicates per design with equal errors: 2 degrees of freedom, a threshold of 4.53;
+  // four combined errors are not a resolved difference, five are.
+  const double t2 = std::sqrt(2.0 * q * q / (1.0 - q * q));
+  EXPECT_NEAR(millwear::welch_dof(1.0, 1.0, 2), 2.0, 1e-12);
+  const double se = std::sqrt(2.0);
+  const auto four = millwear::compare({4.0 * se, 1.0}, {0.0, 1.0}, 2, ErrorSource::Replicates);
+  EXPECT_NEAR(four.threshold, t2, 1e-9);
+  EXPECT_FALSE(four.resolved);
+  EXPECT_TRUE(millwear::compare({5.0 * se, 1.0}, {0.0, 1.0}, 2, ErrorSource::Replicates).resolved);
+  // One error far larger than the other: the degrees of freedom of that design alone.
+  EXPECT_NEAR(millwear::welch_dof(1.0, 1e-6, 4), 3.0, 1e-9);
+  // Sixteen per design: close to two errors.
+  EXPECT_LT(millwear::compare({1.0, 0.2}, {0.0, 0.2}, 16, ErrorSource::Replicates).threshold, 2.1);
 }
 
 TEST(Estimates, HistoriesFoldIntoTheMeanAndItsError) {

@@ -268,7 +268,11 @@ void write_verdicts(const RunReport& report) {
                                  : std::string("one history per design (batch-means standard errors, a lower bound: "
                                                "`--replicates N` measures the spread between histories)")) +
           ". A difference is resolved when it exceeds " + format_number(kResolvedSigmas) +
-          " combined standard errors.\n\n";
+          " combined standard errors" +
+          (report.replicates > 1 ? std::string(" or, with few replicates, Student's t at the same level "
+                                               "(the threshold each verdict gives)")
+                                 : std::string()) +
+          ".\n\n";
     for (const Verdict& v : report.verdicts) md += "- " + v.text + "\n";
   }
   write_file_atomic(verdicts_path(report.out), md);
@@ -455,6 +459,7 @@ void write_manifest(const RunReport& r) {
                             {"reference_value_se", number(v.reference_value.se)},
                             {"difference", number(v.difference.value)},
                             {"difference_se", number(v.difference.se)},
+                            {"threshold_se", number(v.difference.threshold)},
                             {"resolved", v.difference.resolved},
                             {"replicates_needed", v.difference.replicates_needed},
                             {"error_source", error_source_name(v.source)},

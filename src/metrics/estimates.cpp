@@ -1,7 +1,10 @@
 // Means, standard errors and the verdict of a difference.
 #include "metrics/estimates.hpp"
 
+#include <boost/math/distributions/students_t.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace millwear {
@@ -31,24 +34,48 @@ const char* error_source_name(ErrorSource s) {
   return s == ErrorSource::Replicates ? "replicates" : "batch_means_lower_bound";
 }
 
-Difference compare(const Estimate& a, const Estimate& b, int replicates) {
+double resolved_threshold(double dof) {
+  if (!(dof < 1e7)) return kResolvedSigmas;
+  static const double level = 0.5 * std::erfc(-kResolvedSigmas / std::sqrt(2.0));  // Phi(2)
+  return boost::math::quantile(boost::math::students_t(std::max(dof, 1.0)), level);
+}
+
+double welch_dof(double se_a, double se_b, int n) {
+  const double va = se_a * se_a, vb = se_b * se_b, k = n - 1.0;
+  if (n < 2 || !(va + vb > 0.0)) return INFINITY;
+  return (va + vb) * (va + vb) / ((va * va + vb * vb) / k);
+}
+
+Difference compare(const Estimate& a, const Estimate& b, int replicates, ErrorSource source) {
   Difference d;
   d.value = a.mean - b.mean;
   d.se = std::sqrt(a.se * a.se + b.se * b.se);
   if (!std::isfinite(d.value) || !std::isfinite(d.se)) return d;
-  d.resolved = std::abs(d.value) > kResolvedSigmas * d.se;
+  const bool spread = source == ErrorSource::Replicates && replicates > 1;
+  const auto threshold_at = [&](int n) {
+    return spread ? resolved_threshold(welch_dof(a.se, b.se, n)) : kResolvedSigmas;
+  };
+  d.threshold = threshold_at(replicates);
+  d.resolved = std::abs(d.value) > d.threshold * d.se;
   if (d.resolved) {
     d.replicates_needed = 0;
     return d;
   }
   if (d.value == 0.0 || d.se == 0.0) return d;
-  // With n histories per design the combined error is se_now * sqrt(replicates / n): solve
-  // kResolvedSigmas * that < |value| for the smallest whole n.
-  const double ratio = kResolvedSigmas * d.se / std::abs(d.value);
-  const double n = std::max(1, replicates) * ratio * ratio;
-  d.replicates_needed = n < static_cast<double>(std::numeric_limits<int>::max() / 2)
-                            ? static_cast<int>(std::floor(n)) + 1 : -1;
-  return d;
+  // With n histories per design the combined error is se_now * sqrt(replicates / n) (the
+  // per-history spread kept): the smallest whole n past its own threshold. The normal count
+  // is a lower bound (every threshold is at least kResolvedSigmas); from there upwards.
+  const double per_history = d.se * std::sqrt(static_cast<double>(std::max(1, replicates)));
+  const double ratio = kResolvedSigmas * per_history / std::abs(d.value);
+  const double normal = ratio * ratio;
+  if (!(normal < 1e6)) return d;  // -1: no count worth running
+  for (int n = std::max(2, static_cast<int>(std::floor(normal)) + 1);; ++n) {
+    const double t = resolved_threshold(2.0 * (n - 1));  // the count is run as replicates
+    if (std::abs(d.value) > t * per_history / std::sqrt(static_cast<double>(n))) {
+      d.replicates_needed = n;
+      return d;
+    }
+  }
 }
 
 namespace {

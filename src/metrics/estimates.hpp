@@ -8,10 +8,14 @@
 // state carries over from one batch to the next, so that error is a lower bound.
 //
 // The verdict: design A is ahead of design B on a figure when the difference of their means
-// exceeds kResolvedSigmas combined standard errors (sqrt(se_A^2 + se_B^2)); otherwise the
-// difference is not resolved, and the replicates that would resolve it are estimated from the
-// per-history spread (se * sqrt(n)) as the count at which the same difference would reach
-// kResolvedSigmas combined errors.
+// exceeds a threshold of combined standard errors (sqrt(se_A^2 + se_B^2)): kResolvedSigmas for
+// one history's batch means; with replicates, Student's t at the same level (a normal
+// variable's chance of lying within kResolvedSigmas, 95.4%) for the Welch-Satterthwaite degrees
+// of freedom of the two means, since a few histories' spread is itself uncertain (two
+// replicates per design: 4.5 to 14 errors; four: 2.5 to 3.3; sixteen: 2.1 to 2.2; it falls to
+// kResolvedSigmas as the histories grow). Otherwise the difference is not resolved, and the
+// replicates that would resolve it are estimated from the per-history spread (se * sqrt(n)) as
+// the smallest count at which the same difference would pass that count's threshold.
 #include <cmath>
 #include <string>
 #include <vector>
@@ -35,15 +39,23 @@ constexpr double kResolvedSigmas = 2.0;
 struct Difference {
   double value = std::nan("");  // a - b
   double se = std::nan("");     // sqrt(se_a^2 + se_b^2)
-  bool resolved = false;        // |value| > kResolvedSigmas * se
+  double threshold = kResolvedSigmas;  // combined errors a resolved difference exceeds
+  bool resolved = false;        // |value| > threshold * se
   // Not resolved: replicates per design (each side the same count) about which the same
   // difference would be resolved; 0 when resolved; -1 when no count would (no difference or
   // no error known).
   int replicates_needed = -1;
 };
 
-// a and b with `replicates` histories each (1: batch-means errors).
-Difference compare(const Estimate& a, const Estimate& b, int replicates);
+// a and b with `replicates` histories each; their errors from those histories' spread
+// (ErrorSource::Replicates) or from one history's batch means.
+Difference compare(const Estimate& a, const Estimate& b, int replicates, ErrorSource source);
+
+// Student's t at the level of kResolvedSigmas for `dof` degrees of freedom (kResolvedSigmas
+// for infinitely many), and the Welch-Satterthwaite degrees of freedom of the difference of
+// two means with standard errors se_a, se_b from n histories each.
+double resolved_threshold(double dof);
+double welch_dof(double se_a, double se_b, int n);
 
 // One kind of lifter of a pattern at one stage (SI; the mean over the rows of the kind).
 struct KindEstimate {

@@ -179,12 +179,15 @@ std::string verdict_text(const Verdict& v) {
   const char* errors = v.source == ErrorSource::Replicates ? "" : "; batch-means errors, a lower bound";
   if (!std::isfinite(v.difference.se)) return what + " (no error known)";
   if (v.difference.resolved)
-    return what + " (resolved: more than " + number_text(kResolvedSigmas) + " combined standard errors" + errors + ")";
+    return what + " (resolved: more than " + number_text(v.difference.threshold) + " combined standard errors" + errors + ")";
   std::string more = v.difference.replicates_needed > 0
                          ? "run more replicates (about " + std::to_string(v.difference.replicates_needed) +
                                " per design would resolve it)"
                          : "no difference to resolve";
-  return what + " (not resolved: " + more + errors + ")";
+  const std::string under = v.difference.threshold != kResolvedSigmas
+                                ? ", under " + number_text(v.difference.threshold) + " combined standard errors"
+                                : std::string();
+  return what + " (not resolved" + under + ": " + more + errors + ")";
 }
 
 }  // namespace
@@ -216,7 +219,7 @@ std::vector<Verdict> compare_designs(const std::vector<DesignEstimate>& designs,
       v.reference = reference;
       v.value = a;
       v.reference_value = b;
-      v.difference = compare(a, b, replicates);
+      v.difference = compare(a, b, replicates, source);
       v.replicates = replicates;
       v.source = source;
       v.text = verdict_text(v);
