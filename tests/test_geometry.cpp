@@ -91,6 +91,18 @@ TEST(Geometry, WithoutLoopsCutsTheFoldOutAndKeepsASimpleLine) {
   EXPECT_EQ(without_loops(l), l);
 }
 
+// After a cut the line goes on from the crossing along the crossed edge; that remainder can
+// cross a later edge too (a gauge's back-step near a loop), and is cut as well.
+TEST(Geometry, WithoutLoopsAlsoCutsWhereTheRestOfACrossedEdgeCrossesOn) {
+  const Polyline steps{{-20, -1}, {-19, -1}, {-18.6, -0.8}, {-18.8, -0.8}, {-18.8, -1.2},
+                       {-18.9, -1.2}, {-16.5, 0}, {-5, 20}, {5, 20}, {16.5, 0}, {20, -1}};
+  EXPECT_FALSE(is_simple_open(steps));
+  const Polyline cut = without_loops(steps);
+  EXPECT_TRUE(is_simple_open(cut));
+  EXPECT_EQ(cut.front(), steps.front());
+  EXPECT_EQ(cut.back(), steps.back());
+}
+
 TEST(Geometry, PointAtLengthAndDistanceToPolyline) {
   const Polyline l{{0, 0}, {1, 0}, {1, 1}};
   const Vec2 p = point_at_length(l, 1.5);

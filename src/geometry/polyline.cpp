@@ -115,15 +115,18 @@ Polyline without_loops(const Polyline& line, Polygon* largest) {
   Polyline out;
   out.reserve(line.size());
   const std::size_t n = line.size();
-  std::size_t i = 0;
-  while (i < n) {
-    out.push_back(line[i]);
-    if (i + 1 >= n) break;
-    // The last edge j > i + 1 that crosses edge i: the loop between them goes.
+  if (n == 0) return out;
+  out.push_back(line[0]);
+  // The current edge runs from out.back() to line[k]: after a cut it starts at the crossing,
+  // and that remainder of the crossed edge is tested against the edges after it too.
+  std::size_t k = 1;
+  while (k < n) {
+    const Vec2 a = out.back(), b = line[k];
+    // The last edge j >= k + 1 that crosses the current edge: the loop between them goes.
     std::size_t cut = n;
     Vec2 at;
-    for (std::size_t j = n - 2; j > i + 1; --j) {
-      const Vec2 a = line[i], b = line[i + 1], c = line[j], d = line[j + 1];
+    for (std::size_t j = n - 1; j-- > k + 1;) {
+      const Vec2 c = line[j], d = line[j + 1];
       const Vec2 r = b - a, q = d - c;
       const double den = cross(r, q);
       if (den == 0.0) continue;
@@ -135,23 +138,24 @@ Polyline without_loops(const Polyline& line, Polygon* largest) {
       }
     }
     if (cut == n) {
-      ++i;
+      out.push_back(b);
+      ++k;
       continue;
     }
     if (largest) {
       Polygon loop{at};
-      loop.insert(loop.end(), line.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+      loop.insert(loop.end(), line.begin() + static_cast<std::ptrdiff_t>(k),
                   line.begin() + static_cast<std::ptrdiff_t>(cut) + 1);
-      const double a = std::abs(signed_area(loop));
-      if (a > largest_m2) {
-        largest_m2 = a;
+      const double area = std::abs(signed_area(loop));
+      if (area > largest_m2) {
+        largest_m2 = area;
         *largest = std::move(loop);
       }
     }
     if (!(at == out.back())) out.push_back(at);
-    // Continue from the crossing along edge `cut` (past its end if the crossing is it).
-    i = cut + 1;
-    if (line[i] == out.back()) ++i;
+    // Go on from the crossing along edge `cut` (past its end if the crossing is it).
+    k = cut + 1;
+    if (k < n && line[k] == out.back()) ++k;
   }
   return out;
 }
