@@ -784,3 +784,16 @@ TEST(HostileMeasured, APointARoundingErrorAboveTheShellLineIsAFoot) {
   EXPECT_EQ(p.exit_code, 0) << p.output;
   EXPECT_NE(p.output.find("10000.0"), std::string::npos) << p.output;  // 100 x 100 mm
 }
+
+// A scan whose shell plate goes 246 mm below the line in a 300 mm mill (a typed -246 for
+// -2.46) is refused by the scene, naming the scan, not run as a crevasse in the shell.
+TEST(HostileMeasured, AScanFarBelowTheShellLineIsRefused) {
+  const fs::path dir = scratch("measured-deep");
+  write(dir / "deep.csv", "x_mm,y_mm\n-30,-2\n-16.5,0\n-5,20\n5,20\n16.5,0\n25,-246\n30,-2\n");
+  const fs::path scene = lab_mill_with_profile(dir, "deep.csv");
+  for (const char* cmd : {"charge", "run"}) {
+    const auto r = run_millwear(std::string(cmd) + " " + quoted(scene) + " -o " + quoted(dir / "out"));
+    expect_refused(r, (dir / "deep.csv").string(), "x_mm,y_mm", dir / "out");
+    EXPECT_NE(r.output.find("a tenth of the mill radius"), std::string::npos) << r.output;
+  }
+}

@@ -146,6 +146,19 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
   EXPECT_NE(message("x_mm,y_mm\n-20,0\n0,abc\n20,0\n").find("line 3"), std::string::npos);
   EXPECT_NE(message("x,y\n-20,0\n0,10\n20,0\n").find("x_mm"), std::string::npos);
   EXPECT_NE(message("x_mm,y_mm\n-20,-1\n0,-0.5\n20,-1\n").find("above the shell line"), std::string::npos);
+  // A second lifter in the scan would wear as shell plate.
+  EXPECT_NE(message("x_mm,y_mm\n-40,-1\n-16.5,0\n-5,20\n5,20\n16.5,0\n23,-1\n23.5,0\n35,12\n45,12\n56.5,0\n75,-1\n")
+                .find("one lifter per surface"),
+            std::string::npos);
+  // Gauge noise on the plates, a few per cent of the lifter's height above the line, is shell.
+  EXPECT_EQ(message("x_mm,y_mm\n-40,-1\n-30,0.5\n-16.5,0\n-5,20\n5,20\n16.5,0\n30,0.5\n40,-1\n"), "accepted");
+  // A measured profile is named after its file, which has no name key to give.
+  try {
+    parse_measured_profile("x_mm,y_mm\n-20,-1\n-10,10\n10,10\n20,-1\n", "Mill 3 scan.csv");
+    ADD_FAILURE() << "a name with spaces was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rename the file"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
@@ -378,6 +391,10 @@ TEST(Pattern, BadPatternsAreRefused) {
   EXPECT_EQ(where("rows = 12\nprofile = \"" + lab + "\"\npattern = [\"" + lab + "\"]"), "lifters.pattern");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", 3]"), "lifters.pattern[1]");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"missing.toml\"]"), "lifters.pattern[1]");
+  // A kind too tall for the mill: the key of that kind, not lifters.profile.
+  const std::string tall = dir.file("tall.toml", "name = \"tall\"\nform = \"trapezoid\"\nheight = 160.0\ntop_width = 10.0\n"
+                                                 "leading_face_angle = 10.0\ntrailing_face_angle = 10.0\n");
+  EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"" + tall + "\"]"), "lifters.pattern[1]");
 }
 
 TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {

@@ -132,12 +132,16 @@ Polyline read_points(const toml::table& t, const std::string& file) {
 }
 
 // A name is also a CSV file name (`profile --csv`) and a manifest field: the one rule for names.
-void check_name(const std::string& name, const std::string& file, bool from_file_name) {
+// `key` names where the name came from: "name", or the file name of a TOML profile without
+// that key or of a measured CSV (which has no keys: the file must be renamed).
+enum class NameFrom { Key, TomlFileName, CsvFileName };
+void check_name(const std::string& name, const std::string& file, NameFrom from) {
   if (is_safe_name(name)) return;
-  throw InputError(file, "name",
-                   "expected " + safe_name_rule() +
-                       (from_file_name ? " (the profile has no name key, so its file name is used: give it one)"
-                                       : ""));
+  const char* advice = from == NameFrom::TomlFileName ? " (the profile has no name key, so its file name is used: give it one)"
+                       : from == NameFrom::CsvFileName ? " (a measured profile is named after its file: rename the file)"
+                                                       : "";
+  throw InputError(file, from == NameFrom::CsvFileName ? "file name" : "name",
+                   "expected " + safe_name_rule() + advice);
 }
 
 LifterProfile load_profile_impl(const std::string& path, std::vector<std::string>& chain) {
@@ -182,7 +186,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
   prof.form = form;
   prof.name = root.contains("name") ? string_at(root, "name", path, "a string")
                                     : fs::path(path).stem().string();
-  check_name(prof.name, path, !root.contains("name"));
+  check_name(prof.name, path, root.contains("name") ? NameFrom::Key : NameFrom::TomlFileName);
   if (root.contains("description")) string_at(root, "description", path, "a string");
 
   if (form == ProfileForm::Trapezoid) {
@@ -355,6 +359,16 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
   // An end just above the shell line (rounding) is its own foot.
   const Vec2 foot_l = left == 0 ? Vec2{s[0].x, 0.0} : crossing(s[left - 1], s[left]);
   const Vec2 foot_r = right + 1 == s.size() ? Vec2{s.back().x, 0.0} : crossing(s[right + 1], s[right]);
+  // One lifter per surface: the rest is shell plate and wears as shell. A second rise above
+  // the line past gauge noise (a tenth of the lifter's height) is a second lifter that would
+  // be taken for shell.
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if ((i < left || i > right) && s[i].y > 0.1 * s[top].y)
+      throw InputError(file, key,
+                       "expected one lifter per surface, the rest at or below the shell line; it rises again to y = " +
+                           fmt_num(s[i].y * 1e3) + " mm at x = " + fmt_num(s[i].x * 1e3) + " mm, outside the lifter from x = " +
+                           fmt_num(foot_l.x * 1e3) + " to " + fmt_num(foot_r.x * 1e3) +
+                           " mm (a scan of one liner unit per file; a pattern of kinds for hi-lo liners)");
   const std::size_t first = left == 0 ? 1 : left;
   const std::size_t last = right + 1 == s.size() ? right - 1 : right;
   Polyline lifter{foot_l};
@@ -421,7 +435,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   prof.source_file = name;
   prof.form = ProfileForm::Measured;
   prof.name = fs::path(name).stem().string();
-  check_name(prof.name, name, true);
+  check_name(prof.name, name, NameFrom::CsvFileName);
   // Points in order along the surface; a scan from the leading side is turned round.
   if (raw.front().x > raw.back().x) std::reverse(raw.begin(), raw.end());
   Polyline s;

@@ -469,7 +469,11 @@ void check_across_sections(const Scene& s, const std::string& file) {
   if (s.wear.shell_wear_rate_m3_per_J > 0.0 && !s.wear.shell_wear)
     throw InputError(file, "wear.shell_wear_rate", "no shell_wear_rate with wear.shell_wear = false");
   for (int kind = 0; kind < s.mill.kind_count(); ++kind) {
-  const auto& pts = s.mill.kind(kind).points;
+  const LifterProfile& prof = s.mill.kind(kind);
+  // The key that names this kind's profile, and the profile's name.
+  const std::string key = s.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]";
+  const std::string named = "profile '" + prof.name + "'";
+  const auto& pts = prof.points;
   if (!pts.empty()) {
     double xmin = kInf, xmax = -kInf, ymax = 0.0;
     for (const Vec2& p : pts) {
@@ -480,20 +484,29 @@ void check_across_sections(const Scene& s, const std::string& file) {
     const double pitch = 2.0 * kPi * R / s.mill.rows;
     const double rows_that_fit = std::floor(2.0 * kPi * R / (xmax - xmin) - 1e-9);
     if (!(rows_that_fit >= 1.0))
-      throw InputError(file, "lifters.profile",
+      throw InputError(file, key,
                        "expected a lifter base narrower than the shell's circumference (" +
-                           num_text(2.0 * kPi * R / kMm) + " mm); profile '" + s.mill.lifter.name + "' is " +
+                           num_text(2.0 * kPi * R / kMm) + " mm); " + named + " is " +
                            num_text((xmax - xmin) / kMm) + " mm wide at its base");
     if (xmax - xmin >= pitch)
       throw InputError(file, "lifters.rows",
                        "expected at most " + std::to_string(static_cast<long long>(std::min(rows_that_fit, 1e9))) +
-                           " rows: the lifter base (" + num_text((xmax - xmin) / kMm) +
+                           " rows: the base of " + named + " (" + num_text((xmax - xmin) / kMm) +
                            " mm) must be narrower than the pitch (" + num_text(pitch / kMm) + " mm)");
     // Lifters reaching past half the radius leave no room for a charge at any filling.
     if (ymax >= 0.5 * R)
-      throw InputError(file, "lifters.profile",
+      throw InputError(file, key,
                        "expected a lifter lower than half the mill radius (" + num_text(0.5 * R / kMm) +
-                           " mm); the profile is " + num_text(ymax / kMm) + " mm high");
+                           " mm); " + named + " is " + num_text(ymax / kMm) + " mm high");
+    // A measured surface's shell plates lie a plate's thickness below the shell line at most:
+    // a tenth of the radius is far past any liner (a typo, or metres for millimetres).
+    double ymin = 0.0;
+    for (const Vec2& p : prof.measured) ymin = std::min(ymin, p.y);
+    if (ymin < -0.1 * R)
+      throw InputError(prof.source_file.empty() ? file : prof.source_file, "x_mm,y_mm",
+                       "expected a measured surface within a tenth of the mill radius (" + num_text(0.1 * R / kMm) +
+                           " mm) below the shell line, y = 0; " + named + " reaches y = " + num_text(ymin / kMm) +
+                           " mm (" + file + ", " + key + ")");
     if (s.wear.replacement_height_m >= ymax)
       throw InputError(file, "wear.replacement_height",
                        "expected a height below the new lifter's (" + num_text(ymax / kMm) + " mm), got " +
