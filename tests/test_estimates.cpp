@@ -51,13 +51,18 @@ TEST(Estimates, ADifferenceIsResolvedPastTwoCombinedErrors) {
   const auto no = millwear::compare({10.0, 0.3}, {9.01, 0.4}, 1, ErrorSource::BatchMeans);
   EXPECT_FALSE(no.resolved);
   // The count that would resolve it is run as replicates, so judged by their threshold: the
-  // smallest n with t(2 (n - 1)) * 0.5 / sqrt(n) < 0.99.
+  // smallest n with t(Welch dof at n) * 0.5 / sqrt(n) < 0.99.
   const int n = no.replicates_needed;
   ASSERT_GE(n, 2);
-  EXPECT_LT(millwear::resolved_threshold(2.0 * (n - 1)) * 0.5 / std::sqrt(n), 0.99);
+  const auto t_at = [](int k) { return millwear::resolved_threshold(millwear::welch_dof(0.3, 0.4, k)); };
+  EXPECT_LT(t_at(n) * 0.5 / std::sqrt(n), 0.99);
   if (n > 2) {
-    EXPECT_GT(millwear::resolved_threshold(2.0 * (n - 2)) * 0.5 / std::sqrt(n - 1.0), 0.99);
+    EXPECT_GT(t_at(n - 1) * 0.5 / std::sqrt(n - 1.0), 0.99);
   }
+  // Never the count already run: four histories that did not resolve it need more than four.
+  const auto four = millwear::compare({3.0, 1.0}, {0.0, 0.0}, 4, ErrorSource::Replicates);
+  ASSERT_FALSE(four.resolved);
+  EXPECT_GT(four.replicates_needed, 4);
   // No error known: no verdict either way.
   const auto unknown = millwear::compare({1.0, std::nan("")}, {0.0, 0.1}, 1, ErrorSource::BatchMeans);
   EXPECT_FALSE(unknown.resolved);

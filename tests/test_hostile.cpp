@@ -772,7 +772,7 @@ TEST(HostileSurveys, SurveyPointsOutsideTheLinerUnitAreRefused) {
 
 // A rectangular scan whose shell plates lie a whole number of mesh edges below the shell line:
 // the re-meshed surface has a vertex a rounding error above the line, which is a foot, not a
-// lifter point on the line. So is a file point 0.5 um above it.
+// lifter point on the line. So is a file point 0.5 nm above it.
 TEST(HostileMeasured, APointARoundingErrorAboveTheShellLineIsAFoot) {
   const fs::path dir = scratch("measured-rounding");
   write(dir / "rect.csv", "x_mm,y_mm\n-30,-2\n-10,-2\n-10,20\n10,20\n10,-2\n30,-2\n");

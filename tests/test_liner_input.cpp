@@ -150,8 +150,16 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
   EXPECT_NE(message("x_mm,y_mm\n-40,-1\n-16.5,0\n-5,20\n5,20\n16.5,0\n23,-1\n23.5,0\n35,12\n45,12\n56.5,0\n75,-1\n")
                 .find("one lifter per surface"),
             std::string::npos);
-  // Gauge noise on the plates, a few per cent of the lifter's height above the line, is shell.
+  // Gauge noise on plates at the line is shell, even beside a lifter worn to 6 mm (noise of a
+  // tenth of its height).
   EXPECT_EQ(message("x_mm,y_mm\n-40,-1\n-30,0.5\n-16.5,0\n-5,20\n5,20\n16.5,0\n30,0.5\n40,-1\n"), "accepted");
+  EXPECT_EQ(message("x_mm,y_mm\n-40,-0.3\n-35,-0.5\n-30,0.7\n-25,-0.2\n-16.5,0\n-5,6\n5,6\n16.5,0\n25,0.6\n"
+                    "30,-0.4\n40,-0.2\n"),
+            "accepted");
+  // A point a hair above the line on a shallow edge is the foot itself, not a crossing
+  // extrapolated outside the scan.
+  const LifterProfile shallow = parse_measured_profile("x_mm,y_mm\n-30,-1\n-20,0.0009\n-19,0.0012\n-10,20\n10,20\n20,-1\n", "f.csv");
+  EXPECT_GE(shallow.points.front().x, -0.020);
   // A measured profile is named after its file, which has no name key to give.
   try {
     parse_measured_profile("x_mm,y_mm\n-20,-1\n-10,10\n10,10\n20,-1\n", "Mill 3 scan.csv");

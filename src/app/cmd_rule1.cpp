@@ -90,10 +90,13 @@ int run_rule1(const Rule1Args& a) {
       for (const auto& e : rep.events) std::printf("    seed %llu: %s\n", static_cast<unsigned long long>(rep.seed), e.c_str());
   }
   if (r.recommended_factor > 0.0) {
-    if (r.replicates > 1)
+    if (r.replicates > 1 && std::isfinite(r.recommended_chance))
       std::printf("recommended factor: %.3g (largest whose profile is not significantly further than %.1f%% of the "
                   "lifter height from the smallest factor's; %.0f%% chance it is within)\n",
                   r.recommended_factor, r.tolerance_pct_height, 100.0 * r.recommended_chance);
+    else if (r.replicates > 1)
+      std::printf("recommended factor: %.3g (the seeds agree exactly: no noise to judge a deviation by)\n",
+                  r.recommended_factor);
     else
       std::printf("recommended factor: %.3g (one seed per factor: the noise is unknown; --replicates 4 tells a "
                   "deviation from noise)\n", r.recommended_factor);

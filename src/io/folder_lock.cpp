@@ -95,17 +95,14 @@ void check_output_folder(const std::string& path) {
     throw InputError(path, "-o",
                      "an output folder that can be made, but " + p.string() + " is not writable (" + std::strerror(errno) + ")");
   // access() passes root everywhere and knows nothing of read-only or virtual file systems
-  // (/proc): a file made and removed at once is the test that holds.
-  const std::string probe = (p / (".millwear-probe-" + std::to_string(::getpid()))).string();
+  // (/proc): a file made and removed at once is the test that holds. Its name is a temporary's
+  // (unique per process and call; a leftover is cleared like any other temporary).
+  const std::string probe = temp_path_for((p / "probe").string());
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
-  if (fd < 0) {
-    const int err = errno;
-    if (err != EEXIST)
-      throw InputError(path, "-o",
-                       "an output folder that can be made, but no file can be made in " + p.string() + " (" +
-                           std::strerror(err) + ")");
-    return;  // another check of this process's at the same moment: the folder takes files
-  }
+  if (fd < 0)
+    throw InputError(path, "-o",
+                     "an output folder that can be made, but no file can be made in " + p.string() + " (" +
+                         std::strerror(errno) + ")");
   ::close(fd);
   ::unlink(probe.c_str());
 }

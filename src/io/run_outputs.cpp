@@ -269,8 +269,8 @@ void write_verdicts(const RunReport& report) {
                                                "`--replicates N` measures the spread between histories)")) +
           ". A difference is resolved when it exceeds " + format_number(kResolvedSigmas) +
           " combined standard errors" +
-          (report.replicates > 1 ? std::string(" or, with few replicates, Student's t at the same level "
-                                               "(the threshold each verdict gives)")
+          (report.replicates > 1 ? std::string(" for many replicates; with few, Student's t at the same level "
+                                               "instead (the threshold each verdict gives)")
                                  : std::string()) +
           ".\n\n";
     for (const Verdict& v : report.verdicts) md += "- " + v.text + "\n";

@@ -41,9 +41,10 @@ double resolved_threshold(double dof) {
 }
 
 double welch_dof(double se_a, double se_b, int n) {
-  const double va = se_a * se_a, vb = se_b * se_b, k = n - 1.0;
+  const double va = se_a * se_a, vb = se_b * se_b;
   if (n < 2 || !(va + vb > 0.0)) return INFINITY;
-  return (va + vb) * (va + vb) / ((va * va + vb * vb) / k);
+  const double r = va / (va + vb);  // (va + vb)^2 / ((va^2 + vb^2) / (n - 1)), without underflow
+  return (n - 1.0) / (r * r + (1.0 - r) * (1.0 - r));
 }
 
 Difference compare(const Estimate& a, const Estimate& b, int replicates, ErrorSource source) {
@@ -70,7 +71,9 @@ Difference compare(const Estimate& a, const Estimate& b, int replicates, ErrorSo
   const double normal = ratio * ratio;
   if (!(normal < 1e6)) return d;  // -1: no count worth running
   for (int n = std::max(2, static_cast<int>(std::floor(normal)) + 1);; ++n) {
-    const double t = resolved_threshold(2.0 * (n - 1));  // the count is run as replicates
+    // The count is run as replicates; scaling both errors alike keeps their ratio, so the
+    // degrees of freedom at n follow from today's errors.
+    const double t = resolved_threshold(welch_dof(a.se, b.se, n));
     if (std::abs(d.value) > t * per_history / std::sqrt(static_cast<double>(n))) {
       d.replicates_needed = n;
       return d;

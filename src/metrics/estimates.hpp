@@ -15,7 +15,8 @@
 // replicates per design: 4.5 to 14 errors; four: 2.5 to 3.3; sixteen: 2.1 to 2.2; it falls to
 // kResolvedSigmas as the histories grow). Otherwise the difference is not resolved, and the
 // replicates that would resolve it are estimated from the per-history spread (se * sqrt(n)) as
-// the smallest count at which the same difference would pass that count's threshold.
+// the smallest count at which the same difference would pass that count's threshold. (Designs
+// of unequal replicate counts are compared at the smaller count: conservative.)
 #include <cmath>
 #include <string>
 #include <vector>

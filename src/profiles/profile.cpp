@@ -353,22 +353,40 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
   while (left > 0 && s[left - 1].y > kEndTolM) --left;
   while (right + 1 < s.size() && s[right + 1].y > kEndTolM) ++right;
   auto crossing = [](Vec2 below, Vec2 above) {  // the point at y = 0 on [below, above]
+    if (below.y >= 0.0) return Vec2{below.x, 0.0};  // on the line within kEndTolM: the foot
     const double t = below.y / (below.y - above.y);
     return Vec2{below.x + t * (above.x - below.x), 0.0};
   };
   // An end just above the shell line (rounding) is its own foot.
   const Vec2 foot_l = left == 0 ? Vec2{s[0].x, 0.0} : crossing(s[left - 1], s[left]);
   const Vec2 foot_r = right + 1 == s.size() ? Vec2{s.back().x, 0.0} : crossing(s[right + 1], s[right]);
-  // One lifter per surface: the rest is shell plate and wears as shell. A second rise above
-  // the line past gauge noise (a tenth of the lifter's height) is a second lifter that would
-  // be taken for shell.
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if ((i < left || i > right) && s[i].y > 0.1 * s[top].y)
-      throw InputError(file, key,
-                       "expected one lifter per surface, the rest at or below the shell line; it rises again to y = " +
-                           fmt_num(s[i].y * 1e3) + " mm at x = " + fmt_num(s[i].x * 1e3) + " mm, outside the lifter from x = " +
-                           fmt_num(foot_l.x * 1e3) + " to " + fmt_num(foot_r.x * 1e3) +
-                           " mm (a scan of one liner unit per file; a pattern of kinds for hi-lo liners)");
+  // One lifter per surface: the rest is shell plate and wears as shell. Metal above the line
+  // outside the lifter of a tenth of the lifter's area is a second lifter that would be taken
+  // for shell; gauge noise on plates at the line holds far less.
+  double outside_m2 = 0.0, lifter_m2 = 0.0;
+  std::size_t highest = 0;  // the highest point outside the lifter (for the message)
+  for (std::size_t i = 0; i + 1 < s.size(); ++i) {
+    // The area above y = 0 under edge i (the part of a crossing edge above the line).
+    const Vec2 a = s[i], b = s[i + 1];
+    double above = 0.0;
+    if (a.y > 0.0 && b.y > 0.0) above = 0.5 * (a.y + b.y) * std::abs(b.x - a.x);
+    else if (a.y > 0.0 || b.y > 0.0) above = 0.5 * std::max(a.y, b.y) * std::max(a.y, b.y) / std::abs(a.y - b.y) * std::abs(b.x - a.x);
+    // The lifter's edges run from the one into point `left` to the one out of point `right`.
+    if (i + 1 < left || i > right) {
+      outside_m2 += above;
+      const std::size_t k = s[i].y > s[i + 1].y ? i : i + 1;
+      if (s[k].y > s[highest].y) highest = k;
+    } else {
+      lifter_m2 += above;
+    }
+  }
+  if (outside_m2 > 0.1 * lifter_m2)
+    throw InputError(file, key,
+                     "expected one lifter per surface, the rest at or below the shell line; outside the lifter (x = " +
+                         fmt_num(foot_l.x * 1e3) + " to " + fmt_num(foot_r.x * 1e3) + " mm) it holds " +
+                         fmt_num(outside_m2 * 1e6) + " mm^2 above the line, rising to y = " +
+                         fmt_num(s[highest].y * 1e3) + " mm at x = " + fmt_num(s[highest].x * 1e3) +
+                         " mm (a scan of one liner unit per file; a pattern of kinds for hi-lo liners)");
   const std::size_t first = left == 0 ? 1 : left;
   const std::size_t last = right + 1 == s.size() ? right - 1 : right;
   Polyline lifter{foot_l};

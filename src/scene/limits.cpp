@@ -109,8 +109,7 @@ void refuse_thin_lifter(const Scene& scene, const std::string& file, int kind, d
                 "part about %.3g mm thick, so a disk can touch both of its faces at once and pass through the liner",
                 needed_m * 1e3, resmoothed ? " once re-smoothed at wear.smoothing_radius" : "",
                 resmoothed ? "measured profile" : "profile", scene.mill.kind(kind).name.c_str(), thinnest_m * 1e3);
-  throw InputError(file, scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]",
-                   buf);
+  throw InputError(file, scene.mill.profile_key(kind), buf);
 }
 
 void check_step_counts(const Scene& scene, const std::string& file) {

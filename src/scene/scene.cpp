@@ -129,7 +129,7 @@ LinerUnit new_liner_unit(const Scene& scene, int kind) {
     // The mill module does not know which file asked for this lifter; say it.
     if (!e.file.empty()) throw;
     std::string where = e.where.empty() ? "lifters" : e.where;
-    if (!scene.mill.pattern.empty() && where == "lifters.profile") where = "lifters.pattern[" + std::to_string(kind) + "]";
+    if (where == "lifters.profile") where = scene.mill.profile_key(kind);
     throw InputError(scene.source_file, where, e.expected + " (profile '" + lifter.name + "')");
   }
 }
@@ -471,7 +471,7 @@ void check_across_sections(const Scene& s, const std::string& file) {
   for (int kind = 0; kind < s.mill.kind_count(); ++kind) {
   const LifterProfile& prof = s.mill.kind(kind);
   // The key that names this kind's profile, and the profile's name.
-  const std::string key = s.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(kind) + "]";
+  const std::string key = s.mill.profile_key(kind);
   const std::string named = "profile '" + prof.name + "'";
   const auto& pts = prof.points;
   if (!pts.empty()) {

@@ -54,6 +54,10 @@ struct MillDef {
   MillMeshDef mesh;
   int kind_count() const { return pattern.empty() ? 1 : static_cast<int>(pattern.size()); }
   const LifterProfile& kind(int k) const { return pattern.empty() ? lifter : pattern[static_cast<std::size_t>(k)]; }
+  // The scene key that names kind k's profile: lifters.profile, or lifters.pattern[k].
+  std::string profile_key(int k) const {
+    return pattern.empty() ? "lifters.profile" : "lifters.pattern[" + std::to_string(k) + "]";
+  }
 };
 
 struct ChargeDef {

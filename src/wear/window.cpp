@@ -24,7 +24,9 @@ double direction_at(const Scene& scene, double hours) {
 
 void turn_mill(Engine& engine, const Scene& scene, double dir, bool reversed) {
   engine.set_mill_speed(dir * scene.angular_speed_rad_s());
-  if (reversed) engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), engine.time_step_s()));
+  if (reversed)
+    engine.step(steps_for(std::max(0.5, scene.solver.spinup_revolutions) * scene.revolution_time_s(),
+                          engine.time_step_s()));
   engine.reset_window();
 }
 

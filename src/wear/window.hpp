@@ -43,9 +43,9 @@ double direction_at(const Scene& scene, double hours);
 // Operating hours of the next reversal after `hours` (infinity for one-way mills).
 double next_reversal(const Scene& scene, double hours);
 // Turn the mill at the direction's speed; after a reversal the charge turns for the scene's
-// spin-up (solver.spinup_revolutions) before anything is measured, as after the first fill:
-// it falls over to the other side and needs about a revolution to become steady. Starts a
-// new measuring window.
+// spin-up (solver.spinup_revolutions, at least half a revolution) before anything is
+// measured, as after the first fill: it falls over to the other side and needs about a
+// revolution to become steady. Starts a new measuring window.
 void turn_mill(Engine& engine, const Scene& scene, double direction, bool reversed);
 
 }  // namespace millwear

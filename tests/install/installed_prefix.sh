@@ -25,7 +25,10 @@ for f in bin/millwear share/man/man1/millwear.1.gz share/bash-completion/complet
 done
 # Every relative link of an installed Markdown file resolves in the moved tree.
 while IFS= read -r md; do
-  for target in $(grep -oE '\]\([^):#]+' "$md" | sed 's/^](//'); do
+  # The target of each ](...) up to an anchor, a space (a title) or the closing parenthesis;
+  # web addresses are not files.
+  for target in $(grep -oE '\]\([^)#[:space:]]+' "$md" | sed 's/^](//'); do
+    case "$target" in *://*|mailto:*) continue ;; esac
     [ -e "$(dirname "$md")/$target" ] || fail "${md#"$p"/} links $target, which is not installed"
   done
 done < <(find -L "$p/share" -name '*.md')
