@@ -6,8 +6,8 @@
 #                    pareto_power, pareto_utilization, tied_with_best
 #   power_sense      "min" or "max": which way the power front goes (titles only)
 # Output: outbase.png, outbase.svg (default outbase = OUT/plots/screen_pareto).
-# Error bars are +-2 sigma of the life (rule 2, see src/screen/ranking.hpp); filled points are
-# on the Pareto front; designs tied with the best (within uncertainty) are ringed.
+# Error bars are +-2 sigma of the life (life_sigma_h, docs/screen.md); filled points are on the
+# Pareto front; designs tied with the best (within uncertainty) are ringed.
 if (!exists("scriptdir")) { scriptdir = "."; do for [i = strlen(ARG0):1:-1] { if (ARG0[i:i] eq "/") { scriptdir = ARG0[1:i-1]; break } } }
 load scriptdir . "/common.gp"
 if (!exists("outbase")) outbase = datadir . "/plots/screen_pareto"

@@ -1,19 +1,25 @@
 // Figures with their errors: means and standard errors, the verdict of a difference, histories
-// folded into a design's estimate; and `millwear run --replicates` end to end on the lab mill:
-// the reported error against the spread of independent runs, the label of one history's
-// batch-means errors, and the comparison's verdicts.
+// folded into a design's estimate, the life's error propagated through the life line; and
+// `millwear run --replicates` end to end on the lab mill: the reported error against the
+// spread of independent runs, one history's errors against the spread of seeds, and the
+// comparison's verdicts.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "cli_support.hpp"
 #include "io/csv.hpp"
 #include "metrics/estimates.hpp"
+#include "scene/scene.hpp"
+#include "study/design_estimates.hpp"
+#include "wear/life.hpp"
 
 namespace fs = std::filesystem;
 using millwear::Estimate;
@@ -91,6 +97,100 @@ TEST(Estimates, FewReplicatesNeedStudentsThreshold) {
   EXPECT_NEAR(millwear::welch_dof(1.0, 1e-6, 4), 3.0, 1e-9);
   // Sixteen per design: close to two errors.
   EXPECT_LT(millwear::compare({1.0, 0.2}, {0.0, 0.2}, 16, ErrorSource::Replicates).threshold, 2.1);
+}
+
+// A lifter whose stages lose `lost_m` of height each (with recorded errors se_m on each
+// stage's loss), the area following the height.
+std::vector<millwear::study::LifterAtStage> straight_history(int stages, double lost_m, double se_m) {
+  std::vector<millwear::study::LifterAtStage> at;
+  for (int k = 0; k < stages; ++k) {
+    millwear::study::LifterAtStage r;
+    r.hours = 100.0 * k;
+    r.height_m = 0.02 - lost_m * k;
+    r.area_m2 = 4e-4 - 0.02 * lost_m * k;
+    r.worn_height_se_m = se_m;
+    r.worn_area_se_m2 = 0.02 * se_m;
+    at.push_back(r);
+  }
+  at.back().worn_height_se_m = at.back().worn_area_se_m2 = std::nan("");  // the last stage is not worn through
+  return at;
+}
+
+TEST(LifeError, ExtrapolatedFromTwoStagesIsTheHeightErrorOverTheHeightLost) {
+  // Two stages, 1 mm lost with an error of 0.1 mm; replacement at 5 mm: the life is
+  // 100 h x 15 mm / 1 mm, and it scales as one over the height lost.
+  const auto at = straight_history(2, 1e-3, 1e-4);
+  const double life = 1500.0;
+  EXPECT_NEAR(millwear::study::life_error_h(at, 4e-4, 0.02, 0.005), life * 1e-4 / 1e-3, 1e-9 * life);
+  // Never under the replacement height, and no height lost: no error.
+  EXPECT_TRUE(std::isnan(millwear::study::life_error_h(straight_history(2, 0.0, 1e-4), 4e-4, 0.02, 0.005)));
+}
+
+TEST(LifeError, AgreesWithTheSpreadOfTheLifeLineOverDrawnHistories) {
+  // Histories whose stage losses scatter with the recorded errors: the life line's spread over
+  // many draws is the propagated error, for a life between stages (the two stages around the
+  // crossing, correlated through the loss before them) and past them (the trend of the last
+  // three).
+  for (const double replacement_m : {0.0155, 0.010}) {
+    const auto at = straight_history(6, 1e-3, 3e-5);
+    const double expected = millwear::study::life_error_h(at, 4e-4, 0.02, replacement_m);
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> noise(0.0, 3e-5);
+    double sum = 0.0, sum2 = 0.0;
+    const int draws = 20000;
+    for (int n = 0; n < draws; ++n) {
+      std::vector<double> hours, height;
+      double h = 0.02;
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        hours.push_back(at[k].hours);
+        height.push_back(h);
+        h -= 1e-3 + noise(rng);
+      }
+      const double life = millwear::life_line(hours, height, replacement_m).hours;
+      sum += life;
+      sum2 += life * life;
+    }
+    const double mean = sum / draws, sd = std::sqrt((sum2 / draws - mean * mean) * draws / (draws - 1.0));
+    const auto line = millwear::life_line({0, 100, 200, 300, 400, 500}, {0.02, 0.019, 0.018, 0.017, 0.016, 0.015},
+                                          replacement_m);
+    EXPECT_EQ(line.extrapolated, replacement_m < 0.015) << replacement_m;
+    // The sample sd of 20000 draws is within 1.5% of the truth (3 of its own errors of 0.5%).
+    EXPECT_NEAR(sd, expected, 0.015 * expected) << replacement_m;
+  }
+}
+
+TEST(LifeError, APatternsLifeIsItsShortestLivedKindsWithThatKindsError) {
+  // Two kinds of lifter: kind 0 loses no height and never reaches the replacement height (no
+  // life); kind 1 loses 1 mm per 100 h with an error of 0.1 mm per stage and reaches 5 mm at
+  // 1500 h. The pattern lasts kind 1's life, with kind 1's propagated error.
+  const millwear::Scene scene = millwear::load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml");
+  const auto kind1 = straight_history(2, 1e-3, 1e-4);
+  std::map<int, millwear::StageRecord> stages;
+  for (int k = 0; k < 2; ++k) {
+    millwear::StageRecord r;
+    r.stage = k;
+    r.hours = kind1[k].hours;
+    r.lifter = {4e-4, 0.02};
+    r.kinds = {{4e-4, 0.02}, {kind1[k].area_m2, kind1[k].height_m}};
+    r.kind_area_loss_rate_m2_per_s = {0.0, kind1[k].rate_m2_per_s};
+    r.kind_area_loss_rate_rel_sem = {0.0, kind1[k].rate_rel_sem};
+    r.worn_se = {0.0, 0.0};
+    r.kind_worn_se = {{0.0, 0.0}, {kind1[k].worn_area_se_m2, kind1[k].worn_height_se_m}};
+    stages[k] = r;
+  }
+  const double life = 1500.0, nan = std::nan("");
+  const millwear::DesignEstimate d =
+      millwear::study::estimate_history("pattern", scene, stages, life, true, {nan, life}, {true, true});
+  ASSERT_EQ(d.kind_life_h.size(), 2u);
+  EXPECT_TRUE(std::isnan(d.kind_life_h[0].mean));
+  EXPECT_DOUBLE_EQ(d.life_h.mean, life);
+  EXPECT_NEAR(d.life_h.se, life * 1e-4 / 1e-3, 1e-9 * life);
+  EXPECT_DOUBLE_EQ(d.life_h.se, d.kind_life_h[1].se);
+}
+
+TEST(LifeError, NoneWhenTheFirstStageIsUnderTheReplacementHeight) {
+  // A lifter already at the replacement height: its life is the first stage's, exactly.
+  EXPECT_EQ(millwear::study::life_error_h(straight_history(3, 1e-3, 1e-4), 4e-4, 0.02, 0.025), 0.0);
 }
 
 TEST(Estimates, HistoriesFoldIntoTheMeanAndItsError) {
@@ -211,18 +311,61 @@ TEST_F(Replicates, TheReportedErrorAgreesWithTheSpreadOfIndependentRuns) {
   EXPECT_NE(read_text(a / "summary.csv").find(",replicates,"), std::string::npos);
 }
 
-TEST_F(Replicates, OneHistorysErrorsAreLabelledALowerBound) {
+TEST_F(Replicates, OneHistorysErrorsAreLabelledBatchMeans) {
   const fs::path out = dir_ / "one";
   const auto r = run_millwear("run " + src("scenarios/lab-mill.toml") + " -o " + quoted(out) + kShort);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const millwear::io::CsvData t = millwear::io::read_csv((out / "summary.csv").string());
-  for (const auto& s : t.texts("error_source")) EXPECT_EQ(s, "batch_means_lower_bound");
-  EXPECT_NE(r.output.find("a lower bound"), std::string::npos) << r.output;
+  for (const auto& s : t.texts("error_source")) EXPECT_EQ(s, "batch_means");
+  EXPECT_NE(r.output.find("errors: batch means of each window (one history per design;"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("lower bound"), std::string::npos) << r.output;
+  // The new stage, worn through, records the errors of the area and height its wear removed;
+  // the last stage, not worn through, none.
+  const std::string stage0 = read_text(out / "stages/lab-mill_stage0.record");
+  const std::string stage1 = read_text(out / "stages/lab-mill_stage1.record");
+  EXPECT_NE(stage0.find("\nworn_area_se_m2="), std::string::npos);
+  EXPECT_NE(stage0.find("\nworn_height_se_m="), std::string::npos);
+  EXPECT_EQ(stage1.find("worn_area_se_m2"), std::string::npos);
   EXPECT_GT(summary_value(out, "lab-mill", 0, "power_kw").se, 0.0);
   EXPECT_GT(summary_value(out, "lab-mill", 1, "area_loss_pct").se, 0.0);
   EXPECT_FALSE(fs::exists(out / "replicates.csv"));
   const auto m = nlohmann::json::parse(read_text(out / "manifest.json"));
-  EXPECT_EQ(m["estimates"][0]["error_source"], "batch_means_lower_bound");
+  EXPECT_EQ(m["estimates"][0]["error_source"], "batch_means");
+}
+
+TEST_F(Replicates, OneHistorysLifterErrorsAgreeWithTheSpreadOfSeeds) {
+  // Twelve seeds of the lab mill's two stages: each history's own error of the area lost (the
+  // windows of every wear update of a stage, in quadrature) and of its life (through its life
+  // line) lie within a factor of two of how the histories scatter.
+  const fs::path out = dir_ / "seeds";
+  const auto r = run_millwear("run " + src("scenarios/lab-mill.toml") + " -o " + quoted(out) +
+                              " --quiet --replicates 12");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const millwear::io::CsvData t = millwear::io::read_csv((out / "replicates.csv").string());
+  const auto stage = t.numbers("stage"), area = t.numbers("area_mm2"), area_se = t.numbers("area_mm2_se");
+  const auto life = t.numbers("life_h"), life_se = t.numbers("life_h_se");
+  const auto ratio = [](const std::vector<double>& x, const std::vector<double>& se) {
+    const Estimate spread = millwear::mean_and_se(x);
+    double ms = 0.0;
+    for (double s : se) ms += s * s / static_cast<double>(se.size());
+    return std::sqrt(ms) / (spread.se * std::sqrt(static_cast<double>(x.size())));  // rms error / sd
+  };
+  for (const int k : {1, 2}) {
+    std::vector<double> a, s;
+    for (std::size_t i = 0; i < stage.size(); ++i)
+      if (static_cast<int>(stage[i]) == k) a.push_back(area[i]), s.push_back(area_se[i]);
+    ASSERT_EQ(a.size(), 12u) << k;
+    const double q = ratio(a, s);
+    EXPECT_GT(q, 0.5) << "area at stage " << k;
+    EXPECT_LT(q, 2.0) << "area at stage " << k;
+  }
+  std::vector<double> l, ls;
+  for (std::size_t i = 0; i < stage.size(); ++i)
+    if (stage[i] == 0.0) l.push_back(life[i]), ls.push_back(life_se[i]);
+  const double q = ratio(l, ls);
+  EXPECT_GT(q, 0.5) << "life";
+  EXPECT_LT(q, 2.0) << "life";
 }
 
 // The verdict on a figure in the manifest.

@@ -114,6 +114,10 @@ TEST_F(ScreenRun, RanksEveryDesignAndWritesTheFiles) {
     EXPECT_EQ(r.number(i, "rank"), double(i + 1));
     EXPECT_GT(r.number(i, "life_h"), 0.0);
     EXPECT_GT(r.number(i, "life_sigma_h"), 0.0);  // every draft window has batch-means noise
+    // The life's error is the one `millwear run` gives the design.
+    const std::string name = r.text(i, r.column("design"));
+    const io::CsvData sum = io::read_csv((ref_ / "designs" / name / "summary.csv").string());
+    EXPECT_EQ(r.number(i, "life_sigma_h"), sum.number(0, "life_h_se")) << name;
     if (i > 0) {
       EXPECT_LE(r.number(i, "life_h"), r.number(i - 1, "life_h"));
     }
@@ -183,7 +187,7 @@ TEST_F(ScreenRun, ReplicatesGiveTheLifeErrorFromTheSpreadOfTheHistories) {
     // Replicate 1 is the plain screen's history.
     for (std::size_t j = 0; j < ref.row_count(); ++j)
       if (ref.text(j, ref.column("design")) == name) {
-        EXPECT_EQ(ref.text(j, ref.column("error_source")), "batch_means_lower_bound");
+        EXPECT_EQ(ref.text(j, ref.column("error_source")), "batch_means");
         EXPECT_EQ(ref.number(j, "replicates"), 1.0);
         EXPECT_NEAR(life[1], ref.number(j, "life_h"), 1e-6 * life[1]) << name;
       }
@@ -766,7 +770,7 @@ TEST(ScreenPattern, EqualAreaMatchesEachKindToItsOwnArea) {
   const io::CsvData sum = io::read_csv((dir / "base/designs/d000/summary.csv").string());
   ASSERT_TRUE(sum.has_column("kind1_life_h"));
   // Ranked (d001 not run: exit 1) by the liner's life, the kind that gets there first, with
-  // that kind's own rates and their batch-means errors (in the stage records).
+  // that kind's error, as `millwear run` gives it (from the kind's own rates' batch means).
   r = millwear_cmd("screen --collect " + q(dir / "base"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   const io::CsvData rank = io::read_csv((dir / "base/ranking.csv").string());
@@ -774,6 +778,8 @@ TEST(ScreenPattern, EqualAreaMatchesEachKindToItsOwnArea) {
   const double l0 = sum.number(0, "kind0_life_h"), l1 = sum.number(0, "kind1_life_h");
   EXPECT_EQ(rank.number(0, "life_h"), std::min(l0, l1));
   EXPECT_GT(rank.number(0, "life_sigma_h"), 0.0);
+  EXPECT_EQ(rank.number(0, "life_sigma_h"), sum.number(0, "life_h_se"));
+  EXPECT_EQ(sum.number(0, "life_h_se"), sum.number(0, l0 < l1 ? "kind0_life_h_se" : "kind1_life_h_se"));
   const std::string record = slurp(dir / "base/designs/d000/stages/d000_stage0.record");
   EXPECT_NE(record.find("kind.1.area_loss_rate_rel_sem"), std::string::npos);
   fs::remove_all(dir);
@@ -781,14 +787,6 @@ TEST(ScreenPattern, EqualAreaMatchesEachKindToItsOwnArea) {
 
 // ---------------------------------------------------------------------------------------
 // The screen module's pieces.
-
-TEST(ScreenRanking, LifeSigmaOfOneStageIsTheRelativeRateError) {
-  // One measured rate carries the whole life: sigma_life / life = s exactly.
-  EXPECT_NEAR(life_sigma_h({{0.0, 5.0, 0.1}}, 1000.0), 100.0, 1e-9);
-  // Two independent equal segments with equal errors: s / sqrt(2).
-  EXPECT_NEAR(life_sigma_h({{0.0, 5.0, 0.1}, {500.0, 5.0, 0.1}}, 1000.0), 100.0 / std::sqrt(2.0), 1e-9);
-  EXPECT_TRUE(std::isnan(life_sigma_h({}, 1000.0)));
-}
 
 TEST(ScreenRanking, ParetoFrontKeepsOnlyUndominatedDesigns) {
   // life (more is better) against power (less is better).
@@ -819,6 +817,26 @@ TEST(ScreenRanking, TiesWithinTwiceTheCombinedUncertainty) {
   EXPECT_FALSE(r[2].tied_with_best);   // 300 > 100
   EXPECT_EQ(r[3].rank, 0);
   EXPECT_EQ(r[3].status, "missing");
+}
+
+TEST(ScreenRanking, TiesWithFewReplicatesTakeStudentsThreshold) {
+  // 100 h apart with errors of 30 h each: 2.36 combined errors. One history each (batch means,
+  // 2): apart. The same from two replicates each (Welch: 2 degrees of freedom, 4.5 combined
+  // errors) or four (6, 2.5): tied. From sixteen (30, 2.1): apart.
+  for (const auto& [replicates, tied] : std::vector<std::pair<int, bool>>{{1, false}, {2, true}, {4, true}, {16, false}}) {
+    std::vector<DesignResult> v(2);
+    for (int i = 0; i < 2; ++i) {
+      v[i].design.name = "d" + std::to_string(i);
+      v[i].status = "finished";
+      v[i].life_h = 1000.0 - 100.0 * i;
+      v[i].life_sigma_h = 30.0;
+      v[i].replicates = replicates;
+      v[i].error_source = replicates > 1 ? "replicates" : "batch_means";
+    }
+    const auto r = rank_designs(v, false);
+    EXPECT_TRUE(r[0].tied_with_best);
+    EXPECT_EQ(r[1].tied_with_best, tied) << replicates << " replicates";
+  }
 }
 
 TEST(ScreenSampling, LatinHypercubeUsesEveryStratumOnceAndIsSeeded) {

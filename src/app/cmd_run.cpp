@@ -93,7 +93,7 @@ void print_final_summary(const study::RunState& state, double wall) {
     std::printf("errors: %s\n", est.designs.front().source == ErrorSource::Replicates
                                     ? ("standard errors of the mean of " + std::to_string(state.plan.replicates) +
                                        " replicates per design").c_str()
-                                    : "batch means of each window (one history per design: a lower bound; "
+                                    : "batch means of each window (one history per design; "
                                       "--replicates N measures the spread between histories)");
   for (const Verdict& v : est.verdicts) std::printf("%s\n", v.text.c_str());
   std::printf("(* life extrapolated from the stage trend; normalised to %s new; wall time %s)\n",
@@ -209,7 +209,7 @@ void register_run(CLI::App& app, Action* action) {
       ->check(CLI::Range(0, 10000));
   cmd->add_option("--replicates", args->replicates,
                   "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
-                  "standard error (default 1: errors from batch means, a lower bound)")
+                  "standard error (default 1: errors from one history's batch means)")
       ->check(CLI::Range(1, 1000));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");

@@ -63,8 +63,8 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
   if (replicates > 1)
     std::printf("sigma: standard error of the mean of %d replicates per design\n", replicates);
   else if (replicates == 1)
-    std::printf("sigma: one history per design, from its batch means (a lower bound; --replicates N measures the "
-                "spread between histories)\n");
+    std::printf("sigma: one history per design, from its batch means (--replicates N measures the spread "
+                "between histories)\n");
   for (const auto& r : o.ranked)
     if (r.status == "failed" || r.status == "missing")
       std::fprintf(stderr, "millwear: design %s %s: %s\n", r.design.name.c_str(), r.status.c_str(), r.reason.c_str());
@@ -171,7 +171,7 @@ void register_screen(CLI::App& app, Action* action) {
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--replicates", r.replicates,
                   "histories per design, seeds s, s+1, ... (default 1): the life's error from their spread; "
-                  "with 1 it is the batch-means lower bound");
+                  "with 1 it is propagated from one history's batch means");
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,

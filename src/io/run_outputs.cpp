@@ -265,7 +265,7 @@ void write_verdicts(const RunReport& report) {
   } else {
     md += "Each design against " + report.reference + ", with " +
           (report.replicates > 1 ? std::to_string(report.replicates) + " replicates per design (standard errors of their mean)"
-                                 : std::string("one history per design (batch-means standard errors, a lower bound: "
+                                 : std::string("one history per design (batch-means standard errors; "
                                                "`--replicates N` measures the spread between histories)")) +
           ". A difference is resolved when it exceeds " + format_number(kResolvedSigmas) +
           " combined standard errors" +

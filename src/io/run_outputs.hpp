@@ -58,7 +58,7 @@ struct RunReport {
 
 // OUT/summary.csv: one row per design and stage, every figure FIG with its standard error in
 // FIG_se beside it; error_source says where the errors come from (replicates, or one
-// history's batch means: a lower bound).
+// history's batch_means).
 // A run with a design of a pattern of kinds adds, for every kind K, the
 // columns kindK_profile, kindK_area_mm2, kindK_area_loss_pct, kindK_height_mm,
 // kindK_area_loss_rate_mm2_per_1000h, kindK_life_h (each with its _se beside it, from the

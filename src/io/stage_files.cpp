@@ -244,6 +244,11 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, format_exact(*p));
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
+  const auto add_worn = [&kv](const std::string& pre, const WornError& e) {
+    if (std::isfinite(e.area_m2)) kv.emplace_back(pre + "worn_area_se_m2", format_exact(e.area_m2));
+    if (std::isfinite(e.height_m)) kv.emplace_back(pre + "worn_height_se_m", format_exact(e.height_m));
+  };
+  add_worn("", rec.worn_se);
   kv.emplace_back("summary.centrifuged", rec.charge.summary.centrifuged ? "1" : "0");
   kv.emplace_back("kinds", std::to_string(rec.kinds.size()));
   for (std::size_t k = 0; k < rec.kinds.size(); ++k) {
@@ -256,6 +261,7 @@ void write_stage_state(const std::string& out, const std::string& design, const 
                     format_exact(k < rec.kind_area_loss_rate_m2_per_s.size() ? rec.kind_area_loss_rate_m2_per_s[k] : 0.0));
     if (k < rec.kind_area_loss_rate_rel_sem.size())
       kv.emplace_back(pre + "area_loss_rate_rel_sem", format_exact(rec.kind_area_loss_rate_rel_sem[k]));
+    if (k < rec.kind_worn_se.size()) add_worn(pre, rec.kind_worn_se[k]);
   }
   if (carried) {
     kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
@@ -292,6 +298,14 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   for (auto& [k, p] : double_fields(rec)) *p = r.number(k);
   for (auto& [k, p] : integer_fields(rec)) *p = r.integer(k);
   rec.worn_out = r.integer("worn_out") != 0;
+  // A stage not worn through (the last) has no worn errors, nor has a record older than the keys.
+  const auto read_worn = [&r](const std::string& pre) {
+    WornError e;
+    if (r.has(pre + "worn_area_se_m2")) e.area_m2 = r.number(pre + "worn_area_se_m2");
+    if (r.has(pre + "worn_height_se_m")) e.height_m = r.number(pre + "worn_height_se_m");
+    return e;
+  };
+  rec.worn_se = read_worn("");
   rec.charge.summary.centrifuged = r.integer("summary.centrifuged") != 0;
   const long long kinds = r.has("kinds") ? r.integer("kinds") : 0;
   if (kinds < 0 || kinds > nunits) throw InputError(r.path, "kinds", "a count of kinds of lifter up to the unit count");
@@ -306,6 +320,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
     rec.kind_area_loss_rate_m2_per_s.push_back(r.number(pre + "area_loss_rate_m2_per_s"));
     if (r.has(pre + "area_loss_rate_rel_sem"))
       rec.kind_area_loss_rate_rel_sem.push_back(r.number(pre + "area_loss_rate_rel_sem"));
+    rec.kind_worn_se.push_back(read_worn(pre));
   }
 
   io::CsvData units = read_state_csv(".units.csv");

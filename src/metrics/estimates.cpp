@@ -31,7 +31,7 @@ Estimate mean_and_se(const std::vector<double>& values) {
 }
 
 const char* error_source_name(ErrorSource s) {
-  return s == ErrorSource::Replicates ? "replicates" : "batch_means_lower_bound";
+  return s == ErrorSource::Replicates ? "replicates" : "batch_means";
 }
 
 double resolved_threshold(double dof) {

@@ -4,8 +4,11 @@
 // A figure's error comes from one of two places. With several independent histories of a
 // design (replicates: the same scene with seeds s, s+1, ...) it is the standard error of their
 // mean, the spread a new set of seeds would show. With one history it comes from the batches
-// of each measuring window (batch means), which takes the batches as independent: a charge's
-// state carries over from one batch to the next, so that error is a lower bound.
+// of each measuring window (batch means), which takes the batches as independent, and the
+// lifter's from the windows of each stage's wear (study/design_estimates.hpp). Neither bounds
+// the spread between histories from either side: a charge's state carries over from one batch
+// to the next, and a worn shape feeds back into the wear of the next stage (docs/run.md
+// compares them with the spread of seeds).
 //
 // The verdict: design A is ahead of design B on a figure when the difference of their means
 // exceeds a threshold of combined standard errors (sqrt(se_A^2 + se_B^2)): kResolvedSigmas for
@@ -33,7 +36,7 @@ Estimate mean_and_se(const std::vector<double>& values);
 
 // Where the errors of a design's figures come from.
 enum class ErrorSource { BatchMeans, Replicates };
-const char* error_source_name(ErrorSource s);  // "batch_means_lower_bound", "replicates"
+const char* error_source_name(ErrorSource s);  // "batch_means", "replicates"
 
 constexpr double kResolvedSigmas = 2.0;
 

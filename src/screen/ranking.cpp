@@ -5,46 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
+#include "metrics/estimates.hpp"
 
 namespace millwear::screen {
-
-double life_sigma_h(const std::vector<StageRate>& st, double life_h) {
-  if (!std::isfinite(life_h) || st.empty()) return std::nan("");
-  double sum = 0.0, var = 0.0;
-  for (std::size_t k = 0; k < st.size(); ++k) {
-    const double h0 = st[k].hours;
-    if (h0 >= life_h) break;
-    // The last stage's rate carries the wear to the life (the extrapolation).
-    const double h1 = k + 1 < st.size() ? std::min(st[k + 1].hours, life_h) : life_h;
-    // sigma is a ratio of these areas, so their unit drops out; they are formed in mm^2
-    // (mm2_per_hour x hours), the unit of the areas in the stage tables.
-    double rate = mm2_per_hour(st[k].area_loss_rate_m2_per_s), rel = st[k].rel_sem;
-    if (!(rate > 0.0) || !std::isfinite(rate)) continue;  // a worn-out or unmeasured stage
-    if (!std::isfinite(rel)) rel = 0.0;
-    const double a = rate * (h1 - h0);
-    sum += a;
-    var += (a * rel) * (a * rel);
-  }
-  if (!(sum > 0.0)) return std::nan("");
-  return life_h * std::sqrt(var) / sum;
-}
-
-namespace {
-
-double to_number(const std::string& s) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  return (s.empty() || *end != '\0') ? std::nan("") : v;
-}
-
-}  // namespace
 
 DesignResult read_design_result(const std::string& out, const Candidate& c) {
   DesignResult r;
@@ -91,42 +60,24 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     r.collision_se_W = watts_from_kW(s.number(first, "collision_kw_se"));
     r.utilization_se = s.number(first, "utilization_se");
     // A pattern of kinds: the liner's life is the kind's that reaches the replacement height
-    // first (the shortest kindK_life_h in summary.csv); its own area and rates count.
-    std::string kind_pre, area_col = "area_mm2";
+    // first (the shortest kindK_life_h in summary.csv); its own area counts.
+    std::string area_col = "area_mm2";
     double shortest = std::numeric_limits<double>::infinity();
     for (int k = 0; s.has_column("kind" + std::to_string(k) + "_life_h"); ++k) {
       const double life_k = s.number(first, "kind" + std::to_string(k) + "_life_h");
       if (life_k < shortest) {
         shortest = life_k;
-        kind_pre = "kind." + std::to_string(k) + ".";
         area_col = "kind" + std::to_string(k) + "_area_mm2";
       }
     }
     const double hours = s.number(last, "hours") - s.number(first, "hours");
     r.area_loss_mm2_per_1000h =
         hours > 0.0 ? (s.number(first, area_col) - s.number(last, area_col)) / hours * 1000.0 : std::nan("");
-    // With replicates, the life's error is the standard error of their mean (summary.csv);
-    // with one history, it is propagated from the stages' batch means (a lower bound).
+    // The life's error as `millwear run` gives it: from the replicates' spread, or from one
+    // history's batch means.
     r.replicates = s.has_column("replicates") ? static_cast<int>(s.number(first, "replicates")) : 1;
-    if (r.replicates > 1) {
-      r.life_sigma_h = s.number(first, "life_h_se");
-      r.error_source = "replicates";
-      r.status = "finished";
-      return r;
-    }
-    std::vector<StageRate> rates;
-    for (const auto& [k, row] : rows) {
-      const io::KeyValues rec = io::read_key_values(
-          io::join_path(io::stages_dir(dir), c.name + "_stage" + std::to_string(k) + ".record"));
-      StageRate sr;
-      sr.hours = to_number(io::find_value(rec, "hours"));
-      const bool own = !kind_pre.empty() && !io::find_value(rec, kind_pre + "area_loss_rate_rel_sem").empty();
-      sr.area_loss_rate_m2_per_s =
-          to_number(io::find_value(rec, own ? kind_pre + "area_loss_rate_m2_per_s" : "area_loss_rate_m2_per_s"));
-      sr.rel_sem = to_number(io::find_value(rec, own ? kind_pre + "area_loss_rate_rel_sem" : "area_loss_rate_rel_sem"));
-      rates.push_back(sr);
-    }
-    r.life_sigma_h = life_sigma_h(rates, r.life_h);
+    r.life_sigma_h = s.number(first, "life_h_se");
+    if (s.has_column("error_source")) r.error_source = s.text(first, s.column("error_source"));
     r.status = "finished";
   } catch (const std::exception& e) {
     r.status = "failed";
@@ -165,12 +116,20 @@ std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power
   });
   for (std::size_t i = 0; i < done.size(); ++i) done[i].rank = static_cast<int>(i) + 1;
   if (!done.empty() && std::isfinite(done[0].life_h)) {
-    const double best = done[0].life_h;
-    const double sb = std::isfinite(done[0].life_sigma_h) ? done[0].life_sigma_h : 0.0;
+    // Tied with the best: the lives' difference is not resolved by the comparison's own rule
+    // (metrics/estimates.hpp's compare: Student's t over the replicates' spread, or one
+    // history's batch-means errors). An unknown error counts as none: such a design ties only
+    // with an equal life.
+    const auto life_of = [](const DesignResult& r) {
+      return Estimate{r.life_h, std::isfinite(r.life_sigma_h) ? r.life_sigma_h : 0.0};
+    };
+    const DesignResult& best = done[0];
     for (auto& r : done) {
       if (!std::isfinite(r.life_h)) continue;
-      const double si = std::isfinite(r.life_sigma_h) ? r.life_sigma_h : 0.0;
-      r.tied_with_best = best - r.life_h <= 2.0 * std::sqrt(sb * sb + si * si);
+      const bool spread = best.error_source == "replicates" && r.error_source == "replicates";
+      const Difference d = compare(life_of(best), life_of(r), std::min(best.replicates, r.replicates),
+                                   spread ? ErrorSource::Replicates : ErrorSource::BatchMeans);
+      r.tied_with_best = !d.resolved;
     }
   }
   std::vector<double> life, power, util;

@@ -2,37 +2,21 @@
 // Ranking screened designs by lifter life, with the life's statistical uncertainty, ties
 // within that uncertainty, and Pareto fronts of life against power draw and utilization.
 //
-// Life uncertainty (rule 2): each stage's measured lifter area-loss rate carries a
-// batch-means relative error s_k (StageRecord::area_loss_rate_rel_sem). Stage k's rate sets
-// the wear between its hours and the next stage's (the last measured rate carries the
-// extrapolation to the life). The life is the time to lose a fixed amount of metal, so to
-// first order its relative error is that of the mean rate over the life:
-//     sigma_life / life = sqrt(sum_k (A_k s_k)^2) / sum_k A_k,
-// with A_k = rate_k x (hours of the life spent in segment k), the area that segment's rate
-// removes; segments are independent windows, so their errors add in quadrature.
-// With replicates (`screen --replicates N`: N histories per design, seeds s .. s + N - 1),
-// sigma is instead the standard error of their mean life, from their spread (summary.csv's
-// life_h_se): the batch-means figure above is a lower bound, as the histories scatter more
-// than one history's windows say.
-// Ties: a finished design is tied with the best if their lives differ by at most twice the
-// combined standard uncertainty, 2 sqrt(sigma_best^2 + sigma^2) (about 95%).
+// A design's life and its standard error (life_sigma_h) are the ones `millwear run` writes
+// for it (summary.csv's life_h and life_h_se, study/design_estimates.hpp): with one history,
+// propagated from the batch-means errors of the stages' wear; with replicates (`screen
+// --replicates N`: N histories per design, seeds s .. s + N - 1), the standard error of their
+// mean life, from their spread.
+// Ties: a finished design is tied with the best when their lives' difference is not resolved
+// by the rule of the run's verdicts (metrics/estimates.hpp): more than 2 combined standard
+// errors with one history each; with replicates, Student's t at the same level for the
+// histories both designs have.
 #include <string>
 #include <vector>
 
 #include "screen/screen.hpp"
 
 namespace millwear::screen {
-
-// One stage's figures needed for the life's uncertainty.
-struct StageRate {
-  double hours = 0.0;                   // operating hours of the stage
-  double area_loss_rate_m2_per_s = 0.0; // lifter area lost per operating second
-  double rel_sem = 0.0;
-};
-
-// sigma of the life (h) from the stages' rates (see above). NaN if life is not finite or
-// there are no stages; 0 if no rate has an error.
-double life_sigma_h(const std::vector<StageRate>& stages, double life_h);
 
 // What a design's folder says.
 struct DesignResult {
@@ -42,7 +26,7 @@ struct DesignResult {
   double life_h = std::nan("");
   double life_sigma_h = std::nan("");
   int replicates = 1;                                    // histories behind the figures
-  std::string error_source = "batch_means_lower_bound";  // or "replicates" (their spread)
+  std::string error_source = "batch_means";  // or "replicates" (their spread)
   bool life_extrapolated = false;
   double power_W = std::nan(""), collision_W = std::nan(""), utilization = std::nan("");  // new liner, per mill
   double power_se_W = std::nan(""), collision_se_W = std::nan(""), utilization_se = std::nan("");  // their errors

@@ -7,6 +7,7 @@
 
 #include "common/units.hpp"
 #include "metrics/charge_summary.hpp"
+#include "wear/life.hpp"
 
 namespace millwear::study {
 
@@ -17,53 +18,86 @@ Estimate scaled(const Estimate& e, double by) { return {e.mean * by, e.se * std:
 // The estimate `value` with the relative error `rel` of another figure it follows.
 Estimate with_rel_error(double value, double rel) { return {value, std::abs(value) * rel}; }
 
+// The variances of the area and the height stage k removed on its way to the next stage's
+// hours: recorded over its wear updates, or, from a record older than that, the stage's first
+// rate's error over those hours, the height's in proportion to the area lost by the next stage.
+struct StageVariance {
+  double area_m4 = 0.0, height_m2 = 0.0;
+};
+StageVariance stage_variance(const LifterAtStage& stage, const LifterAtStage& next, double area0, double height0) {
+  StageVariance v;
+  if (std::isfinite(stage.worn_area_se_m2)) {
+    v.area_m4 = stage.worn_area_se_m2 * stage.worn_area_se_m2;
+  } else {
+    const double s = stage.rate_m2_per_s * stage.rate_rel_sem * (next.hours - stage.hours) * kSecondsPerHour;
+    v.area_m4 = s * s;
+  }
+  if (std::isfinite(stage.worn_height_se_m)) {
+    v.height_m2 = stage.worn_height_se_m * stage.worn_height_se_m;
+  } else {
+    const double lost = area0 - next.area_m2;
+    const double per_area = lost > 0.0 ? (height0 - next.height_m) / lost : 0.0;
+    v.height_m2 = per_area * per_area * v.area_m4;
+  }
+  return v;
+}
+
 }  // namespace
 
-namespace {
+double life_error_h(const std::vector<LifterAtStage>& at, double area0, double height0, double replacement_height_m) {
+  std::vector<double> hours, height;
+  for (const LifterAtStage& r : at) {
+    hours.push_back(r.hours);
+    height.push_back(r.height_m);
+  }
+  const LifeLine line = life_line(hours, height, replacement_height_m);
+  if (at.empty() || !std::isfinite(line.hours)) return std::nan("");
+  // At or under the replacement height from the first stage: the life is that stage's hours.
+  if (line.a < 0) return 0.0;
+  const LifterAtStage &a = at[static_cast<std::size_t>(line.a)], &b = at[static_cast<std::size_t>(line.b)];
+  const double T = b.hours - a.hours, D = a.height_m - b.height_m;
+  if (!(D > 0.0)) return std::nan("");
+  // life = h_a + (H_a - H_r) T / D: its derivatives by the two heights.
+  const double g_a = T * (replacement_height_m - b.height_m) / (D * D);
+  const double g_b = T * (a.height_m - replacement_height_m) / (D * D);
+  // H_b's error is H_a's plus that of the height removed between a and b: independent parts.
+  double var_before = 0.0, var_between = 0.0;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(line.b); ++k) {
+    const double v = stage_variance(at[k], at[k + 1], area0, height0).height_m2;
+    (k < static_cast<std::size_t>(line.a) ? var_before : var_between) += v;
+  }
+  return std::sqrt((g_a + g_b) * (g_a + g_b) * var_before + g_b * g_b * var_between);
+}
 
-// One lifter (the design's, or one kind of a pattern) at a stage: its area and height, and
-// the area-loss rate measured there with the rate's batch-means relative error.
-struct LifterAtStage {
-  double hours = 0.0, area_m2 = 0.0, height_m = 0.0, rate_m2_per_s = 0.0, rate_rel_sem = 0.0;
-};
-
-// The lifter through the stages, with errors: the area lost by stage k has the variance of the
-// rates of the stages before it over the hours each acted (independent windows); the height
-// follows the area's error in proportion to what each has lost; the life (life_h, NaN if
-// none) follows the relative error of the area lost by the last stage. area0 and height0 are
-// the new lifter's.
 std::vector<KindEstimate> track_lifter(const std::vector<LifterAtStage>& at, double area0, double height0,
-                                       double life_h, Estimate& life) {
+                                       double life_h, double replacement_height_m, Estimate& life) {
   std::vector<KindEstimate> out;
-  double area_var = 0.0;  // m^4
+  StageVariance sum;
   for (std::size_t k = 0; k < at.size(); ++k) {
     const LifterAtStage& r = at[k];
     if (k > 0) {
-      const LifterAtStage& previous = at[k - 1];
-      const double dt_s = (r.hours - previous.hours) * kSecondsPerHour;
-      const double rate_se = previous.rate_m2_per_s * previous.rate_rel_sem;
-      area_var += (rate_se * dt_s) * (rate_se * dt_s);
+      const StageVariance v = stage_variance(at[k - 1], r, area0, height0);
+      sum.area_m4 += v.area_m4;
+      sum.height_m2 += v.height_m2;
     }
     KindEstimate e;
-    const double area_se = std::sqrt(area_var);
+    const double area_se = std::sqrt(sum.area_m4);
     e.area_m2 = {r.area_m2, area_se};
     e.area_loss_fraction = {1.0 - r.area_m2 / area0, area_se / area0};
-    const double lost = area0 - r.area_m2;
-    e.height_m = {r.height_m, lost > 0.0 ? (height0 - r.height_m) * area_se / lost : 0.0};
+    e.height_m = {r.height_m, std::sqrt(sum.height_m2)};
     e.area_loss_rate_m2_per_s = with_rel_error(r.rate_m2_per_s, r.rate_rel_sem);
     out.push_back(e);
   }
   life = Estimate{};
-  if (!out.empty() && std::isfinite(life_h)) {
-    const KindEstimate& last = out.back();
-    const double lost = area0 - last.area_m2.mean;
-    life = {life_h, lost > 0.0 ? life_h * last.area_m2.se / lost : std::nan("")};
-  }
+  if (std::isfinite(life_h)) life = {life_h, life_error_h(at, area0, height0, replacement_height_m)};
   return out;
 }
 
+namespace {
+
 // A pattern's kinds, each tracked as the design's lifter is, from its own rates.
-void add_kind_estimates(const std::map<int, StageRecord>& stages, const std::vector<double>& kind_life_h,
+void add_kind_estimates(const std::map<int, StageRecord>& stages, double replacement_height_m,
+                        const std::vector<double>& kind_life_h,
                         const std::vector<bool>& kind_life_extrapolated, DesignEstimate& d) {
   const auto own0 = stages.find(0);
   if (own0 == stages.end() || own0->second.kinds.size() < 2) return;
@@ -76,12 +110,14 @@ void add_kind_estimates(const std::map<int, StageRecord>& stages, const std::vec
       const double nan = std::nan("");
       at.push_back({r.hours, has ? r.kinds[i].area_m2 : nan, has ? r.kinds[i].height_m : nan,
                     i < r.kind_area_loss_rate_m2_per_s.size() ? r.kind_area_loss_rate_m2_per_s[i] : nan,
-                    i < r.kind_area_loss_rate_rel_sem.size() ? r.kind_area_loss_rate_rel_sem[i] : nan});
+                    i < r.kind_area_loss_rate_rel_sem.size() ? r.kind_area_loss_rate_rel_sem[i] : nan,
+                    i < r.kind_worn_se.size() ? r.kind_worn_se[i].area_m2 : nan,
+                    i < r.kind_worn_se.size() ? r.kind_worn_se[i].height_m : nan});
     }
     Estimate life;
     const std::vector<KindEstimate> track =
         track_lifter(at, own0->second.kinds[i].area_m2, own0->second.kinds[i].height_m,
-                     i < kind_life_h.size() ? kind_life_h[i] : std::nan(""), life);
+                     i < kind_life_h.size() ? kind_life_h[i] : std::nan(""), replacement_height_m, life);
     for (std::size_t k = 0; k < track.size(); ++k) d.stages[k].kinds.push_back(track[k]);
     d.kind_life_h.push_back(life);
     d.kind_life_extrapolated.push_back(i < kind_life_extrapolated.size() ? kind_life_extrapolated[i] : true);
@@ -106,9 +142,15 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
   std::vector<LifterAtStage> at;
   for (const auto& [k, r] : stages) {
     (void)k;
-    at.push_back({r.hours, r.lifter.area_m2, r.lifter.height_m, r.area_loss_rate_m2_per_s, r.area_loss_rate_rel_sem});
+    // A pattern's lifter is its first kind's: that kind's rate and error, not all lifters'.
+    const bool kind0 = r.kinds.size() > 1 && !r.kind_area_loss_rate_m2_per_s.empty() &&
+                       !r.kind_area_loss_rate_rel_sem.empty();
+    at.push_back({r.hours, r.lifter.area_m2, r.lifter.height_m,
+                  kind0 ? r.kind_area_loss_rate_m2_per_s[0] : r.area_loss_rate_m2_per_s,
+                  kind0 ? r.kind_area_loss_rate_rel_sem[0] : r.area_loss_rate_rel_sem, r.worn_se.area_m2,
+                  r.worn_se.height_m});
   }
-  const std::vector<KindEstimate> lifter = track_lifter(at, area0, height0, life_h, d.life_h);
+  const std::vector<KindEstimate> lifter = track_lifter(at, area0, height0, life_h, scene.wear.replacement_height_m, d.life_h);
   std::size_t index = 0;
   for (const auto& [k, r] : stages) {
     StageEstimate s;
@@ -147,7 +189,16 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
     s.packed_shear_share = {f.summary.packed_shear_share, e.packed_shear_share};
     d.stages.push_back(s);
   }
-  add_kind_estimates(stages, kind_life_h, kind_life_extrapolated, d);
+  add_kind_estimates(stages, scene.wear.replacement_height_m, kind_life_h, kind_life_extrapolated, d);
+  // A pattern lasts as long as its shortest-lived kind (compute_life): that kind's life error.
+  // A kind that never reaches the replacement height has no life (NaN) and cannot be it.
+  if (d.kind_life_h.size() > 1 && std::isfinite(life_h)) {
+    for (std::size_t i = 0; i < d.kind_life_h.size() && i < kind_life_h.size(); ++i)
+      if (kind_life_h[i] == life_h) {
+        d.life_h = d.kind_life_h[i];
+        break;
+      }
+  }
   return d;
 }
 
@@ -176,7 +227,7 @@ std::string verdict_text(const Verdict& v) {
   else
     what = v.figure + (v.stage >= 0 ? " at stage " + std::to_string(v.stage) : std::string()) + ": " + v.design +
            (d >= 0.0 ? " is higher than " : " is lower than ") + v.reference + " by " + pm;
-  const char* errors = v.source == ErrorSource::Replicates ? "" : "; batch-means errors, a lower bound";
+  const char* errors = v.source == ErrorSource::Replicates ? "" : "; one history's batch-means errors";
   if (!std::isfinite(v.difference.se)) return what + " (no error known)";
   if (v.difference.resolved)
     return what + " (resolved: more than " + number_text(v.difference.threshold) + " combined standard errors" + errors + ")";

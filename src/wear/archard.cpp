@@ -84,6 +84,37 @@ double deepest(const std::vector<std::vector<double>>& depths) {
   return m;
 }
 
+namespace {
+
+// Shear power on a unit's lifter edges: all of them, or (top_only) those that reach the
+// lifter's highest point.
+double unit_lifter_power(const LinerUnit& unit, const std::vector<double>& power, bool top_only) {
+  double top = -INFINITY;
+  if (top_only)
+    for (std::size_t j = 0; j < power.size(); ++j)
+      if (is_lifter_edge(unit, static_cast<int>(j))) top = std::max({top, unit.surface[j].y, unit.surface[j + 1].y});
+  double p = 0.0;
+  for (std::size_t j = 0; j < power.size(); ++j)
+    if (is_lifter_edge(unit, static_cast<int>(j)) &&
+        (!top_only || std::max(unit.surface[j].y, unit.surface[j + 1].y) >= top))
+      p += power[j];
+  return p;
+}
+
+// Per row of each kind (unit u is of kind u % kinds).
+std::vector<double> power_by_kind(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power,
+                                  std::size_t kinds, bool top_only) {
+  std::vector<double> sum(kinds, 0.0), count(kinds, 0.0);
+  for (std::size_t u = 0; u < unit_power.size(); ++u) {
+    sum[u % kinds] += unit_lifter_power(mill.units[u], unit_power[u], top_only);
+    count[u % kinds] += 1.0;
+  }
+  for (std::size_t k = 0; k < kinds; ++k) sum[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
+  return sum;
+}
+
+}  // namespace
+
 double lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
   double sum = 0.0;
   for (std::size_t u = 0; u < unit_power.size(); ++u)
@@ -93,17 +124,16 @@ double lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<do
 }
 
 std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
-  const std::size_t kinds = static_cast<std::size_t>(mill.kinds);
-  std::vector<double> sum(kinds, 0.0), count(kinds, 0.0);
-  for (std::size_t u = 0; u < unit_power.size(); ++u) {
-    double p = 0.0;
-    for (std::size_t j = 0; j < unit_power[u].size(); ++j)
-      if (is_lifter_edge(mill.units[u], static_cast<int>(j))) p += unit_power[u][j];
-    sum[u % kinds] += p;
-    count[u % kinds] += 1.0;
-  }
-  for (std::size_t k = 0; k < kinds; ++k) sum[k] = count[k] > 0.0 ? sum[k] / count[k] : 0.0;
-  return sum;
+  return power_by_kind(mill, unit_power, static_cast<std::size_t>(mill.kinds), false);
+}
+
+double lifter_top_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power) {
+  return power_by_kind(mill, unit_power, 1, true).front();
+}
+
+std::vector<double> kind_lifter_top_power_W(const MillGeometry& mill,
+                                            const std::vector<std::vector<double>>& unit_power) {
+  return power_by_kind(mill, unit_power, static_cast<std::size_t>(mill.kinds), true);
 }
 
 double real_wear_rate(const Scene& scene, const MillGeometry& mill,

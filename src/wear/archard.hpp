@@ -58,6 +58,11 @@ double deepest(const std::vector<std::vector<double>>& depths);
 double lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power_W);
 // The same for each kind of lifter of a pattern: per row of that kind (W), one entry per kind.
 std::vector<double> kind_lifter_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power_W);
+// The same on the lifters' tops only: the lifter edges that reach the lifter's highest point
+// (the two beside a peak, or a flat top's). Their wear sets the height a wear update takes.
+double lifter_top_power_W(const MillGeometry& mill, const std::vector<std::vector<double>>& unit_power_W);
+std::vector<double> kind_lifter_top_power_W(const MillGeometry& mill,
+                                            const std::vector<std::vector<double>>& unit_power_W);
 
 // The real wear rate C (m^3/J) the scene asks for: given, or calibrated from a measured
 // area or height loss rate against the new liner's shear-work field (power per mill edge,

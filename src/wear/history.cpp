@@ -85,6 +85,10 @@ bool any_worn_out(const std::vector<LinerUnit>& units, int kinds, double radius_
   return false;
 }
 
+struct WornVariance {
+  double area_m4 = 0.0, height_m2 = 0.0;
+};
+
 // One stage being worn: the geometry the charge turns in, its engine, the window measured on
 // the stage's starting geometry, and the stage's counters.
 struct StageRun {
@@ -98,6 +102,11 @@ struct StageRun {
   double simulated_s = 0.0;
   std::int64_t disk_steps = 0;
   Clock::time_point started;
+  // The variance of the lifter area and height (and each kind's) the stage's wear updates
+  // removed.
+  bool worn_through = false;
+  WornVariance worn;
+  std::vector<WornVariance> kind_worn;
 };
 
 void check_stop(const WearCallbacks& cb) {
@@ -196,11 +205,68 @@ void finish_stage(WearHistory& history, const StageRun& run, const WearCallbacks
   StageRecord& rec = history.stages.back();
   rec.wall_s = std::chrono::duration<double>(Clock::now() - run.started).count();
   rec.simulated_s = run.simulated_s;
+  if (run.worn_through) {
+    rec.worn_se = {std::sqrt(run.worn.area_m4), std::sqrt(run.worn.height_m2)};
+    rec.kind_worn_se.clear();
+    for (const WornVariance& v : run.kind_worn) rec.kind_worn_se.push_back({std::sqrt(v.area_m4), std::sqrt(v.height_m2)});
+  }
   rec.disk_steps = run.disk_steps;
   if (cb.on_stage) cb.on_stage(rec);
 }
 
 enum class StageEnd { Finished, WornOut, StoppedByRule };
+
+// The relative error of a wear update's rates: its window's batch means (staged), or, for a
+// continuous update, the stage's first window's scaled to the update's simulated time (batch
+// means: the error falls as one over the square root of the time averaged).
+double update_rel_error(double window_rel, double window_s, const WearStep& step, bool staged) {
+  if (staged || !(step.simulated_s > 0.0)) return window_rel;
+  return window_rel * std::sqrt(window_s / step.simulated_s);
+}
+
+// The lifter's area and height (row 0, the first kind of a pattern) and, for a pattern, each
+// kind's.
+struct LifterSize {
+  LifterMetrics lifter;
+  std::vector<LifterMetrics> kinds;
+};
+LifterSize lifter_size(const MillGeometry& mill) {
+  LifterSize a;
+  a.lifter = measure_lifter(mill.units[0], mill.radius_m);
+  if (mill.kinds > 1) a.kinds = kind_metrics(mill.units, mill.kinds, mill.radius_m);
+  return a;
+}
+
+// The variance one wear update adds to what the stage removes: the area lost times the
+// relative error of the lifters' shear power that wore it, and the height lost times that of
+// the power on the lifters' tops.
+void add_update_variance(WornVariance& v, const LifterMetrics& before, const LifterMetrics& after, double area_rel,
+                         double top_rel) {
+  const double a = (before.area_m2 - after.area_m2) * area_rel, h = (before.height_m - after.height_m) * top_rel;
+  v.area_m4 += a * a;
+  v.height_m2 += h * h;
+}
+
+void add_update_variance(StageRun& run, const LifterSize& before, const LifterSize& after, const WearStep& step,
+                         bool staged) {
+  const WindowWork& w = run.window;
+  const auto rel = [&](const std::vector<double>& per_kind, std::size_t k, double all) {
+    return update_rel_error(k < per_kind.size() ? per_kind[k] : all, w.simulated_s, step, staged);
+  };
+  // A pattern's lifter is its first kind's.
+  const bool pattern = !before.kinds.empty();
+  add_update_variance(run.worn, before.lifter, after.lifter,
+                      pattern ? rel(w.kind_lifter_power_rel_sem, 0, w.lifter_power_rel_sem)
+                              : update_rel_error(w.lifter_power_rel_sem, w.simulated_s, step, staged),
+                      pattern ? rel(w.kind_lifter_top_rel_sem, 0, w.lifter_top_rel_sem)
+                              : update_rel_error(w.lifter_top_rel_sem, w.simulated_s, step, staged));
+  run.kind_worn.resize(before.kinds.size());
+  for (std::size_t k = 0; k < before.kinds.size() && k < after.kinds.size(); ++k)
+    add_update_variance(run.kind_worn[k], before.kinds[k], after.kinds[k],
+                        rel(w.kind_lifter_power_rel_sem, k, w.lifter_power_rel_sem),
+                        rel(w.kind_lifter_top_rel_sem, k, w.lifter_top_rel_sem));
+  run.worn_through = true;
+}
 
 // Wear the liner from the stage's start to its end: wear step -> reshape -> (the mill turns
 // on) -> the next window, until the stage's hours or the shell.
@@ -221,10 +287,12 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
       if (history.failure.empty()) history.failure = step.stop_event;
       return StageEnd::StoppedByRule;
     }
+    const LifterSize before = lifter_size(run.mill);
     run.mill = build_mill(run.mill.radius_m, run.mill.rows,
                           reshape(run.mill.units, step.depths, run.mill.radius_m, liner.smoothing_m,
                                   scene.mill.mesh, liner.lifter.area_m2, run.stage + 1),
                           run.mill.kinds);
+    add_update_variance(run, before, lifter_size(run.mill), step, staged);
     run.hours += step.hours;
     if (cb.on_update) cb.on_update({run.stage, run.hours, &run.mill, &run.engine->state()});
     if (any_worn_out(run.mill.units, run.mill.kinds, run.mill.radius_m, liner.kinds))

@@ -3,6 +3,7 @@
 // shell. Each stage measures the charge on a frozen geometry (wear/window.hpp), then wears
 // the liner through the stage in updates (wear/wear_step.hpp: staged or continuous),
 // reshaping it after each (wear/reshape.hpp), and hands the finished record to the caller.
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -13,6 +14,11 @@
 #include "scene/scene.hpp"
 
 namespace millwear {
+
+// The standard errors of a lifter's area and height lost in a stage.
+struct WornError {
+  double area_m2 = std::nan(""), height_m = std::nan("");
+};
 
 // One finished stage: the liner at `hours` and what the charge does with it.
 struct StageRecord {
@@ -29,7 +35,15 @@ struct StageRecord {
   ChargeFigures charge;           // measured on this geometry
   double area_loss_rate_m2_per_s = 0.0;       // of the lifter, at this geometry (per operating s)
   double area_loss_rate_rel_sem = 0.0;        // rule 2: batch-means relative error
-  ChargeFigureErrors charge_errors;           // batch-means errors of `charge` (lower bounds)
+  // The standard errors of the lifter area and height this stage's wear removed (to the next
+  // stage's geometry): each wear update's loss times the batch-means relative error of its
+  // window's shear power, on the lifters for the area and on their tops for the height, the
+  // updates taken as independent. NaN where no wear update ran from the stage (the last stage,
+  // which only measures) or where a stage file has no such keys. A pattern: the same for each
+  // kind.
+  WornError worn_se;
+  std::vector<WornError> kind_worn_se;
+  ChargeFigureErrors charge_errors;           // batch-means errors of `charge`
   double liner_loss_rate_m2_per_s = 0.0;      // the whole liner's cross-section lost (every
                                               // lifter and the shell), per operating s
   // Collision spectrum measured on this geometry (per log bin, see engine/accounting.hpp).

@@ -76,6 +76,8 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   std::vector<double> batch_power;
   std::vector<ChargeFigures> batch_figures;
   std::vector<std::vector<double>> kind_batch_power(mill.kinds > 1 ? static_cast<std::size_t>(mill.kinds) : 0);
+  std::vector<double> batch_top_power;
+  std::vector<std::vector<double>> kind_batch_top_power(kind_batch_power.size());
   for (int b = 0; b < kMaxWindowBatches; ++b) {
     check_stop();
     engine.reset_window();
@@ -97,9 +99,14 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     const auto unit_power = unit_edge_work(mill, p, scene.wear.average_rows);
     batch_power.push_back(lifter_power_W(mill, unit_power));
     batch_figures.push_back(charge_figures(acc, scene, engine.state().mill_speed_rad_s));
+    batch_top_power.push_back(lifter_top_power_W(mill, unit_power));
     if (!kind_batch_power.empty()) {
       const std::vector<double> kp = kind_lifter_power_W(mill, unit_power);
-      for (std::size_t k = 0; k < kind_batch_power.size(); ++k) kind_batch_power[k].push_back(kp[k]);
+      const std::vector<double> kt = kind_lifter_top_power_W(mill, unit_power);
+      for (std::size_t k = 0; k < kind_batch_power.size(); ++k) {
+        kind_batch_power[k].push_back(kp[k]);
+        kind_batch_top_power[k].push_back(kt[k]);
+      }
     }
     accumulate_work(w.accounting, acc);
     const int n = static_cast<int>(batch_power.size());
@@ -110,6 +117,8 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
   }
   w.charge_errors = charge_figure_errors(batch_figures);
   for (const auto& kb : kind_batch_power) w.kind_lifter_power_rel_sem.push_back(batch_means(kb).rel_sem);
+  w.lifter_top_rel_sem = batch_means(batch_top_power).rel_sem;
+  for (const auto& kb : kind_batch_top_power) w.kind_lifter_top_rel_sem.push_back(batch_means(kb).rel_sem);
   w.simulated_s = w.accounting.time_s;
   w.edge_power_W.resize(w.accounting.shear_work_J.size());
   for (std::size_t e = 0; e < w.edge_power_W.size(); ++e)

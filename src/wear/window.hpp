@@ -23,6 +23,10 @@ struct WindowWork {
   double lifter_power_rel_sem = 0.0;                // batch-means relative standard error
   ChargeFigureErrors charge_errors;                 // batch-means errors of the charge figures
   std::vector<double> kind_lifter_power_rel_sem;    // a pattern: the same for each kind's lifters
+  // The same for the shear power on the lifters' tops (wear/archard.hpp), which sets the height
+  // a wear update takes; per kind for a pattern.
+  double lifter_top_rel_sem = 0.0;
+  std::vector<double> kind_lifter_top_rel_sem;
   double simulated_s = 0.0;
   // With scene.outputs.vtk: the charge at vtk_frames even times over the window (rounded up
   // to whole frames per batch), for the ParaView files.
