@@ -128,6 +128,13 @@ bool file_exists(const std::string& path) {
 }
 
 std::string read_file(const std::string& path) {
+  // A FIFO or a device would block or never end: only a regular file (or a link to one) is
+  // read.
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(path, "", fs::is_directory(st) ? "a readable file, but it is a folder"
+                                                     : "a readable file, but it is not a regular file (a FIFO, socket or device)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "a readable file");
   std::ostringstream s;
