@@ -8,6 +8,7 @@
 
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "study/animation.hpp"
@@ -44,7 +45,7 @@ void register_animate(CLI::App& app, Action* action) {
   cmd->add_option("--frames", args->frames, "frames in the GIF (default 60)")->check(CLI::Range(10, 200));
   cmd->add_option("--size", args->size, "image size in pixels, square (default 640)")->check(CLI::Range(200, 2000));
   cmd->add_option("--history", args->history, "a finished `millwear run` output folder of this design");
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--keep-data", args->keep_data, "keep the frame data next to the GIF (FILE_frames/)");
   cmd->callback([args, action] { *action = [args] { return run_animate(*args); }; });

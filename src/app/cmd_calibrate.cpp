@@ -13,6 +13,7 @@
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "study/calibration_run.hpp"
@@ -97,7 +98,7 @@ void register_calibrate(CLI::App& app, Action* action) {
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", r.out, "output folder (default: the calibrated scene goes next to SCENE)")
       ->check(output_folder());
-  cmd->add_option("--fidelity", r.fidelity, "draft | standard | reference");
+  cmd->add_option("--fidelity", r.fidelity, "draft | standard | reference")->check(fidelity_name());
   add_threads_option(cmd, args->threads);
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (default 5)")->check(CLI::Range(1, 1000));

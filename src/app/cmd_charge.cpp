@@ -11,6 +11,7 @@
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "engine/charge_run.hpp"
 #include "plots/plots.hpp"
@@ -49,7 +50,7 @@ int run_charge(const ChargeArgs& args) {
   scene.solver.threads = step_threads(args.threads);
   scene.solver.threads_fit_size = args.threads == 0;
   check_scene(scene, args.scene);
-  const io::FolderLock lock(args.out);  // one writer per folder, for the whole run
+  const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -127,7 +128,7 @@ void register_charge(CLI::App& app, Action* action) {
       "charge", "Run the charge alone (no wear): power, toe/shoulder, shear work along the liner");
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
   add_threads_option(cmd, args->threads);
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions (default: the scene's)")
       ->check(finite_in(1e-6, 1e4));

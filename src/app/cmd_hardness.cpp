@@ -52,7 +52,7 @@ int run_hardness(const HardnessArgs& a) {
   std::printf("coefficient of variation of the wear rate: %.1f%% before, %.1f%% after the correction "
               "(log-log R^2 %.3f)\n", 100.0 * f.cv_before, 100.0 * f.cv_after, f.r_squared);
 
-  const io::FolderLock lock(a.out);  // one writer per folder
+  const io::FolderLock lock(a.out, "hardness");  // one writer per folder
   io::ensure_dir(io::join_path(a.out, "plots"));
   io::CsvTable t({"period", "start", "end", "length", "hardness", "wear", "rate", "ct", "corrected_time",
                   "corrected_rate"});

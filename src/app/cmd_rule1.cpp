@@ -10,6 +10,7 @@
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
@@ -56,7 +57,7 @@ int run_rule1(const Rule1Args& a) {
   opt.tolerance_pct_height = a.tolerance_pct;
   opt.jobs = a.jobs;
   std::unique_ptr<io::FolderLock> lock;
-  if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out);
+  if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out, "rule1");
   const Rule1Report r = rule1_check(scene, opt);
 
   std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode, %d seed(s) per factor\n", scene.name.c_str(),
@@ -134,7 +135,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(finite_in(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
   cmd->add_option("-j,--jobs", args->jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
   cmd->add_option("--threads", args->threads,
                   "threads of each history's engine step (default: the cores the histories at once leave, at "
                   "least 1; the results are the same bits for any count)")

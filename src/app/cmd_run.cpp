@@ -19,6 +19,7 @@
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
 #include "app/duration_text.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/run_command.hpp"
 #include "app/plain_progress.hpp"
@@ -181,8 +182,9 @@ void register_run(CLI::App& app, Action* action) {
       "130/143 interrupted (Ctrl-C/SIGTERM): finished stages are kept, --resume continues.");
   cmd->add_option("scene", args->scenes, "scene or comparison files (TOML)")->required();
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: each scene's)");
-  cmd->add_option("--reference", args->reference, "design whose new stage normalises (default: the comparison's, else the first)");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: each scene's)")->check(fidelity_name());
+  cmd->add_option("--reference", args->reference, "design whose new stage normalises (default: the comparison's, else the first)")
+      ->check(non_empty("a design name"));
   cmd->add_flag("--resume", args->resume, "continue an interrupted run in OUT from its last finished stages");
   cmd->add_flag("--force", args->force,
                "OUT holds another run's results: delete the files its manifest lists, then run");

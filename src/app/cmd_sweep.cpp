@@ -7,6 +7,7 @@
 
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -72,7 +73,7 @@ void register_sweep(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--vary", args->vary, "KEY=FIRST:LAST:STEP or KEY=V1,V2,...")->required();
   add_set_option(cmd, &args->overrides);
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions per point (default: the scene's)")
       ->check(finite_in(1e-6, 1e4));
   cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(CLI::Range(1, 1024));

@@ -11,6 +11,7 @@
 #include "app/threads_option.hpp"
 #include "app/commands.hpp"
 #include "app/set_option.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/validation_common.hpp"
 #include "study/validation_run.hpp"
@@ -97,7 +98,7 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
   cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
   cmd->add_option("--threads", args->threads,
                   "threads of the soft engine's step (default: the hardware's cores; the results are "
                   "the same bits for any count)")

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/commands.hpp"
+#include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "plots/plots.hpp"
@@ -84,7 +85,7 @@ void register_view(CLI::App& app, Action* action) {
       "Exit codes: 0 done, 1 a disk was lost or a window could not open, 2 bad input (a script\n"
       "control the checker refused included).");
   cmd->add_option("scene", args->scene, "scene file (TOML; default: the shipped lab mill)");
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)");
+  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   cmd->add_option("--frames", args->frames, "run this many frames, then stop")->check(CLI::Range(1, 10000000));
   cmd->add_option("--screenshot", args->screenshot, "write the last frame as a PNG")->check(output_file());
   cmd->add_option("--size", args->size, "window width and height in pixels (default 1280 800)")

@@ -17,6 +17,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/run_folder.hpp"
+#include "io/run_outputs.hpp"
 
 namespace millwear::io {
 
@@ -80,6 +81,15 @@ std::string folder_holder(const std::string& folder) {
 
 void check_output_folder(const std::string& path) {
   if (path.empty()) throw InputError("", "-o", "an output folder");
+  // Names the file system refuses, or that break the figures' gnuplot scripts (a newline), are
+  // found now rather than when the first file is written after the work.
+  for (const char c : path)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      throw InputError(path, "-o", "an output folder without control characters (newline, tab) in its path");
+  for (const fs::path& part : fs::path(path))
+    if (part.native().size() > kMaxNameBytes)
+      throw InputError(path, "-o", "an output folder whose names are at most " + std::to_string(kMaxNameBytes) +
+                                       " bytes each, but one has " + std::to_string(part.native().size()));
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_directory(path, ec))
     throw InputError(path, "-o", "an output folder, but a file of that name exists");
@@ -107,7 +117,8 @@ void check_output_folder(const std::string& path) {
   ::unlink(probe.c_str());
 }
 
-FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_path(folder, kFolderLockName)) {
+FolderLock::FolderLock(const std::string& folder, const char* command)
+    : folder_(folder), path_(join_path(folder, kFolderLockName)) {
   check_output_folder(folder);
   std::error_code ec;
   made_ = !fs::exists(folder, ec);
@@ -145,12 +156,22 @@ FolderLock::FolderLock(const std::string& folder) : folder_(folder), path_(join_
       throw RunError("cannot write the lock file " + path_ + " (" + std::strerror(err) + ")");
     }
     fd_ = fd;
+    if (command) {
+      try {
+        check_folder_not_taken(folder, command);
+      } catch (...) {
+        release();
+        throw;
+      }
+    }
     return;
   }
   throw RunError("cannot lock " + path_ + ": it keeps being replaced");
 }
 
-FolderLock::~FolderLock() {
+FolderLock::~FolderLock() { release(); }
+
+void FolderLock::release() {
   if (fd_ < 0) return;
   // Unlink while still holding it: a waiting process then finds the path gone and retries.
   ::unlink(path_.c_str());
@@ -159,6 +180,7 @@ FolderLock::~FolderLock() {
   // its first file): rmdir removes only an empty folder. The folders made on the way stay:
   // other commands may be making theirs beside it.
   if (made_) ::rmdir(folder_.c_str());
+  fd_ = -1;
 }
 
 }  // namespace millwear::io

@@ -11,6 +11,7 @@
 // It is removed when the lock is released, and so is the folder if the lock made it and the
 // command left it empty, so a finished or refused command leaves the folder as it found it. The kernel drops a flock when its process dies, so a lock file left by a
 // killed run does not block the next one: it is simply taken over.
+#include <cstddef>
 #include <string>
 
 namespace millwear::io {
@@ -18,7 +19,11 @@ namespace millwear::io {
 // Name of the lock file inside a locked folder.
 constexpr const char* kFolderLockName = ".millwear.lock";
 
-// Throws InputError(path, "-o", "a folder ...") if `path` exists and is not a folder, or if
+// The longest file or folder name (in bytes) the common Linux file systems take.
+constexpr std::size_t kMaxNameBytes = 255;
+
+// Throws InputError(path, "-o", "a folder ...") if `path` has a control character or a name
+// longer than kMaxNameBytes, if it exists and is not a folder, or if
 // the nearest folder on its way that exists is a file or not writable. Makes nothing: call it
 // before any work, so that a bad -o stops every command alike.
 void check_output_folder(const std::string& path);
@@ -32,8 +37,10 @@ class FolderLock {
  public:
   // Checks the path (check_output_folder), creates the folder if needed (ensure_dir) and
   // takes its lock. Throws InputError(folder, "", ...) naming the holder's pid if another
-  // process holds it, RunError if the lock file cannot be made.
-  explicit FolderLock(const std::string& folder);
+  // process holds it, RunError if the lock file cannot be made. With a command (a command
+  // other than `run`, which tells its own runs apart): also refuses a folder holding another
+  // command's results (run_outputs.hpp's check_folder_not_taken), under the lock.
+  explicit FolderLock(const std::string& folder, const char* command = nullptr);
   ~FolderLock();
   FolderLock(const FolderLock&) = delete;
   FolderLock& operator=(const FolderLock&) = delete;
@@ -42,6 +49,8 @@ class FolderLock {
   const std::string& path() const { return path_; }
 
  private:
+  void release();
+
   std::string folder_, path_;
   bool made_ = false;  // the folder did not exist before the lock
   int fd_ = -1;

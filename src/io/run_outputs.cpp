@@ -485,4 +485,26 @@ std::vector<std::string> manifest_files(const std::string& out) {
   return files;
 }
 
+std::string folder_results_command(const std::string& out) {
+  const std::string path = manifest_path(out);
+  if (file_exists(path)) {
+    try {
+      const Json m = Json::parse(read_file(path));
+      if (m.is_object() && m.contains("command") && m["command"].is_string()) return m["command"].get<std::string>();
+    } catch (const std::exception&) {
+    }
+    return "run";
+  }
+  return file_exists(join_path(stages_dir(out), "run.key")) ? "run" : "";
+}
+
+void check_folder_not_taken(const std::string& out, const std::string& command) {
+  const std::string holds = folder_results_command(out);
+  if (holds.empty() || holds == command) return;
+  throw InputError(out, "-o",
+                   "a folder that is new or holds results of `millwear " + command + "`, but it holds those of `millwear " +
+                       holds + "` (" + manifest_path(out) + "), which this command would partly overwrite: "
+                       "use another folder");
+}
+
 }  // namespace millwear::io

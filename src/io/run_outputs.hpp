@@ -89,4 +89,12 @@ void write_manifest(const RunReport& report);
 // there is no manifest, it does not parse or it has no list (an older millwear's).
 std::vector<std::string> manifest_files(const std::string& out);
 
+// Which command's results OUT holds: "run" (OUT/stages/run.key, or a manifest.json without a
+// "command"), the "command" of its manifest.json ("sweep"), or "" (no manifest and no run key).
+std::string folder_results_command(const std::string& out);
+// For a command other than `run` that writes into OUT, before any work: throws
+// InputError(OUT, "-o", ...) if OUT holds another command's results, which this one would
+// overwrite in part (a run's liner, snapshot and spectrum files, its manifest).
+void check_folder_not_taken(const std::string& out, const std::string& command);
+
 }  // namespace millwear::io

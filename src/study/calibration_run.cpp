@@ -52,7 +52,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
   // One writer per output folder, for the whole calibration (not the scene's own folder).
   std::optional<io::FolderLock> lock;
-  if (!a.out.empty()) lock.emplace(a.out);
+  if (!a.out.empty()) lock.emplace(a.out, "calibrate");
   o.options = a.options;
   o.options.min_runs = std::min(a.options.min_runs, a.options.max_runs);
   if (cb.on_start) cb.on_start(scene, measured, o.options);

@@ -340,7 +340,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const int reps = std::max(1, q.replicates);
   const int tasks = n * reps;
   r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : static_cast<int>(hw), tasks));
-  const io::FolderLock lock(q.out);  // one writer per folder, for the whole sweep
+  const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 
   // Threads take the next (point, replicate); each is independent (its own engine, its own

@@ -108,7 +108,7 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   // A scene or a comparison file; InputError before anything is written.
   const std::vector<Scene> designs = study::load_designs(request.scene_file, request.overrides);
   const TradeoffLadder ladder = tradeoff_ladder(designs, request.options);
-  const io::FolderLock lock(request.out);  // one writer per folder, for the whole run
+  const io::FolderLock lock(request.out, "tradeoff");  // one writer per folder, for the whole run
   if (cb.on_ladder) cb.on_ladder(ladder);
   TradeoffStudy study;
   study.report = run_tradeoff(ladder, request.jobs, cb.runs);

@@ -192,7 +192,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   check_scene(scene, a.scene_file);  // before anything is filled or written
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
-  const io::FolderLock lock(a.out);  // one writer per folder, for the whole run
+  const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
   const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
   ValidateOutcome o;
   o.areas_only = measured.areas_only;
