@@ -126,6 +126,22 @@ HardnessData read_hardness(const std::string& path) { return parse_hardness(io::
 HardnessFit fit_hardness(HardnessData& data, double reference_hardness) {
   auto& ps = data.periods;
   const int n = static_cast<int>(ps.size());
+  if (reference_hardness > 0.0 && n > 0) {
+    // CT = (H / H0)^b: an H0 far outside the data's hardness puts a = H0^-b past what a double
+    // holds (a = 0 or inf, the corrected rates inf or NaN) without saying anything of the ore.
+    double lo = ps[0].hardness, hi = ps[0].hardness;
+    for (const auto& p : ps) {
+      lo = std::min(lo, p.hardness);
+      hi = std::max(hi, p.hardness);
+    }
+    if (!(reference_hardness >= lo / kReferenceHardnessSpan && reference_hardness <= hi * kReferenceHardnessSpan)) {
+      char range[96];
+      std::snprintf(range, sizeof range, "%.6g to %.6g", lo / kReferenceHardnessSpan, hi * kReferenceHardnessSpan);
+      throw InputError(data.path, "--reference-hardness",
+                       std::string("a hardness in the file's units within a factor of 1000 of its hardness values: ") +
+                           range);
+    }
+  }
   Eigen::MatrixXd A(n, 2);
   Eigen::VectorXd y(n);
   for (int i = 0; i < n; ++i) {

@@ -56,6 +56,9 @@ struct HardnessData {
 HardnessData parse_hardness(const std::string& text, const std::string& name);
 HardnessData read_hardness(const std::string& path);
 
+// How far outside the file's hardness values --reference-hardness may lie (a factor).
+constexpr double kReferenceHardnessSpan = 1000.0;
+
 struct HardnessFit {
   double a = 1.0, b = 0.0;
   double a_se = 0.0, b_se = 0.0;
