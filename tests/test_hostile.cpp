@@ -2,6 +2,7 @@
 // the exit code says whether the figures are real (0), the run failed with an event named
 // (1) or the input was refused naming the file and key (2).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <filesystem>
@@ -614,6 +615,121 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
   EXPECT_EQ(v.exit_code, 2) << v.output;
   EXPECT_NE(v.output.find("no-run"), std::string::npos) << v.output;
   EXPECT_FALSE(fs::exists(dir / "new" / "out")) << v.output;
+}
+
+// A command other than `run` that writes into a folder holding another command's results
+// (a run's manifest or run key, a sweep's manifest) would overwrite part of them: refused
+// before any work, and the folder's files left as they were. The same command's own folder
+// is its to rewrite.
+TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
+  const fs::path dir = scratch("options-taken");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string run_manifest = "{\"program\": \"millwear\", \"files\": [\"manifest.json\"]}\n";
+  for (const char* sub : {"run", "key/stages", "sweep"}) fs::create_directories(dir / sub);
+  write(dir / "run" / "manifest.json", run_manifest);
+  write(dir / "key" / "stages" / "run.key", "design.lab-mill=0123\n");
+  write(dir / "sweep" / "manifest.json", "{\"program\": \"millwear\", \"command\": \"sweep\"}\n");
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"charge " + lab + " -o " + quoted(dir / "run"), "millwear run"},
+      {"charge " + lab + " -o " + quoted(dir / "key"), "millwear run"},
+      {"sweep " + lab + " -o " + quoted(dir / "run") + " --vary mill.speed=0.5 --no-plot -q", "millwear run"},
+      {"charge " + lab + " -o " + quoted(dir / "sweep"), "millwear sweep"},
+      {"hardness " + quoted(fs::path(kSource + "/validation/hardness-synthetic.csv")) + " -o " + quoted(dir / "run"),
+       "millwear run"},
+  };
+  for (const auto& [cmd, holder] : refused) {
+    const auto r = run_millwear(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("holds those of `" + holder + "`"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("manifest.json"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(read_text(dir / "run" / "manifest.json"), run_manifest);
+  EXPECT_FALSE(fs::exists(dir / "run" / "liner_lab-mill.csv"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "hardness_fit.csv"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "sweep.csv"));
+  EXPECT_FALSE(fs::exists(dir / "run" / ".millwear.lock"));
+  // hardness into its own earlier folder rewrites it.
+  const std::string hard = "hardness " + quoted(fs::path(kSource + "/validation/hardness-synthetic.csv")) + " -o " +
+                           quoted(dir / "hard");
+  ASSERT_EQ(run_millwear(hard).exit_code, 0);
+  const auto again = run_millwear(hard);
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+}
+
+// An output path the file system refuses (a name over 255 bytes) or that would break the
+// figures' scripts (a newline) is refused before the work, not found when the first file is
+// written after it.
+TEST(HostileOptions, AnOutputPathWithAnOverlongNameOrANewlineIsRefusedBeforeTheWork) {
+  const fs::path dir = scratch("options-names");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string longname(300, 'a');
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"charge " + lab + " -o " + quoted(dir / longname), "at most 255 bytes"},
+      {"charge " + lab + " -o " + quoted(dir / "a\nb"), "control characters"},
+      {"animate " + lab + " -o " + quoted(dir / (longname + ".gif")), "at most 255 bytes"},
+      {"animate " + lab + " -o " + quoted(dir / "a\nb.gif"), "control characters"},
+  };
+  for (const auto& [cmd, said] : cases) {
+    const auto r = run_millwear(cmd);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A FIFO or a device given as an input file is refused at once, naming it, rather than read
+// until it ends (never, for /dev/zero) or waited on (a FIFO nobody writes).
+TEST(HostileFiles, AFifoOrADeviceIsRefusedNotWaitedOn) {
+  const fs::path dir = scratch("files-fifo");
+  const fs::path fifo = dir / "surveys.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const std::string& input : {quoted(fifo), std::string("/dev/zero")}) {
+    for (const std::string& cmd : {"hardness " + input + " -o " + quoted(dir / "h"),
+                                   "validate " + lab + " --measured " + input + " -o " + quoted(dir / "v")}) {
+      // timeout: a command that waits on the FIFO ends with 124, not 2.
+      const auto r = millwear::testing::run_shell("timeout 60 \"" + std::string(MILLWEAR_BINARY) + "\" " + cmd);
+      EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+      EXPECT_NE(r.output.find("not a regular file"), std::string::npos) << r.output;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "h"));
+  EXPECT_FALSE(fs::exists(dir / "v"));
+}
+
+// A reference hardness far outside the data's would make a = H0^-b zero or infinite and the
+// corrected rates inf or NaN: refused naming the option and the range that holds.
+TEST(HostileOptions, AReferenceHardnessFarFromTheDataIsRefused) {
+  const fs::path dir = scratch("options-hardness");
+  const std::string file = quoted(fs::path(kSource + "/validation/hardness-synthetic.csv"));
+  for (const char* h0 : {"1e300", "1e-300"}) {
+    const auto r = run_millwear("hardness " + file + " -o " + quoted(dir / "out") + " --reference-hardness " + h0);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--reference-hardness"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("within a factor of 1000"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
+  const auto ok = run_millwear("hardness " + file + " -o " + quoted(dir / "ok") + " --reference-hardness 14");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string fit = read_text(dir / "ok" / "hardness_fit.csv");
+  EXPECT_EQ(fit.find("nan"), std::string::npos) << fit;
+  EXPECT_EQ(fit.find("inf"), std::string::npos) << fit;
+}
+
+// An empty --fidelity or --reference is a mistake on the command line, not "the default".
+TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
+  const fs::path dir = scratch("options-empty");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const std::string& cmd : {"run " + lab + " -o " + quoted(dir / "r") + " --fidelity \"\"",
+                                 "charge " + lab + " -o " + quoted(dir / "c") + " --fidelity \"\"",
+                                 "sweep " + lab + " -o " + quoted(dir / "s") + " --vary mill.speed=0.5 --fidelity \"\"",
+                                 "run " + lab + " -o " + quoted(dir / "r") + " --reference \"\""}) {
+    const auto r = run_millwear(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    const bool named = r.output.find("--fidelity") != std::string::npos || r.output.find("--reference") != std::string::npos;
+    EXPECT_TRUE(named) << r.output;
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
 }
 
 // ---- files read back -------------------------------------------------------------------------
