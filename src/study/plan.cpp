@@ -4,9 +4,11 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
@@ -184,6 +186,20 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
     d.changes = io::settings_changes(run, d.name, d.scene);
+    // The liner goes on from the run's stage as it is: a mill of another size or other lifters
+    // would wear a liner that does not fit it.
+    // (The manifest's name of the setting, and the scene's key.)
+    const std::pair<const char*, const char*> fixed[] = {{"mill.diameter_m: ", "mill.diameter"},
+                                                         {"mill.rows: ", "lifters.rows"},
+                                                         {"mill.lifter_profile: ", "lifters.profile"},
+                                                         {"mill.lifter_pattern: ", "lifters.pattern"}};
+    for (const std::string& change : d.changes)
+      for (const auto& [setting, key] : fixed)
+        if (change.rfind(setting, 0) == 0)
+          throw InputError(d.files.front(), key,
+                           "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(setting)) +
+                               "): --continue goes on with that liner under new conditions (speed, filling, wear "
+                               "rate); another mill or lifter is a new run");
     d.fingerprint = io::stable_hash_hex(d.fingerprint + "\n--continue " + run + " --stage " + std::to_string(k));
   }
 }
