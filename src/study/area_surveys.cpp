@@ -87,6 +87,13 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2) {
 
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file) {
   const MeasuredAreas m = measured_areas(surveys, new_area_m2);
+  // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
+    if (!(m.loss_m2[i] < m.reference_m2))
+      throw InputError(file, "line " + std::to_string(surveys.surveys[i].line),
+                       "an area loss smaller than the lifter's area (" + std::to_string(m.reference_m2 / kMm2) +
+                           " mm^2, " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") + "); this survey's is " +
+                           std::to_string(m.loss_m2[i] / kMm2) + " mm^2");
   double moment = 0.0;
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i) moment += surveys.surveys[i].hours * m.loss_m2[i];
   if (moment > 0.0 || surveys.surveys.empty()) return;

@@ -54,9 +54,10 @@ struct MeasuredAreas {
 };
 MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2);
 
-// A wear rate can be fitted only to areas that shrink with operating time: throws
-// InputError(file, line of the last survey, ...) unless the area loss, fitted through 0 h,
-// grows with the hours (sum of hours x loss > 0).
+// A wear rate can be fitted only to areas that shrink with operating time, and by less than
+// the whole lifter: throws InputError(file, line of a survey, ...) if a survey's loss is not
+// under the reference area, or (line of the last survey) unless the area loss, fitted through
+// 0 h, grows with the hours (sum of hours x loss > 0).
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
