@@ -334,6 +334,17 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
   EXPECT_NE(r.output.find("areas grow with time"), std::string::npos) << r.output;
 }
 
+// A survey that lost more area than the lifter has is refused at its line before any history
+// is run (it used to run five and then fail to converge).
+TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {
+  const fs::path dir = scratch("whole-lifter");
+  write(dir / "losses.csv", "hours,area_loss_mm2\n50,100\n100,6000\n");
+  const auto r = run_millwear("calibrate " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " --measured " +
+                              quoted(dir / "losses.csv") + " -o " + quoted(dir / "out"));
+  expect_refused(r, (dir / "losses.csv").string(), "line 3", dir / "out");
+  EXPECT_NE(r.output.find("smaller than the lifter's area"), std::string::npos) << r.output;
+}
+
 // ---- a full disk -----------------------------------------------------------------------------
 
 // A disk that fills while the figures are drawn: the run fails (exit 1) and says the file
@@ -855,6 +866,11 @@ TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
                               quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " --from " + quoted(run) +
                               " -o " + quoted(dir / "v"));
   expect_refused(v, run.string(), "--from", dir / "v");
+  // Nor is its liner continued in the scene's mill: it would not fit its lifter rows.
+  const auto c = run_millwear("run " + quoted(scene) + " -o " + quoted(dir / "c") + " --continue " + quoted(run) +
+                              " --fidelity draft");
+  expect_refused(c, scene.string(), "lifters.rows", dir / "c");
+  EXPECT_NE(c.output.find("10 -> 12"), std::string::npos) << c.output;
 }
 
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
