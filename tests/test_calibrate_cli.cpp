@@ -89,6 +89,21 @@ TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
   EXPECT_NE(r.output.find("area survey(s)"), std::string::npos) << r.output;
 }
 
+// A run's figures stand for the scene only as the run ran it: the scene with another speed
+// (--set) or fidelity is refused, the differences named, and nothing is written.
+TEST_F(CalibrateCli, ValidateRefusesARunOfOtherSettings) {
+  const fs::path areas = areas_from_run();
+  for (const std::string& extra : {std::string(" --set mill.speed=0.9"), std::string(" --fidelity standard")}) {
+    const fs::path out = dir_ / "val";
+    const Result r =
+        run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out) + " --from " + q(run_dir_) + extra);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--from"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("settings differ"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << r.output;
+  }
+}
+
 TEST_F(CalibrateCli, ValidateRunsTheSameHistoryItselfWithoutFrom) {
   // Without --from, validate runs the history itself with stages on the survey hours (the
   // scene's own 50 h here): same scene and seed, so the same areas bit for bit.

@@ -11,6 +11,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/run_outputs.hpp"
 #include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -30,6 +31,16 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
     if (src.last_stage < 0)
       throw InputError(a.from, "stages/" + scene.name + "_stage0.done",
                        "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
+    // The run's figures stand for the scene only if the run was of the scene as given now
+    // (its --set and --fidelity included).
+    const std::vector<std::string> changes = io::settings_changes(a.from, scene.name, scene);
+    if (!changes.empty()) {
+      std::string listed;
+      for (const std::string& c : changes) listed += (listed.empty() ? "" : "; ") + c;
+      throw InputError(a.from, "--from",
+                       "a run of the scene as given now (with its --set and --fidelity), but the run's settings "
+                       "differ (run -> scene): " + listed);
+    }
     return src;
   }
   const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
