@@ -406,3 +406,39 @@ TEST_F(Replicates, TwoCopiesOfADesignAreNotResolvedAndADoubledWearRateIs) {
 }
 
 }  // namespace
+
+// The area-loss verdict compares two designs at equal hours: at the last stage both reached
+// at the same hours, or not at all when their stages never meet (a design with 37 h stages
+// against one with 100 h stages was judged on 37 h of wear against 100 h).
+TEST(Verdicts, AreaLossIsComparedAtStagesOfEqualHoursOnly) {
+  auto design = [](const std::string& name, std::vector<double> hours) {
+    millwear::DesignEstimate d;
+    d.name = name;
+    d.life_h = {1000.0, 10.0};
+    for (std::size_t k = 0; k < hours.size(); ++k) {
+      millwear::StageEstimate s;
+      s.stage = static_cast<int>(k);
+      s.hours = hours[k];
+      s.area_loss_fraction = {0.001 * hours[k], 0.0001};
+      s.power_W = {1000.0, 10.0};
+      d.stages.push_back(s);
+    }
+    return d;
+  };
+  auto area_verdicts = [](const std::vector<millwear::Verdict>& vs) {
+    std::vector<millwear::Verdict> out;
+    for (const auto& v : vs)
+      if (v.figure == "area_loss_pct") out.push_back(v);
+    return out;
+  };
+  const auto ref = design("ref", {0.0, 100.0, 200.0});
+  const auto same = area_verdicts(millwear::study::compare_designs({ref, design("same", {0.0, 100.0, 200.0})}, "ref"));
+  ASSERT_EQ(same.size(), 1u);
+  EXPECT_EQ(same[0].stage, 2);
+  const auto shorter = area_verdicts(millwear::study::compare_designs({ref, design("short", {0.0, 37.0, 74.0})}, "ref"));
+  EXPECT_TRUE(shorter.empty());
+  const auto partly = area_verdicts(millwear::study::compare_designs({ref, design("partly", {0.0, 100.0, 150.0})}, "ref"));
+  ASSERT_EQ(partly.size(), 1u);
+  EXPECT_EQ(partly[0].stage, 1);
+  EXPECT_EQ(partly[0].hours, 100.0);
+}

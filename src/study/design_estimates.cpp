@@ -277,11 +277,15 @@ std::vector<Verdict> compare_designs(const std::vector<DesignEstimate>& designs,
       out.push_back(v);
     };
     add("life_h", "h", -1, 0.0, d.life_h, ref->life_h);
+    // The area loss at the last worn stage both reached at the same hours (designs with other
+    // stage hours are compared at a stage they share, or not at all).
     const std::size_t last = std::min(d.stages.size(), ref->stages.size());
-    if (last > 1) {
-      const StageEstimate& a = d.stages[last - 1];
-      const StageEstimate& b = ref->stages[last - 1];
+    for (std::size_t k = last; k-- > 1;) {
+      const StageEstimate& a = d.stages[k];
+      const StageEstimate& b = ref->stages[k];
+      if (std::abs(a.hours - b.hours) > 1e-9 * std::max(1.0, std::abs(b.hours))) continue;
       add("area_loss_pct", "%", a.stage, a.hours, scaled(a.area_loss_fraction, 100.0), scaled(b.area_loss_fraction, 100.0));
+      break;
     }
     if (last > 0)
       for (const Figure& f : at_new)

@@ -46,9 +46,9 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
                                 double life_h, bool life_extrapolated, const std::vector<double>& kind_life_h = {},
                                 const std::vector<bool>& kind_life_extrapolated = {});
 
-// Every design against the reference: life; area loss at the last stage both finished; power,
-// specific power, collision power, utilization, liner shear power and liner wear per energy
-// at the new stage.
+// Every design against the reference: life; area loss at the last stage both finished at the
+// same hours (none if their stages never meet); power, specific power, collision power,
+// utilization, liner shear power and liner wear per energy at the new stage.
 std::vector<Verdict> compare_designs(const std::vector<DesignEstimate>& designs, const std::string& reference);
 
 }  // namespace millwear::study
