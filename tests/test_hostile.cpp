@@ -688,6 +688,21 @@ TEST(HostileOptions, AnOutputPathWithAnOverlongNameOrANewlineIsRefusedBeforeTheW
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
+// A refusal names what the user gave: rule 1's factor from the command line (not the
+// scene's wear.factor), and a run key that names no design as such (not "design(s) ?").
+TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
+  const fs::path dir = scratch("options-named");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const auto r = run_millwear("rule1 " + lab + " --factors 1e-300");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--factors: a factor within the run's limits; 1e-300"), std::string::npos) << r.output;
+  fs::create_directories(dir / "out" / "stages");
+  write(dir / "out" / "stages" / "run.key", "");
+  const auto k = run_millwear("run " + lab + " -o " + quoted(dir / "out") + " -q");
+  EXPECT_EQ(k.exit_code, 2) << k.output;
+  EXPECT_NE(k.output.find("names no design"), std::string::npos) << k.output;
+}
+
 // A FIFO or a device given as an input file is refused at once, naming it, rather than read
 // until it ends (never, for /dev/zero) or waited on (a FIFO nobody writes).
 TEST(HostileFiles, AFifoOrADeviceIsRefusedNotWaitedOn) {

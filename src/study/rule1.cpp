@@ -158,7 +158,14 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   for (double f : factors) {
     if (!(f > 0.0 && f <= 1e12))
       throw InputError("", "--factors", "factors in (0, 1e12], got " + std::to_string(f));
-    check_run_limits(factor_scene(scene, f, scene.solver.seed), scene.source_file);
+    // The factor comes from the command line, not the scene: the limit is named as its.
+    try {
+      check_run_limits(factor_scene(scene, f, scene.solver.seed), scene.source_file);
+    } catch (const InputError& e) {
+      char given[32];
+      std::snprintf(given, sizeof given, "%g", f);
+      throw InputError("", "--factors", std::string("a factor within the run's limits; ") + given + " gives " + e.where + ": " + e.expected);
+    }
   }
 
   Rule1Report report;

@@ -366,7 +366,11 @@ Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) 
     for (const auto& d : plan.designs)
       if (d.name == n && d.fingerprint != v) changed += (changed.empty() ? "" : ", ") + n;
   }
-  what = "the results of design(s) " + (names.empty() ? std::string("?") : names) +
+  if (names.empty()) {
+    what = "a run whose " + key + " names no design (damaged or cut short)";
+    return Holds::Other;
+  }
+  what = "the results of design(s) " + names +
          (changed.empty() ? std::string(" (not the designs of this run)")
                           : " (other scene or profile files, or fidelity, for " + changed + ")");
   return Holds::Other;
