@@ -703,6 +703,21 @@ TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
   EXPECT_NE(k.output.find("names no design"), std::string::npos) << k.output;
 }
 
+// A screen whose base is not a scene (here the comparison file) is refused with the base
+// file's own error and the screen file whose screen.base names it.
+TEST(HostileScreen, ABaseThatIsNotASceneNamesTheScreensBase) {
+  const fs::path dir = scratch("screen-base");
+  std::string text = read_text(kSource + "/scenarios/screen-sag-face-angle.toml");
+  text.replace(text.find("base = \"sag-2x30.toml\""), 22,
+               "base = \"" + kSource + "/scenarios/sag-2x30-vs-1x30.toml\"");
+  const std::string profile = "equal_area = \"../profiles/2x30.toml\"";
+  text.replace(text.find(profile), profile.size(), "equal_area = \"" + kSource + "/profiles/2x30.toml\"");
+  write(dir / "screen.toml", text);
+  const auto r = run_millwear("screen " + quoted(dir / "screen.toml") + " -o " + quoted(dir / "out"));
+  expect_refused(r, "sag-2x30-vs-1x30.toml", "comparison", dir / "out");
+  EXPECT_NE(r.output.find("screen.toml's screen.base names"), std::string::npos) << r.output;
+}
+
 // A FIFO or a device given as an input file is refused at once, naming it, rather than read
 // until it ends (never, for /dev/zero) or waited on (a FIFO nobody writes).
 TEST(HostileFiles, AFifoOrADeviceIsRefusedNotWaitedOn) {

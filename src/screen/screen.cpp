@@ -253,8 +253,16 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
   }
   d.overrides = overrides;
 
-  // The base scene, with the overrides: its own errors name it (and the --set they come from).
-  const Scene b = load_scene(d.base_scene, overrides);
+  // The base scene, with the overrides: its own errors name it (and the --set they come from),
+  // and say which screen file's screen.base it is (a comparison or screen file given there
+  // reads as a scene with unknown tables).
+  const Scene b = [&] {
+    try {
+      return load_scene(d.base_scene, overrides);
+    } catch (const InputError& e) {
+      throw InputError(e.file, e.where, e.expected + " (read as the scene file that " + path + "'s screen.base names)");
+    }
+  }();
   d.kinds = b.mill.kind_count();
   if (d.kinds > 1 && !d.profiles.empty())
     f.fail("profiles", "no family.profiles with a base scene of a pattern of " + std::to_string(d.kinds) +
