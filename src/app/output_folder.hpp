@@ -33,12 +33,11 @@ inline CLI::Validator output_file() {
       [](std::string& path) -> std::string {
         std::error_code ec;
         if (std::filesystem::is_directory(path, ec)) return path + ": an output file, but a folder of that name exists";
-        const std::string name = std::filesystem::path(path).filename().string();
-        if (name.size() > io::kMaxNameBytes)
-          return path + ": an output file whose name is at most " + std::to_string(io::kMaxNameBytes) + " bytes";
-        for (const char c : path)
-          if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-            return path + ": an output file without control characters (newline, tab) in its path";
+        try {
+          io::check_output_path_text(path, "an output file");
+        } catch (const InputError& e) {
+          return path + ": " + e.expected;
+        }
         const std::string folder = std::filesystem::path(path).parent_path().string();
         try {
           io::check_output_folder(folder.empty() ? "." : folder);

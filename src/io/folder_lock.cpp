@@ -79,17 +79,19 @@ std::string folder_holder(const std::string& folder) {
   return held ? holder_text(path) : "";
 }
 
-void check_output_folder(const std::string& path) {
-  if (path.empty()) throw InputError("", "-o", "an output folder");
-  // Names the file system refuses, or that break the figures' gnuplot scripts (a newline), are
-  // found now rather than when the first file is written after the work.
+void check_output_path_text(const std::string& path, const std::string& what) {
   for (const char c : path)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      throw InputError(path, "-o", "an output folder without control characters (newline, tab) in its path");
+      throw InputError(path, "-o", what + " without control characters (newline, tab) in its path");
   for (const fs::path& part : fs::path(path))
     if (part.native().size() > kMaxNameBytes)
-      throw InputError(path, "-o", "an output folder whose names are at most " + std::to_string(kMaxNameBytes) +
+      throw InputError(path, "-o", what + " whose names are at most " + std::to_string(kMaxNameBytes) +
                                        " bytes each, but one has " + std::to_string(part.native().size()));
+}
+
+void check_output_folder(const std::string& path) {
+  if (path.empty()) throw InputError("", "-o", "an output folder");
+  check_output_path_text(path, "an output folder");
   std::error_code ec;
   if (fs::exists(path, ec) && !fs::is_directory(path, ec))
     throw InputError(path, "-o", "an output folder, but a file of that name exists");

@@ -22,8 +22,13 @@ constexpr const char* kFolderLockName = ".millwear.lock";
 // The longest file or folder name (in bytes) the common Linux file systems take.
 constexpr std::size_t kMaxNameBytes = 255;
 
-// Throws InputError(path, "-o", "a folder ...") if `path` has a control character or a name
-// longer than kMaxNameBytes, if it exists and is not a folder, or if
+// Throws InputError(path, "-o", ...) if an output path (what = "an output folder" or "an output
+// file") has a control character (a newline breaks the figures' gnuplot scripts) or a name
+// longer than kMaxNameBytes: found before any work, not when the first file is written.
+void check_output_path_text(const std::string& path, const std::string& what);
+
+// Throws InputError(path, "-o", "a folder ...") if check_output_path_text does, if `path`
+// exists and is not a folder, or if
 // the nearest folder on its way that exists is a file or not writable. Makes nothing: call it
 // before any work, so that a bad -o stops every command alike.
 void check_output_folder(const std::string& path);

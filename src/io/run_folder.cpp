@@ -40,6 +40,7 @@ std::string liner_path(const std::string& out, const std::string& design) {
   return join_path(out, "liner_" + design + ".csv");
 }
 std::string stages_dir(const std::string& out) { return join_path(out, "stages"); }
+std::string run_key_path(const std::string& out) { return join_path(stages_dir(out), "run.key"); }
 std::string stage_done_marker(const std::string& out, const std::string& design, int stage) {
   return join_path(stages_dir(out), design + "_stage" + std::to_string(stage) + ".done");
 }

@@ -43,6 +43,7 @@ std::string profile_path(const std::string& out, const std::string& design, int 
 std::string snapshot_path(const std::string& out, const std::string& design);
 std::string liner_path(const std::string& out, const std::string& design);
 std::string stages_dir(const std::string& out);                      // OUT/stages
+std::string run_key_path(const std::string& out);                    // OUT/stages/run.key
 std::string stage_done_marker(const std::string& out, const std::string& design, int stage);
 std::string plots_out_dir(const std::string& out);                   // OUT/plots
 std::string plots_data_dir(const std::string& out);                  // OUT/plots/data

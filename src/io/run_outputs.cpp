@@ -495,7 +495,7 @@ std::string folder_results_command(const std::string& out) {
     }
     return "run";
   }
-  return file_exists(join_path(stages_dir(out), "run.key")) ? "run" : "";
+  return file_exists(run_key_path(out)) ? "run" : "";
 }
 
 void check_folder_not_taken(const std::string& out, const std::string& command) {

@@ -329,8 +329,6 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
   }
 }
 
-std::string resume_key_path(const std::string& out) { return io::join_path(io::stages_dir(out), "run.key"); }
-
 io::KeyValues resume_key(const Plan& plan) {
   io::KeyValues kv;
   for (const auto& d : plan.designs) kv.emplace_back("design." + d.name, d.fingerprint);
@@ -342,7 +340,7 @@ io::KeyValues resume_key(const Plan& plan) {
 enum class Holds { None, Same, Other };
 
 Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) {
-  const std::string key = resume_key_path(out);
+  const std::string key = io::run_key_path(out);
   if (!io::file_exists(key)) {
     if (!io::file_exists(io::manifest_path(out))) return Holds::None;
     what = "a run whose inputs are not recorded (" + io::manifest_path(out) + " without " + key + ")";
@@ -380,7 +378,7 @@ Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) 
 // gives the stage files, snapshot and liner of each design its run.key names. Nothing else.
 void clear_other_run(const std::string& out) {
   std::vector<std::string> files = io::manifest_files(out);
-  const std::string key = resume_key_path(out);
+  const std::string key = io::run_key_path(out);
   if (io::file_exists(key)) {
     try {
       for (const auto& [k, v] : io::read_key_values(key)) {
@@ -500,8 +498,8 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     fs::remove(io::replicates_path(out), ec);
     fs::remove(io::verdicts_path(out), ec);
   }
-  io::write_file_atomic(resume_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
-  ctx.written.insert(io::relative_to(out, resume_key_path(out)));
+  io::write_file_atomic(io::run_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
+  ctx.written.insert(io::relative_to(out, io::run_key_path(out)));
   copy_inputs(ctx, out);
 
   // Stages read back: the same bookkeeping as freshly finished ones (files rewritten from
