@@ -636,7 +636,8 @@ TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
   const fs::path dir = scratch("options-taken");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string run_manifest = "{\"program\": \"millwear\", \"files\": [\"manifest.json\"]}\n";
-  for (const char* sub : {"run", "key/stages", "sweep"}) fs::create_directories(dir / sub);
+  for (const char* sub : {"run", "key/stages", "sweep", "charge"}) fs::create_directories(dir / sub);
+  write(dir / "charge" / "charge_summary.csv", "quantity,value,unit\nscene,lab-mill,\n");
   write(dir / "run" / "manifest.json", run_manifest);
   write(dir / "key" / "stages" / "run.key", "design.lab-mill=0123\n");
   write(dir / "sweep" / "manifest.json", "{\"program\": \"millwear\", \"command\": \"sweep\"}\n");
@@ -647,13 +648,19 @@ TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
       {"charge " + lab + " -o " + quoted(dir / "sweep"), "millwear sweep"},
       {"hardness " + quoted(fs::path(kSource + "/validation/hardness-synthetic.csv")) + " -o " + quoted(dir / "run"),
        "millwear run"},
+      // run itself refuses another command's folder, --force or not: it deletes only a run's files.
+      {"run " + lab + " -o " + quoted(dir / "charge") + " -q", "millwear charge"},
+      {"run " + lab + " -o " + quoted(dir / "sweep") + " -q --force", "millwear sweep"},
   };
   for (const auto& [cmd, holder] : refused) {
     const auto r = run_millwear(cmd);
     EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
-    EXPECT_NE(r.output.find("holds those of `" + holder + "`"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("manifest.json"), std::string::npos) << r.output;
+    const bool named = r.output.find("holds those of `" + holder + "`") != std::string::npos ||
+                       r.output.find("holds the results of `" + holder + "`") != std::string::npos;
+    EXPECT_TRUE(named) << r.output;
   }
+  EXPECT_TRUE(fs::exists(dir / "sweep" / "manifest.json"));
+  EXPECT_FALSE(fs::exists(dir / "charge" / "summary.csv"));
   EXPECT_EQ(read_text(dir / "run" / "manifest.json"), run_manifest);
   EXPECT_FALSE(fs::exists(dir / "run" / "liner_lab-mill.csv"));
   EXPECT_FALSE(fs::exists(dir / "run" / "hardness_fit.csv"));

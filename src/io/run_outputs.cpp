@@ -495,7 +495,9 @@ std::string folder_results_command(const std::string& out) {
     }
     return "run";
   }
-  return file_exists(run_key_path(out)) ? "run" : "";
+  if (file_exists(run_key_path(out))) return "run";
+  // charge writes no manifest; its summary is its alone.
+  return file_exists(join_path(out, "charge_summary.csv")) ? "charge" : "";
 }
 
 void check_folder_not_taken(const std::string& out, const std::string& command) {
@@ -503,8 +505,7 @@ void check_folder_not_taken(const std::string& out, const std::string& command) 
   if (holds.empty() || holds == command) return;
   throw InputError(out, "-o",
                    "a folder that is new or holds results of `millwear " + command + "`, but it holds those of `millwear " +
-                       holds + "` (" + manifest_path(out) + "), which this command would partly overwrite: "
-                       "use another folder");
+                       holds + "`, which this command would partly overwrite: use another folder");
 }
 
 }  // namespace millwear::io

@@ -90,7 +90,8 @@ void write_manifest(const RunReport& report);
 std::vector<std::string> manifest_files(const std::string& out);
 
 // Which command's results OUT holds: "run" (OUT/stages/run.key, or a manifest.json without a
-// "command"), the "command" of its manifest.json ("sweep"), or "" (no manifest and no run key).
+// "command"), the "command" of its manifest.json ("sweep"), "charge" (its charge_summary.csv),
+// or "" (none of these).
 std::string folder_results_command(const std::string& out);
 // For a command other than `run` that writes into OUT, before any work: throws
 // InputError(OUT, "-o", ...) if OUT holds another command's results, which this one would

@@ -336,10 +336,16 @@ io::KeyValues resume_key(const Plan& plan) {
 }
 
 // What OUT holds. None: no run.key and no manifest (a new folder, or the user's own files).
-// Same: the same designs with the same fingerprints. Other: anything else.
-enum class Holds { None, Same, Other };
+// Same: the same designs with the same fingerprints. Foreign: another command's results (a
+// sweep's, a charge's), which --force does not delete. Other: anything else.
+enum class Holds { None, Same, Foreign, Other };
 
 Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) {
+  const std::string holder = io::folder_results_command(out);
+  if (!holder.empty() && holder != "run") {
+    what = "the results of `millwear " + holder + "`";
+    return Holds::Foreign;
+  }
   const std::string key = io::run_key_path(out);
   if (!io::file_exists(key)) {
     if (!io::file_exists(io::manifest_path(out))) return Holds::None;
@@ -448,6 +454,10 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   // --force cleared of that run's files (and only those) first.
   std::string holds_what;
   const Holds holds = folder_holds(plan, out, holds_what);
+  if (holds == Holds::Foreign)
+    throw InputError(out, "-o",
+                     "a folder that is new or holds the results of these same scenes and settings, but it "
+                     "holds " + holds_what + ", which a run would partly overwrite: use another folder");
   if (holds == Holds::Other && !opt.force)
     throw InputError(out, "-o",
                      "a folder that is new or holds the results of these same scenes and settings, but it "
