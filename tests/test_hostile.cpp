@@ -666,12 +666,25 @@ TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
   EXPECT_FALSE(fs::exists(dir / "run" / "hardness_fit.csv"));
   EXPECT_FALSE(fs::exists(dir / "run" / "sweep.csv"));
   EXPECT_FALSE(fs::exists(dir / "run" / ".millwear.lock"));
-  // hardness into its own earlier folder rewrites it.
+  // hardness into its own earlier folder rewrites it; its folder is marked as its own, and
+  // every other command, run with --force included, is refused it.
   const std::string hard = "hardness " + quoted(fs::path(kSource + "/validation/hardness-synthetic.csv")) + " -o " +
                            quoted(dir / "hard");
   ASSERT_EQ(run_millwear(hard).exit_code, 0);
   const auto again = run_millwear(hard);
   EXPECT_EQ(again.exit_code, 0) << again.output;
+  const std::string hard_fit = read_text(dir / "hard" / "hardness_fit.csv");
+  for (const std::string& cmd :
+       {"charge " + lab + " -o " + quoted(dir / "hard"), "run " + lab + " -o " + quoted(dir / "hard") + " -q --force",
+        "rule1 " + lab + " -o " + quoted(dir / "hard") + " --factors 1 2",
+        "sweep " + lab + " -o " + quoted(dir / "hard") + " --vary mill.speed=0.5 --no-plot -q"}) {
+    const auto r = run_millwear(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("`millwear hardness`"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(read_text(dir / "hard" / "hardness_fit.csv"), hard_fit);
+  EXPECT_FALSE(fs::exists(dir / "hard" / "manifest.json"));
+  EXPECT_FALSE(fs::exists(dir / "hard" / "charge_summary.csv"));
 }
 
 // An output path the file system refuses (a name over 255 bytes) or that would break the

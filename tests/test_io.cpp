@@ -15,6 +15,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "io/run_outputs.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 
@@ -158,6 +159,36 @@ TEST(IoFolderLock, ReleasedItLeavesTheFolderAsItFoundIt) {
   { io::FolderLock lock(empty); }
   EXPECT_FALSE(fs::exists(empty));
   EXPECT_TRUE(fs::is_directory(dir / "b/c"));
+}
+
+// A command's lock marks its folder as its own: another command is refused it, naming the
+// holder, and the mark stays with what was written. A command that wrote nothing leaves no
+// mark, and any command may take the folder.
+TEST(IoFolderLock, ACommandsFolderIsMarkedAndRefusedToAnotherCommand) {
+  TempDir dir;
+  const std::string out = dir / "hardness";
+  {
+    io::FolderLock lock(out, "hardness");
+    EXPECT_EQ(io::folder_results_command(out), "hardness");
+    io::write_file_atomic(out + "/hardness_fit.csv", "x\n1\n");
+  }
+  EXPECT_EQ(io::folder_results_command(out), "hardness");
+  { io::FolderLock again(out, "hardness"); }  // its own folder: taken again
+  try {
+    io::FolderLock other(out, "calibrate");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "-o");
+    EXPECT_NE(std::string(e.what()).find("millwear hardness"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(io::folder_results_command(out), "hardness");
+
+  const std::string empty = dir / "empty";
+  fs::create_directories(empty);
+  { io::FolderLock lock(empty, "validate"); }
+  EXPECT_EQ(io::folder_results_command(empty), "");
+  EXPECT_EQ(count_entries(empty), 0);
+  { io::FolderLock lock(empty, "tradeoff"); }
 }
 
 // A command that only reads a run folder asks who holds it: the holder's pid while the lock

@@ -119,6 +119,22 @@ void check_output_folder(const std::string& path) {
   ::unlink(probe.c_str());
 }
 
+namespace {
+
+// A folder whose command stopped before writing anything (refused, or failed early) holds
+// only its mark and lock: the mark goes, and any command may take the folder.
+void unmark_if_nothing_written(const std::string& folder) {
+  std::error_code ec;
+  const std::string mark = fs::path(folder_mark_path(folder)).filename().string();
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name != mark && name != kFolderLockName) return;
+  }
+  if (!ec) fs::remove(folder_mark_path(folder), ec);
+}
+
+}  // namespace
+
 FolderLock::FolderLock(const std::string& folder, const char* command)
     : folder_(folder), path_(join_path(folder, kFolderLockName)) {
   check_output_folder(folder);
@@ -161,6 +177,7 @@ FolderLock::FolderLock(const std::string& folder, const char* command)
     if (command) {
       try {
         check_folder_not_taken(folder, command);
+        mark_folder(folder, command);
       } catch (...) {
         release();
         throw;
@@ -175,6 +192,7 @@ FolderLock::~FolderLock() { release(); }
 
 void FolderLock::release() {
   if (fd_ < 0) return;
+  unmark_if_nothing_written(folder_);
   // Unlink while still holding it: a waiting process then finds the path gone and retries.
   ::unlink(path_.c_str());
   ::close(fd_);

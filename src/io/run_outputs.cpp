@@ -485,7 +485,33 @@ std::vector<std::string> manifest_files(const std::string& out) {
   return files;
 }
 
+std::string folder_mark_path(const std::string& out) { return join_path(out, ".millwear-results"); }
+
+namespace {
+
+// The mark's command, or "" when there is no mark or it does not read (then the folder's
+// files tell).
+std::string marked_command(const std::string& out) {
+  const std::string path = folder_mark_path(out);
+  if (!file_exists(path)) return "";
+  try {
+    return find_value(read_key_values(path), "command", "");
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace
+
+void mark_folder(const std::string& out, const std::string& command) {
+  if (marked_command(out) == command) return;
+  write_file_atomic(folder_mark_path(out),
+                    format_key_values({{"command", command}}, "millwear: the command whose results this folder holds"));
+}
+
 std::string folder_results_command(const std::string& out) {
+  const std::string marked = marked_command(out);
+  if (!marked.empty()) return marked;
   const std::string path = manifest_path(out);
   if (file_exists(path)) {
     try {

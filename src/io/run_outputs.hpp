@@ -89,9 +89,17 @@ void write_manifest(const RunReport& report);
 // there is no manifest, it does not parse or it has no list (an older millwear's).
 std::vector<std::string> manifest_files(const std::string& out);
 
-// Which command's results OUT holds: "run" (OUT/stages/run.key, or a manifest.json without a
-// "command"), the "command" of its manifest.json ("sweep"), "charge" (its charge_summary.csv),
-// or "" (none of these).
+// OUT/.millwear-results: which command writes its results into OUT ("command = NAME"). Every
+// command that writes a folder marks it when it takes the folder (FolderLock, run), so that
+// no other command writes into it.
+std::string folder_mark_path(const std::string& out);
+// Writes the mark (atomically) unless OUT already holds this command's mark.
+void mark_folder(const std::string& out, const std::string& command);
+
+// Which command's results OUT holds: the command its mark names; else, for a folder written
+// before the mark existed, "run" (OUT/stages/run.key, or a manifest.json without a
+// "command"), the "command" of its manifest.json ("sweep"), "charge" (its
+// charge_summary.csv); or "" (none of these).
 std::string folder_results_command(const std::string& out);
 // For a command other than `run` that writes into OUT, before any work: throws
 // InputError(OUT, "-o", ...) if OUT holds another command's results, which this one would

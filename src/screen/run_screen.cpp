@@ -162,7 +162,7 @@ EmitOutcome emit_jobs(const ScreenRequest& a, const ScreenSetup& s) {
 ScreenOutcome run_screen(const ScreenRequest& a, const std::atomic<int>* stop_signal, const ScreenCallbacks& cb) {
   ScreenOutcome o;
   const ScreenInputs inputs = read_screen_inputs(a);
-  const io::FolderLock lock(a.out);  // one screen per folder, from here to the ranking
+  const io::FolderLock lock(a.out, "screen");  // one screen per folder, from here to the ranking
   o.setup = prepare_screen(a, inputs);
   if (cb.on_setup) cb.on_setup(o.setup);
   if (!a.emit.empty()) {

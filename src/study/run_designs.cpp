@@ -464,6 +464,9 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
                      "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
                      "its manifest.json lists; no other file is touched)");
   if (holds == Holds::Other) clear_other_run(out);
+  io::ensure_dir(out);
+  io::mark_folder(out, "run");
+  ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));
 
   // --resume: continues the stages of this same run (the check above).
   std::vector<std::vector<StageRecord>> resume(plan.designs.size());
