@@ -575,6 +575,9 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
                                 quoted(dir / "one") + " --max-runs 1 --set wear.stages=1");
   EXPECT_NE(one.exit_code, 2) << one.output;
   EXPECT_EQ(one.output.find("--min-runs"), std::string::npos) << one.output;
+  // One run cannot converge (exit 1): the scene it leaves says so in its calibration note.
+  EXPECT_EQ(one.exit_code, 1) << one.output;
+  EXPECT_NE(read_text(dir / "one" / "lab-mill-guess-calibrated.toml").find("NOT CONVERGED"), std::string::npos);
   const auto cal = run_millwear("calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) + " --measured " +
                                 quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " + quoted(dir / "out") +
                                 " --min-runs 5 --max-runs 2");

@@ -73,6 +73,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                 fs::path(a.measured_file).filename().c_str(), o.areas ? " (areas)" : "", res.c_m3_per_J,
                 res.expanded_m3_per_J);
   std::string note_text = note;
+  // A calibration stopped at --max-runs says so in the file it leaves, not only on the screen.
+  if (!res.converged)
+    note_text += ", NOT CONVERGED: the best estimate after " + std::to_string(res.runs.size()) + " runs";
   // The copy is the file's own text: overrides the calibration ran with are named, not written.
   for (const std::string& ov : a.overrides) note_text += " --set " + ov;
   if (!a.overrides.empty()) note_text += " (not written into this file)";
