@@ -24,7 +24,7 @@ typedef long long i64x4 __attribute__((vector_size(4 * sizeof(long long))));
 typedef double f64x2 __attribute__((vector_size(2 * sizeof(double))));
 static_assert(kLanes == 4, "a chunk is one f64x4 or two f64x2");
 static_assert(sizeof(Body) == 64 && offsetof(Body, vx) == 0 && offsetof(Body, w) == 16 &&
-                  offsetof(Body, dpy) == 32 && offsetof(Body, ii) == 48,
+                  offsetof(Body, dpy) == 32 && offsetof(Body, ii) == 48 && offsetof(Body, radius) == 56,
               "a body is loaded in halves of four doubles or quarters of two");
 
 #define MW_INLINE inline __attribute__((always_inline))
@@ -63,7 +63,7 @@ MW_INLINE V vclamp(V v, V lo, V hi) {
 // One side (a or b) of a lane group: its bodies' state, a field per vector.
 template <class V>
 struct Side {
-  V vx, vy, w, dpx, dpy, im, ii;
+  V vx, vy, w, dpx, dpy, im, ii, radius;
 };
 
 // Four rows of four doubles in, their four columns out.
@@ -93,7 +93,7 @@ MW_INLINE void gather(const Body* body, const int* idx, Side<f64x4>& s) {
   f64x4 q0 = load<f64x4>(&body[idx[0]].dpy), q1 = load<f64x4>(&body[idx[1]].dpy);
   f64x4 q2 = load<f64x4>(&body[idx[2]].dpy), q3 = load<f64x4>(&body[idx[3]].dpy);
   transpose(q0, q1, q2, q3);
-  s.dpy = q0, s.im = q1, s.ii = q2;
+  s.dpy = q0, s.im = q1, s.ii = q2, s.radius = q3;
 }
 MW_INLINE void gather(const Body* body, const int* idx, Side<f64x2>& s) {
   const Body& b0 = body[idx[0]];
@@ -109,7 +109,7 @@ MW_INLINE void gather(const Body* body, const int* idx, Side<f64x2>& s) {
   s.dpy = r0, s.im = r1;
   r0 = load<f64x2>(&b0.ii), r1 = load<f64x2>(&b1.ii);
   transpose(r0, r1);
-  s.ii = r0;
+  s.ii = r0, s.radius = r1;
 }
 
 // Writes the velocities back (dpx goes back unchanged). The lanes of a chunk have distinct
@@ -133,6 +133,35 @@ MW_INLINE void scatter(Body* body, const int* idx, const Side<f64x2>& s) {
   store(&body[idx[1]].w, r1);
 }
 
+// A row's anchors and effective masses, computed as build_pair_row (narrow_phase.hpp)
+// computes them, operation for operation: the same bits as storing them with the row.
+template <class V>
+struct RowConstants {
+  V alpha, beta, mn, mt, mr;
+};
+template <class V>
+MW_INLINE V anchor(V radius, V s0) {
+  return radius + splat<V>(0.5) * s0;
+}
+// 1 / x where x > 0, else 0 (a padding lane's dummy bodies, an inactive disk).
+template <class V>
+MW_INLINE V inverse_or_zero(V x) {
+  const V zero = splat<V>(0.0), one = splat<V>(1.0);
+  const auto positive = x > zero;
+  return positive ? one / (positive ? x : one) : zero;
+}
+template <class V>
+MW_INLINE RowConstants<V> row_constants(const Side<V>& A, const Side<V>& B, V s0) {
+  RowConstants<V> k;
+  k.alpha = anchor(A.radius, s0);
+  k.beta = anchor(B.radius, s0);
+  const V im = A.im + B.im;
+  k.mn = inverse_or_zero(im);
+  k.mt = inverse_or_zero(im + A.ii * k.alpha * k.alpha + B.ii * k.beta * k.beta);
+  k.mr = inverse_or_zero(A.ii + B.ii);
+  return k;
+}
+
 // The engine's warm start for the lanes l0 .. l0 + width of a chunk.
 template <class V>
 MW_INLINE void warm_start_lanes(Body* body, const WideRows& c, int l0) {
@@ -144,10 +173,11 @@ MW_INLINE void warm_start_lanes(Body* body, const WideRows& c, int l0) {
   const V px = ln * nx - lt * ny, py = ln * ny + lt * nx;
   A.vx += A.im * px;
   A.vy += A.im * py;
-  A.w += A.ii * (lr - load<V>(c.alpha + l0) * lt);
+  const V s0 = load<V>(c.s0 + l0);
+  A.w += A.ii * (lr - anchor(A.radius, s0) * lt);
   B.vx -= B.im * px;
   B.vy -= B.im * py;
-  B.w += B.ii * (-lr - load<V>(c.beta + l0) * lt);
+  B.w += B.ii * (-lr - anchor(B.radius, s0) * lt);
   scatter(body, c.a + l0, A);
   scatter(body, c.b + l0, B);
 }
@@ -162,8 +192,9 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const W
   gather(body, c.a + l0, A);
   gather(body, c.b + l0, B);
   const V zero = splat<V>(0.0), one = splat<V>(1.0);
-  const V nx = load<V>(c.nx + l0), ny = load<V>(c.ny + l0);
-  const V s = load<V>(c.s0 + l0) + nx * (A.dpx - B.dpx) + ny * (A.dpy - B.dpy);
+  const V nx = load<V>(c.nx + l0), ny = load<V>(c.ny + l0), s0 = load<V>(c.s0 + l0);
+  const RowConstants<V> k = row_constants(A, B, s0);
+  const V s = s0 + nx * (A.dpx - B.dpx) + ny * (A.dpy - B.dpy);
   const V vn = nx * (A.vx - B.vx) + ny * (A.vy - B.vy);
   // Normal: a speculative row (s > 0) closes the gap and no more; a penetrating one is soft
   // in the solve and rigid without bias in the relax.
@@ -178,7 +209,7 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const W
     bias = speculative ? close : zero;
   }
   V ln = load<V>(c.ln + l0);
-  const V raw = -load<V>(c.mn + l0) * mass_scale * (vn + bias) - impulse_scale * ln;
+  const V raw = -k.mn * mass_scale * (vn + bias) - impulse_scale * ln;
   const V next = vmax(ln + raw, zero);
   const V dn = next - ln;
   ln = next;
@@ -188,11 +219,11 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const W
   B.vy -= B.im * dn * ny;
   // Friction along the tangent left_perp(n).
   const V tx = -ny, ty = nx;
-  const V alpha = load<V>(c.alpha + l0), beta = load<V>(c.beta + l0);
+  const V alpha = k.alpha, beta = k.beta;
   const V vt = tx * (A.vx - B.vx) + ty * (A.vy - B.vy) - alpha * A.w - beta * B.w;
   const V bound = load<V>(c.mu + l0) * ln;
   V lt = load<V>(c.lt + l0);
-  const V lt_next = vclamp(lt - load<V>(c.mt + l0) * vt, -bound, bound);
+  const V lt_next = vclamp(lt - k.mt * vt, -bound, bound);
   const V dt = lt_next - lt;
   lt = lt_next;
   A.vx += A.im * dt * tx;
@@ -206,7 +237,7 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const W
   const auto rolls = lever > zero;
   const V rb = lever * ln;
   V lr = load<V>(c.lr + l0);
-  const V lr_next = vclamp(lr - load<V>(c.mr + l0) * (A.w - B.w), -rb, rb);
+  const V lr_next = vclamp(lr - k.mr * (A.w - B.w), -rb, rb);
   const V dr = lr_next - lr;
   A.w = rolls ? A.w + A.ii * dr : A.w;
   B.w = rolls ? B.w - B.ii * dr : B.w;
@@ -331,7 +362,7 @@ void ColouredRows::layout() {
       w.a[l] = w.b[l] = dummy_;
       w.nx[l] = w.ny[l] = 0.0;
       w.s0[l] = 1.0;
-      w.alpha[l] = w.beta[l] = w.mn[l] = w.mt[l] = w.mr[l] = w.mu[l] = w.lever[l] = 0.0;
+      w.mu[l] = w.lever[l] = 0.0;
       w.ln[l] = w.lt[l] = w.lr[l] = 0.0;
       WideSums& p = sums_[s / kLanes];
       p.pn[l] = p.pt[l] = p.pr[l] = 0.0;

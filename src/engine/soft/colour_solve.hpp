@@ -31,22 +31,22 @@ namespace millwear::soft {
 
 constexpr int kLanes = 4;
 
-// kLanes contacts' rows, structure of arrays. The names are those of contact_set.hpp's PairGap,
-// PairRow and StepSum: unit normal from b toward a, start separation, anchors r_a = -alpha
-// n and r_b = +beta n, effective masses (normal, tangent, rolling), friction coefficient,
-// rolling lever, the substep's impulses: seven cache lines. The step's impulse sums are a
-// chunk array of their own (WideSums), written by the relax only: the warm start and the
-// solve, twice as many passes, stream 448 bytes a chunk instead of 576 (at 10k disks the
-// rows no longer fit the L2 cache; README, "Benchmarks").
-struct alignas(64) WideRows {
+// kLanes contacts' rows, structure of arrays: what a row needs that its bodies do not give.
+// The names are those of contact_set.hpp's PairGap, PairRow and StepSum: unit normal from b
+// toward a, start separation, friction coefficient, rolling lever, the substep's impulses:
+// 288 bytes a chunk. The anchors (alpha = r_a + s0 / 2, beta = r_b + s0 / 2) and the
+// effective masses are computed in the lanes, with the serial row's operations, from the
+// radius, inverse mass and inertia of the bodies each pass loads anyway: the same bits as
+// storing them, in 72 bytes a row instead of 112 (at 30k disks and more the passes stream
+// the rows from memory; docs/benchmarks.md). The step's impulse sums are a chunk array of
+// their own (WideSums), written by the relax only.
+struct alignas(32) WideRows {
   int a[kLanes], b[kLanes];
   double nx[kLanes], ny[kLanes], s0[kLanes];
-  double alpha[kLanes], beta[kLanes];
-  double mn[kLanes], mt[kLanes], mr[kLanes];
   double mu[kLanes], lever[kLanes];
   double ln[kLanes], lt[kLanes], lr[kLanes];
 };
-static_assert(sizeof(WideRows) == 448, "a chunk's rows are seven cache lines");
+static_assert(sizeof(WideRows) == 288, "a chunk's rows are 288 bytes");
 struct alignas(32) WideSums {
   double pn[kLanes], pt[kLanes], pr[kLanes];
 };

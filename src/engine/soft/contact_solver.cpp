@@ -176,11 +176,6 @@ void load_lanes(const PairSet& pairs, ColouredRows& coloured, std::size_t t0, st
     w.nx[l] = g.nx;
     w.ny[l] = g.ny;
     w.s0[l] = g.s0;
-    w.alpha[l] = c.alpha;
-    w.beta[l] = c.beta;
-    w.mn[l] = c.mn;
-    w.mt[l] = c.mt;
-    w.mr[l] = c.mr;
     w.mu[l] = c.mu;
     w.lever[l] = c.lever;
     w.ln[l] = c.ln;

@@ -32,6 +32,7 @@ Disks load_disks(const ChargeState& charge) {
     // A disk's moment of inertia is m r^2 / 2.
     b.im = d.active[i] ? 1.0 / d.mass[i] : 0.0;
     b.ii = d.active[i] ? 2.0 / (d.mass[i] * d.radius[i] * d.radius[i]) : 0.0;
+    b.radius = d.radius[i];
   }
   return d;
 }
