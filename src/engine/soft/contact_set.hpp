@@ -7,7 +7,7 @@
 // bytes, two to a cache line) and the state byte, finds the row inert and goes on. The row
 // proper (anchors, masses, impulses) is read only for rows that act; the step sums are
 // written once per substep (relax); the key is read by the matching; the info is cold
-// (restitution, accounting).
+// (restitution; a liner contact's edge and point, for the accounting).
 //
 // A contact's normal, anchors and liner velocity are fixed for the step (as in Box2D);
 // the substeps update only the separation, s = s0 + n . (dp_a - dp_b), with dp the
@@ -28,10 +28,11 @@ struct PairGap {
   double s0 = 0;               // separation at the start of the step
 };
 struct PairRow {
+  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start; first: the
+                                  // matching reads only these)
   double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
   double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
   double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
-  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start)
 };
 struct LinerGap {
   int a = 0;
@@ -48,7 +49,7 @@ struct LinerRow {
 
 // Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
 // wherever an impulse is written, so testing it is testing the impulses). kBuilt: the
-// row's anchors, masses and material (and the info's point, restitution and start
+// row's anchors, masses and material (and the info's restitution and start
 // velocity) have been computed. A disk-pair row is built lazily, the first time a pass
 // does not skip it: most are margins that never carry load, and for them the narrow phase
 // computes only the gap. An unbuilt row's impulses are zero (not stored: kLive is clear).
@@ -71,10 +72,16 @@ struct ContactKey {
   std::uint64_t key = 0;   // (a << 32) | b for disk pairs (a < b), (a << 32) | owner for liner
   double event_J = 0;      // energy dissipated since this collision began (spectrum)
 };
-struct ContactInfo {
+// A disk pair's: what the restitution pass reads.
+struct PairInfo {
+  double e = 0;            // restitution
+  double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
+};
+// A disk-liner contact's: also the edge its work goes to and where it touches.
+struct LinerInfo {
   int edge = -1;           // liner edge the contact's work goes to
   int owner = -1;          // liner edge that found it (its key)
-  double px = 0, py = 0;   // contact point, world (liner contacts: for torque and velocity)
+  double px = 0, py = 0;   // contact point, world (for torque and velocity)
   double e = 0;            // restitution
   double vn0 = 0;          // normal relative velocity at the start of the step (restitution)
 };
@@ -85,14 +92,14 @@ inline std::uint64_t pair_key(int a, int b) {
 
 // The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
 // use, so adding a contact is a bounds check and plain stores, no construction.
-template <class Gap, class Row>
+template <class Gap, class Row, class Info>
 struct ContactSet {
   std::vector<Gap> gap;
   std::vector<Row> row;
   std::vector<std::uint8_t> state;  // kLive | kBuilt | kBounce
   std::vector<StepSum> sum;
   std::vector<ContactKey> key;
-  std::vector<ContactInfo> info;
+  std::vector<Info> info;
   std::size_t n = 0;
   std::size_t size() const { return n; }
   void clear() { n = 0; }
@@ -135,8 +142,8 @@ struct ContactSet {
   }
 };
 
-using PairSet = ContactSet<PairGap, PairRow>;
-using LinerSet = ContactSet<LinerGap, LinerRow>;
+using PairSet = ContactSet<PairGap, PairRow, PairInfo>;
+using LinerSet = ContactSet<LinerGap, LinerRow, LinerInfo>;
 
 // This step's contacts and last step's (for the warm start), each sorted by key.
 struct Contacts {

@@ -494,7 +494,7 @@ void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
     // Only a row that closed fast enough with some restitution bounces: one byte tells
     // (kBounce), and the cold info and sums of the others stay untouched.
     if (!(pairs.state[q] & kBounce)) continue;
-    const ContactInfo& info = pairs.info[q];
+    const PairInfo& info = pairs.info[q];
     StepSum& sum = pairs.sum[q];
     if (sum.pn == 0.0) continue;
     const PairGap& g = pairs.gap[q];
@@ -514,7 +514,7 @@ void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
   }
   LinerSet& liner = contacts.liner;
   for (std::size_t q = 0; q < liner.size(); ++q) {
-    const ContactInfo& info = liner.info[q];
+    const LinerInfo& info = liner.info[q];
     StepSum& sum = liner.sum[q];
     if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
     const LinerGap& g = liner.gap[q];

@@ -39,8 +39,8 @@ Disks load_disks(const ChargeState& charge) {
 
 StepStart make_step_start(int n) {
   StepStart s;
-  for (auto* v : {&s.x, &s.y, &s.vx, &s.vy, &s.w})
-    v->assign(static_cast<std::size_t>(n), 0.0);
+  s.y.assign(static_cast<std::size_t>(n), 0.0);
+  s.v.assign(static_cast<std::size_t>(n), StartVelocity{});
   return s;
 }
 
@@ -48,11 +48,8 @@ void record_step_start(Disks& disks, StepStart& start, Workers& workers) {
   workers.run_disks(disks.n, [&](int i0, int i1) {
     for (auto k = static_cast<std::size_t>(i0); k < static_cast<std::size_t>(i1); ++k) {
       Body& b = disks.body[k];
-      start.x[k] = disks.x[k];
       start.y[k] = disks.y[k];
-      start.vx[k] = b.vx;
-      start.vy[k] = b.vy;
-      start.w[k] = b.w;
+      start.v[k] = {b.vx, b.vy, b.w};
       b.dpx = 0.0;
       b.dpy = 0.0;
     }

@@ -27,10 +27,14 @@ struct Disks {
 
 // What the step started from, for what is computed from the start state after the
 // substeps began (a row built lazily in the middle of the solve, the accounting of the
-// energy the impulses changed, the solver's position correction).
+// energy the impulses changed, the solver's position correction). A disk's velocities are
+// one 32-byte record: a pair's build and its accounting read both disks' at once.
+struct alignas(32) StartVelocity {
+  double vx = 0, vy = 0, w = 0;  // also the "before" velocities of the energy accounting
+};
 struct StepStart {
-  std::vector<double> x, y;    // positions
-  std::vector<double> vx, vy, w;  // also the "before" velocities of the energy accounting
+  std::vector<double> y;             // heights (the position correction's potential energy)
+  std::vector<StartVelocity> v;
 };
 
 // The initial charge, in id order; inactive disks get zero inverse mass and inertia.

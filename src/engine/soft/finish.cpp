@@ -108,9 +108,7 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
   const double omega = mill_speed_rad_s;
   const bool spectrum = accounting.options.collision_spectrum;
   const Body* body = disks.body.data();
-  const double* vx0 = start.vx.data();
-  const double* vy0 = start.vy.data();
-  const double* w0 = start.w.data();
+  const StartVelocity* v0 = start.v.data();
   PairSet& pairs = contacts.pairs;
   const int ranges = range_count(pairs.size(), kPerRange);
   if (scratch.pairs.size() < static_cast<std::size_t>(ranges))
@@ -136,21 +134,23 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
         continue;
       }
       const PairGap& g = pairs.gap[q];
-      const PairRow& c = pairs.row[q];
       const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
       if (!disks.active[a] || !disks.active[b]) continue;
+      // The row's anchors, as build_pair_row computed them, from the bodies read here anyway
+      // (the row itself stays unread).
+      const double alpha = body[a].radius + 0.5 * g.s0, beta = body[b].radius + 0.5 * g.s0;
       const double tx = -g.ny, ty = g.nx;
-      const double dx0 = vx0[a] - vx0[b], dy0 = vy0[a] - vy0[b];
+      const double dx0 = v0[a].vx - v0[b].vx, dy0 = v0[a].vy - v0[b].vy;
       const double dx1 = body[a].vx - body[b].vx, dy1 = body[a].vy - body[b].vy;
       const double vn_before = g.nx * dx0 + g.ny * dy0;
       const double vn_after = g.nx * dx1 + g.ny * dy1;
-      const double vt_before = tx * dx0 + ty * dy0 - c.alpha * w0[a] - c.beta * w0[b];
-      const double vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w - c.beta * body[b].w;
+      const double vt_before = tx * dx0 + ty * dy0 - alpha * v0[a].w - beta * v0[b].w;
+      const double vt_after = tx * dx1 + ty * dy1 - alpha * body[a].w - beta * body[b].w;
       // What account_contact books for a disk pair (dissipation only), and the rolling
       // couple's dissipation (no field of its own in the record).
       const double normal_loss = -sum.pn * (0.5 * (vn_before + vn_after));
       const double tangent_loss = -sum.pt * (0.5 * (vt_before + vt_after));
-      const double rolling_loss = -sum.pr * 0.5 * ((w0[a] - w0[b]) + (body[a].w - body[b].w));
+      const double rolling_loss = -sum.pr * 0.5 * ((v0[a].w - v0[b].w) + (body[a].w - body[b].w));
       part.normal_J += normal_loss;
       part.tangent_J += tangent_loss;
       part.tangent_J += rolling_loss;
@@ -173,11 +173,11 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     if (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0) continue;
     const LinerGap& g = liner_contacts.gap[q];
     const LinerRow& c = liner_contacts.row[q];
-    const ContactInfo& info = liner_contacts.info[q];
+    const LinerInfo& info = liner_contacts.info[q];
     const auto a = static_cast<std::size_t>(g.a);
     if (!disks.active[a]) continue;
     const double tx = -g.ny, ty = g.nx;
-    const double dx0 = vx0[a] - g.vlx, dy0 = vy0[a] - g.vly;
+    const double dx0 = v0[a].vx - g.vlx, dy0 = v0[a].vy - g.vly;
     const double dx1 = body[a].vx - g.vlx, dy1 = body[a].vy - g.vly;
     rec.a = disks.id[a];
     rec.b = -1;
@@ -188,14 +188,14 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     rec.tangent_impulse = sum.pt;
     rec.vn_before = g.nx * dx0 + g.ny * dy0;
     rec.vn_after = g.nx * dx1 + g.ny * dy1;
-    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * w0[a];
+    rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * v0[a].w;
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
     rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | kLinerKeyBit |
               static_cast<std::uint32_t>(info.edge);
     account_contact(accounting, rec, omega,
                     liner.edge_is_shell[static_cast<std::size_t>(info.edge)] != 0);
     // Rolling couple against the liner: the drive supplies it at the mill's speed.
-    accounting.pl_tangent_J += -sum.pr * (0.5 * (w0[a] + body[a].w) - omega);
+    accounting.pl_tangent_J += -sum.pr * (0.5 * (v0[a].w + body[a].w) - omega);
     accounting.torque_impulse_Nms += sum.pr;
     accounting.drive_work_J += omega * sum.pr;
   }

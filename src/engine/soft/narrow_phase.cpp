@@ -227,7 +227,7 @@ void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearc
       const std::uint8_t sp = disks.species[k];
       LinerGap& g = contacts.gap[q];
       LinerRow& c = contacts.row[q];
-      ContactInfo& info = contacts.info[q];
+      LinerInfo& info = contacts.info[q];
       g.a = i;
       c.ln = c.lt = c.lr = 0.0;
       contacts.state[q] = kBuilt;

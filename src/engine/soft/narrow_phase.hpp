@@ -83,25 +83,22 @@ void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& 
                       Workers& workers);
 
 // Everything of a disk-pair row beyond its gap, from the state at the start of the step
-// (positions and velocities of StepStart; masses and materials do not change within a
-// step), so that building it in the middle of the solve gives the same bits as building it
+// (the velocities of StepStart; masses and materials do not change within a step), so
+// that building it in the middle of the solve gives the same bits as building it
 // in the narrow phase.
 inline void build_pair_row(const Model& model, const Disks& disks, const StepStart& start,
                            PairSet& pairs, std::size_t q) {
   const PairGap& g = pairs.gap[q];
   PairRow& c = pairs.row[q];
-  ContactInfo& info = pairs.info[q];
+  PairInfo& info = pairs.info[q];
   const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
   if (!(pairs.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
   pairs.state[q] |= kBuilt;
   pairs.sum[q] = StepSum{};
-  info.edge = info.owner = -1;
   const double ra = disks.radius[a], rb = disks.radius[b];
   // The contact point is midway between the two surfaces.
   c.alpha = ra + 0.5 * g.s0;
   c.beta = rb + 0.5 * g.s0;
-  info.px = start.x[a] - c.alpha * g.nx;
-  info.py = start.y[a] - c.alpha * g.ny;
   const Body& A = disks.body[a];
   const Body& B = disks.body[b];
   const double im = A.im + B.im;
@@ -117,7 +114,8 @@ inline void build_pair_row(const Model& model, const Disks& disks, const StepSta
   // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
   // convention; a disk on a flat liner gets its own radius).
   c.lever = mat.pair_rolling[pair] * ra * rb / (ra + rb);
-  info.vn0 = (start.vx[a] - start.vx[b]) * g.nx + (start.vy[a] - start.vy[b]) * g.ny;
+  const StartVelocity &va = start.v[a], &vb = start.v[b];
+  info.vn0 = (va.vx - vb.vx) * g.nx + (va.vy - vb.vy) * g.ny;
   if (info.e != 0.0 && !(info.vn0 > -model.restitution_threshold_m_s)) pairs.state[q] |= kBounce;
 }
 
