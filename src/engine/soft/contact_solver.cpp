@@ -161,14 +161,18 @@ void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& li
   }
 }
 
-// The coloured rows into their lanes in key order (the padding lanes are filled by the
-// layout), with zero step sums.
-void load_lanes(const PairSet& pairs, ColouredRows& coloured, std::size_t t0, std::size_t t1) {
+// The coloured rows built straight into their lanes in key order (the padding lanes are
+// filled by the layout), with zero step sums: the lane takes its gap, the impulses carried
+// into the step and the material; its anchors and masses come from the bodies in each pass
+// (colour_solve.hpp), so the serial row's are never computed for it.
+void load_lanes(const Model& model, const Disks& disks, const StepStart& start, PairSet& pairs,
+                ColouredRows& coloured, std::size_t t0, std::size_t t1) {
   for (std::size_t t = t0; t < t1; ++t) {
-    const int q = coloured.coloured_contact(t);
+    const auto q = static_cast<std::size_t>(coloured.coloured_contact(t));
     const std::size_t slot = coloured.coloured_slot(t);
-    const PairGap& g = pairs.gap[static_cast<std::size_t>(q)];
-    const PairRow& c = pairs.row[static_cast<std::size_t>(q)];
+    const PairMaterial mat = build_pair_contact(model, disks, start, pairs, q);
+    const PairGap& g = pairs.gap[q];
+    const PairRow& c = pairs.row[q];  // live: its impulses were carried into the step
     WideRows& w = coloured.chunk_of(slot);
     const std::size_t l = slot % kLanes;
     w.a[l] = g.a;
@@ -176,8 +180,8 @@ void load_lanes(const PairSet& pairs, ColouredRows& coloured, std::size_t t0, st
     w.nx[l] = g.nx;
     w.ny[l] = g.ny;
     w.s0[l] = g.s0;
-    w.mu[l] = c.mu;
-    w.lever[l] = c.lever;
+    w.mu[l] = mat.mu;
+    w.lever[l] = mat.lever;
     w.ln[l] = c.ln;
     w.lt[l] = c.lt;
     w.lr[l] = c.lr;
@@ -254,7 +258,8 @@ constexpr std::uint8_t kInLane = 8;
 // reading their gap; a lane has no skip, so colouring every contact would solve three
 // times as many rows. A live row that finds no free colour stays serial and goes into the
 // serial warm-start list. The colouring itself is greedy in key order (one thread); the
-// building of the rows, the lanes' loading and the phase lists run by block or range.
+// lanes' loading (which builds the coloured rows) and the phase lists (which build the
+// other live rows) run by range or block.
 void colour_live_rows(const Model& model, const Disks& disks, const StepStart& start,
                       int block_disks, Contacts& contacts, SolverRows& rows, Workers& workers) {
   PairSet& pairs = contacts.pairs;
@@ -283,15 +288,12 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
         std::lower_bound(gap, gap + m, a0, [](const PairGap& g, int a) { return g.a < a; }) - gap);
   }
   rows.first[blocks] = m;
-  // Build the live rows, block by block.
+  // The live rows, block by block.
   workers.run(rows.blocks, [&](int k) {
     const std::size_t q0 = rows.first[static_cast<std::size_t>(k)], q1 = rows.first[static_cast<std::size_t>(k) + 1];
     int count = 0;
-    for (std::size_t q = q0; q < q1; ++q) {
-      if (!(pairs.state[q] & kLive)) continue;
-      build_pair_row(model, disks, start, pairs, q);
-      rows.live[q0 + static_cast<std::size_t>(count++)] = static_cast<int>(q);
-    }
+    for (std::size_t q = q0; q < q1; ++q)
+      if (pairs.state[q] & kLive) rows.live[q0 + static_cast<std::size_t>(count++)] = static_cast<int>(q);
     rows.live_count[static_cast<std::size_t>(k)] = count;
   });
   // Colour them in key order.
@@ -310,9 +312,10 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
   coloured.layout();
   workers.run(range_count(coloured.coloured(), kColouredPerRange), [&](int r) {
     const std::size_t t0 = static_cast<std::size_t>(r) * kColouredPerRange;
-    load_lanes(pairs, coloured, t0, std::min(coloured.coloured(), t0 + kColouredPerRange));
+    load_lanes(model, disks, start, pairs, coloured, t0, std::min(coloured.coloured(), t0 + kColouredPerRange));
   });
-  // The other rows into their block's phase lists (the live ones also into the warm lists).
+  // The other rows into their block's phase lists; the live ones are built (the warm start
+  // applies them) and go into the warm lists too.
   workers.run(rows.blocks, [&](int k) {
     const auto kk = static_cast<std::size_t>(k);
     const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
@@ -323,7 +326,9 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
       if (st & kInLane) continue;
       const int p = phase_of(gap[q].b, end, rows.block_disks);
       rows.list[p][q0 + static_cast<std::size_t>(count[p]++)] = static_cast<int>(q);
-      if (st & kLive) rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
+      if (!(st & kLive)) continue;
+      build_pair_row(model, disks, start, pairs, q);
+      rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
     }
     for (int p = 0; p < kPhases; ++p) {
       rows.n[p][kk] = count[p];
@@ -502,7 +507,10 @@ void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
     Body& A = body[g.a];
     Body& B = body[g.b];
     const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
-    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
+    // The normal mass as build_pair_row computes it (a row in lanes stores none).
+    const double im = A.im + B.im;
+    const double mn = im > 0.0 ? 1.0 / im : 0.0;
+    const double next = std::max(c.ln - mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
     pairs.state[q] = kBounce | kBuilt | has_impulse(c);

@@ -82,23 +82,47 @@ struct MatchScratch {
 void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& scratch,
                       Workers& workers);
 
-// Everything of a disk-pair row beyond its gap, from the state at the start of the step
-// (the velocities of StepStart; masses and materials do not change within a step), so
-// that building it in the middle of the solve gives the same bits as building it
-// in the narrow phase.
+// A built disk pair's material and restitution, from the state at the start of the step
+// (the velocities of StepStart; masses and materials do not change within a step), so that
+// building it in the middle of the solve gives the same bits as building it in the narrow
+// phase. Sets the info and the state's kBuilt (and kBounce); returns the friction
+// coefficient and rolling lever, which a row in lanes takes straight into its lane.
+struct PairMaterial {
+  double mu, lever;
+};
+inline PairMaterial build_pair_contact(const Model& model, const Disks& disks, const StepStart& start,
+                                       PairSet& pairs, std::size_t q) {
+  const PairGap& g = pairs.gap[q];
+  PairInfo& info = pairs.info[q];
+  const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
+  pairs.state[q] |= kBuilt;
+  const double ra = disks.radius[a], rb = disks.radius[b];
+  const Materials& mat = model.materials;
+  const std::size_t pair = mat.pair(disks.species[a], disks.species[b]);
+  info.e = mat.pair_restitution[pair];
+  const StartVelocity &va = start.v[a], &vb = start.v[b];
+  info.vn0 = (va.vx - vb.vx) * g.nx + (va.vy - vb.vy) * g.ny;
+  if (info.e != 0.0 && !(info.vn0 > -model.restitution_threshold_m_s)) pairs.state[q] |= kBounce;
+  // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
+  // convention; a disk on a flat liner gets its own radius).
+  return {mat.pair_friction[pair], mat.pair_rolling[pair] * ra * rb / (ra + rb)};
+}
+
+// Everything of a serial disk-pair row beyond its gap (build_pair_contact, and the row's
+// anchors and effective masses).
 inline void build_pair_row(const Model& model, const Disks& disks, const StepStart& start,
                            PairSet& pairs, std::size_t q) {
   const PairGap& g = pairs.gap[q];
   PairRow& c = pairs.row[q];
-  PairInfo& info = pairs.info[q];
   const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
   if (!(pairs.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
-  pairs.state[q] |= kBuilt;
   pairs.sum[q] = StepSum{};
-  const double ra = disks.radius[a], rb = disks.radius[b];
+  const PairMaterial m = build_pair_contact(model, disks, start, pairs, q);
+  c.mu = m.mu;
+  c.lever = m.lever;
   // The contact point is midway between the two surfaces.
-  c.alpha = ra + 0.5 * g.s0;
-  c.beta = rb + 0.5 * g.s0;
+  c.alpha = disks.radius[a] + 0.5 * g.s0;
+  c.beta = disks.radius[b] + 0.5 * g.s0;
   const Body& A = disks.body[a];
   const Body& B = disks.body[b];
   const double im = A.im + B.im;
@@ -107,16 +131,6 @@ inline void build_pair_row(const Model& model, const Disks& disks, const StepSta
   c.mt = it > 0.0 ? 1.0 / it : 0.0;
   const double ir = A.ii + B.ii;
   c.mr = ir > 0.0 ? 1.0 / ir : 0.0;
-  const Materials& mat = model.materials;
-  const std::size_t pair = mat.pair(disks.species[a], disks.species[b]);
-  c.mu = mat.pair_friction[pair];
-  info.e = mat.pair_restitution[pair];
-  // Rolling resistance lever: the coefficient times the pair's reduced radius (the DEM
-  // convention; a disk on a flat liner gets its own radius).
-  c.lever = mat.pair_rolling[pair] * ra * rb / (ra + rb);
-  const StartVelocity &va = start.v[a], &vb = start.v[b];
-  info.vn0 = (va.vx - vb.vx) * g.nx + (va.vy - vb.vy) * g.ny;
-  if (info.e != 0.0 && !(info.vn0 > -model.restitution_threshold_m_s)) pairs.state[q] |= kBounce;
 }
 
 }  // namespace millwear::soft
