@@ -335,7 +335,7 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
 }
 
 // A survey that lost more area than the lifter has is refused at its line before any history
-// is run (it used to run five and then fail to converge).
+// is run (the histories could never reach it: they would run to --max-runs and not converge).
 TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {
   const fs::path dir = scratch("whole-lifter");
   write(dir / "losses.csv", "hours,area_loss_mm2\n50,100\n100,6000\n");
