@@ -190,9 +190,8 @@ void load_lanes(const Model& model, const Disks& disks, const StepStart& start, 
   }
 }
 
-// Rows per range of the liner passes, chunks per range of a colour, coloured rows per
-// range of the lane loading: enough work to outweigh handing a range out.
-constexpr std::size_t kLinerRowsPerRange = 128;
+// Chunks per range of a colour, coloured rows per range of the lane loading: enough work to
+// outweigh handing a range out.
 constexpr std::size_t kChunksPerRange = 32;
 constexpr std::size_t kColouredPerRange = 2048;
 
@@ -230,14 +229,43 @@ void for_colours(Workers& workers, int disks, const ColouredRows& coloured, cons
   }
 }
 
-// The liner rows are in key order too: by disk.
+// fn(i0, i1, q0, q1) over the disk stages' ranges [i0, i1) (Workers::run_disks) with
+// their liner rows [q0, q1): the liner rows are in key order, so by disk, and a range's rows
+// touch its own disks only.
 template <class Fn>
-void for_liner_ranges(Workers& workers, int disks, const LinerSet& liner, const SolverRows& rows, const Fn& fn) {
-  const int ranges = static_cast<int>(rows.liner_first.size()) - 1;
-  const auto disk_of = [&](int r) { return liner.gap[rows.liner_first[static_cast<std::size_t>(r)]].a; };
-  workers.run_by_disk(ranges, disks, disk_of, [&](int r) {
-    fn(rows.liner_first[static_cast<std::size_t>(r)], rows.liner_first[static_cast<std::size_t>(r) + 1]);
+void for_liner_ranges(Workers& workers, int disks, const SolverRows& rows, const Fn& fn) {
+  workers.run_disks(disks, [&](int i0, int i1) {
+    const auto r = static_cast<std::size_t>(i0 / Workers::kDiskGrain);
+    fn(i0, i1, rows.liner_at[r], rows.liner_at[r + 1]);
   });
+}
+
+// What a pass does to each disk after its last row (in the liner stage, range by range).
+enum class PassTail { kNothing, kIntegratePositions, kGravity };
+
+// Symplectic Euler with the new velocity; dp accumulates the displacement of the step.
+void integrate_position_range(const Model& model, Disks& disks, int i0, int i1) {
+  const double h = model.substep_s;
+  Body* body = disks.body.data();
+  for (int i = i0; i < i1; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!disks.active[k]) continue;
+    Body& b = body[i];
+    const double ddx = h * b.vx, ddy = h * b.vy;
+    disks.x[k] += ddx;
+    disks.y[k] += ddy;
+    b.dpx += ddx;
+    b.dpy += ddy;
+    disks.angle[k] += h * b.w;
+  }
+}
+
+// Gravity's share of a substep.
+void gravity_range(const Model& model, Disks& disks, int i0, int i1) {
+  const double gh = kGravity * model.substep_s;
+  Body* body = disks.body.data();
+  for (int i = i0; i < i1; ++i)
+    if (body[i].im > 0.0) body[i].vy -= gh;
 }
 
 // A row of a pair whose lower disk is in block k, which ends before disk `end`: which phase
@@ -335,27 +363,21 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
       rows.warm_n[p][kk] = warm_count[p];
     }
   });
-  // Liner ranges: about kLinerRowsPerRange rows each, cut only where the disk changes.
+  // The liner rows of each of the disk stages' ranges.
   const LinerSet& liner = contacts.liner;
-  const std::size_t nl = liner.size();
-  rows.liner_first.clear();
-  rows.liner_first.push_back(0);
-  for (std::size_t q = kLinerRowsPerRange; q < nl; q += kLinerRowsPerRange) {
-    std::size_t cut = q;
-    while (cut < nl && liner.gap[cut].a == liner.gap[cut - 1].a) ++cut;
-    if (cut >= nl) break;
-    if (cut > rows.liner_first.back()) rows.liner_first.push_back(cut);
+  const std::size_t ranges = static_cast<std::size_t>(range_count(static_cast<std::size_t>(disks.n), Workers::kDiskGrain));
+  rows.liner_at.resize(ranges + 1);
+  std::size_t q = 0;
+  for (std::size_t r = 0; r < ranges; ++r) {
+    rows.liner_at[r] = q;
+    const auto end = static_cast<int>(std::min<std::size_t>((r + 1) * Workers::kDiskGrain, static_cast<std::size_t>(disks.n)));
+    while (q < liner.size() && liner.gap[q].a < end) ++q;
   }
-  rows.liner_first.push_back(nl);
+  rows.liner_at[ranges] = liner.size();
 }
 
 void integrate_velocities(const Model& model, Disks& disks, Workers& workers) {
-  const double gh = kGravity * model.substep_s;
-  Body* body = disks.body.data();
-  workers.run_disks(disks.n, [&](int i0, int i1) {
-    for (int i = i0; i < i1; ++i)
-      if (body[i].im > 0.0) body[i].vy -= gh;
-  });
+  workers.run_disks(disks.n, [&](int i0, int i1) { gravity_range(model, disks, i0, i1); });
 }
 
 void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
@@ -386,7 +408,7 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
     }
   });
   const LinerSet& liner = contacts.liner;
-  for_liner_ranges(workers, disks.n, liner, rows, [&](std::size_t q0, std::size_t q1) {
+  for_liner_ranges(workers, disks.n, rows, [&](int, int, std::size_t q0, std::size_t q1) {
     for (std::size_t q = q0; q < q1; ++q) {
       const LinerGap& g = liner.gap[q];
       const LinerRow& c = liner.row[q];
@@ -402,9 +424,10 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
 namespace {
 
 // The serial phases, the colours, then the liner: one pass of the solve (kBias) or relax.
+// Each disk's tail follows its liner rows in the same range: the last stage of the pass.
 template <bool kBias>
 void pass(const Model& model, const StepStart& start, double elapsed_s, double omega,
-          Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers) {
+          Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers, PassTail tail) {
   Body* body = disks.body.data();
   for_phases(workers, rows, [&](int p, int k) {
     const auto kk = static_cast<std::size_t>(k);
@@ -432,41 +455,27 @@ void pass(const Model& model, const StepStart& start, double elapsed_s, double o
       wide_relax(body, wide + k0, sums + k0, k1 - k0, inv_h);
     });
   }
-  for_liner_ranges(workers, disks.n, contacts.liner, rows, [&](std::size_t q0, std::size_t q1) {
+  for_liner_ranges(workers, disks.n, rows, [&](int i0, int i1, std::size_t q0, std::size_t q1) {
     pass_liner<kBias>(model, elapsed_s, omega, contacts.liner, q0, q1, body);
+    if (tail == PassTail::kIntegratePositions) integrate_position_range(model, disks, i0, i1);
+    else if (tail == PassTail::kGravity) gravity_range(model, disks, i0, i1);
   });
 }
 
 }  // namespace
 
-void solve(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
-           Workers& workers) {
-  pass<true>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers);
-}
-
-void integrate_positions(const Model& model, Disks& disks, Workers& workers) {
-  const double h = model.substep_s;
-  Body* body = disks.body.data();
-  workers.run_disks(disks.n, [&](int i0, int i1) {
-    for (int i = i0; i < i1; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      if (!disks.active[k]) continue;
-      Body& b = body[i];
-      const double ddx = h * b.vx, ddy = h * b.vy;
-      disks.x[k] += ddx;
-      disks.y[k] += ddy;
-      b.dpx += ddx;
-      b.dpy += ddy;
-      disks.angle[k] += h * b.w;
-    }
-  });
+void solve_and_integrate_positions(const Model& model, const StepStart& start, double elapsed_s,
+                                   double mill_speed_rad_s, Contacts& contacts, SolverRows& rows,
+                                   Disks& disks, Workers& workers) {
+  pass<true>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers,
+             PassTail::kIntegratePositions);
 }
 
 void relax(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
-           Workers& workers) {
-  pass<false>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers);
+           double mill_speed_rad_s, bool gravity_after, Contacts& contacts, SolverRows& rows,
+           Disks& disks, Workers& workers) {
+  pass<false>(model, start, elapsed_s, mill_speed_rad_s, contacts, rows, disks, workers,
+              gravity_after ? PassTail::kGravity : PassTail::kNothing);
 }
 
 void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {

@@ -59,8 +59,9 @@ struct SolverRows {
   std::vector<int> n[kPhases], warm_n[kPhases];
   // Scratch of the colouring: the live rows of each block, at live[first[k] ..].
   std::vector<int> live, live_count;
-  // The liner rows' ranges: [liner_first[r], liner_first[r + 1]), never splitting a disk's.
-  std::vector<std::size_t> liner_first;
+  // The liner rows of the disk stages' range r (Workers::kDiskGrain disks from r times
+  // that): [liner_at[r], liner_at[r + 1]).
+  std::vector<std::size_t> liner_at;
   std::size_t live_n = 0;         // pair rows carrying an impulse into the step (timing)
 };
 
@@ -69,20 +70,23 @@ struct SolverRows {
 // from the broad phase.
 void colour_live_rows(const Model& model, const Disks& disks, const StepStart& start,
                       int block_disks, Contacts& contacts, SolverRows& rows, Workers& workers);
-// Gravity's share of the substep.
+// Gravity's share of the first substep (the relax adds the later substeps').
 void integrate_velocities(const Model& model, Disks& disks, Workers& workers);
 // Apply the impulses carried into the substep.
 void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Workers& workers);
-// One soft Gauss-Seidel pass; elapsed_s is the time since the step began (liner travel).
-void solve(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
-           Workers& workers);
-// Symplectic Euler with the new velocity; dp accumulates the displacement of the step.
-void integrate_positions(const Model& model, Disks& disks, Workers& workers);
-// One rigid pass without bias; adds the substep's impulses to the step sums.
+// One soft Gauss-Seidel pass (elapsed_s: the time since the step began, for the liner's
+// travel), then symplectic Euler with the new velocities; dp accumulates the displacement
+// of the step. A disk's position is integrated in the pass's last stage, in the same range
+// as its liner rows (after every row of the pass has touched it): a stage and a sweep over
+// the disks fewer than integrating them in a stage of its own, with the same bits.
+void solve_and_integrate_positions(const Model& model, const StepStart& start, double elapsed_s,
+                                   double mill_speed_rad_s, Contacts& contacts, SolverRows& rows,
+                                   Disks& disks, Workers& workers);
+// One rigid pass without bias; adds the substep's impulses to the step sums. gravity_after:
+// then the next substep's gravity, the same way.
 void relax(const Model& model, const StepStart& start, double elapsed_s,
-           double mill_speed_rad_s, Contacts& contacts, SolverRows& rows, Disks& disks,
-           Workers& workers);
+           double mill_speed_rad_s, bool gravity_after, Contacts& contacts, SolverRows& rows,
+           Disks& disks, Workers& workers);
 // The lanes' impulses, step sums and live bits back to the contact arrays.
 void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // Contacts that closed faster than the threshold and carried load get the impulse that

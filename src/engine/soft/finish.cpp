@@ -125,12 +125,16 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     const std::size_t q1 = std::min(pairs.size(), q0 + kPerRange);
     for (std::size_t q = q0; q < q1; ++q) {
       const StepSum& sum = pairs.sum[q];
+      // A collision's energy lives in its key only when the spectrum is asked for (it stays
+      // zero otherwise, and the keys are not written here).
       ContactKey& key = pairs.key[q];
       // An unbuilt row never acted: its sums are zero.
       if (!(pairs.state[q] & kBuilt) || (sum.pn == 0.0 && sum.pt == 0.0 && sum.pr == 0.0)) {
         // Apart all step: a collision that was going on has ended.
-        if (spectrum && key.event_J > 0.0) end_event(key.event_J);
-        key.event_J = 0.0;
+        if (spectrum) {
+          if (key.event_J > 0.0) end_event(key.event_J);
+          key.event_J = 0.0;
+        }
         continue;
       }
       const PairGap& g = pairs.gap[q];

@@ -306,7 +306,7 @@ void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& 
             row.lr = prev.lr;
             now.state[q] |= kLive;
           }
-          c.event_J = old.key[p].event_J;
+          if (events) c.event_J = old.key[p].event_J;  // otherwise zero in both
           ++p;
         }
       }

@@ -8,8 +8,9 @@
 // stage). A step is the sequence of named stages in step_once, each in its own file:
 //   broad_phase     margins, the reordering of the disks by cell, the pair-search grid;
 //   narrow_phase    disk pairs, disk-liner contacts, the match against last step's;
-//   contact_solver  per substep: gravity, warm start, soft solve, positions, relax; then
-//                   restitution once (colour_solve: the live disk pairs in vector lanes);
+//   contact_solver  per substep: gravity, warm start, soft solve and positions, relax
+//                   (and the next substep's gravity); then restitution once (colour_solve:
+//                   the live disk pairs in vector lanes);
 //   finish          the state written back and checked, every contact accounted.
 // Units are SI throughout (doubles); every tolerance is a fraction of the particle size.
 #include "engine/soft/soft_engine.hpp"
@@ -141,12 +142,12 @@ void SoftEngine::step_once() {
 
   const double h = model_.substep_s;
   colour_live_rows(model_, disks_, start_, broad_.block_disks, contacts_, rows_, workers_);
+  integrate_velocities(model_, disks_, workers_);
   for (int sub = 0; sub < model_.substeps; ++sub) {
-    integrate_velocities(model_, disks_, workers_);
+    const bool gravity_next = sub + 1 < model_.substeps;
     warm_start(contacts_, rows_, disks_, workers_);
-    solve(model_, start_, sub * h, omega, contacts_, rows_, disks_, workers_);
-    integrate_positions(model_, disks_, workers_);
-    relax(model_, start_, (sub + 1) * h, omega, contacts_, rows_, disks_, workers_);
+    solve_and_integrate_positions(model_, start_, sub * h, omega, contacts_, rows_, disks_, workers_);
+    relax(model_, start_, (sub + 1) * h, omega, gravity_next, contacts_, rows_, disks_, workers_);
   }
   store_lanes(rows_, contacts_.pairs, workers_);
   apply_restitution(model_, contacts_, disks_);
