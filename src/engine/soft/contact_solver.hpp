@@ -28,7 +28,7 @@
 // (one after another). Within a list, key order. The inside rows and the even blocks'
 // next rows share a stage: a range takes two blocks, their inside rows, then the rows from
 // the first into the second. The chunks of one colour share no disk and run at once; the
-// liner rows run in ranges that never split one disk's rows. Every Gauss-Seidel order is
+// liner rows run in the disk stages' ranges of their disks. Every Gauss-Seidel order is
 // therefore fixed by the contact list and the block size alone: the bits are the same for
 // any thread count, run to run, and with four (AVX2) or two (SSE2) lanes per register.
 #include <cstddef>
