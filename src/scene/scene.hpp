@@ -95,8 +95,8 @@ struct SolverDef {
   // Threads of one soft engine's step (not read from scene files: the command line's
   // --threads sets it). The results do not depend on it, bit for bit. With threads_fit_size
   // (no --threads given) it is the most the step uses: one thread per
-  // kDisksPerStepThread disks of the charge (engine/engine.hpp), as a smaller charge runs no faster
-  // on more.
+  // kDisksPerStepThread disks of the charge (engine/engine.hpp), as a smaller share can
+  // run slower on more.
   int threads = 1;
   bool threads_fit_size = false;
 };
