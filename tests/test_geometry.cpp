@@ -1,8 +1,11 @@
 // Polyline tools: shoelace moments, simplicity, resampling, re-smoothing with a disk.
 #include <gtest/gtest.h>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "common/units.hpp"
 #include "geometry/polyline.hpp"
@@ -32,6 +35,85 @@ double max_y(const Polygon& p) {
 Polygon rectangle_with_spike(double w, double h, double spike_w, double spike_h) {
   return {{0, 0}, {w, 0}, {w, h}, {0.5 * w + 0.5 * spike_w, h}, {0.5 * w, h + spike_h},
           {0.5 * w - 0.5 * spike_w, h}, {0, h}};
+}
+
+// The crossing tests against every pair of edges, as a reference for the ones that test only
+// the edges whose boxes meet: the same answers and the same cut line, point for point.
+bool is_simple_open_every_pair(const Polyline& line) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const std::size_t n = line.size();
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    if (line[i] == line[i + 1]) return false;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    for (std::size_t j = i + 1; j + 1 < n; ++j) {
+      if (j == i + 1) {
+        const Vec2 u = line[i] - line[j], v = line[j + 1] - line[j];
+        if (cross(u, v) == 0.0 && dot(u, v) > 0.0) return false;
+        continue;
+      }
+      const K::Segment_2 s1({line[i].x, line[i].y}, {line[i + 1].x, line[i + 1].y});
+      const K::Segment_2 s2({line[j].x, line[j].y}, {line[j + 1].x, line[j + 1].y});
+      if (CGAL::do_intersect(s1, s2)) return false;
+    }
+  }
+  return true;
+}
+
+Polyline without_loops_every_edge(const Polyline& line, Polygon* largest) {
+  largest->clear();
+  double largest_m2 = 0.0;
+  const std::size_t n = line.size();
+  Polyline out{line[0]};
+  std::size_t k = 1;
+  while (k < n) {
+    const Vec2 a = out.back(), b = line[k];
+    std::size_t cut = n;
+    Vec2 at;
+    for (std::size_t j = n - 1; j-- > k + 1;) {
+      const Vec2 c = line[j], d = line[j + 1];
+      const Vec2 r = b - a, q = d - c;
+      const double den = cross(r, q);
+      if (den == 0.0) continue;
+      const double t = cross(c - a, q) / den, u = cross(c - a, r) / den;
+      if (t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0) {
+        cut = j;
+        at = a + t * r;
+        break;
+      }
+    }
+    if (cut == n) {
+      out.push_back(b);
+      ++k;
+      continue;
+    }
+    Polygon loop{at};
+    loop.insert(loop.end(), line.begin() + static_cast<std::ptrdiff_t>(k),
+                line.begin() + static_cast<std::ptrdiff_t>(cut) + 1);
+    if (std::abs(signed_area(loop)) > largest_m2) {
+      largest_m2 = std::abs(signed_area(loop));
+      *largest = loop;
+    }
+    if (!(at == out.back())) out.push_back(at);
+    k = cut + 1;
+    if (k < n && line[k] == out.back()) ++k;
+  }
+  return out;
+}
+
+// A gauge's scan of a lifter, in metres: 2,000 points up a face, across the top and down,
+// each moved by noise of about the point spacing, so that it steps back over the points before
+// it, in loops of every size.
+Polyline noisy_scan(unsigned seed, double noise_m) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_m);
+  const Polyline path{{-0.06, 0.0}, {-0.02, 0.0}, {-0.01, 0.02}, {0.01, 0.02}, {0.02, 0.0}, {0.06, 0.0}};
+  const double total = polyline_length(path);
+  Polyline line;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec2 p = point_at_length(path, total * i / 1999.0);
+    line.push_back({p.x + noise(rng), p.y + noise(rng)});
+  }
+  return line;
 }
 
 }  // namespace
@@ -101,6 +183,50 @@ TEST(Geometry, WithoutLoopsAlsoCutsWhereTheRestOfACrossedEdgeCrossesOn) {
   EXPECT_TRUE(is_simple_open(cut));
   EXPECT_EQ(cut.front(), steps.front());
   EXPECT_EQ(cut.back(), steps.back());
+}
+
+TEST(Geometry, CrossingTestsFindWhatTestingEveryEdgeFinds) {
+  int with_loops = 0, simple_after = 0;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    for (const double noise_m : {2e-5, 1e-4, 1e-3}) {  // a fifth of the spacing to 15 spacings
+      const Polyline line = noisy_scan(seed, noise_m);
+      Polygon loop, loop_ref;
+      const Polyline cut = without_loops(line, &loop);
+      const Polyline cut_ref = without_loops_every_edge(line, &loop_ref);
+      ASSERT_EQ(cut.size(), cut_ref.size()) << "seed " << seed << " noise " << noise_m;
+      for (std::size_t i = 0; i < cut.size(); ++i) ASSERT_EQ(cut[i], cut_ref[i]) << i;
+      ASSERT_EQ(loop.size(), loop_ref.size());
+      for (std::size_t i = 0; i < loop.size(); ++i) ASSERT_EQ(loop[i], loop_ref[i]) << i;
+      const bool simple = is_simple_open(line);
+      EXPECT_EQ(simple, is_simple_open_every_pair(line));
+      with_loops += !simple;
+      const bool cut_simple = is_simple_open(cut);
+      EXPECT_EQ(cut_simple, is_simple_open_every_pair(cut));
+      simple_after += cut_simple;
+    }
+  }
+  // Both answers are compared: some lines cross themselves and some do not, and cut lines
+  // come out simple (or, where the noise is wilder than any gauge's, as the reference finds).
+  EXPECT_GT(with_loops, 0);
+  EXPECT_LT(with_loops, 18);
+  EXPECT_GT(simple_after, 0);
+}
+
+TEST(Geometry, ThinPointsKeepsTheEndsAndTheSpacing) {
+  Polyline line;
+  for (int i = 0; i <= 1000; ++i) line.push_back({0.001 * i, 0.0});  // 1 m, a point a millimetre
+  const Polyline thin = thin_points(line, 0.0095);
+  EXPECT_EQ(thin.front(), line.front());
+  EXPECT_EQ(thin.back(), line.back());
+  ASSERT_EQ(thin.size(), 101u);  // every tenth point: 0.010 apart (0.009 is too close)
+  for (std::size_t i = 0; i + 1 < thin.size(); ++i) EXPECT_GE(length(thin[i + 1] - thin[i]), 0.0095) << i;
+  // A line already that sparse comes back as it was; the point before the end goes if too close.
+  EXPECT_EQ(thin_points(thin, 0.0095), thin);
+  const Polyline near_end{{0, 0}, {1, 0}, {2, 0}, {2.5, 0}};
+  const Polyline cut = thin_points(near_end, 0.9);
+  ASSERT_EQ(cut.size(), 3u);
+  EXPECT_EQ(cut[1], (Vec2{1, 0}));
+  EXPECT_EQ(cut[2], (Vec2{2.5, 0}));
 }
 
 TEST(Geometry, PointAtLengthAndDistanceToPolyline) {

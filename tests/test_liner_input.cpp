@@ -72,23 +72,25 @@ std::string lab_scene_text(const std::string& lifters, const std::string& wear_e
 }
 
 // The lab lifter (20 mm high, or h_mm when worn, 10 mm top, 30/30 deg) as a scan: points every
-// 0.5 mm in x, a shell 5 mm below the original line out to 3 mm past the feet, Gaussian noise of
+// step_mm in x, a shell 5 mm below the original line out to 3 mm past the feet, Gaussian noise of
 // sigma_mm on y, every tenth point written twice. Returns the file text; `repeats` counts the
 // doubles.
-std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7, double h_mm = 20.0) {
+std::string noisy_scan(double sigma_mm, int& repeats, unsigned seed = 7, double h_mm = 20.0, double step_mm = 0.5) {
   const double h = h_mm, top = 10.0, run = h * std::tan(30.0 * kPi / 180.0), hb = 0.5 * top + run;
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma_mm);
   std::string text = "# a laser scan: the lab lifter, shell 5 mm below its original line\nx_mm,y_mm\n";
   repeats = 0;
   char line[64];
-  for (double x = -hb - 3.0; x <= hb + 3.0 + 1e-9; x += 0.5) {
+  const auto points = static_cast<long>(std::lround((2.0 * hb + 6.0) / step_mm));
+  for (long i = 0; i <= points; ++i) {
+    const double x = -hb - 3.0 + static_cast<double>(i) * step_mm;
     const double ax = std::fabs(x);
     double y = ax <= 0.5 * top ? h : h * (hb - ax) / run;  // the face continues below the line
     y = std::max(y, -5.0) + noise(rng);
     std::snprintf(line, sizeof line, "%.3f,%.3f\n", x, y);
     text += line;
-    if (static_cast<int>(std::lround(2.0 * (x + hb + 3.0))) % 10 == 0) {
+    if (i % 10 == 0) {
       text += line;
       ++repeats;
     }
@@ -112,6 +114,30 @@ TEST(MeasuredProfile, NoisyScanWithRepeatsGivesALifterWithFeetOnTheShell) {
   // ~57 mm outline moves it by at most sigma x outline (28 mm^2).
   const double area_mm2 = measure_profile(p.points).area_m2 * 1e6;
   EXPECT_NEAR(area_mm2, 430.9, 0.5 * 57.0);
+}
+
+// A scan far denser than the mesh (56,000 points, a micrometre apart, with noise ten times the
+// spacing) builds the liner a sparse scan of the same lifter builds: points thinned to an
+// eighth of the lifter's edge (2 mm here), not a corner kept at every turn of the noise; the
+// wear history starts from nearly the same lifter.
+TEST(MeasuredProfile, ADenseScanMakesALinerAtTheMeshScale) {
+  TempDir dir("dense");
+  int repeats = 0;
+  dir.file("dense.csv", noisy_scan(0.01, repeats, 3, 20.0, 0.001));
+  dir.file("sparse.csv", noisy_scan(0.0, repeats, 3, 20.0, 0.5));
+  const std::string dense_file = dir.file("d.toml", lab_scene_text("rows = 12\nprofile = \"dense.csv\"", "", 1));
+  const std::string sparse_file = dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"sparse.csv\"", "", 1));
+  const Scene dense = load_scene(dense_file), sparse = load_scene(sparse_file);
+  EXPECT_GT(dense.mill.kind(0).measured.size(), 10000u);  // the reader keeps the scan's detail
+  ASSERT_NO_THROW(check_scene(dense, dense_file));
+  const LinerUnit unit = new_liner_unit(dense, 0);
+  const LinerUnit sparse_unit = new_liner_unit(sparse, 0);
+  // The scan's 59 mm of surface at points at least 0.25 mm apart, and the shell beyond it.
+  EXPECT_LT(unit.surface.size(), 59.0 / 0.25 + sparse_unit.surface.size());
+  const double r = dense.radius_m();
+  const double a_dense = measure_lifter(starting_unit(dense, 0, smoothing_radius(dense)), r).area_m2;
+  const double a_sparse = measure_lifter(starting_unit(sparse, 0, smoothing_radius(sparse)), r).area_m2;
+  EXPECT_NEAR(a_dense / a_sparse, 1.0, 0.01);
 }
 
 TEST(MeasuredProfile, SpreadsheetDialectsReadTheSamePoints) {

@@ -2,6 +2,7 @@
 // The only CGAL use here is the simplicity test (exact predicates, so a ring that touches
 // itself by rounding is caught); offsets live in offset.cpp to keep this unit small.
 #include "common/units.hpp"
+#include "geometry/edge_tree.hpp"
 #include "geometry/polyline.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -24,6 +25,18 @@ bool segments_touch(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
   const Kernel::Segment_2 s1(KPoint(a.x, a.y), KPoint(b.x, b.y));
   const Kernel::Segment_2 s2(KPoint(c.x, c.y), KPoint(d.x, d.y));
   return CGAL::do_intersect(s1, s2);
+}
+
+// Whether segment [a,b] crosses [c,d] (in doubles; parallel segments do not), and where:
+// a + t (b - a).
+bool segments_cross_at(Vec2 a, Vec2 b, Vec2 c, Vec2 d, double& t) {
+  const Vec2 r = b - a, q = d - c;
+  const double den = cross(r, q);
+  if (den == 0.0) return false;
+  const double tt = cross(c - a, q) / den, u = cross(c - a, r) / den;
+  if (!(tt >= 0.0 && tt <= 1.0 && u >= 0.0 && u <= 1.0)) return false;
+  t = tt;
+  return true;
 }
 
 // Closest point on segment [a,b] to p.
@@ -94,17 +107,19 @@ bool is_simple_open(const Polyline& line) {
   if (n < 2) return true;
   for (std::size_t i = 0; i + 1 < n; ++i)
     if (line[i] == line[i + 1]) return false;  // zero-length edge
-  // O(n^2) pair test: profile polylines are tens of points, and this runs at input time only.
-  for (std::size_t i = 0; i + 1 < n; ++i) {
-    for (std::size_t j = i + 1; j + 1 < n; ++j) {
-      if (j == i + 1) {
-        // Adjacent edges share line[j]; they must not fold back onto each other.
-        const Vec2 u = line[i] - line[j], v = line[j + 1] - line[j];
-        if (cross(u, v) == 0.0 && dot(u, v) > 0.0) return false;
-        continue;
-      }
-      if (segments_touch(line[i], line[i + 1], line[j], line[j + 1])) return false;
-    }
+  // Adjacent edges share line[i + 1]; they must not fold back onto each other.
+  for (std::size_t i = 0; i + 2 < n; ++i) {
+    const Vec2 u = line[i] - line[i + 1], v = line[i + 2] - line[i + 1];
+    if (cross(u, v) == 0.0 && dot(u, v) > 0.0) return false;
+  }
+  // Any other two edges must not touch. Edges that touch have boxes that meet (the boxes of
+  // double coordinates are exact), so only those are tested.
+  const EdgeTree tree(line, 0.0);
+  const std::size_t edges = tree.edge_count();
+  for (std::size_t i = 0; i + 2 < edges; ++i) {
+    const Vec2 a = line[i], b = line[i + 1];
+    const auto touches = [&](std::size_t j) { return segments_touch(a, b, line[j], line[j + 1]); };
+    if (tree.last_hit(box_of(a, b), i + 2, edges - 1, touches) != EdgeTree::kNone) return false;
   }
   return true;
 }
@@ -117,26 +132,24 @@ Polyline without_loops(const Polyline& line, Polygon* largest) {
   const std::size_t n = line.size();
   if (n == 0) return out;
   out.push_back(line[0]);
+  // The edges' boxes, grown by a millionth of the line's extent: an edge whose box misses the
+  // current edge's by more than that cannot pass the crossing test below, whatever its
+  // rounding, so only edges whose boxes meet are tested (the same edge is found as by
+  // testing every one).
+  double extent = 0.0;
+  for (const Vec2& p : line) extent = std::max({extent, std::abs(p.x), std::abs(p.y)});
+  const EdgeTree tree(line, 1e-6 * extent);
   // The current edge runs from out.back() to line[k]: after a cut it starts at the crossing,
   // and that remainder of the crossed edge is tested against the edges after it too.
   std::size_t k = 1;
   while (k < n) {
     const Vec2 a = out.back(), b = line[k];
     // The last edge j >= k + 1 that crosses the current edge: the loop between them goes.
-    std::size_t cut = n;
-    Vec2 at;
-    for (std::size_t j = n - 1; j-- > k + 1;) {
-      const Vec2 c = line[j], d = line[j + 1];
-      const Vec2 r = b - a, q = d - c;
-      const double den = cross(r, q);
-      if (den == 0.0) continue;
-      const double t = cross(c - a, q) / den, u = cross(c - a, r) / den;
-      if (t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0) {
-        cut = j;
-        at = a + t * r;
-        break;
-      }
-    }
+    double t = 0.0;
+    const auto crosses = [&](std::size_t j) { return segments_cross_at(a, b, line[j], line[j + 1], t); };
+    std::size_t cut = k + 2 < n ? tree.last_hit(box_of(a, b), k + 1, n - 2, crosses) : EdgeTree::kNone;
+    if (cut == EdgeTree::kNone) cut = n;
+    const Vec2 at = a + t * (b - a);
     if (cut == n) {
       out.push_back(b);
       ++k;
@@ -157,6 +170,16 @@ Polyline without_loops(const Polyline& line, Polygon* largest) {
     k = cut + 1;
     if (k < n && line[k] == out.back()) ++k;
   }
+  return out;
+}
+
+Polyline thin_points(const Polyline& line, double min_spacing) {
+  if (line.size() < 3) return line;
+  Polyline out{line.front()};
+  for (std::size_t i = 1; i + 1 < line.size(); ++i)
+    if (length(line[i] - out.back()) >= min_spacing) out.push_back(line[i]);
+  if (out.size() > 1 && length(line.back() - out.back()) < min_spacing) out.pop_back();
+  out.push_back(line.back());
   return out;
 }
 

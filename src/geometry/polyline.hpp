@@ -28,6 +28,10 @@ bool is_simple_open(const Polyline& line);
 // `largest`, the loop of largest area cut (its ring, crossing point first; empty if none).
 Polyline without_loops(const Polyline& line, Polygon* largest = nullptr);
 
+// The line's points at least min_spacing apart: a point closer than that to the last one
+// kept is dropped; both ends are kept (the one before the last end goes if it is too close).
+Polyline thin_points(const Polyline& line, double min_spacing);
+
 double polyline_length(const Polyline& line);
 // Cumulative arc length at each vertex (first is 0).
 std::vector<double> cumulative_length(const Polyline& line);

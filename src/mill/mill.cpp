@@ -19,6 +19,10 @@ namespace {
 // x; 1 nm is far below any mesh edge and far above rounding of metre-scale coordinates.
 constexpr double kOwnerTolM = 1e-9;
 
+// A measured scan's points are kept at least this fraction of the lifter's edge length apart
+// in the liner: finer than any mesh edge made from them, coarser than a gauge's step.
+constexpr double kScanSpacingPerEdge = 1.0 / 8.0;
+
 // Numbers in messages: as short as the user would write them (200, 0.5, 1e-05).
 std::string fmt_num(double v) {
   char buf[32];
@@ -204,6 +208,11 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_loc
   // The unit's ends sit at one height so the rows join without a step: the mean of the
   // surface's ends. A scan that stops short of the pitch continues along the shell.
   const double y_end = 0.5 * (s.front().y + s.back().y);
+  // A scan denser than the mesh can show (points closer than an eighth of the lifter's edge
+  // length) is thinned to that spacing first: resampling keeps every turn of the gauge's
+  // noise as a corner, and a million-point scan would make a million-edge liner. Where
+  // dropping points makes a chord cross the line, the loop is cut out as the reader does.
+  s = without_loops(thin_points(s, kScanSpacingPerEdge * mesh.lifter_edge_m));
   const Polyline fine = resample(s, mesh.lifter_edge_m, 5.0);
   LinerUnit unit;
   unit.lifter_half_base_m = half_extent;
