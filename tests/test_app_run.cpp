@@ -10,7 +10,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -584,6 +586,41 @@ TEST_F(FolderRuns, AFileAsTheOutputFolderExits2ForEveryCommand) {
 
 // `millwear charge` draws its own figures: the collision spectrum and the snapshot, whose
 // legend names the scene's species and which marks the toe and shoulder it measured.
+// SIGTERM (a batch system's, `timeout`'s) is heard inside a phase, not only between measuring
+// windows: a settling of 1000 simulated seconds (minutes of computing) stops within seconds,
+// with the interrupted run's message and exit code.
+TEST(RunSignals, ASigtermDuringALongSettlingStopsTheRunWithinSeconds) {
+  const fs::path root = fs::temp_directory_path() / ("millwear-test-sigterm-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const fs::path out = root / "out", log = root / "run.log";
+  const pid_t pid = start_millwear("run " + quick_scene() + " -o " + q(out) + " --quiet --set solver.settle_time=1000", log);
+  ASSERT_GT(pid, 0);
+  bool held = false;
+  for (int i = 0; i < 400 && !held; ++i) {
+    held = slurp(out / ".millwear.lock").find("pid=" + std::to_string(pid)) != std::string::npos;
+    if (!held) ::usleep(10000);
+  }
+  ::usleep(500000);  // the fill is done in milliseconds: the run is settling
+  ::kill(pid, SIGTERM);
+  const auto sent = std::chrono::steady_clock::now();
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() - sent > std::chrono::seconds(60)) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      FAIL() << "the run did not stop within 60 s of SIGTERM\n" << slurp(log);
+    }
+    ::usleep(20000);
+  }
+  ASSERT_TRUE(held) << slurp(log);
+  ASSERT_TRUE(WIFEXITED(status)) << slurp(log);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << slurp(log);
+  EXPECT_NE(slurp(log).find("interrupted by SIGTERM"), std::string::npos) << slurp(log);
+  EXPECT_FALSE(fs::exists(out / ".millwear.lock"));
+  fs::remove_all(root);
+}
+
 TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
   const fs::path out = fs::temp_directory_path() / "millwear-test-charge-figures";
   fs::remove_all(out);

@@ -215,6 +215,42 @@ TEST_P(EngineTest, SameSceneAndSeedGiveBitIdenticalResults) {
   }
 }
 
+// A phase stepped in pieces, its stop check called before each, takes the same steps as in
+// one piece; a check that throws stops the phase at the end of the piece before it.
+TEST_P(EngineTest, SteppingInPiecesGivesTheSameBitsAndStopsBetweenPieces) {
+  const Scene scene = with_backend(testing::lab_mill());
+  const MillGeometry mill = build_scene_mill(scene);
+  const ChargeState start = fill_charge(scene, mill);
+  const std::int64_t piece = kStopCheckDiskSteps / static_cast<std::int64_t>(start.size());
+  const int n = static_cast<int>(piece) + 7;
+  auto whole = make_engine(scene, mill, start, accounting_options_for(scene));
+  auto pieces = make_engine(scene, mill, start, accounting_options_for(scene));
+  whole->set_mill_speed(scene.angular_speed_rad_s());
+  pieces->set_mill_speed(scene.angular_speed_rad_s());
+  whole->step(n);
+  int checks = 0;
+  step_checking_stop(*pieces, n, [&checks] { ++checks; });
+  EXPECT_EQ(checks, 2);
+  EXPECT_EQ(pieces->accounting().steps, whole->accounting().steps);
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    ASSERT_EQ(pieces->state().position_m[i].x, whole->state().position_m[i].x) << "disk " << i;
+    ASSERT_EQ(pieces->state().position_m[i].y, whole->state().position_m[i].y) << "disk " << i;
+    ASSERT_EQ(pieces->state().spin_rad_s[i], whole->state().spin_rad_s[i]) << "disk " << i;
+  }
+  for (std::size_t e = 0; e < whole->accounting().shear_work_J.size(); ++e)
+    ASSERT_EQ(pieces->accounting().shear_work_J[e], whole->accounting().shear_work_J[e]) << "edge " << e;
+
+  struct Stop {};
+  const std::int64_t before = pieces->accounting().steps;
+  checks = 0;
+  EXPECT_THROW(step_checking_stop(*pieces, 5 * n,
+                                  [&checks] {
+                                    if (++checks == 2) throw Stop{};
+                                  }),
+               Stop);
+  EXPECT_EQ(pieces->accounting().steps - before, piece);
+}
+
 TEST_P(EngineTest, MillAtRestDoesNoShearWorkAfterSettling) {
   Scene scene = with_backend(testing::lab_mill());
   const MillGeometry mill = build_scene_mill(scene);

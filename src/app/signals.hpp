@@ -1,6 +1,7 @@
 #pragma once
-// Ctrl-C and SIGTERM during a run: the first asks the run to stop at the next window (its
-// finished stages stay on disk for --resume); a second Ctrl-C stops at once.
+// Ctrl-C and SIGTERM during a run: the first asks the run to stop, heard between pieces of a
+// phase's steps (engine/engine.hpp, step_checking_stop; its finished stages stay on disk for
+// --resume); a second Ctrl-C stops at once.
 #include <atomic>
 #include <csignal>
 

@@ -43,18 +43,36 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
   throw InputError(scene.source_file, "solver.backend", "\"box2d\" or \"soft\"");
 }
 
-void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign) {
+void step_checking_stop(Engine& engine, int n, const std::function<void()>& check_stop) {
+  if (!check_stop || n <= 0) {
+    if (check_stop) check_stop();
+    engine.step(n);
+    return;
+  }
+  const auto disks = std::max<std::int64_t>(1, static_cast<std::int64_t>(engine.state().size()));
+  const int piece = static_cast<int>(std::clamp<std::int64_t>(kStopCheckDiskSteps / disks, 1, n));
+  for (int done = 0; done < n;) {
+    check_stop();
+    const int k = std::min(piece, n - done);
+    engine.step(k);
+    done += k;
+  }
+}
+
+void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign,
+                        const std::function<void()>& check_stop) {
   // Before anything moves: a time step too large for the smallest disk, or a lifter thinner
   // than it, leaks disks through the liner, and a phase too long never ends
   // (scene/limits.hpp); stop with the limit named rather than report escapes.
   check_run_limits(scene, scene.source_file);
   const double dt = engine.time_step_s();
   engine.set_mill_speed(0.0);
-  engine.step(steps_for(scene.solver.settle_time_s, dt));
+  step_checking_stop(engine, steps_for(scene.solver.settle_time_s, dt), check_stop);
   const double omega = scene.angular_speed_rad_s();
   engine.set_mill_speed(direction_sign * omega);
   if (omega > 0.0)
-    engine.step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt));
+    step_checking_stop(engine, steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), dt),
+                       check_stop);
   engine.reset_window();
 }
 

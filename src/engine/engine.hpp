@@ -3,6 +3,8 @@
 // library; engine/soft/ is our own disk solver). Both feed ContactRecords to the shared
 // accounting, so their outputs compare line by line. Virtual calls happen per step, never
 // per contact.
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -74,9 +76,21 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
 // Accounting options a scene asks for (a scene pays only for what it uses).
 AccountingOptions accounting_options_for(const Scene& scene);
 
+// A phase's steps between two calls of its stop check, in disk-steps: a quarter to half a
+// second of one core at any charge size, so a stop asked for in the settling of a million
+// disks is heard as soon as in a window of a thousand.
+constexpr std::int64_t kStopCheckDiskSteps = std::int64_t{1} << 20;
+
+// Advance n steps in pieces of at most kStopCheckDiskSteps disk-steps (at least one step),
+// calling check_stop before each piece (no check_stop: one piece); check_stop stops the phase
+// by throwing. The same steps, and bits, as engine.step(n).
+void step_checking_stop(Engine& engine, int n, const std::function<void()>& check_stop);
+
 // Settle the charge at rest for settle_time, then turn the mill at the scene's speed and
-// direction for spinup_revolutions. Accounting is reset afterwards.
-void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign);
+// direction for spinup_revolutions, calling check_stop as step_checking_stop does.
+// Accounting is reset afterwards.
+void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sign,
+                        const std::function<void()>& check_stop = {});
 
 // Number of steps for a given simulated time.
 int steps_for(double seconds, double dt_s);

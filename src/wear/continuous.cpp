@@ -17,11 +17,12 @@ namespace millwear {
 constexpr double kMaxUpdateHeightFraction = 0.25;
 
 WearStep continuous_step(const Scene& scene, const MillGeometry& mill, Engine& engine, double rate_m3_per_J,
-                         double max_hours, double new_height_m, int stage) {
+                         double max_hours, double new_height_m, int stage,
+                         const std::function<void()>& check_stop) {
   const WearDef& w = scene.wear;
   const double sim_s = std::min(w.update_interval_s, max_hours * kSecondsPerHour / w.factor);
   engine.reset_window();
-  engine.step(std::max(1, steps_for(sim_s, engine.time_step_s())));
+  step_checking_stop(engine, std::max(1, steps_for(sim_s, engine.time_step_s())), check_stop);
   const Accounting& acc = engine.accounting();
   WearStep step;
   step.simulated_s = acc.time_s;

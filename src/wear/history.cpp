@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 
 #include "common/errors.hpp"
@@ -136,17 +137,18 @@ StageRun start_stage(const Scene& scene, int k, MillGeometry mill, ChargeState s
   run.stage = k;
   run.hours = scene.wear.start_hours + k * scene.wear.stage_hours;
   run.mill = std::move(mill);
-  check_stop(cb);
+  const std::function<void()> stop = [&cb] { check_stop(cb); };
+  stop();
   run.direction = direction_at(scene, run.hours);
   run.start = std::move(start);
   if (run.start.size() == 0) {
     run.engine = make_engine(scene, run.mill, fill_charge(scene, run.mill), accounting_options_for(scene));
-    settle_and_spin_up(*run.engine, scene, run.direction);
+    settle_and_spin_up(*run.engine, scene, run.direction, stop);
   } else {
     run.engine = make_engine(scene, run.mill, run.start, accounting_options_for(scene));
-    turn_mill(*run.engine, scene, run.direction, run.start.mill_speed_rad_s * run.direction < 0.0);
+    turn_mill(*run.engine, scene, run.direction, run.start.mill_speed_rad_s * run.direction < 0.0, stop);
   }
-  run.window = simulate_window(*run.engine, scene, run.mill, [&cb] { check_stop(cb); });
+  run.window = simulate_window(*run.engine, scene, run.mill, stop);
   run.simulated_s = run.window.simulated_s;
   run.disk_steps = disk_steps_of(run.window.accounting, *run.engine);
   return run;
@@ -273,13 +275,15 @@ void add_update_variance(StageRun& run, const LifterSize& before, const LifterSi
 StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun& run, double c_real,
                             WearHistory& history, const WearCallbacks& cb) {
   const bool staged = scene.wear.mode == WearMode::Staged;
+  const std::function<void()> stop = [&cb] { check_stop(cb); };
   const double target_h = scene.wear.start_hours + (run.stage + 1) * scene.wear.stage_hours;
   while (run.hours < target_h - 1e-9) {
-    check_stop(cb);
+    stop();
     const double max_hours = std::min(target_h, next_reversal(scene, run.hours)) - run.hours;
     const WearStep step =
         staged ? staged_step(scene, run.mill, run.window, c_real, max_hours)
-               : continuous_step(scene, run.mill, *run.engine, c_real, max_hours, liner.lifter.height_m, run.stage + 1);
+               : continuous_step(scene, run.mill, *run.engine, c_real, max_hours, liner.lifter.height_m, run.stage + 1,
+                                 stop);
     run.simulated_s += step.simulated_s;
     run.disk_steps += step.disk_steps;
     if (!step.stop_event.empty()) {
@@ -302,10 +306,10 @@ StageEnd wear_through_stage(const Scene& scene, const NewLiner& liner, StageRun&
     const double direction = direction_at(scene, run.hours);
     if (direction != run.direction) {
       run.direction = direction;
-      turn_mill(*run.engine, scene, run.direction, true);
+      turn_mill(*run.engine, scene, run.direction, true, stop);
     }
     if (staged) {
-      run.window = simulate_window(*run.engine, scene, run.mill, [&cb] { check_stop(cb); });
+      run.window = simulate_window(*run.engine, scene, run.mill, stop);
       run.simulated_s += run.window.simulated_s;
       run.disk_steps += disk_steps_of(run.window.accounting, *run.engine);
     }

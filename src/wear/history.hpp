@@ -112,7 +112,8 @@ struct WearCallbacks {
   // Called after every wear update (the liner reshaped, the hours moved on).
   std::function<void(const WearUpdate&)> on_update;
   // Cancellation hook (Ctrl-C, SIGTERM, `run --stop-after-stage`): polled before each
-  // simulated window; when it returns true the loop stops and throws
+  // simulated window and between pieces of every phase's steps (step_checking_stop); when it
+  // returns true the loop stops and throws
   // RunError("interrupted"). Stages already passed to on_stage stay valid for resume_from.
   std::function<bool()> should_stop;
 };

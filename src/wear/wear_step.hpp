@@ -7,6 +7,7 @@
 //               its own shear work wears the liner at C_model = factor x C, so one simulated
 //               second stands for `factor` seconds of operation.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,10 @@ WearStep staged_step(const Scene& scene, const MillGeometry& mill, const WindowW
 
 // Continuous: the engine turns for the update interval (at most max_hours of operation).
 // A step that would wear more than a quarter of the new lifter's height (new_height_m) is
-// refused with stop_event naming `stage`: C_model is then too large for rule 1.
+// refused with stop_event naming `stage`: C_model is then too large for rule 1. check_stop
+// is called as step_checking_stop does.
 WearStep continuous_step(const Scene& scene, const MillGeometry& mill, Engine& engine, double rate_m3_per_J,
-                         double max_hours, double new_height_m, int stage);
+                         double max_hours, double new_height_m, int stage,
+                         const std::function<void()>& check_stop);
 
 }  // namespace millwear

@@ -22,11 +22,14 @@ double direction_at(const Scene& scene, double hours) {
   return 1.0;
 }
 
-void turn_mill(Engine& engine, const Scene& scene, double dir, bool reversed) {
+void turn_mill(Engine& engine, const Scene& scene, double dir, bool reversed,
+               const std::function<void()>& check_stop) {
   engine.set_mill_speed(dir * scene.angular_speed_rad_s());
   if (reversed)
-    engine.step(steps_for(std::max(0.5, scene.solver.spinup_revolutions) * scene.revolution_time_s(),
-                          engine.time_step_s()));
+    step_checking_stop(engine,
+                       steps_for(std::max(0.5, scene.solver.spinup_revolutions) * scene.revolution_time_s(),
+                                 engine.time_step_s()),
+                       check_stop);
   engine.reset_window();
 }
 
@@ -86,12 +89,12 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
       const int pieces = (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches;
       for (int k = 1, done = 0; k <= pieces; ++k) {
         const int upto = static_cast<int>(static_cast<long long>(batch_steps) * k / pieces);
-        engine.step(upto - done);
+        step_checking_stop(engine, upto - done, check_stop);
         done = upto;
         w.frames.push_back(engine.state());
       }
     } else {
-      engine.step(batch_steps);
+      step_checking_stop(engine, batch_steps, check_stop);
     }
     const Accounting& acc = engine.accounting();
     std::vector<double> p(acc.shear_work_J.size());

@@ -35,7 +35,8 @@ struct WindowWork {
 
 // Run a window on the engine's current liner: batches of window_revolutions / kWindowBatches,
 // each accumulated into the window's sums, extended while the lifter's shear power is less
-// certain than wear.target_uncertainty. check_stop is called before every batch.
+// certain than wear.target_uncertainty. check_stop is called before every batch, and within
+// a batch as step_checking_stop does.
 WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill,
                            const std::function<void()>& check_stop);
 
@@ -49,7 +50,9 @@ double next_reversal(const Scene& scene, double hours);
 // Turn the mill at the direction's speed; after a reversal the charge turns for the scene's
 // spin-up (solver.spinup_revolutions, at least half a revolution) before anything is
 // measured, as after the first fill: it falls over to the other side and needs about a
-// revolution to become steady. Starts a new measuring window.
-void turn_mill(Engine& engine, const Scene& scene, double direction, bool reversed);
+// revolution to become steady; check_stop is called as step_checking_stop does. Starts a new
+// measuring window.
+void turn_mill(Engine& engine, const Scene& scene, double direction, bool reversed,
+               const std::function<void()>& check_stop);
 
 }  // namespace millwear
