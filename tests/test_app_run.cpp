@@ -395,6 +395,7 @@ TEST_F(AppRunCli, ShippedComparisonSceneIsValid) {
   EXPECT_NE(r.output.find("sag-2x30: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("sag-1x30: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("reference"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" disks)"), std::string::npos) << r.output;  // the charge's size, before it is run
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 

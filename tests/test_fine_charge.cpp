@@ -58,6 +58,8 @@ TEST(FineCharge, TwentyFiveMillimetreSagChargeFillsToItsFillingAndMassFractions)
   }
   // The finest class holds the most disks: the fine tail is there.
   EXPECT_GT(got[7], got[0]);
+  // The count `run --check` reports is the charge the filling places (discrete sizes: exact).
+  EXPECT_EQ(expected_charge_disks(scene), static_cast<double>(charge.size()));
 }
 
 // The fine charge (about 3,100 disks) settles and turns on the soft engine (two threads)

@@ -27,6 +27,7 @@
 #include "app/signals.hpp"
 #include "common/units.hpp"
 #include "io/run_folder.hpp"
+#include "scene/filling.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/run_progress.hpp"
 
@@ -112,9 +113,9 @@ int run_command(const RunArgs& args) {
        args.replicates});
   if (args.check) {
     for (const auto& d : plan.designs)
-      std::printf("%s: %s (fidelity %s, %d stages of %g h)%s\n", d.name.c_str(), d.files.front().c_str(),
-                  d.scene.fidelity.c_str(), d.scene.wear.stages, d.scene.wear.stage_hours,
-                  d.name == plan.reference ? ", reference" : "");
+      std::printf("%s: %s (fidelity %s, %d stages of %g h, about %.0f disks)%s\n", d.name.c_str(),
+                  d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages, d.scene.wear.stage_hours,
+                  expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
     std::printf("inputs valid; nothing run\n");
     return 0;
   }

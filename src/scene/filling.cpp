@@ -85,4 +85,12 @@ double expected_disks(const Scene& scene, std::size_t k) {
   return species_area_m2(scene, k) / mean_area;
 }
 
+double expected_charge_disks(const Scene& scene) {
+  const auto placed = scene.species_as_placed();
+  double total = 0.0;
+  for (std::size_t k = 0; k < placed.size(); ++k)
+    if (scene.species_in_use(placed[k])) total += expected_disks(scene, k);
+  return total;
+}
+
 }  // namespace millwear

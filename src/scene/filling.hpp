@@ -36,5 +36,7 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
 // The disks species k will get: exact for discrete sizes; for a uniform range, the share
 // over the mean disk area (the draw stops within half a disk of the share).
 double expected_disks(const Scene& scene, std::size_t k);
+// The disks of the whole charge: expected_disks summed over the species in use.
+double expected_charge_disks(const Scene& scene);
 
 }  // namespace millwear

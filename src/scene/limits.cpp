@@ -166,7 +166,6 @@ void check_step_counts(const Scene& scene, const std::string& file) {
 
 void check_filling(const Scene& scene, const std::string& file) {
   const auto placed = scene.species_as_placed();
-  double total = 0.0;
   for (std::size_t k = 0; k < placed.size(); ++k) {
     if (!scene.species_in_use(placed[k])) continue;
     const double n = expected_disks(scene, k);
@@ -178,8 +177,8 @@ void check_filling(const Scene& scene, const std::string& file) {
                     k, placed[k].name.c_str(), species_area_m2(scene, k), n);
       throw InputError(file, placed[k].is_ball ? "charge.ball_filling" : "charge.filling", buf);
     }
-    total += n;
   }
+  const double total = expected_charge_disks(scene);
   if (!(total <= double(kMaxDisks)))
     throw InputError(file, "charge.filling",
                      "expected a charge of at most " + count_text(double(kMaxDisks)) + " disks, got about " +
