@@ -10,6 +10,7 @@
 #include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/colour_solve.hpp"
+#include "engine/soft/liner_lookup.hpp"
 #include "engine_fixtures.hpp"
 #include "metrics/power_models.hpp"
 #include "scene/fidelity.hpp"
@@ -613,6 +614,43 @@ INSTANTIATE_TEST_SUITE_P(Engine, EngineTest,
                          ::testing::Values(EngineCase{Backend::Box2D, 1}, EngineCase{Backend::Soft, 1},
                                            EngineCase{Backend::Soft, 3}),
                          backend_label);
+
+// A disk in a round pocket of fine edges is within reach of every one of them (its centre
+// is the pocket's centre of curvature, so each chord's nearest point is its midpoint): the
+// lookup must return them all, not the first few, or the pocket's far side lets it through.
+TEST(LinerLookup, ADiskInAPocketOfFineEdgesFindsEveryEdgeWithinReach) {
+  // A 5 m shell of 2,000 edges, and at angle 0 a half-circle pocket of 6 cm radius cut into
+  // the metal in 60 edges (each 3.1 mm, against a 5 cm disk).
+  const double shell_m = 5.0, pocket_m = 0.06;
+  const int shell_edges = 2000, pocket_edges = 60;
+  MillGeometry mill;
+  std::vector<int> pocket;  // the pocket's edge indices
+  const double half = std::asin(pocket_m / shell_m);
+  for (int k = 0; k < shell_edges; ++k) {
+    const double a = half + (2.0 * kPi - 2.0 * half) * k / shell_edges;
+    mill.boundary.push_back({shell_m * std::cos(a), shell_m * std::sin(a)});
+  }
+  const Vec2 centre{shell_m * std::cos(half), 0.0};
+  for (int k = 0; k < pocket_edges; ++k) {  // CCW about the pocket's centre: -90 to +90 deg
+    const double a = -0.5 * kPi + kPi * k / pocket_edges;
+    pocket.push_back(static_cast<int>(mill.boundary.size()));
+    mill.boundary.push_back({centre.x + pocket_m * std::cos(a), pocket_m * std::sin(a)});
+  }
+  soft::LinerLookup lookup;
+  lookup.build(mill, 0.1);
+  const double radius = 0.05, max_gap = 0.02;
+  std::vector<soft::LinerHit> hits(static_cast<std::size_t>(lookup.max_hits()));
+  const int n = lookup.query(centre, radius, max_gap, hits.data());
+  std::vector<int> found;
+  for (int h = 0; h < n; ++h) found.push_back(hits[static_cast<std::size_t>(h)].owner);
+  // Every pocket edge is a chord of the 6 cm circle about the disk's centre: a face contact
+  // at a gap of 6 cm cos(1.5 deg) - 5 cm = 1.0 cm, under the 2 cm asked.
+  for (int k = 0; k < pocket_edges; ++k)
+    EXPECT_EQ(std::count(found.begin(), found.end(), pocket[static_cast<std::size_t>(k)]), 1) << "pocket edge " << k;
+  EXPECT_GE(n, pocket_edges);
+  EXPECT_LE(n, lookup.max_hits());
+  EXPECT_TRUE(std::is_sorted(found.begin(), found.end()));
+}
 
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {
   // Check value worked by hand from Morrell's published equations: 5 m x 8 m dry grate mill.

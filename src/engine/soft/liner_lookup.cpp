@@ -52,6 +52,7 @@ void LinerLookup::build(const MillGeometry& mill, double reach_m) {
     bin_start_ = {0, static_cast<int>(n)};
     bin_edges_.resize(n);
     for (std::size_t k = 0; k < n; ++k) bin_edges_[k] = static_cast<int>(k);
+    max_hits_ = static_cast<int>(n);
     return;
   }
   // A centre within reach of a liner point sits at radius >= inner - reach, so the point is
@@ -78,15 +79,17 @@ void LinerLookup::build(const MillGeometry& mill, double reach_m) {
   }
   bin_start_.assign(static_cast<std::size_t>(bins_) + 1, 0);
   bin_edges_.clear();
+  max_hits_ = 0;
   for (int q = 0; q < bins_; ++q) {
     auto& l = lists[static_cast<std::size_t>(q)];
     std::sort(l.begin(), l.end());
+    max_hits_ = std::max(max_hits_, static_cast<int>(l.size()));
     bin_edges_.insert(bin_edges_.end(), l.begin(), l.end());
     bin_start_[static_cast<std::size_t>(q) + 1] = static_cast<int>(bin_edges_.size());
   }
 }
 
-int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out, int capacity) const {
+int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out) const {
   int bin = 0;
   if (binned_) {
     bin = std::min(static_cast<int>(pseudo_angle(p.x, p.y) * bins_per_unit_), bins_ - 1);
@@ -95,7 +98,7 @@ int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out, int capa
   int count = 0;
   const int* first = bin_edges_.data() + bin_start_[static_cast<std::size_t>(bin)];
   const int* last = bin_edges_.data() + bin_start_[static_cast<std::size_t>(bin) + 1];
-  for (const int* it = first; it != last && count < capacity; ++it) {
+  for (const int* it = first; it != last; ++it) {
     const int k = *it;
     const Vec2 d = p - a_[static_cast<std::size_t>(k)];
     const double t = dot(d, u_[static_cast<std::size_t>(k)]);

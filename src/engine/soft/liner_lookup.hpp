@@ -35,16 +35,20 @@ struct LinerHit {
 class LinerLookup {
  public:
   // reach_m: the largest centre-to-surface distance a query may ask about (radius plus
-  // speculative margin). Bins are built for it; queries beyond it rebuild (rare).
+  // speculative margin). Bins are built for it; the narrow phase rebuilds them (rarely,
+  // fit_liner_search) when a step needs more.
   void build(const MillGeometry& mill, double reach_m);
   double reach_m() const { return reach_m_; }
   // Radius inside which no disk centre with this reach can touch the liner.
   bool may_touch(Vec2 p_mill, double reach) const {
     return !binned_ || length_sq(p_mill) > (inner_m_ - reach) * (inner_m_ - reach);
   }
-  // Append the contacts of a disk at p_mill (radius r) with gap below max_gap to out, in
-  // increasing edge order; returns how many.
-  int query(Vec2 p_mill, double r, double max_gap, LinerHit* out, int capacity) const;
+  // The most contacts a query can return: the most edges any bin lists (a disk in a
+  // concave pocket of fine edges may touch many of them; none is ever dropped).
+  int max_hits() const { return max_hits_; }
+  // Write the contacts of a disk at p_mill (radius r) with gap below max_gap to out (room
+  // for max_hits()), in increasing edge order; returns how many.
+  int query(Vec2 p_mill, double r, double max_gap, LinerHit* out) const;
   std::size_t edge_count() const { return a_.size(); }
 
  private:
@@ -53,6 +57,7 @@ class LinerLookup {
   std::vector<std::uint8_t> reflex_start_;  // start vertex sticks out into the mill
   std::vector<int> bin_start_, bin_edges_;  // CSR: edges near each angle bin (sorted)
   int bins_ = 1;
+  int max_hits_ = 0;
   bool binned_ = false;
   double inner_m_ = 0.0;    // smallest distance from the axis to the liner
   double reach_m_ = 0.0;

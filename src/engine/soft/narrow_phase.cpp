@@ -9,9 +9,6 @@ namespace millwear::soft {
 
 namespace {
 
-// Liner contacts of one disk in one step: a disk in a lifter's inward corner touches two
-// faces, and a handful covers a disk on a finely meshed shell arc.
-constexpr int kMaxLinerHits = 8;
 // The liner lookup is built for this many times the reach asked of it, so that a charge
 // speeding up does not rebuild it step after step.
 constexpr double kLinerReachHeadroom = 1.5;
@@ -185,12 +182,18 @@ void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearc
     search.found.resize(static_cast<std::size_t>(ranges));
     search.count.resize(static_cast<std::size_t>(ranges));
     search.offset.resize(static_cast<std::size_t>(ranges));
+    search.hits.resize(static_cast<std::size_t>(ranges));
+  }
+  const auto max_hits = static_cast<std::size_t>(search.lookup.max_hits());
+  for (int r = 0; r < ranges; ++r) {
+    std::vector<LinerHit>& hits = search.hits[static_cast<std::size_t>(r)];
+    if (hits.size() < max_hits) hits.resize(max_hits);  // grows with the bins, rarely
   }
   // The hits of each range of disks.
   workers.run(ranges, [&](int r) {
     std::vector<LinerSearch::Found>& found = search.found[static_cast<std::size_t>(r)];
     std::size_t count = 0;
-    LinerHit hits[kMaxLinerHits];
+    LinerHit* hits = search.hits[static_cast<std::size_t>(r)].data();
     const std::size_t k0 = static_cast<std::size_t>(r) * kPerRange, k1 = std::min(n, k0 + kPerRange);
     for (std::size_t k = k0; k < k1; ++k) {
       if (!disks.active[k]) continue;
@@ -200,8 +203,8 @@ void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearc
       // Into the mill frame (rotate by -theta).
       const Vec2 pm{cs * x + sn * y, -sn * x + cs * y};
       if (!search.lookup.may_touch(pm, rad + margin)) continue;
-      const int hit_n = search.lookup.query(pm, rad, margin, hits, kMaxLinerHits);
-      if (found.size() < count + static_cast<std::size_t>(hit_n)) found.resize(2 * (count + static_cast<std::size_t>(kMaxLinerHits)));
+      const int hit_n = search.lookup.query(pm, rad, margin, hits);
+      if (found.size() < count + static_cast<std::size_t>(hit_n)) found.resize(2 * (count + static_cast<std::size_t>(hit_n)));
       for (int h = 0; h < hit_n; ++h) found[count++] = {static_cast<int>(k), hits[h]};
     }
     search.count[static_cast<std::size_t>(r)] = count;

@@ -46,6 +46,7 @@ struct LinerSearch {
     LinerHit hit;
   };
   std::vector<std::vector<Found>> found;  // per range, at its high-water size
+  std::vector<std::vector<LinerHit>> hits;  // per range: one disk's hits (lookup.max_hits())
   std::vector<std::size_t> count, offset;
 };
 
