@@ -48,7 +48,7 @@ TEST(Accounting, LinerContactGivesShearWorkImpactEnergyAndTorque) {
 // in the mill frame: the disk rides with the liner.
 void liner_step(Accounting& acc, bool touching, double omega = 1.0) {
   if (touching) account_contact(acc, liner_contact(), omega, false);
-  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1, 9.81);
+  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1);
 }
 
 TEST(Accounting, ADiskOnTheLinerForOverARevolutionIsPackedAndItsShearWorkIsCounted) {
@@ -64,7 +64,7 @@ TEST(Accounting, ADiskOnTheLinerForOverARevolutionIsPackedAndItsShearWorkIsCount
   account_contact(acc, liner_contact(), 1.0, false);
   EXPECT_DOUBLE_EQ(acc.packed_shear_work_J, 0.1);
   account_contact(acc, liner_contact(), 1.0, false);
-  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1, 9.81);
+  account_step(acc, ChargeState{}, 0.1, 1.0, 0.1);
   EXPECT_DOUBLE_EQ(acc.packed_shear_work_J, 0.2);
   EXPECT_EQ(acc.packed_disk_steps, 1);
   const ChargeSummary s = summarize(acc, 1.0, 9.81);
@@ -97,7 +97,7 @@ TEST(Accounting, ADiskSlidingOnTheTurningShellIsNotPacked) {
   for (int k = 0; k < 200; ++k) {  // 20 s: over three revolutions
     account_contact(acc, liner_contact(), 1.0, false);
     turning.mill_angle_rad += 0.1;
-    account_step(acc, turning, 0.1, 1.0, 0.1, 9.81);
+    account_step(acc, turning, 0.1, 1.0, 0.1);
   }
   EXPECT_EQ(acc.packed_shear_work_J, 0.0);
   EXPECT_EQ(acc.packed_disk_steps, 0);
@@ -220,7 +220,7 @@ TEST(ChargeShape, ABandFullAllRoundIsCentrifuged) {
 TEST(ChargeShape, TheCentreOfMassAngleIsMeasuredFrom6OClockTowardTheRisingSide) {
   Accounting acc;
   acc.time_s = 1.0;
-  acc.shape_samples = 1.0;
+  acc.shape_time_s = 1.0;
   acc.mass_time_kg_s = 2.0;
   acc.moment_time_kg_m_s = {2.0 * 0.1, -2.0 * 0.1};  // at (0.1, -0.1): 45 deg up the +x side
   EXPECT_NEAR(summarize(acc, 1.0, 9.81).centre_of_mass_deg, 45.0, 1e-12);

@@ -32,7 +32,7 @@ int run_animate(const study::AnimationRequest& a) {
 void register_animate(CLI::App& app, Action* action) {
   auto args = std::make_shared<study::AnimationRequest>();
   CLI::App* cmd = app.add_subcommand(
-      "animate", "Animated GIF of the charge tumbling, the liner coloured by wear rate (teaching demo)");
+      "animate", "Animated GIF of the charge tumbling, the liner coloured by shear work rate (teaching demo)");
   cmd->footer(
       "Without --history the liner is coloured by its shear work rate (W/m^2) in the animated\n"
       "seconds. With --history OUT (a `millwear run` folder holding this scene's design) the\n"

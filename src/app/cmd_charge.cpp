@@ -35,7 +35,6 @@ struct ChargeArgs {
   std::string out;
   std::string fidelity;
   double revolutions = 0.0;
-  bool quiet = false;
   int threads = 0;
   bool vtk = false;
   std::vector<std::string> overrides;

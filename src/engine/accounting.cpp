@@ -83,7 +83,7 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
   if (acc.options.contact_log) {
     if (acc.contact_log.size() < acc.options.contact_log_limit) {
       acc.contact_log.push_back(c);
-      acc.contact_log.back().key = static_cast<std::uint64_t>(acc.steps);  // step index
+      acc.contact_log.back().step = acc.steps;
     } else if (acc.contact_log_time_s == 0.0) {
       acc.contact_log_time_s = acc.time_s;
     }
@@ -171,12 +171,11 @@ void account_step_samples(Accounting& acc, const ChargeState& s, double dt_s, co
   }
   acc.mass_time_kg_s += mass * dt_s;
   acc.moment_time_kg_m_s += dt_s * moment;
-  acc.shape_samples += dt_s;
+  acc.shape_time_s += dt_s;
 }
 
 void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
-                  double band_m, double gravity_m_s2) {
-  (void)gravity_m_s2;
+                  double band_m) {
   ShapeSample sample;
   if (acc.options.charge_shape) shape_sample(s, 0, s.size(), dt_s, radius_m, band_m, sample);
   account_step_samples(acc, s, dt_s, &sample, 1);

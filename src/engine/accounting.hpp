@@ -23,7 +23,7 @@ struct ContactRecord {
   double tangent_impulse = 0.0;  // N s, on a along tangent = left_perp(normal)
   double vn_before = 0.0, vn_after = 0.0;  // relative velocity of a w.r.t. b (or liner)
   double vt_before = 0.0, vt_after = 0.0;  // at the point, m/s, before/after the solve
-  std::uint64_t key = 0;    // stable id of the contact pair across steps (spectrum events)
+  std::int64_t step = 0;    // the window's step it acted in (the contact log's; the accounting sets it)
 };
 
 struct AccountingOptions {
@@ -81,8 +81,7 @@ struct Accounting {
   double mass_time_kg_s = 0.0;         // integral of active mass dt
   Vec2 moment_time_kg_m_s;             // integral of sum m x dt (world frame)
   std::array<double, kShapeAngleBins> shell_band_occupancy{};  // area-time near the shell
-  double shape_samples = 0.0;
-  // Batch means for rule 2: shear work per edge group sampled in batches.
+  double shape_time_s = 0.0;          // time the shape was sampled over
   // Liner contacts of the window, when options.contact_log (memory reserved at reset, so
   // logging does not allocate per contact).
   std::vector<ContactRecord> contact_log;
@@ -121,7 +120,7 @@ void account_step_samples(Accounting& acc, const ChargeState& s, double dt_s, co
                           std::size_t count);
 // Once per step after the contacts: charge shape sample and time.
 void account_step(Accounting& acc, const ChargeState& s, double dt_s, double radius_m,
-                  double band_m, double gravity_m_s2);
+                  double band_m);
 
 int spectrum_bin(double energy_J);
 double spectrum_bin_lower_J(int bin);

@@ -46,7 +46,7 @@ Accounting accounting_since(const Accounting& now, const Accounting& before) {
   d.mass_time_kg_s -= before.mass_time_kg_s;
   d.moment_time_kg_m_s = d.moment_time_kg_m_s - before.moment_time_kg_m_s;
   for (int k = 0; k < kShapeAngleBins; ++k) d.shell_band_occupancy[k] -= before.shell_band_occupancy[k];
-  d.shape_samples -= before.shape_samples;
+  d.shape_time_s -= before.shape_time_s;
   d.packed_shear_work_J -= before.packed_shear_work_J;
   d.packed_disk_steps -= before.packed_disk_steps;
   d.escaped -= before.escaped;

@@ -51,8 +51,8 @@ std::vector<DiskDraw> draw_sizes(const Scene& scene, std::mt19937_64& rng) {
       }
     }
   }
-  // Largest first: random sequential addition packs far better that way. Stable sort on
-  // (diameter, species) keeps the order deterministic.
+  // Largest first: random sequential addition packs far better that way. A stable sort by
+  // diameter keeps equal sizes in the order drawn, so the order is deterministic.
   std::stable_sort(disks.begin(), disks.end(), [](const DiskDraw& a, const DiskDraw& b) {
     return a.diameter_m > b.diameter_m;
   });

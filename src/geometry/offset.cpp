@@ -1,6 +1,6 @@
 // Re-smoothing by morphological opening and closing with a disk (CGAL stays in this file).
 //
-// Why a disk and not the straight skeleton (the previous version): a skeleton offset moves
+// Why a disk and not a straight-skeleton offset: a skeleton offset moves
 // each edge parallel to itself and joins neighbours with a mitre, so an inset followed by an
 // outset brings back only the edges that survived the inset. A worn corner is a run of short
 // edges bending round a radius smaller than r; the inset eats them, and the outset extends the

@@ -60,7 +60,7 @@ ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double g
   s.shear_work_rate_W /= t;
   if (acc.steps > 0) s.mean_packed_disks = static_cast<double>(acc.packed_disk_steps) / acc.steps;
   if (acc.mass_time_kg_s > 0.0) {
-    s.mass_kg = acc.mass_time_kg_s / acc.shape_samples;
+    s.mass_kg = acc.mass_time_kg_s / acc.shape_time_s;
     s.centre_of_mass_m = acc.moment_time_kg_m_s / acc.mass_time_kg_s;
     // Steady state: the drive holds the charge's weight off-centre, torque = M g x_cm.
     s.torque_arm_Nm = s.mass_kg * gravity_m_s2 * s.centre_of_mass_m.x;

@@ -7,9 +7,9 @@
 //
 // | field (scene key)                      | draft   | standard | reference | what it trades        |
 // |----------------------------------------|---------|----------|-----------|-----------------------|
-// | backend (solver.backend)               | soft    | soft     | soft      | our solver: 5-7x the  |
-// |                                        |         |          |           | library, converged    |
-// |                                        |         |          |           | friction (README)     |
+// | backend (solver.backend)               | soft    | soft     | soft      | our solver: faster    |
+// |                                        |         |          |           | than the library,     |
+// |                                        |         |          |           | converged friction    |
 // | substeps (solver.substeps, soft only)  | 4       | 4        | 4         | contact stiffness     |
 // | time_step_s (solver.time_step, s)      | 1/200   | 1/200    | 1/1000    | contact resolution;   |
 // |   ... on the box2d backend             | 1/300   | 1/400    | 1/1000    | (no substeps)         |
@@ -36,14 +36,12 @@
 //   one (scene/limits.hpp): on the SAG scenes the 1/200 s of draft and standard moves 1.93
 //   smallest radii a step (0.48 a substep). The soft backend is checked per substep; the
 //   library backend has no substeps (1/200 s would be refused there: at most about 1/245 s),
-//   so a scene on it gets the preset's box2d_time_step_s, the steps the presets had before. A scene
-//   with much smaller particles must set solver.time_step itself.
-// - standard's time step: on the default comparison's ladder (docs/fidelity.md) standard is 1.5% of the lifter height from the reference (noise floor
-//   0.5%) at 17x its speed; 1/400 s is 1.2% at 11x, 1/1000 s 1.2% at 5x. 1/200 s keeps the
-//   comparison within the 30 s budget on 2 cores. Draft takes the same step (2.1% at 35x).
-// - mesh: 60/30 mm edges are 1.7% from the reference, 10/5 mm 3.1% (finer edges follow
-//   more of the noise of one window, not investigated further); standard shares the
-//   reference's 20/10 mm.
+//   so a scene on it gets the preset's box2d_time_step_s. A scene with much smaller particles
+//   must set solver.time_step itself.
+// - standard's time step and mesh: docs/fidelity.md gives each preset's and each knob's
+//   distance from the reference, its noise floor and its speed-up, measured by
+//   `millwear tradeoff` on the default comparison. Standard shares the reference's 20/10 mm
+//   edges; draft takes standard's time step with coarser edges and a shorter window.
 // - backend: the soft solver is the default of every preset (docs/soft-solver.md: faster
 //   than the library at better accuracy); a scene that names solver.backend keeps it.
 // - measured: `millwear tradeoff` runs every preset and one knob at a time against

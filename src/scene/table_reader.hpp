@@ -52,7 +52,6 @@ inline std::string Bounds::describe() const {
 }
 
 inline Bounds positive() { return {0.0, kInf, true, false}; }
-inline Bounds non_negative() { return {0.0, kInf, false, false}; }
 inline Bounds closed(double lo, double hi) { return {lo, hi, false, false}; }
 inline Bounds open_closed(double lo, double hi) { return {lo, hi, true, false}; }
 inline Bounds open(double lo, double hi) { return {lo, hi, true, true}; }

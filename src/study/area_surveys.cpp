@@ -51,7 +51,6 @@ AreaSurveys parse_area_surveys(const std::string& text, const std::string& name)
   return out;
 }
 
-AreaSurveys read_area_surveys(const std::string& path) { return parse_area_surveys(io::read_file(path), path); }
 
 std::string format_area_surveys(const AreaSurveys& surveys, const std::string& comment) {
   io::CsvTable t({"hours", surveys.losses ? "area_loss_mm2" : "area_mm2"});

@@ -38,7 +38,6 @@ struct AreaSurveys {
 };
 
 AreaSurveys parse_area_surveys(const std::string& text, const std::string& name);
-AreaSurveys read_area_surveys(const std::string& path);
 
 // The file text (mm^2, %.10g) with `comment` as '#' lines above the header.
 std::string format_area_surveys(const AreaSurveys& surveys, const std::string& comment = "");

@@ -185,7 +185,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     std::ostringstream log;
     log << "step,disk,edge,x_m,y_m,nx,ny,normal_impulse_Ns,tangent_impulse_Ns,vn_before,vn_after,vt_before,vt_after\n";
     for (const ContactRecord& c : r.accounting.contact_log)
-      log << c.key << ',' << c.a << ',' << c.edge << ',' << fmt(c.point_m.x) << ',' << fmt(c.point_m.y) << ','
+      log << c.step << ',' << c.a << ',' << c.edge << ',' << fmt(c.point_m.x) << ',' << fmt(c.point_m.y) << ','
           << fmt(c.normal.x) << ',' << fmt(c.normal.y) << ',' << fmt(c.normal_impulse) << ','
           << fmt(c.tangent_impulse) << ',' << fmt(c.vn_before) << ',' << fmt(c.vn_after) << ','
           << fmt(c.vt_before) << ',' << fmt(c.vt_after) << '\n';

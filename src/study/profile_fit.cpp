@@ -155,10 +155,6 @@ double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {
   return common_stage_hours(survey_hours(surveys), max_stages);
 }
 
-Scene scene_for_surveys(const Scene& scene, const std::vector<Survey>& surveys, double c, double reach) {
-  return scene_for_survey_hours(scene, survey_hours(surveys), c, reach);
-}
-
 ScaleFit fit_time_scale(const ProfileHistory& history, const std::vector<Survey>& surveys) {
   std::vector<const Survey*> worn;
   std::vector<double> worn_hours;

@@ -73,10 +73,8 @@ struct ProfileComparison {
 ProfileComparison compare_profile(const Survey& measured, const Polyline& simulated, double radius_m,
                                   double new_height_m, const Polyline& new_surface);
 
-// Survey versions of calibration.hpp's common_stage_hours and scene_for_survey_hours.
+// The survey version of calibration.hpp's common_stage_hours.
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = 50);
-Scene scene_for_surveys(const Scene& scene, const std::vector<Survey>& surveys, double c_m3_per_J,
-                        double reach = 1.0);
 
 // ---- calibration ----
 

@@ -48,8 +48,21 @@ void tick(const RunOptions& opt) {
   if (opt.on_tick) opt.on_tick();
 }
 
-// Life from the stages so far (final histories carry their own).
+// What the run keeps of a stage for the tables and the progress (DesignState::stages):
+// no charge states, no edge rates, no frames.
+StageRecord light_copy(const StageRecord& rec) {
+  StageRecord light = rec;
+  light.frames.clear();
+  light.edge_shear_W_per_m2.clear();
+  light.edge_impact_W_per_m2.clear();
+  light.snapshot = ChargeState{};
+  light.start_charge = ChargeState{};
+  light.edge_wear_rate_m_per_s.clear();
+  return light;
+}
 }  // namespace
+
+// Life from the stages so far (final histories carry their own).
 
 void life_of(const DesignInput& d, const DesignState& st, double& life_h, bool& extrapolated) {
   if (st.have_history) {
@@ -220,13 +233,7 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
     vtk_files = write_vtk_series(io::join_path(out, "vtk"), d.name + "_stage" + std::to_string(rec.stage), d.scene,
                                  mill, rec.frames, fields);
   }
-  StageRecord light = rec;
-  light.frames.clear();
-  light.edge_shear_W_per_m2.clear();
-  light.edge_impact_W_per_m2.clear();
-  light.snapshot = ChargeState{};
-  light.start_charge = ChargeState{};
-  light.edge_wear_rate_m_per_s.clear();
+  StageRecord light = light_copy(rec);
   const std::vector<std::string> state_files = io::stage_state_files(out, d.name, rec.stage);
   std::lock_guard<std::mutex> lock(ctx.mutex);
   note(ctx, out, io::profile_path(out, d.name, rec.stage));
@@ -312,11 +319,7 @@ void run_design(RunState& ctx, const RunOptions& opt, std::size_t i, const std::
     // Stages the callback did not see (a loop that reports only new ones) come from here.
     for (const auto& r : history.stages)
       if (!st.stages.count(r.stage)) {
-        StageRecord light = r;
-        light.snapshot = ChargeState{};
-        light.start_charge = ChargeState{};
-        light.edge_wear_rate_m_per_s.clear();
-        st.stages[r.stage] = std::move(light);
+        st.stages[r.stage] = light_copy(r);
       }
   }
   try {

@@ -90,7 +90,6 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
   return surveys;
 }
 
-std::vector<Survey> read_surveys(const std::string& path) { return parse_surveys(io::read_file(path), path); }
 
 std::vector<double> survey_hours(const std::vector<Survey>& surveys) {
   std::vector<double> h;

@@ -37,7 +37,6 @@ struct Survey {
 // Surveys in file order (blocks), each ordered from -x to +x. `name` names the file in
 // errors. Throws InputError(name, "line N", ...).
 std::vector<Survey> parse_surveys(const std::string& text, const std::string& name);
-std::vector<Survey> read_surveys(const std::string& path);
 
 // The hours of every survey, in file order.
 std::vector<double> survey_hours(const std::vector<Survey>& surveys);

@@ -40,7 +40,10 @@ double next_reversal(const Scene& scene, double hours) {
 }
 
 void accumulate_work(Accounting& total, const Accounting& part) {
-  if (total.shear_work_J.empty()) { total = part; return; }
+  if (total.steps == 0) {  // the first batch: copied, with its options and start energies
+    total = part;
+    return;
+  }
   for (std::size_t e = 0; e < total.shear_work_J.size(); ++e) {
     total.shear_work_J[e] += part.shear_work_J[e];
     total.impact_energy_J[e] += part.impact_energy_J[e];
@@ -64,7 +67,7 @@ void accumulate_work(Accounting& total, const Accounting& part) {
   total.mass_time_kg_s += part.mass_time_kg_s;
   total.moment_time_kg_m_s += part.moment_time_kg_m_s;
   for (int k = 0; k < kShapeAngleBins; ++k) total.shell_band_occupancy[k] += part.shell_band_occupancy[k];
-  total.shape_samples += part.shape_samples;
+  total.shape_time_s += part.shape_time_s;
   total.packed_shear_work_J += part.packed_shear_work_J;
   total.packed_disk_steps += part.packed_disk_steps;
   total.escaped += part.escaped;

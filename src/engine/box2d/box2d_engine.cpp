@@ -305,7 +305,7 @@ void Box2DEngine::step_once() {
   read_back();
   account_contacts();
   if (accounting_.steps % 16 == 0) check_inside_liner();
-  account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_, kGravity);
+  account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_);
   accounting_.kinetic_J_end = charge_kinetic_J(state_);
   accounting_.potential_J_end = charge_potential_J(state_, kGravity);
   timing_.account_s += seconds_since(t0);

@@ -15,9 +15,6 @@ namespace {
 // face line (liner_lookup.hpp): deeper than that, or as far past the farthest liner point,
 // the disk is lost to the liner.
 constexpr double kLostDepthRadii = 0.5;
-// Liner contacts' accounting keys: the disk above, this bit and the edge below, so that
-// they never meet a disk pair's key.
-constexpr std::uint64_t kLinerKeyBit = 0x80000000u;
 
 void remove_disk(Disks& disks, int i, const std::string& why, Report& report) {
   const auto k = static_cast<std::size_t>(i);
@@ -194,8 +191,6 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     rec.vn_after = g.nx * dx1 + g.ny * dy1;
     rec.vt_before = tx * dx0 + ty * dy0 - c.alpha * v0[a].w;
     rec.vt_after = tx * dx1 + ty * dy1 - c.alpha * body[a].w;
-    rec.key = (static_cast<std::uint64_t>(rec.a) << 32) | kLinerKeyBit |
-              static_cast<std::uint32_t>(info.edge);
     account_contact(accounting, rec, omega,
                     liner.edge_is_shell[static_cast<std::size_t>(info.edge)] != 0);
     // Rolling couple against the liner: the drive supplies it at the mill's speed.

@@ -5,10 +5,11 @@
 // contact fed once to the shared accounting with its impulses summed over the substeps.
 //
 // Energy. With anchors and directions fixed for the step, every disk's velocity change is
-// exactly gravity * dt plus the sum of its contact impulses / mass, so the sum over
-// contacts of P . (v_rel before + v_rel after) / 2, with "before" = start velocity + g dt,
-// is exactly the kinetic energy the impulses change: dissipation is split per contact
-// without residue. Rolling resistance couples are accounted in the same way (added to the
+// exactly gravity * dt plus the sum of its contact impulses / mass, so its kinetic energy
+// changes by exactly (m g dt + sum P) . (v_before + v_after) / 2, "before" the step's start
+// velocity. The impulses' share, summed over contacts as P . (v_rel before + v_rel after) / 2
+// (the liner's velocity taken out of v_rel: its part is the drive's work), is split per
+// contact without residue. Rolling resistance couples are accounted in the same way (added to the
 // tangential dissipation, and through the liner to the drive torque).
 #include <cstdint>
 #include <vector>
@@ -58,10 +59,10 @@ void write_back_and_check(const Model& model, const LinerModel& liner, const Ste
                           Disks& disks, Report report, FinishScratch& scratch,
                           Workers& workers);
 
-// Every contact that carried an impulse this step, as a ContactRecord, to the accounting;
-// collision events closed for the spectrum. Disk pairs in ranges (partial sums added in
-// range order); the liner contacts in order, on one thread (per-edge sums and packing
-// streaks).
+// Every contact that carried an impulse this step to the accounting; collision events
+// closed for the spectrum. Disk pairs in ranges, their dissipation summed directly (partial
+// sums added in range order); the liner contacts in order, on one thread, each as a
+// ContactRecord (per-edge sums and packing streaks).
 void account_contacts(const LinerModel& liner, const Disks& disks, const StepStart& start,
                       double mill_speed_rad_s, Contacts& contacts, Accounting& accounting,
                       FinishScratch& scratch, Workers& workers);

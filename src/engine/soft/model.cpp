@@ -67,7 +67,7 @@ Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeStat
   mat.species = static_cast<int>(std::max<std::size_t>(species.size(), 1));
   const auto count = static_cast<std::size_t>(mat.species);
   mat.pair_friction.assign(count * count, 0.5);
-  mat.pair_restitution = mat.pair_friction;
+  mat.pair_restitution.assign(count * count, 0.0);
   mat.pair_rolling.assign(count * count, 0.0);
   mat.liner_friction.assign(count, 0.5);
   mat.liner_restitution.assign(count, 0.0);

@@ -7,7 +7,7 @@
 // only its own outputs: disks or rows of its own, or its own slot of a partial sum. Which
 // thread runs a range, and when, therefore changes nothing; reductions add the ranges'
 // partial sums afterwards in range order. The same scene and seed give the same bits with
-// 1, 2, 3 or 4 threads (tests/test_engine.cpp, "ThreadCountDoesNotChangeTheBits").
+// 1, 2, 3 or 4 threads (tests/test_threads.cpp, "ThreadCountDoesNotChangeTheBits").
 //
 // Cost. A stage is handed out by bumping a generation counter that the helpers spin on
 // (then yield, then sleep on a condition variable after a long idle spell). Nothing is
