@@ -2,6 +2,7 @@
 // Shared accounting of what the contacts do, fed by any backend through ContactRecord:
 // per-edge shear work and impact energy on the liner, the torque and power the mill
 // draws, energy dissipated in collisions and its spectrum, and the charge's shape.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -95,6 +96,42 @@ struct Accounting {
   std::int64_t escaped = 0;            // disks lost through the liner (reported, never silent)
   std::int64_t non_finite = 0;         // disks whose state went NaN/inf
 };
+
+// op(x, y) on each field of `to` that sums over steps and the same field of `from` (the
+// per-edge arrays over the edges both have): the one list of the sums, for adding windows
+// up and taking one from another. The window-end energies, the options, the contact log
+// and the packing streaks are not sums; the callers set them.
+template <class Op>
+void for_each_sum(Accounting& to, const Accounting& from, Op op) {
+  const std::size_t edges = std::min(to.shear_work_J.size(), from.shear_work_J.size());
+  for (std::size_t e = 0; e < edges; ++e) {
+    op(to.shear_work_J[e], from.shear_work_J[e]);
+    op(to.impact_energy_J[e], from.impact_energy_J[e]);
+    op(to.contacts[e], from.contacts[e]);
+  }
+  op(to.time_s, from.time_s);
+  op(to.steps, from.steps);
+  op(to.drive_work_J, from.drive_work_J);
+  op(to.torque_impulse_Nms, from.torque_impulse_Nms);
+  op(to.pp_normal_J, from.pp_normal_J);
+  op(to.pp_tangent_J, from.pp_tangent_J);
+  op(to.pl_normal_J, from.pl_normal_J);
+  op(to.pl_tangent_J, from.pl_tangent_J);
+  op(to.solver_position_J, from.solver_position_J);
+  for (int k = 0; k < kSpectrumBins; ++k) {
+    op(to.spectrum_count[k], from.spectrum_count[k]);
+    op(to.spectrum_energy_J[k], from.spectrum_energy_J[k]);
+  }
+  op(to.mass_time_kg_s, from.mass_time_kg_s);
+  op(to.moment_time_kg_m_s.x, from.moment_time_kg_m_s.x);
+  op(to.moment_time_kg_m_s.y, from.moment_time_kg_m_s.y);
+  for (int k = 0; k < kShapeAngleBins; ++k) op(to.shell_band_occupancy[k], from.shell_band_occupancy[k]);
+  op(to.shape_time_s, from.shape_time_s);
+  op(to.packed_shear_work_J, from.packed_shear_work_J);
+  op(to.packed_disk_steps, from.packed_disk_steps);
+  op(to.escaped, from.escaped);
+  op(to.non_finite, from.non_finite);
+}
 
 // Reset sums, size per-edge arrays, keep options.
 void reset_accounting(Accounting& acc, std::size_t edge_count);

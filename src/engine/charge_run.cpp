@@ -23,34 +23,9 @@ double initial_direction_sign(const Scene& scene) {
 
 Accounting accounting_since(const Accounting& now, const Accounting& before) {
   Accounting d = now;
-  for (std::size_t e = 0; e < d.shear_work_J.size() && e < before.shear_work_J.size(); ++e) {
-    d.shear_work_J[e] -= before.shear_work_J[e];
-    d.impact_energy_J[e] -= before.impact_energy_J[e];
-    d.contacts[e] -= before.contacts[e];
-  }
-  d.time_s -= before.time_s;
-  d.steps -= before.steps;
-  d.drive_work_J -= before.drive_work_J;
-  d.torque_impulse_Nms -= before.torque_impulse_Nms;
-  d.pp_normal_J -= before.pp_normal_J;
-  d.pp_tangent_J -= before.pp_tangent_J;
-  d.pl_normal_J -= before.pl_normal_J;
-  d.pl_tangent_J -= before.pl_tangent_J;
-  d.solver_position_J -= before.solver_position_J;
+  for_each_sum(d, before, [](auto& x, const auto& y) { x -= y; });
   d.kinetic_J_start = before.kinetic_J_end;
   d.potential_J_start = before.potential_J_end;
-  for (int k = 0; k < kSpectrumBins; ++k) {
-    d.spectrum_count[k] -= before.spectrum_count[k];
-    d.spectrum_energy_J[k] -= before.spectrum_energy_J[k];
-  }
-  d.mass_time_kg_s -= before.mass_time_kg_s;
-  d.moment_time_kg_m_s = d.moment_time_kg_m_s - before.moment_time_kg_m_s;
-  for (int k = 0; k < kShapeAngleBins; ++k) d.shell_band_occupancy[k] -= before.shell_band_occupancy[k];
-  d.shape_time_s -= before.shape_time_s;
-  d.packed_shear_work_J -= before.packed_shear_work_J;
-  d.packed_disk_steps -= before.packed_disk_steps;
-  d.escaped -= before.escaped;
-  d.non_finite -= before.non_finite;
   d.contact_log.clear();
   return d;
 }

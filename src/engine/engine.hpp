@@ -76,6 +76,17 @@ std::unique_ptr<Engine> make_engine(const Scene& scene, const MillGeometry& mill
 // Accounting options a scene asks for (a scene pays only for what it uses).
 AccountingOptions accounting_options_for(const Scene& scene);
 
+// A disk is lost to the liner when its centre is this many radii past the liner surface
+// (the soft backend's face contacts keep working to half a radius past the face line,
+// soft/liner_lookup.hpp) or as far past the farthest liner point; both backends remove it
+// and report it.
+constexpr double kLostDepthRadii = 0.5;
+// Both backends look for disks leaked into the liner every this many steps. The check walks
+// a lifter surface for every disk in the liner band, about what the liner search costs; a
+// disk that deep stays there, so finding it up to 16 steps late changes only the step in
+// which it is removed.
+constexpr int kInsideLinerCheckInterval = 16;
+
 // A phase's steps between two calls of its stop check, in disk-steps: a quarter to half a
 // second of one core at any charge size, so a stop asked for in the settling of a million
 // disks is heard as soon as in a window of a thousand.

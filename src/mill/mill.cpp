@@ -116,6 +116,23 @@ Vec2 mill_to_local(Vec2 mill, int row, int rows, double radius_m) {
   return {radius_m * dtheta, radius_m - length(mill)};
 }
 
+bool deeper_than_liner_surface(const MillGeometry& mill, Vec2 p_mill, double depth_m) {
+  const int rows = mill.rows;
+  if (rows <= 0 || mill.units.empty()) return false;
+  const double pitch_angle = 2.0 * kPi / rows;
+  int row = static_cast<int>(std::lround(std::atan2(p_mill.y, p_mill.x) / pitch_angle));
+  row = ((row % rows) + rows) % rows;
+  const Vec2 local = mill_to_local(p_mill, row, rows, mill.radius_m);
+  const Polyline& surf = mill.units[mill.unit_of_row(row)].surface;
+  for (std::size_t e = 0; e + 1 < surf.size(); ++e) {
+    const Vec2 a = surf[e], b = surf[e + 1];
+    if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
+    const double y_surface = a.y + (b.y - a.y) * (local.x - a.x) / (b.x - a.x);
+    return local.y < y_surface - depth_m;
+  }
+  return false;
+}
+
 LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
                           const MillMeshDef& mesh) {
   if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");

@@ -60,6 +60,10 @@ struct MillMeshDef {
 // Map a lifter-local point of row k into the mill frame.
 Vec2 local_to_mill(Vec2 local, int row, int rows, double radius_m);
 Vec2 mill_to_local(Vec2 mill, int row, int rows, double radius_m);
+// Whether a point of the mill frame lies more than depth_m into the metal of its row's
+// liner unit: below the unit's surface at the point's position along the row (the engines'
+// test for a disk leaked into the liner).
+bool deeper_than_liner_surface(const MillGeometry& mill, Vec2 p_mill, double depth_m);
 
 // The liner unit of a new lifter: shell half-gaps either side of the lifter polyline.
 // Throws InputError if the lifter does not fit the pitch (touches its neighbours) or is

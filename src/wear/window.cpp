@@ -44,34 +44,9 @@ void accumulate_work(Accounting& total, const Accounting& part) {
     total = part;
     return;
   }
-  for (std::size_t e = 0; e < total.shear_work_J.size(); ++e) {
-    total.shear_work_J[e] += part.shear_work_J[e];
-    total.impact_energy_J[e] += part.impact_energy_J[e];
-    total.contacts[e] += part.contacts[e];
-  }
-  total.time_s += part.time_s;
-  total.steps += part.steps;
-  total.drive_work_J += part.drive_work_J;
-  total.torque_impulse_Nms += part.torque_impulse_Nms;
-  total.pp_normal_J += part.pp_normal_J;
-  total.pp_tangent_J += part.pp_tangent_J;
-  total.pl_normal_J += part.pl_normal_J;
-  total.pl_tangent_J += part.pl_tangent_J;
-  total.solver_position_J += part.solver_position_J;
+  for_each_sum(total, part, [](auto& x, const auto& y) { x += y; });
   total.kinetic_J_end = part.kinetic_J_end;
   total.potential_J_end = part.potential_J_end;
-  for (int k = 0; k < kSpectrumBins; ++k) {
-    total.spectrum_count[k] += part.spectrum_count[k];
-    total.spectrum_energy_J[k] += part.spectrum_energy_J[k];
-  }
-  total.mass_time_kg_s += part.mass_time_kg_s;
-  total.moment_time_kg_m_s += part.moment_time_kg_m_s;
-  for (int k = 0; k < kShapeAngleBins; ++k) total.shell_band_occupancy[k] += part.shell_band_occupancy[k];
-  total.shape_time_s += part.shape_time_s;
-  total.packed_shear_work_J += part.packed_shear_work_J;
-  total.packed_disk_steps += part.packed_disk_steps;
-  total.escaped += part.escaped;
-  total.non_finite += part.non_finite;
 }
 
 WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometry& mill,

@@ -304,7 +304,7 @@ void Box2DEngine::step_once() {
   }
   read_back();
   account_contacts();
-  if (accounting_.steps % 16 == 0) check_inside_liner();
+  if (accounting_.steps % kInsideLinerCheckInterval == 0) check_inside_liner();
   account_step(accounting_, state_, dt_, radius_m_, shape_band_m_ + band_m_);
   accounting_.kinetic_J_end = charge_kinetic_J(state_);
   accounting_.potential_J_end = charge_potential_J(state_, kGravity);
@@ -350,28 +350,15 @@ void Box2DEngine::read_back() {
 
 void Box2DEngine::check_inside_liner() {
   // A disk whose centre got into the liner metal has leaked through a one-sided edge.
-  const int rows = mill_.rows;
-  const double pitch_angle = 2.0 * kPi / rows;
   const double inner_sq = (radius_m_ - band_m_) * (radius_m_ - band_m_);
   for (std::size_t i = 0; i < state_.size(); ++i) {
     if (!state_.active[i]) continue;
     const Vec2 p = state_.position_m[i];
     if (length_sq(p) < inner_sq) continue;
     const Vec2 pm = rotated(p, -state_.mill_angle_rad);
-    double theta = std::atan2(pm.y, pm.x);
-    int row = static_cast<int>(std::lround(theta / pitch_angle));
-    row = ((row % rows) + rows) % rows;
-    const Vec2 local = mill_to_local(pm, row, rows, radius_m_);
-    const Polyline& surf = mill_.units[mill_.unit_of_row(row)].surface;
-    for (std::size_t k = 0; k + 1 < surf.size(); ++k) {
-      const Vec2 a = surf[k], b = surf[k + 1];
-      if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
-      const double y_surface = a.y + (b.y - a.y) * (local.x - a.x) / (b.x - a.x);
-      if (local.y < y_surface - 0.5 * state_.radius_m[i]) {
-        accounting_.escaped += 1;
-        remove_disk(i, "leaked into the liner");
-      }
-      break;
+    if (deeper_than_liner_surface(mill_, pm, kLostDepthRadii * state_.radius_m[i])) {
+      accounting_.escaped += 1;
+      remove_disk(i, "leaked into the liner");
     }
   }
 }

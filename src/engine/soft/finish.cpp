@@ -11,10 +11,6 @@ namespace millwear::soft {
 
 namespace {
 
-// A liner face contact keeps working while a disk's centre is up to half a radius past the
-// face line (liner_lookup.hpp): deeper than that, or as far past the farthest liner point,
-// the disk is lost to the liner.
-constexpr double kLostDepthRadii = 0.5;
 
 void remove_disk(Disks& disks, int i, const std::string& why, Report& report) {
   const auto k = static_cast<std::size_t>(i);
@@ -207,12 +203,7 @@ void advance_clock(const Model& model, ChargeState& charge) {
 
 void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disks,
                         Report report) {
-  const MillGeometry& mill = liner.mill;
-  const int rows = mill.rows;
-  if (rows <= 0 || mill.units.empty()) return;
-  const double radius = model.mill_radius_m;
-  const double pitch_angle = 2.0 * kPi / rows;
-  const double inner = radius - liner.band_m;
+  const double inner = model.mill_radius_m - liner.band_m;
   const double inner_sq = inner * inner;
   for (int i = 0; i < disks.n; ++i) {
     const auto k = static_cast<std::size_t>(i);
@@ -220,21 +211,9 @@ void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disk
     const Vec2 p{disks.x[k], disks.y[k]};
     if (length_sq(p) < inner_sq) continue;
     const Vec2 pm = rotated(p, -report.charge.mill_angle_rad);
-    const double theta = std::atan2(pm.y, pm.x);
-    int row = static_cast<int>(std::lround(theta / pitch_angle));
-    row = ((row % rows) + rows) % rows;
-    const Vec2 local = mill_to_local(pm, row, rows, radius);
-    const auto unit = mill.unit_of_row(row);
-    const Polyline& surf = mill.units[unit].surface;
-    for (std::size_t e = 0; e + 1 < surf.size(); ++e) {
-      const Vec2 a = surf[e], b = surf[e + 1];
-      if ((local.x - a.x) * (local.x - b.x) > 0.0 || a.x == b.x) continue;
-      const double y_surface = a.y + (b.y - a.y) * (local.x - a.x) / (b.x - a.x);
-      if (local.y < y_surface - kLostDepthRadii * disks.radius[k]) {
-        report.accounting.escaped += 1;
-        remove_disk(disks, i, "leaked into the liner", report);
-      }
-      break;
+    if (deeper_than_liner_surface(liner.mill, pm, kLostDepthRadii * disks.radius[k])) {
+      report.accounting.escaped += 1;
+      remove_disk(disks, i, "leaked into the liner", report);
     }
   }
 }

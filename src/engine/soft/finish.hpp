@@ -24,12 +24,6 @@
 
 namespace millwear::soft {
 
-// The inside-liner check runs every this many steps. It walks a lifter surface for every
-// disk in the liner band, about what the liner search costs; a disk deeper than the liner
-// contacts reach stays there, so finding it up to 16 steps late changes only the step in
-// which it is removed.
-constexpr int kInsideLinerCheckInterval = 16;
-
 // Where the ChargeState and the events of the engine are reported to.
 struct Report {
   ChargeState& charge;
