@@ -16,18 +16,14 @@
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "common/units.hpp"
+#include "io/csv.hpp"
 #include "study/tradeoff_study.hpp"
 
 namespace millwear::app {
 
 namespace {
 
-std::string fmt(double v, const char* f = "%.2f") {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(double v, const char* f = "%.2f") { return io::format_for_table(v, f); }
 
 int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
   const std::string& out = a.out;

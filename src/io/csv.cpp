@@ -24,6 +24,13 @@ std::string format_number(double v, int digits) {
 
 std::string format_exact(double v) { return format_number(v, 17); }
 
+std::string format_for_table(double v, const char* format) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
 std::string quote_field(const std::string& s) {
   if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
   std::string q = "\"";

@@ -45,6 +45,9 @@ struct CsvCell {
 std::string format_number(double v, int digits = 10);
 // Formats a double so that strtod returns the same value (%.17g).
 std::string format_exact(double v);
+// Formats a double for a table people read, with a printf format of one double ("%.2f");
+// a value that is not finite is written "-".
+std::string format_for_table(double v, const char* format);
 // Quotes a text field if it needs it (comma, quote, CR or LF inside).
 std::string quote_field(const std::string& s);
 

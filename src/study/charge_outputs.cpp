@@ -22,11 +22,7 @@ namespace millwear {
 
 namespace {
 
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string fmt(double v) { return io::format_number(v); }
 
 // The rows of charge_summary.csv on the flights from the lifters: their rate, their impact
 // power, and the shares of it above the toe and on the bare liner there, with batch-means

@@ -14,6 +14,7 @@
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
 #include "io/atomic_write.hpp"
+#include "io/csv.hpp"
 #include "plots/plots.hpp"
 #include "scene/limits.hpp"
 #include "wear/history.hpp"
@@ -87,11 +88,7 @@ void depth_statistics(Rule1Row& row, const Polyline& stations) {
   if (!stations.empty()) row.scatter_m = std::sqrt(var_sum / stations.size());
 }
 
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+std::string fmt(double v) { return io::format_number(v); }
 
 }  // namespace
 

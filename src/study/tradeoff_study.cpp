@@ -19,12 +19,7 @@ namespace millwear {
 
 namespace {
 
-std::string fmt(double v, const char* f = "%.2f") {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(double v, const char* f = "%.2f") { return io::format_for_table(v, f); }
 
 std::string markdown(const TradeoffReport& r) {
   const bool several = r.design_names.size() > 1;
