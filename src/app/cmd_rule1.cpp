@@ -41,10 +41,9 @@ int run_rule1(const Rule1Args& a) {
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
   // The histories run side by side on the cores; each step gets the cores they leave.
-  const int cores = step_threads(0);
   const int factors_given = a.factors.empty() ? 4 : static_cast<int>(a.factors.size());
-  const int at_once = std::min(a.jobs > 0 ? a.jobs : cores, factors_given * a.replicates);
-  scene.solver.threads = a.threads > 0 ? a.threads : std::max(1, cores / std::max(1, at_once));
+  const int at_once = std::min(a.jobs > 0 ? a.jobs : core_count(), factors_given * a.replicates);
+  scene.solver.threads = step_threads_beside(a.threads, at_once);
   scene.solver.threads_fit_size = a.threads == 0;
   check_scene(scene, a.scene);  // before anything is filled or written
   Rule1Options opt;

@@ -1,10 +1,9 @@
 #pragma once
 // --threads of the commands that run one design: the threads of its engine step. The
 // results do not depend on the count, bit for bit (docs/soft-solver.md, "Threads").
-#include <algorithm>
-#include <thread>
-
 #include <CLI/CLI.hpp>
+
+#include "common/parallel.hpp"
 
 namespace millwear::app {
 
@@ -16,8 +15,6 @@ inline void add_threads_option(CLI::App* cmd, int& threads) {
 }
 
 // 0 (not given): every core.
-inline int step_threads(int requested) {
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
+inline int step_threads(int requested) { return step_threads_beside(requested, 1); }
 
 }  // namespace millwear::app

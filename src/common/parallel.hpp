@@ -11,6 +11,16 @@
 
 namespace millwear {
 
+// The machine's cores (at least 1).
+inline int core_count() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
+
+// The threads of each engine step while `at_once` tasks run side by side: `requested` when
+// given (> 0), else the cores the tasks leave, at least 1 (the results are the same bits
+// for any count).
+inline int step_threads_beside(int requested, int at_once) {
+  return requested > 0 ? requested : std::max(1, core_count() / std::max(1, at_once));
+}
+
 // Calls fn(i) for every i in [0, n) on up to `jobs` threads, the caller one of them; each
 // index once, in any order. An exception stops the handing out of indices (the tasks under
 // way finish), and once every thread is done the one of the lowest index among those that

@@ -18,6 +18,7 @@
 #include <set>
 #include <thread>
 
+#include "common/parallel.hpp"
 #include "io/atomic_write.hpp"
 #include "io/run_folder.hpp"
 #include "screen/task.hpp"
@@ -76,10 +77,10 @@ int spawn_task(Pool& pool, const std::string& exe, const std::string& out, int i
 
 PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& designs, const std::vector<int>& todo,
                           int already_done, const PoolOptions& options) {
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   PoolOutcome outcome;
-  outcome.jobs = static_cast<int>(
-      std::max<std::size_t>(1, std::min<std::size_t>(options.jobs > 0 ? options.jobs : hw, todo.size())));
+  outcome.jobs = static_cast<int>(std::max<std::size_t>(
+      1, std::min<std::size_t>(options.jobs > 0 ? static_cast<std::size_t>(options.jobs) : static_cast<std::size_t>(core_count()),
+                               todo.size())));
   const std::string exe = options.exe.empty() ? self_executable() : options.exe;
   const std::string logs = io::join_path(out, "logs");
   io::ensure_dir(logs);

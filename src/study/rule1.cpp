@@ -182,8 +182,7 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
     report.rows[i].factor = factors[i];
     report.rows[i].replicates.resize(nrep);
   }
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for_each_index_parallel(factors.size() * nrep, options.jobs > 0 ? options.jobs : hw, [&](std::size_t j) {
+  for_each_index_parallel(factors.size() * nrep, options.jobs > 0 ? options.jobs : core_count(), [&](std::size_t j) {
     const std::size_t i = j / nrep, k = j % nrep;
     report.rows[i].replicates[k] = run_replicate(factor_scene(scene, factors[i], scene.solver.seed + j));
   });

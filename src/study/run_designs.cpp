@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "common/errors.hpp"
+#include "common/parallel.hpp"
 #include "io/atomic_write.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
@@ -441,10 +442,9 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     ctx.started_text = buf;
   }
   for (std::size_t i = 0; i < plan.designs.size(); ++i) ctx.designs.push_back(std::make_unique<DesignState>());
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-  ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : hw, plan.designs.size()));
-  // The cores the designs at once leave go to their steps (bit-identical for any count).
-  ctx.engine_threads = opt.threads > 0 ? opt.threads : std::max(1, static_cast<int>(hw) / std::max(1, ctx.jobs));
+  ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : core_count(), plan.designs.size()));
+  // The cores the designs at once leave go to their steps.
+  ctx.engine_threads = step_threads_beside(opt.threads, ctx.jobs);
   ctx.engine_threads_fit_size = opt.threads == 0;
 
   // One run per folder, for the whole run: a second one is refused here, before it reads

@@ -336,10 +336,9 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const std::vector<Scene> scenes = sweep_scenes(q, r.axis);  // every point checked; nothing written
   r.scene_name = scenes.front().name;
   const int n = static_cast<int>(scenes.size());
-  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
   const int reps = std::max(1, q.replicates);
   const int tasks = n * reps;
-  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : static_cast<int>(hw), tasks));
+  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : core_count(), tasks));
   const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 
