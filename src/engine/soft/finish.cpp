@@ -11,7 +11,6 @@ namespace millwear::soft {
 
 namespace {
 
-
 void remove_disk(Disks& disks, int i, const std::string& why, Report& report) {
   const auto k = static_cast<std::size_t>(i);
   disks.active[k] = 0;
