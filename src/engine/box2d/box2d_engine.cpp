@@ -19,8 +19,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
-#include <unordered_map>
+#include <vector>
 
 #include "common/errors.hpp"
 #include "geometry/simplify.hpp"
@@ -36,6 +37,77 @@ double seconds_since(Clock::time_point t0) {
 }
 
 bool finite(Vec2 v) { return std::isfinite(v.x) && std::isfinite(v.y); }
+
+// The energy each ongoing disk-disk collision has dissipated so far, by its Box2D contact:
+// open addressing with linear probing in one array kept at its high-water size, so adding
+// a step's loss (every acting contact, every step) and closing an event never allocate
+// once the table has grown to the charge's collisions. Erased slots keep a tombstone until
+// the next growth or clear.
+class EventEnergies {
+ public:
+  // Adds energy_J to contact c's event, opening it if it is new.
+  void add(const b2Contact* c, double energy_J) {
+    if (2 * (used_ + 1) > slots_.size()) grow();
+    std::size_t i = home(c), free = kNone;
+    for (;; i = (i + 1) & mask_) {
+      Slot& s = slots_[i];
+      if (s.key == c) { s.energy_J += energy_J; return; }
+      if (s.key == tombstone() && free == kNone) free = i;
+      if (s.key == nullptr) break;
+    }
+    if (free == kNone) { free = i; ++used_; }
+    slots_[free] = {c, energy_J};
+  }
+  // Closes contact c's event: its energy, or false when it had none.
+  bool take(const b2Contact* c, double& energy_J) {
+    if (slots_.empty()) return false;
+    for (std::size_t i = home(c);; i = (i + 1) & mask_) {
+      Slot& s = slots_[i];
+      if (s.key == nullptr) return false;
+      if (s.key == c) {
+        energy_J = s.energy_J;
+        s.key = tombstone();
+        return true;
+      }
+    }
+  }
+  void clear() {
+    std::fill(slots_.begin(), slots_.end(), Slot{});
+    used_ = 0;
+  }
+
+ private:
+  struct Slot {
+    const b2Contact* key = nullptr;
+    double energy_J = 0.0;
+  };
+  static constexpr std::size_t kNone = ~std::size_t{0};
+  static const b2Contact* tombstone() { return reinterpret_cast<const b2Contact*>(alignof(b2Contact)); }
+  // Fibonacci hashing: the product's high bits, which every bit of the address moves.
+  std::size_t home(const b2Contact* c) const {
+    return static_cast<std::size_t>((static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(c)) *
+                                     0x9E3779B97F4A7C15ull) >> shift_);
+  }
+  // Twice the slots, or the same number without the tombstones when they are most of it.
+  void grow() {
+    std::size_t live = 0;
+    for (const Slot& s : slots_) live += s.key != nullptr && s.key != tombstone();
+    std::vector<Slot> old;
+    old.swap(slots_);
+    std::size_t size = std::max<std::size_t>(64, old.size());
+    while (4 * (live + 1) > size) size *= 2;
+    slots_.assign(size, Slot{});
+    mask_ = size - 1;
+    shift_ = 64;
+    for (std::size_t s = size; s > 1; s >>= 1) --shift_;
+    used_ = 0;
+    for (const Slot& s : old)
+      if (s.key != nullptr && s.key != tombstone()) add(s.key, s.energy_J);
+  }
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0, used_ = 0;  // used_: slots live or tombstoned
+  int shift_ = 64;                   // 64 - log2(slots)
+};
 
 class Box2DEngine;
 
@@ -110,7 +182,7 @@ class Box2DEngine final : public Engine {
   std::vector<double> spin_before_;
   std::vector<Vec2> position_before_;
   std::vector<float> friction_liner_, restitution_liner_;
-  std::unordered_map<const b2Contact*, double> event_energy_J_;
+  EventEnergies event_energy_J_;
 };
 
 void Listener::BeginContact(b2Contact* contact) { owner_->on_begin(contact); }
@@ -270,10 +342,8 @@ void Box2DEngine::on_begin(b2Contact* c) {
 
 void Box2DEngine::on_end(b2Contact* c) {
   if (!accounting_.options.collision_spectrum) return;
-  auto it = event_energy_J_.find(c);
-  if (it == event_energy_J_.end()) return;
-  account_collision_event(accounting_, it->second);
-  event_energy_J_.erase(it);
+  double energy_J = 0.0;
+  if (event_energy_J_.take(c, energy_J)) account_collision_event(accounting_, energy_J);
 }
 
 void Box2DEngine::step(int n) {
@@ -447,7 +517,7 @@ void Box2DEngine::account_contacts() {
       if (spectrum && !liner) {
         const double loss = -rec.normal_impulse * 0.5 * (rec.vn_before + rec.vn_after) -
                             rec.tangent_impulse * 0.5 * (rec.vt_before + rec.vt_after);
-        event_energy_J_[c] += loss;
+        event_energy_J_.add(c, loss);
       }
     }
   }
