@@ -26,10 +26,6 @@ namespace millwear::app {
 
 namespace {
 
-// The share of the drive's power that may go into the charge's energy in a window still
-// called steady (at 75% of critical the lab mill's is 0.1% over 8 revolutions).
-constexpr double kSteadyEnergyShare = 0.1;
-
 struct ChargeArgs {
   std::string scene;
   std::string out;
@@ -64,9 +60,7 @@ int run_charge(const ChargeArgs& args) {
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
   std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.4g kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
-  // The window is a steady state when the drive's power goes into dissipation, not into the
-  // charge's kinetic and potential energy (rule 2: long enough for the figures to settle).
-  const double into_energy = f.summary.power_W != 0.0 ? f.summary.kinetic_change_W / f.summary.power_W : 0.0;
+  const double into_energy = energy_share_of_power(f.summary);
   if (std::fabs(into_energy) > kSteadyEnergyShare)
     std::cerr << "millwear: warning: the charge was not steady in the window: " << std::lround(100.0 * into_energy)
               << "% of the drive's power went into its kinetic and potential energy; spin it up longer "

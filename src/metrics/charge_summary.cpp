@@ -40,6 +40,10 @@ double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) 
 
 }  // namespace
 
+double energy_share_of_power(const ChargeSummary& s) {
+  return s.power_W != 0.0 ? s.kinetic_change_W / s.power_W : 0.0;
+}
+
 ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2) {
   ChargeSummary s;
   s.time_s = acc.time_s;

@@ -61,6 +61,13 @@ struct ChargeFigures {
 
 ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double omega_rad_s);
 
+// The share of the drive's power that went into the charge's kinetic and potential energy
+// over the window (0 when the drive did no work). A steady window puts the power into
+// dissipation (rule 2: long enough for the figures to settle); at 75% of critical the lab
+// mill's share is 0.1% over 8 revolutions, and a window past kSteadyEnergyShare is not steady.
+double energy_share_of_power(const ChargeSummary& s);
+constexpr double kSteadyEnergyShare = 0.1;
+
 // Batch-means standard errors of a window's figures: the spread of the figures of its batches
 // (each a stretch of the window measured on its own). The batches are taken as independent,
 // so these are lower bounds on the error of a correlated series. NaN with fewer than two
