@@ -367,15 +367,7 @@ TEST(LibraryEngine, SagPowerIsWithinThirtyPercentOfMorrell) {
   const ChargeRunResult r = run_charge_only(scene);
   ASSERT_EQ(r.figures.summary.escaped, 0);
   // Morrell's C-model with the 2D bed's own bulk density (mass per metre over J * area).
-  const double area = kPi * scene.radius_m() * scene.radius_m();
-  const double mass_per_m = r.figures.summary.mass_kg / scene.slice_thickness();
-  MorrellInput in;
-  in.diameter_m = scene.mill.diameter_m;
-  in.length_m = 1.0;
-  in.filling = scene.charge.filling;
-  in.speed_fraction = scene.mill.speed_fraction_critical;
-  in.charge_density_t_m3 = mass_per_m / (scene.charge.filling * area) / 1000.0;
-  const MorrellResult m = morrell_power(in);
+  const MorrellResult m = morrell_estimate(scene, r.figures.summary);
   const double tolerance = 0.30;
   EXPECT_NEAR(r.figures.power_kW_per_m / m.net_power_kW, 1.0, tolerance)
       << "engine " << r.figures.power_kW_per_m << " kW/m, Morrell " << m.net_power_kW << " kW/m";
@@ -650,6 +642,24 @@ TEST(LinerLookup, ADiskInAPocketOfFineEdgesFindsEveryEdgeWithinReach) {
   EXPECT_GE(n, pocket_edges);
   EXPECT_LE(n, lookup.max_hits());
   EXPECT_TRUE(std::is_sorted(found.begin(), found.end()));
+}
+
+// The charge's Morrell estimate takes the bed's bulk density from its mass: the C-model's
+// power is proportional to the density, so twice the mass per slice gives twice the power,
+// with the same toe and shoulder; at critical speed and above there is none.
+TEST(PowerModels, TheChargesMorrellEstimateFollowsItsBedsMassBelowCriticalSpeed) {
+  Scene scene = testing::lab_mill();
+  ChargeSummary s;
+  s.mass_kg = 0.5;
+  const MorrellResult one = morrell_estimate(scene, s);
+  s.mass_kg = 1.0;
+  const MorrellResult two = morrell_estimate(scene, s);
+  ASSERT_GT(one.net_power_kW, 0.0);
+  EXPECT_NEAR(two.net_power_kW, 2.0 * one.net_power_kW, 1e-12 * two.net_power_kW);
+  EXPECT_EQ(two.toe_deg_from_bottom, one.toe_deg_from_bottom);
+  EXPECT_EQ(two.shoulder_deg_from_bottom, one.shoulder_deg_from_bottom);
+  scene.mill.speed_fraction_critical = 1.0;
+  EXPECT_TRUE(std::isnan(morrell_estimate(scene, s).net_power_kW));
 }
 
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {

@@ -60,6 +60,12 @@ int run_charge(const ChargeArgs& args) {
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
   std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.4g kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
+  const MorrellResult morrell = morrell_estimate(scene, f.summary);
+  if (std::isfinite(morrell.net_power_kW))
+    std::printf("  Morrell      %10.4g kW/m   toe %.0f deg, shoulder %.0f deg (C-model, dry, this bed's density)\n",
+                morrell.net_power_kW, morrell.toe_deg_from_bottom, morrell.shoulder_deg_from_bottom);
+  else
+    std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
   const double into_energy = energy_share_of_power(f.summary);
   if (std::fabs(into_energy) > kSteadyEnergyShare)
     std::cerr << "millwear: warning: the charge was not steady in the window: " << std::lround(100.0 * into_energy)

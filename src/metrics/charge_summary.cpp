@@ -40,6 +40,21 @@ double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) 
 
 }  // namespace
 
+MorrellResult morrell_estimate(const Scene& scene, const ChargeSummary& s) {
+  if (!(scene.mill.speed_fraction_critical < 1.0)) {
+    const double nan = std::nan("");
+    return {nan, nan, nan, nan, nan};
+  }
+  const double area_m2 = kPi * scene.radius_m() * scene.radius_m();
+  MorrellInput in;
+  in.diameter_m = scene.mill.diameter_m;
+  in.length_m = 1.0;
+  in.filling = scene.charge.filling;
+  in.speed_fraction = scene.mill.speed_fraction_critical;
+  in.charge_density_t_m3 = s.mass_kg / scene.slice_thickness() / (scene.charge.filling * area_m2) / 1000.0;
+  return morrell_power(in);
+}
+
 double energy_share_of_power(const ChargeSummary& s) {
   return s.power_W != 0.0 ? s.kinetic_change_W / s.power_W : 0.0;
 }

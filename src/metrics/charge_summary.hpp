@@ -20,6 +20,7 @@
 
 #include "engine/accounting.hpp"
 #include "geometry/vec2.hpp"
+#include "metrics/power_models.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear {
@@ -67,6 +68,14 @@ ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double o
 // mill's share is 0.1% over 8 revolutions, and a window past kSteadyEnergyShare is not steady.
 double energy_share_of_power(const ChargeSummary& s);
 constexpr double kSteadyEnergyShare = 0.1;
+
+// Morrell's C-model (power_models.hpp) for the scene's mill and speed, per metre of mill
+// length, at the charge's own filling and with the bulk density of the measured bed: its
+// mass per metre over the filled area. An analytic check on a window's power and on its toe
+// and shoulder; the 2D bed packs denser than a 3D charge, so the density is the slice's.
+// The model's toe and shoulder are fits to mills turning below critical speed: at or above it
+// there is no estimate (every field NaN).
+MorrellResult morrell_estimate(const Scene& scene, const ChargeSummary& s);
 
 // Batch-means standard errors of a window's figures: the spread of the figures of its batches
 // (each a stretch of the window measured on its own). The batches are taken as independent,
