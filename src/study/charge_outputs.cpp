@@ -29,7 +29,7 @@ std::string fmt(double v) { return io::format_number(v); }
 std::string morrell_rows(const Scene& scene, const ChargeSummary& s) {
   const MorrellResult m = morrell_estimate(scene, s);
   std::ostringstream rows;
-  rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model, dry, this bed's bulk density)\n"
+  rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model; dry; this bed's bulk density)\n"
        << "morrell_toe_angle," << fmt(m.toe_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
        << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n";
   return rows.str();
