@@ -37,11 +37,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/workers.hpp"
 #include "probe_scene.hpp"
 #include "scene/scene.hpp"
+#include "study/charge_run.hpp"
 
 using namespace millwear;
 

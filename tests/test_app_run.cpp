@@ -27,8 +27,8 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_outputs.hpp"
 #include "scene/scene.hpp"
+#include "study/run_outputs.hpp"
 
 namespace fs = std::filesystem;
 
@@ -192,7 +192,7 @@ TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
 
 TEST_F(AppRun, SettingsChangesNameTheOtherBackendsSettings) {
   const std::string scene = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml";
-  const auto changes = millwear::io::settings_changes(
+  const auto changes = millwear::study::settings_changes(
       full_.string(), "lab-mill", millwear::load_scene(scene, {"solver.backend=box2d"}));
   const auto has = [&](const std::string& head) {
     return std::any_of(changes.begin(), changes.end(),

@@ -7,13 +7,13 @@
 #include <string>
 
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/colour_solve.hpp"
 #include "engine/soft/liner_lookup.hpp"
 #include "engine_fixtures.hpp"
 #include "metrics/power_models.hpp"
 #include "scene/fidelity.hpp"
+#include "study/charge_run.hpp"
 
 namespace millwear {
 namespace {

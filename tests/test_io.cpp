@@ -15,9 +15,9 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
-#include "io/run_outputs.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
+#include "study/run_outputs.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;

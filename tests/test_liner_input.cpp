@@ -23,7 +23,7 @@
 #include "engine_fixtures.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
-#include "io/stage_files.hpp"
+#include "study/stage_files.hpp"
 #include "wear/wear.hpp"
 
 namespace fs = std::filesystem;
@@ -375,7 +375,7 @@ TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
 
   // Round trip: each stage profile as a scene's profile gives the stage's metrics (0.1%).
   for (const StageRecord& rec : h.stages) {
-    io::write_profile_csv(dir.path().string(), "trip", rec);
+    study::write_profile_csv(dir.path().string(), "trip", rec);
     const std::string csv = io::profile_path(dir.path().string(), "trip", rec.stage);
     const Scene again = load_scene(
         dir.file("again.toml", lab_scene_text("rows = 12\nprofile = \"" + csv + "\"", "", 1)));

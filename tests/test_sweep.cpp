@@ -11,9 +11,9 @@
 
 #include "cli_support.hpp"
 #include "common/errors.hpp"
-#include "engine/charge_run.hpp"
 #include "io/csv.hpp"
 #include "scene/scene.hpp"
+#include "study/charge_run.hpp"
 #include "study/sweep.hpp"
 
 namespace fs = std::filesystem;

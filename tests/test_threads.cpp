@@ -9,10 +9,10 @@
 
 #include "../bench/probe_scene.hpp"
 #include "common/parallel.hpp"
-#include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/workers.hpp"
 #include "engine_fixtures.hpp"
+#include "study/charge_run.hpp"
 
 using namespace millwear;
 

@@ -12,10 +12,10 @@
 
 #include "cli_support.hpp"
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
 #include "engine_fixtures.hpp"
 #include "io/csv.hpp"
 #include "metrics/trajectories.hpp"
+#include "study/charge_run.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;

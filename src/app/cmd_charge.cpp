@@ -7,20 +7,20 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/number_checks.hpp"
-#include "app/threads_option.hpp"
 #include "app/commands.hpp"
-#include "app/set_option.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
-#include "engine/charge_run.hpp"
-#include "plots/plots.hpp"
-#include "study/charge_outputs.hpp"
+#include "app/set_option.hpp"
+#include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
 #include "metrics/trajectories.hpp"
+#include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/reshape.hpp"
 #include "scene/scene.hpp"
+#include "study/charge_outputs.hpp"
+#include "study/charge_run.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::app {
 

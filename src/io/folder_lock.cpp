@@ -17,7 +17,7 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_outputs.hpp"
+#include "io/run_folder.hpp"
 
 namespace millwear::io {
 

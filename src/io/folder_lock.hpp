@@ -44,7 +44,7 @@ class FolderLock {
   // takes its lock. Throws InputError(folder, "", ...) naming the holder's pid if another
   // process holds it, RunError if the lock file cannot be made. With a command (a command
   // other than `run`, which tells its own runs apart): also refuses a folder holding another
-  // command's results (run_outputs.hpp's check_folder_not_taken), under the lock, and marks
+  // command's results (run_folder.hpp's check_folder_not_taken), under the lock, and marks
   // the folder as this command's (mark_folder). On release, a mark with nothing written
   // beside it is removed.
   explicit FolderLock(const std::string& folder, const char* command = nullptr);

@@ -11,12 +11,15 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 
 namespace millwear::io {
 
 namespace fs = std::filesystem;
+using Json = nlohmann::json;
 
 // ---- paths ----
 
@@ -206,5 +209,70 @@ int last_finished_stage(const std::string& out, const std::string& design) {
 
 // ---- JSON ----
 
+// ---- the folder's owner ----
+
+std::vector<std::string> manifest_files(const std::string& out) {
+  const std::string path = manifest_path(out);
+  if (!file_exists(path)) return {};
+  std::vector<std::string> files;
+  try {
+    const Json m = Json::parse(read_file(path));
+    if (m.is_object() && m.contains("files") && m["files"].is_array())
+      for (const auto& f : m["files"])
+        if (f.is_string()) files.push_back(f.get<std::string>());
+  } catch (const std::exception&) {
+    return {};
+  }
+  return files;
+}
+
+std::string folder_mark_path(const std::string& out) { return join_path(out, ".millwear-results"); }
+
+namespace {
+
+// The mark's command, or "" when there is no mark or it does not read (then the folder's
+// files tell).
+std::string marked_command(const std::string& out) {
+  const std::string path = folder_mark_path(out);
+  if (!file_exists(path)) return "";
+  try {
+    return find_value(read_key_values(path), "command", "");
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace
+
+void mark_folder(const std::string& out, const std::string& command) {
+  if (marked_command(out) == command) return;
+  write_file_atomic(folder_mark_path(out),
+                    format_key_values({{"command", command}}, "millwear: the command whose results this folder holds"));
+}
+
+std::string folder_results_command(const std::string& out) {
+  const std::string marked = marked_command(out);
+  if (!marked.empty()) return marked;
+  const std::string path = manifest_path(out);
+  if (file_exists(path)) {
+    try {
+      const Json m = Json::parse(read_file(path));
+      if (m.is_object() && m.contains("command") && m["command"].is_string()) return m["command"].get<std::string>();
+    } catch (const std::exception&) {
+    }
+    return "run";
+  }
+  if (file_exists(run_key_path(out))) return "run";
+  // charge writes no manifest; its summary is its alone.
+  return file_exists(join_path(out, "charge_summary.csv")) ? "charge" : "";
+}
+
+void check_folder_not_taken(const std::string& out, const std::string& command) {
+  const std::string holds = folder_results_command(out);
+  if (holds.empty() || holds == command) return;
+  throw InputError(out, "-o",
+                   "a folder that is new or holds results of `millwear " + command + "`, but it holds those of `millwear " +
+                       holds + "`, which this command would partly overwrite: use another folder");
+}
 
 }  // namespace millwear::io

@@ -8,11 +8,6 @@
 
 namespace millwear {
 
-// A measuring window's batches: at least kWindowBatches (the smallest count whose batch means
-// give a usable error), extended up to kMaxWindowBatches while the error misses its target.
-constexpr int kWindowBatches = 4;
-constexpr int kMaxWindowBatches = 16;
-
 struct BatchMeans {
   double mean = 0.0;
   double rel_sem = 0.0;  // standard error of the mean / mean (0 for n < 2 or mean <= 0)

@@ -10,7 +10,6 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "geometry/polyline.hpp"
-#include "metrics/batch_means.hpp"
 #include "scene/filling.hpp"
 
 namespace millwear {

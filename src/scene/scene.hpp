@@ -104,6 +104,12 @@ struct SolverDef {
 enum class WearMode { Staged, Continuous };
 enum class WearRateSource { Given, AreaLossRate, HeightLossRate };
 
+// A measuring window's batches: at least kWindowBatches (the smallest count whose batch means
+// give a usable error), extended up to kMaxWindowBatches while the error misses its target
+// (WearDef::target_rel_uncertainty; metrics/batch_means.hpp gives the error).
+constexpr int kWindowBatches = 4;
+constexpr int kMaxWindowBatches = 16;
+
 struct WearDef {
   WearMode mode = WearMode::Staged;
   WearRateSource rate_source = WearRateSource::Given;

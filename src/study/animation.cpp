@@ -14,15 +14,15 @@
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
 #include "engine/engine.hpp"
 #include "io/atomic_write.hpp"
 #include "io/run_folder.hpp"
-#include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/reshape.hpp"
 #include "scene/scene.hpp"
+#include "study/charge_run.hpp"
+#include "study/stage_files.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::study {
 
@@ -80,8 +80,8 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
                          scene.name + "_stage0.done in " + io::stages_dir(history) + ")");
   std::vector<Segment> segments;
   for (int k = 0; k <= last; ++k) {
-    StageRecord rec = io::read_stage_state(history, scene.name, k);
-    io::check_stage_of_scene(rec, scene, history, "--history");
+    StageRecord rec = study::read_stage_state(history, scene.name, k);
+    study::check_stage_of_scene(rec, scene, history, "--history");
     if (rec.units.empty() || rec.edge_wear_rate_m_per_s.empty()) continue;  // worn-out marker
     Segment s;
     s.mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);

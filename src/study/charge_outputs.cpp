@@ -11,10 +11,10 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
-#include "io/stage_files.hpp"
 #include "metrics/batch_means.hpp"
 #include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
+#include "study/stage_files.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/archard.hpp"
 
@@ -216,12 +216,12 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     // The charge and the liner at the window's end, in the world frame; the liner coloured by
     // the shear power it took over the window.
     const ChargeState& st = r.final_state;
-    io::write_snapshot_table(io::snapshot_path(out, scene.name), st, scene.charge.species);
+    study::write_snapshot_table(io::snapshot_path(out, scene.name), st, scene.charge.species);
     std::vector<double> shear(n);
     for (std::size_t e = 0; e < n && e < r.accounting.shear_work_J.size(); ++e)
       shear[e] = r.accounting.shear_work_J[e] / s.time_s / (r.mill.edge_length_m[e] * t);
-    io::write_liner_table(io::liner_path(out, scene.name), r.mill, st.mill_angle_rad, "shear_power_W_per_m2", shear,
-                          0, 0.0, io::snapshot_marks(s, st.mill_speed_rad_s));
+    study::write_liner_table(io::liner_path(out, scene.name), r.mill, st.mill_angle_rad, "shear_power_W_per_m2", shear,
+                          0, 0.0, study::snapshot_marks(s, st.mill_speed_rad_s));
   }
 }
 

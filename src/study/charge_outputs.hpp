@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/charge_run.hpp"
 #include "scene/scene.hpp"
+#include "study/charge_run.hpp"
 
 namespace millwear {
 

@@ -12,13 +12,13 @@
 
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
-#include "io/hash.hpp"
 #include "io/folder_lock.hpp"
+#include "io/hash.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_outputs.hpp"
-#include "io/stage_files.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
+#include "study/run_outputs.hpp"
+#include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
 
 namespace millwear::study {
@@ -182,10 +182,10 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                        "more stages than the one the run continues from (" + std::to_string(k) + ")");
     d.continue_run = run;
     d.continue_stage = k;
-    d.continue_hours = io::read_stage_state(run, d.name, k).hours;
+    d.continue_hours = study::read_stage_state(run, d.name, k).hours;
     // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
-    d.changes = io::settings_changes(run, d.name, d.scene);
+    d.changes = study::settings_changes(run, d.name, d.scene);
     // The liner goes on from the run's stage as it is: a mill of another size or other lifters
     // would wear a liner that does not fit it.
     // (The manifest's name of the setting, and the scene's key.)

@@ -14,10 +14,10 @@
 #include "io/atomic_write.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_outputs.hpp"
-#include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "study/design_estimates.hpp"
+#include "study/run_outputs.hpp"
+#include "study/stage_files.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/life.hpp"
 
@@ -134,8 +134,8 @@ RunEstimates run_estimates(const RunState& state) {
 namespace {
 
 // The run's plain report for the table writers. Caller holds the mutex.
-io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_write) {
-  io::RunReport r;
+study::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_write) {
+  study::RunReport r;
   r.out = opt.out;
   r.program_version = MILLWEAR_VERSION;
   r.program_commit = opt.commit;
@@ -150,7 +150,7 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
   for (std::size_t i = 0; i < ctx.plan.designs.size(); ++i) {
     const DesignInput& d = ctx.plan.designs[i];
     const DesignState& st = *ctx.designs[i];
-    io::DesignReport dr;
+    study::DesignReport dr;
     dr.name = d.name;
     dr.design = d.design;
     dr.replicate = d.replicate;
@@ -189,19 +189,19 @@ io::RunReport report_of(const RunState& ctx, const RunOptions& opt, bool final_w
 void write_tables(RunState& ctx, const RunOptions& opt, bool final_write) {
   note(ctx, opt.out, io::summary_path(opt.out));
   note(ctx, opt.out, io::spectrum_path(opt.out));
-  io::RunReport r = report_of(ctx, opt, final_write);
-  io::write_summary(r);
-  io::write_kinds(r);
-  io::write_replicates(r);
-  io::write_verdicts(r);
-  for (const std::string& path : {io::kinds_path(opt.out), io::replicates_path(opt.out), io::verdicts_path(opt.out)}) {
+  study::RunReport r = report_of(ctx, opt, final_write);
+  study::write_summary(r);
+  study::write_kinds(r);
+  study::write_replicates(r);
+  study::write_verdicts(r);
+  for (const std::string& path : {study::kinds_path(opt.out), study::replicates_path(opt.out), study::verdicts_path(opt.out)}) {
     if (!io::file_exists(path)) continue;
     note(ctx, opt.out, path);
     const std::string rel = io::relative_to(opt.out, path);
     if (std::find(r.files.begin(), r.files.end(), rel) == r.files.end()) r.files.push_back(rel);
   }
-  io::write_spectrum(r);
-  io::write_manifest(r);
+  study::write_spectrum(r);
+  study::write_manifest(r);
 }
 
 // One finished stage of design i: persist it (unless it was read back from disk), then
@@ -210,10 +210,10 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   const DesignInput& d = ctx.plan.designs[i];
   DesignState& st = *ctx.designs[i];
   const std::string& out = opt.out;
-  io::write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
+  study::write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
   // Stages read back from OUT are on disk; those of the run --continue names are copied.
   if (rec.stage > st.resumed_up_to || rec.stage <= st.copied_up_to)
-    io::write_stage_state(out, d.name, rec);  // then the marker
+    study::write_stage_state(out, d.name, rec);  // then the marker
   bool latest;
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
@@ -223,8 +223,8 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   }
   // The snapshot and liner files show the latest stage (only this thread writes them).
   if (latest) {
-    io::write_snapshot_csv(out, d.name, d.scene, rec);
-    io::write_liner_csv(out, d.name, d.scene, rec);
+    study::write_snapshot_csv(out, d.name, d.scene, rec);
+    study::write_liner_csv(out, d.name, d.scene, rec);
   }
   // ParaView files of the stage's measuring window (a stage read back from disk has none).
   std::vector<std::string> vtk_files;
@@ -235,7 +235,7 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
                                  mill, rec.frames, fields);
   }
   StageRecord light = light_copy(rec);
-  const std::vector<std::string> state_files = io::stage_state_files(out, d.name, rec.stage);
+  const std::vector<std::string> state_files = study::stage_state_files(out, d.name, rec.stage);
   std::lock_guard<std::mutex> lock(ctx.mutex);
   note(ctx, out, io::profile_path(out, d.name, rec.stage));
   for (const auto& f : state_files) note(ctx, out, f);
@@ -394,7 +394,7 @@ void clear_other_run(const std::string& out) {
       for (const auto& [k, v] : io::read_key_values(key)) {
         if (k.compare(0, 7, "design.") != 0 || !io::is_valid_design_name(k.substr(7))) continue;
         const std::string n = k.substr(7);
-        io::remove_stage_state(out, n);
+        study::remove_stage_state(out, n);
         files.push_back(io::relative_to(out, io::snapshot_path(out, n)));
         files.push_back(io::relative_to(out, io::liner_path(out, n)));
       }
@@ -480,7 +480,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   if (resuming) {
     for (std::size_t i = 0; i < plan.designs.size(); ++i) {
       const int k = std::min(io::last_finished_stage(out, plan.designs[i].name), plan.designs[i].scene.wear.stages);
-      for (int s = 0; s <= k; ++s) resume[i].push_back(io::read_stage_state(out, plan.designs[i].name, s));
+      for (int s = 0; s <= k; ++s) resume[i].push_back(study::read_stage_state(out, plan.designs[i].name, s));
       ctx.designs[i]->resumed_up_to = k;
     }
   }
@@ -491,7 +491,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     for (std::size_t i = 0; i < plan.designs.size(); ++i) {
       const DesignInput& d = plan.designs[i];
       if (d.continue_run.empty()) continue;
-      for (int s = 0; s <= d.continue_stage; ++s) resume[i].push_back(io::read_stage_state(d.continue_run, d.name, s));
+      for (int s = 0; s <= d.continue_stage; ++s) resume[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
       ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
     }
 
@@ -502,7 +502,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     io::remove_stale_temps(dir);
   if (!resuming) {
     for (const auto& d : plan.designs) {
-      io::remove_stage_state(out, d.name);
+      study::remove_stage_state(out, d.name);
       std::error_code ec;
       fs::remove(io::snapshot_path(out, d.name), ec);
       fs::remove(io::liner_path(out, d.name), ec);
@@ -510,9 +510,9 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     std::error_code ec;
     fs::remove(io::summary_path(out), ec);
     fs::remove(io::spectrum_path(out), ec);
-    fs::remove(io::kinds_path(out), ec);
-    fs::remove(io::replicates_path(out), ec);
-    fs::remove(io::verdicts_path(out), ec);
+    fs::remove(study::kinds_path(out), ec);
+    fs::remove(study::replicates_path(out), ec);
+    fs::remove(study::verdicts_path(out), ec);
   }
   io::write_file_atomic(io::run_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
   ctx.written.insert(io::relative_to(out, io::run_key_path(out)));
@@ -582,7 +582,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     std::lock_guard<std::mutex> lock(ctx.mutex);
     for (const auto& f : figures) note(ctx, out, f);
     for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
-    io::write_manifest(report_of(ctx, opt, true));
+    study::write_manifest(report_of(ctx, opt, true));
   }
   if (!interrupted && opt.stop_signal && opt.stop_signal->load() != 0) {
     // Stopped while the figures were drawn (Ctrl-C reaches gnuplot too): an interruption, not

@@ -16,7 +16,6 @@
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
@@ -28,6 +27,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 #include "study/charge_outputs.hpp"
+#include "study/charge_run.hpp"
 #include "wear/reshape.hpp"
 
 #ifndef MILLWEAR_VERSION

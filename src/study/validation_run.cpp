@@ -11,10 +11,10 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_outputs.hpp"
-#include "io/stage_files.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/run_outputs.hpp"
+#include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
 
 namespace millwear::validation {
@@ -33,7 +33,7 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
                        "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
     // The run's figures stand for the scene only if the run was of the scene as given now
     // (its --set and --fidelity included).
-    const std::vector<std::string> changes = io::settings_changes(a.from, scene.name, scene);
+    const std::vector<std::string> changes = study::settings_changes(a.from, scene.name, scene);
     if (!changes.empty()) {
       std::string listed;
       for (const std::string& c : changes) listed += (listed.empty() ? "" : "; ") + c;
@@ -55,8 +55,8 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateReques
   if (src.from_run) {
     std::vector<StageRecord> stages;
     for (int s = 0; s <= src.last_stage; ++s) {
-      stages.push_back(io::read_stage_state(a.from, scene.name, s));
-      io::check_stage_of_scene(stages.back(), scene, a.from, "--from");
+      stages.push_back(study::read_stage_state(a.from, scene.name, s));
+      study::check_stage_of_scene(stages.back(), scene, a.from, "--from");
     }
     src.reached_hours = stages.back().hours;
     const std::vector<double> hours = measured.hours();
@@ -118,8 +118,8 @@ void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::
                    c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct});
     o.profiles.push_back(c);
     // The simulated lifter region: the measured span, or the lifter and its feet.
-    const double xa = std::min(v.profile_m.front().x, -io::kProfileMargin * half_base);
-    const double xb = std::max(v.profile_m.back().x, io::kProfileMargin * half_base);
+    const double xa = std::min(v.profile_m.front().x, -study::kProfileMargin * half_base);
+    const double xb = std::max(v.profile_m.back().x, study::kProfileMargin * half_base);
     Survey s;
     s.hours = v.hours;
     for (const Vec2& p : sim)

@@ -14,12 +14,12 @@
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
 #include "io/atomic_write.hpp"
-#include "io/stage_files.hpp"
 #include "metrics/batch_means.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
+#include "study/charge_run.hpp"
+#include "study/stage_files.hpp"
 #include "view/charge_edit.hpp"
 #include "wear/reshape.hpp"
 
@@ -450,7 +450,7 @@ void LiveMill::take_wear_result() {
 void LiveMill::write_wear_profiles(const std::string& out) const {
   std::lock_guard<std::mutex> lock(wear_mutex_);
   if (wear_records_.empty() || wear_.running) throw RunError("no finished wear history to write");
-  for (const StageRecord& rec : wear_records_) io::write_profile_csv(out, scene_.name, rec);
+  for (const StageRecord& rec : wear_records_) study::write_profile_csv(out, scene_.name, rec);
 }
 
 }  // namespace millwear::view

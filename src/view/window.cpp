@@ -17,10 +17,10 @@
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
-#include "engine/charge_run.hpp"
+#include "study/charge_run.hpp"
+#include "view/live_mill.hpp"
 #include "view/png.hpp"
 #include "view/script.hpp"
-#include "view/live_mill.hpp"
 #include "view/view.hpp"
 
 namespace millwear::view {

@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/charge_run.hpp"
+#include "engine/charge.hpp"
+#include "metrics/charge_summary.hpp"
 #include "mill/mill.hpp"
 #include "scene/scene.hpp"
 

@@ -1,4 +1,4 @@
-#include "engine/charge_run.hpp"
+#include "study/charge_run.hpp"
 
 #include <algorithm>
 #include <chrono>

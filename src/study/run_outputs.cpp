@@ -1,5 +1,5 @@
 // summary.csv, spectrum.csv and manifest.json from a run's report.
-#include "io/run_outputs.hpp"
+#include "study/run_outputs.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -14,7 +14,7 @@
 #include "io/run_folder.hpp"
 #include "metrics/charge_summary.hpp"
 
-namespace millwear::io {
+namespace millwear::study {
 
 namespace {
 
@@ -143,18 +143,18 @@ std::vector<std::string> summary_header(bool histories) {
 }
 
 // Kind k's cells of one stage row of `d` (empty where the design has no kind k).
-void add_kind_cells(std::vector<CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
+void add_kind_cells(std::vector<io::CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
                     std::size_t k);
 
 // The estimates' rows; `reference` normalises the *_norm columns; `scene` names the kinds
 // of the kindK_ columns.
-void add_rows(CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history,
+void add_rows(io::CsvTable& t, const DesignEstimate& d, const DesignEstimate* reference, const DesignReport* history,
               const Scene* scene, std::size_t kinds) {
   const StageEstimate* ref0 = reference && !reference->stages.empty() && reference->stages.front().stage == 0
                                   ? &reference->stages.front() : nullptr;
   for (std::size_t i = 0; i < d.stages.size(); ++i) {
     const StageEstimate& s = d.stages[i];
-    std::vector<CsvCell> row{d.name};
+    std::vector<io::CsvCell> row{d.name};
     if (history)
       row.insert(row.end(), {history->name, history->replicate,
                              static_cast<long long>(history->scene->solver.seed)});
@@ -190,7 +190,7 @@ const std::vector<std::string> kKindSummaryColumns = {
     "profile", "area_mm2", "area_mm2_se", "area_loss_pct", "area_loss_pct_se", "height_mm", "height_mm_se",
     "area_loss_rate_mm2_per_1000h", "area_loss_rate_mm2_per_1000h_se", "life_h", "life_h_se", "life_extrapolated"};
 
-void add_kind_cells(std::vector<CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
+void add_kind_cells(std::vector<io::CsvCell>& row, const DesignEstimate& d, const Scene* scene, std::size_t stage_index,
                     std::size_t k) {
   const StageEstimate& s = d.stages[stage_index];
   if (!scene || k >= s.kinds.size() || static_cast<int>(k) >= scene->mill.kind_count()) {
@@ -235,28 +235,28 @@ const DesignReport* find_history(const RunReport& report, const std::string& nam
 // design's own (replicates folded).
 void write_summary(const RunReport& report) {
   const std::size_t kinds = pattern_kinds(report);
-  CsvTable t(with_kind_columns(summary_header(false), kinds));
+  io::CsvTable t(with_kind_columns(summary_header(false), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
   for (const DesignEstimate& d : report.estimates) {
     const DesignReport* first = find_history(report, d.name);
     add_rows(t, d, ref, nullptr, first ? first->scene : nullptr, kinds);
   }
-  t.write(summary_path(report.out));
+  t.write(io::summary_path(report.out));
 }
 
-std::string replicates_path(const std::string& out) { return join_path(out, "replicates.csv"); }
+std::string replicates_path(const std::string& out) { return io::join_path(out, "replicates.csv"); }
 
 void write_replicates(const RunReport& report) {
   if (report.replicates < 2) return;
   const std::size_t kinds = pattern_kinds(report);
-  CsvTable t(with_kind_columns(summary_header(true), kinds));
+  io::CsvTable t(with_kind_columns(summary_header(true), kinds));
   const DesignEstimate* ref = find_estimate(report.estimates, report.reference);
   for (std::size_t i = 0; i < report.designs.size() && i < report.history_estimates.size(); ++i)
     add_rows(t, report.history_estimates[i], ref, &report.designs[i], report.designs[i].scene, kinds);
   t.write(replicates_path(report.out));
 }
 
-std::string verdicts_path(const std::string& out) { return join_path(out, "summary.md"); }
+std::string verdicts_path(const std::string& out) { return io::join_path(out, "summary.md"); }
 
 void write_verdicts(const RunReport& report) {
   std::string md = "# Comparison\n\n";
@@ -267,7 +267,7 @@ void write_verdicts(const RunReport& report) {
           (report.replicates > 1 ? std::to_string(report.replicates) + " replicates per design (standard errors of their mean)"
                                  : std::string("one history per design (batch-means standard errors; "
                                                "`--replicates N` measures the spread between histories)")) +
-          ". A difference is resolved when it exceeds " + format_number(kResolvedSigmas) +
+          ". A difference is resolved when it exceeds " + io::format_number(kResolvedSigmas) +
           " combined standard errors" +
           (report.replicates > 1 ? std::string(" for many replicates; with few, Student's t at the same level "
                                                "instead (the threshold each verdict gives)")
@@ -275,16 +275,16 @@ void write_verdicts(const RunReport& report) {
           ".\n\n";
     for (const Verdict& v : report.verdicts) md += "- " + v.text + "\n";
   }
-  write_file_atomic(verdicts_path(report.out), md);
+  io::write_file_atomic(verdicts_path(report.out), md);
 }
 
-std::string kinds_path(const std::string& out) { return join_path(out, "kinds.csv"); }
+std::string kinds_path(const std::string& out) { return io::join_path(out, "kinds.csv"); }
 
 void write_kinds(const RunReport& report) {
   bool any = false;
   for (const DesignReport& d : report.designs) any = any || d.scene->mill.kind_count() > 1;
   if (!any) return;
-  CsvTable t({"design", "kind", "profile", "stage", "hours", "area_mm2", "area_loss_pct", "height_mm",
+  io::CsvTable t({"design", "kind", "profile", "stage", "hours", "area_mm2", "area_loss_pct", "height_mm",
               "area_loss_rate_mm2_per_1000h", "life_h", "life_extrapolated", "replacement_height_mm"});
   for (const DesignReport& d : report.designs) {
     const int kinds = d.scene->mill.kind_count();
@@ -311,10 +311,10 @@ void write_kinds(const RunReport& report) {
 }
 
 std::vector<std::string> settings_changes(const std::string& run, const std::string& design, const Scene& scene) {
-  const std::string path = manifest_path(run);
+  const std::string path = io::manifest_path(run);
   Json old_settings;
   try {
-    const Json m = Json::parse(read_file(path));
+    const Json m = Json::parse(io::read_file(path));
     for (const auto& d : m.at("designs"))
       if (d.at("name") == design) old_settings = d.at("settings");
   } catch (const std::exception& e) {
@@ -338,7 +338,7 @@ std::vector<std::string> settings_changes(const std::string& run, const std::str
 
 // spectrum.csv: the new stage's collision spectrum of each design.
 void write_spectrum(const RunReport& report) {
-  CsvTable t({"design", "stage", "hours", "energy_J_lower", "energy_J_upper", "count_per_s", "energy_W"});
+  io::CsvTable t({"design", "stage", "hours", "energy_J_lower", "energy_J_upper", "count_per_s", "energy_W"});
   for (const DesignReport& d : report.designs) {
     // A scene that did not ask for the spectrum has none (zeros, not a measurement).
     if (!d.scene->outputs.collision_spectrum) continue;
@@ -351,7 +351,7 @@ void write_spectrum(const RunReport& report) {
                  spectrum_bin_lower_J(static_cast<int>(k) + 1), r.spectrum_count_per_s[k],
                  r.spectrum_energy_W[k]});
   }
-  t.write(spectrum_path(report.out));
+  t.write(io::spectrum_path(report.out));
 }
 
 void write_manifest(const RunReport& r) {
@@ -467,71 +467,7 @@ void write_manifest(const RunReport& r) {
   m["verdicts"] = verdicts;
   m["files"] = r.files;
   // Invalid UTF-8 (a file name in a message) is replaced, never a failure to write.
-  write_file_atomic(manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+  io::write_file_atomic(io::manifest_path(r.out), m.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 }
 
-std::vector<std::string> manifest_files(const std::string& out) {
-  const std::string path = manifest_path(out);
-  if (!file_exists(path)) return {};
-  std::vector<std::string> files;
-  try {
-    const Json m = Json::parse(read_file(path));
-    if (m.is_object() && m.contains("files") && m["files"].is_array())
-      for (const auto& f : m["files"])
-        if (f.is_string()) files.push_back(f.get<std::string>());
-  } catch (const std::exception&) {
-    return {};
-  }
-  return files;
-}
-
-std::string folder_mark_path(const std::string& out) { return join_path(out, ".millwear-results"); }
-
-namespace {
-
-// The mark's command, or "" when there is no mark or it does not read (then the folder's
-// files tell).
-std::string marked_command(const std::string& out) {
-  const std::string path = folder_mark_path(out);
-  if (!file_exists(path)) return "";
-  try {
-    return find_value(read_key_values(path), "command", "");
-  } catch (const std::exception&) {
-    return "";
-  }
-}
-
-}  // namespace
-
-void mark_folder(const std::string& out, const std::string& command) {
-  if (marked_command(out) == command) return;
-  write_file_atomic(folder_mark_path(out),
-                    format_key_values({{"command", command}}, "millwear: the command whose results this folder holds"));
-}
-
-std::string folder_results_command(const std::string& out) {
-  const std::string marked = marked_command(out);
-  if (!marked.empty()) return marked;
-  const std::string path = manifest_path(out);
-  if (file_exists(path)) {
-    try {
-      const Json m = Json::parse(read_file(path));
-      if (m.is_object() && m.contains("command") && m["command"].is_string()) return m["command"].get<std::string>();
-    } catch (const std::exception&) {
-    }
-    return "run";
-  }
-  if (file_exists(run_key_path(out))) return "run";
-  // charge writes no manifest; its summary is its alone.
-  return file_exists(join_path(out, "charge_summary.csv")) ? "charge" : "";
-}
-
-void check_folder_not_taken(const std::string& out, const std::string& command) {
-  const std::string holds = folder_results_command(out);
-  if (holds.empty() || holds == command) return;
-  throw InputError(out, "-o",
-                   "a folder that is new or holds results of `millwear " + command + "`, but it holds those of `millwear " +
-                       holds + "`, which this command would partly overwrite: use another folder");
-}
-
-}  // namespace millwear::io
+}  // namespace millwear::study

@@ -21,7 +21,7 @@
 #include "scene/scene.hpp"
 #include "wear/wear.hpp"
 
-namespace millwear::io {
+namespace millwear::study {
 
 // Writes every state file of the stage, then its done marker. Throws RunError.
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec);
@@ -69,4 +69,4 @@ void write_snapshot_csv(const std::string& out, const std::string& design, const
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
                      const StageRecord& rec);
 
-}  // namespace millwear::io
+}  // namespace millwear::study

@@ -1,5 +1,5 @@
 #include "common/units.hpp"
-#include "io/stage_files.hpp"
+#include "study/stage_files.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -18,14 +18,14 @@
 #include "io/run_folder.hpp"
 #include "mill/mill.hpp"
 
-namespace millwear::io {
+namespace millwear::study {
 
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string stage_base(const std::string& out, const std::string& design, int stage) {
-  return join_path(stages_dir(out), design + "_stage" + std::to_string(stage));
+  return io::join_path(io::stages_dir(out), design + "_stage" + std::to_string(stage));
 }
 
 // The scalar doubles of a StageRecord, by name. One list for writing and reading, so the
@@ -170,8 +170,8 @@ std::string hash_key(const std::string& ext) { return "hash" + ext; }
 // Writes one state file of a stage and notes its content hash for the marker.
 void write_state_file(const std::string& base, const std::string& ext, const std::string& content,
                       io::KeyValues& hashes) {
-  write_file_atomic(base + ext, content);
-  hashes.emplace_back(hash_key(ext), stable_hash_hex(content));
+  io::write_file_atomic(base + ext, content);
+  hashes.emplace_back(hash_key(ext), io::stable_hash_hex(content));
 }
 
 // The content hashes a stage marker holds (hash.EXT=); none in a marker written without them.
@@ -179,13 +179,13 @@ struct StageHashes {
   io::KeyValues marker;
   std::string path;
   bool any = false;  // the marker holds hashes: every state file must have its own
-  bool has(const std::string& ext) const { return !find_value(marker, hash_key(ext)).empty(); }
+  bool has(const std::string& ext) const { return !io::find_value(marker, hash_key(ext)).empty(); }
 };
 
 StageHashes read_stage_hashes(const std::string& marker_path) {
   StageHashes h;
   h.path = marker_path;
-  if (file_exists(marker_path)) h.marker = read_key_values(marker_path);
+  if (io::file_exists(marker_path)) h.marker = io::read_key_values(marker_path);
   for (const auto& kv : h.marker) h.any = h.any || kv.first.rfind("hash.", 0) == 0;
   return h;
 }
@@ -195,12 +195,12 @@ StageHashes read_stage_hashes(const std::string& marker_path) {
 // parse) is refused by name instead of resuming from other numbers, and so is a marker that
 // holds hashes but none for this file. A marker without any hash is taken as it is.
 std::string read_state_file(const std::string& base, const std::string& ext, const StageHashes& hashes) {
-  std::string content = read_file(base + ext);
+  std::string content = io::read_file(base + ext);
   if (!hashes.any) return content;
-  const std::string recorded = find_value(hashes.marker, hash_key(ext));
+  const std::string recorded = io::find_value(hashes.marker, hash_key(ext));
   if (recorded.empty())
     throw InputError(hashes.path, hash_key(ext), "the content hash of " + base + ext + " (the marker was edited)");
-  if (recorded != stable_hash_hex(content))
+  if (recorded != io::stable_hash_hex(content))
     throw InputError(base + ext, "",
                      "the content recorded in " + hashes.path + " (the file was changed or cut after its stage finished)");
   return content;
@@ -211,7 +211,7 @@ std::string read_state_file(const std::string& base, const std::string& ext, con
 void write_stage_state(const std::string& out, const std::string& design, const StageRecord& rec_in) {
   StageRecord rec = rec_in;  // the field table wants a mutable record; copies are cheap enough
   const std::string base = stage_base(out, design, rec.stage);
-  ensure_dir(stages_dir(out));
+  io::ensure_dir(io::stages_dir(out));
   io::KeyValues hashes;
 
   io::CsvTable units({"unit", "x_m", "y_m"}, kExact);
@@ -240,53 +240,53 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   kv.emplace_back("units", std::to_string(rec.units.size()));
   for (std::size_t u = 0; u < rec.units.size(); ++u)
     kv.emplace_back("unit." + std::to_string(u) + ".lifter_half_base_m",
-                    format_exact(rec.units[u].lifter_half_base_m));
-  for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, format_exact(*p));
+                    io::format_exact(rec.units[u].lifter_half_base_m));
+  for (auto& [k, p] : double_fields(rec)) kv.emplace_back(k, io::format_exact(*p));
   for (auto& [k, p] : integer_fields(rec)) kv.emplace_back(k, std::to_string(*p));
   kv.emplace_back("worn_out", rec.worn_out ? "1" : "0");
   const auto add_worn = [&kv](const std::string& pre, const WornError& e) {
-    if (std::isfinite(e.area_m2)) kv.emplace_back(pre + "worn_area_se_m2", format_exact(e.area_m2));
-    if (std::isfinite(e.height_m)) kv.emplace_back(pre + "worn_height_se_m", format_exact(e.height_m));
+    if (std::isfinite(e.area_m2)) kv.emplace_back(pre + "worn_area_se_m2", io::format_exact(e.area_m2));
+    if (std::isfinite(e.height_m)) kv.emplace_back(pre + "worn_height_se_m", io::format_exact(e.height_m));
   };
   add_worn("", rec.worn_se);
   kv.emplace_back("summary.centrifuged", rec.charge.summary.centrifuged ? "1" : "0");
   kv.emplace_back("kinds", std::to_string(rec.kinds.size()));
   for (std::size_t k = 0; k < rec.kinds.size(); ++k) {
     const std::string pre = "kind." + std::to_string(k) + ".";
-    kv.emplace_back(pre + "area_m2", format_exact(rec.kinds[k].area_m2));
-    kv.emplace_back(pre + "height_m", format_exact(rec.kinds[k].height_m));
-    kv.emplace_back(pre + "leading_face_angle_rad", format_exact(rec.kinds[k].leading_face_angle_rad));
-    kv.emplace_back(pre + "trailing_face_angle_rad", format_exact(rec.kinds[k].trailing_face_angle_rad));
+    kv.emplace_back(pre + "area_m2", io::format_exact(rec.kinds[k].area_m2));
+    kv.emplace_back(pre + "height_m", io::format_exact(rec.kinds[k].height_m));
+    kv.emplace_back(pre + "leading_face_angle_rad", io::format_exact(rec.kinds[k].leading_face_angle_rad));
+    kv.emplace_back(pre + "trailing_face_angle_rad", io::format_exact(rec.kinds[k].trailing_face_angle_rad));
     kv.emplace_back(pre + "area_loss_rate_m2_per_s",
-                    format_exact(k < rec.kind_area_loss_rate_m2_per_s.size() ? rec.kind_area_loss_rate_m2_per_s[k] : 0.0));
+                    io::format_exact(k < rec.kind_area_loss_rate_m2_per_s.size() ? rec.kind_area_loss_rate_m2_per_s[k] : 0.0));
     if (k < rec.kind_area_loss_rate_rel_sem.size())
-      kv.emplace_back(pre + "area_loss_rate_rel_sem", format_exact(rec.kind_area_loss_rate_rel_sem[k]));
+      kv.emplace_back(pre + "area_loss_rate_rel_sem", io::format_exact(rec.kind_area_loss_rate_rel_sem[k]));
     if (k < rec.kind_worn_se.size()) add_worn(pre, rec.kind_worn_se[k]);
   }
   if (carried) {
-    kv.emplace_back("start.mill_angle_rad", format_exact(rec.start_charge.mill_angle_rad));
-    kv.emplace_back("start.mill_speed_rad_s", format_exact(rec.start_charge.mill_speed_rad_s));
-    kv.emplace_back("start.time_s", format_exact(rec.start_charge.time_s));
+    kv.emplace_back("start.mill_angle_rad", io::format_exact(rec.start_charge.mill_angle_rad));
+    kv.emplace_back("start.mill_speed_rad_s", io::format_exact(rec.start_charge.mill_speed_rad_s));
+    kv.emplace_back("start.time_s", io::format_exact(rec.start_charge.time_s));
   }
-  write_state_file(base, ".record", format_key_values(kv, "millwear stage record (exact)"), hashes);
+  write_state_file(base, ".record", io::format_key_values(kv, "millwear stage record (exact)"), hashes);
 
   // Last: the marker says every file above is complete, and holds their content hashes.
-  io::KeyValues marker{{"hours", format_number(rec.hours)},
-                       {"wall_s", format_number(rec.wall_s, 6)},
+  io::KeyValues marker{{"hours", io::format_number(rec.hours)},
+                       {"wall_s", io::format_number(rec.wall_s, 6)},
                        {"files", design + "_stage" + std::to_string(rec.stage) +
                                      ".{record,units.csv,spectrum.csv,edges.csv,charge.csv" +
                                      (carried ? ",start.csv}" : "}")}};
   marker.insert(marker.end(), hashes.begin(), hashes.end());
-  write_stage_done(out, design, rec.stage, marker);
+  io::write_stage_done(out, design, rec.stage, marker);
 }
 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage) {
   const std::string base = stage_base(out, design, stage);
-  const StageHashes hashes = read_stage_hashes(stage_done_marker(out, design, stage));
+  const StageHashes hashes = read_stage_hashes(io::stage_done_marker(out, design, stage));
   const auto read_state = [&](const std::string& ext) { return read_state_file(base, ext, hashes); };
-  const auto read_state_csv = [&](const std::string& ext) { return parse_csv(read_state(ext), base + ext); };
+  const auto read_state_csv = [&](const std::string& ext) { return io::parse_csv(read_state(ext), base + ext); };
   StageRecord rec;
-  Reader r{parse_key_values(read_state(".record"), base + ".record"), base + ".record"};
+  Reader r{io::parse_key_values(read_state(".record"), base + ".record"), base + ".record"};
   rec.stage = static_cast<int>(r.integer("stage"));
   if (rec.stage != stage) throw InputError(r.path, "stage", "stage=" + std::to_string(stage));
   const long long nunits = r.integer("units");
@@ -342,7 +342,7 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   read_charge_table(read_state_csv(".charge.csv"), rec.snapshot);
   // A stage that started from the previous stage's charge has it in .start.csv (the marker
   // says so where it holds hashes: a start.csv gone missing is not a fresh fill).
-  if (hashes.any ? hashes.has(".start.csv") : file_exists(base + ".start.csv")) {
+  if (hashes.any ? hashes.has(".start.csv") : io::file_exists(base + ".start.csv")) {
     read_charge_table(read_state_csv(".start.csv"), rec.start_charge);
     rec.start_charge.mill_angle_rad = r.number("start.mill_angle_rad");
     rec.start_charge.mill_speed_rad_s = r.number("start.mill_speed_rad_s");
@@ -355,15 +355,15 @@ std::vector<std::string> stage_state_files(const std::string& out, const std::st
   const std::string base = stage_base(out, design, stage);
   std::vector<std::string> files;
   for (const char* ext : {".record", ".units.csv", ".spectrum.csv", ".edges.csv", ".charge.csv", ".start.csv"})
-    if (file_exists(base + ext)) files.push_back(base + ext);
-  const std::string marker = stage_done_marker(out, design, stage);
-  if (file_exists(marker)) files.push_back(marker);
+    if (io::file_exists(base + ext)) files.push_back(base + ext);
+  const std::string marker = io::stage_done_marker(out, design, stage);
+  if (io::file_exists(marker)) files.push_back(marker);
   return files;
 }
 
 void remove_stage_state(const std::string& out, const std::string& design) {
   std::error_code ec;
-  const std::string dir = stages_dir(out), prefix = design + "_stage";
+  const std::string dir = io::stages_dir(out), prefix = design + "_stage";
   if (!fs::is_directory(dir, ec)) return;
   std::vector<fs::path> doomed;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
@@ -380,7 +380,7 @@ void remove_stage_state(const std::string& out, const std::string& design) {
     if (p.extension() == ".done") fs::remove(p, ec);
   for (const auto& p : doomed) fs::remove(p, ec);
   // Profiles of the earlier run would otherwise be drawn as extra stages.
-  const std::string pdir = profiles_dir(out);
+  const std::string pdir = io::profiles_dir(out);
   if (fs::is_directory(pdir, ec))
     for (const auto& e : fs::directory_iterator(pdir, ec)) {
       const std::string n = e.path().filename().string();
@@ -400,8 +400,8 @@ void write_profile_csv(const std::string& out, const std::string& design, const 
     for (const Vec2& p : u.surface)
       if (std::fabs(p.x) <= xmax) t.add_row({p.x * 1e3, p.y * 1e3});
   }
-  ensure_dir(profiles_dir(out));
-  t.write(profile_path(out, design, rec.stage));
+  io::ensure_dir(io::profiles_dir(out));
+  t.write(io::profile_path(out, design, rec.stage));
 }
 
 void write_snapshot_table(const std::string& path, const ChargeState& st, const std::vector<SpeciesDef>& species) {
@@ -445,7 +445,7 @@ void write_liner_table(const std::string& path, const MillGeometry& mill, double
 
 void write_snapshot_csv(const std::string& out, const std::string& design, const Scene& scene,
                         const StageRecord& rec) {
-  write_snapshot_table(snapshot_path(out, design), rec.snapshot, scene.charge.species);
+  write_snapshot_table(io::snapshot_path(out, design), rec.snapshot, scene.charge.species);
 }
 
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
@@ -454,7 +454,7 @@ void write_liner_csv(const std::string& out, const std::string& design, const Sc
   if (!rec.units.empty()) mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
   std::vector<double> rate;
   for (double w : rec.edge_wear_rate_m_per_s) rate.push_back(mm_per_1000h(w));
-  write_liner_table(liner_path(out, design), mill, rec.mill_angle_rad, "wear_rate_mm_per_1000h", rate, rec.stage,
+  write_liner_table(io::liner_path(out, design), mill, rec.mill_angle_rad, "wear_rate_mm_per_1000h", rate, rec.stage,
                     rec.hours, snapshot_marks(rec.charge.summary, rec.snapshot.mill_speed_rad_s));
 }
 
@@ -476,4 +476,4 @@ void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std:
   throw InputError(run, option, buf);
 }
 
-}  // namespace millwear::io
+}  // namespace millwear::study

@@ -11,7 +11,7 @@
 #include "scene/scene.hpp"
 #include "wear/history.hpp"
 
-namespace millwear::io {
+namespace millwear::study {
 
 struct DesignReport {
   std::string name;                                    // the history's (DESIGN, or DESIGN.rK)
@@ -85,25 +85,4 @@ std::vector<std::string> settings_changes(const std::string& run, const std::str
 void write_spectrum(const RunReport& report);
 void write_manifest(const RunReport& report);
 
-// The `files` list of OUT/manifest.json (paths relative to OUT): what a run wrote. Empty if
-// there is no manifest, it does not parse or it has no list (an older millwear's).
-std::vector<std::string> manifest_files(const std::string& out);
-
-// OUT/.millwear-results: which command writes its results into OUT ("command = NAME"). Every
-// command that writes a folder marks it when it takes the folder (FolderLock, run), so that
-// no other command writes into it.
-std::string folder_mark_path(const std::string& out);
-// Writes the mark (atomically) unless OUT already holds this command's mark.
-void mark_folder(const std::string& out, const std::string& command);
-
-// Which command's results OUT holds: the command its mark names; else, for a folder written
-// before the mark existed, "run" (OUT/stages/run.key, or a manifest.json without a
-// "command"), the "command" of its manifest.json ("sweep"), "charge" (its
-// charge_summary.csv); or "" (none of these).
-std::string folder_results_command(const std::string& out);
-// For a command other than `run` that writes into OUT, before any work: throws
-// InputError(OUT, "-o", ...) if OUT holds another command's results, which this one would
-// overwrite in part (a run's liner, snapshot and spectrum files, its manifest).
-void check_folder_not_taken(const std::string& out, const std::string& command);
-
-}  // namespace millwear::io
+}  // namespace millwear::study
