@@ -1,13 +1,8 @@
 // `millwear hardness FILE -o OUT`: the ore-hardness correction of operating time
 // CT = a * H^b fitted to measured wear per operating period (the paper's Figs. 1 to 3;
 // file format and method in study/hardness.hpp).
-//
-// Outputs in OUT:
-//   hardness_periods.csv   period,start,end,length,hardness,wear,rate,ct,corrected_time,
-//                          corrected_rate (time in the file's unit, days or hours)
-//   hardness_fit.csv       a,a_se,b,b_se,reference_hardness,cv_before,cv_after,mean_rate,
-//                          mean_corrected_rate,r_squared,periods,time_unit,wear_column
-//   hardness.png/.svg      rate per period before correction, ore hardness, rate after
+// Outputs in OUT (study/hardness.hpp): hardness_periods.csv, hardness_fit.csv and the figure
+// hardness.png/.svg.
 // Exit codes: 0 done; 1 the figure failed; 2 bad input.
 #include <CLI/CLI.hpp>
 
@@ -17,7 +12,6 @@
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
-#include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
@@ -53,32 +47,9 @@ int run_hardness(const HardnessArgs& a) {
               "(log-log R^2 %.3f)\n", 100.0 * f.cv_before, 100.0 * f.cv_after, f.r_squared);
 
   const io::FolderLock lock(a.out, "hardness");  // one writer per folder
-  io::ensure_dir(io::join_path(a.out, "plots"));
-  io::CsvTable t({"period", "start", "end", "length", "hardness", "wear", "rate", "ct", "corrected_time",
-                  "corrected_rate"});
-  for (const auto& p : data.periods)
-    t.add_row({p.label, p.start, p.start + p.length, p.length, p.hardness, p.wear, p.rate, p.ct, p.ct * p.length,
-               p.corrected_rate});
-  const std::string periods = io::join_path(a.out, "hardness_periods.csv");
-  t.write(periods);
-  io::CsvTable ft({"a", "a_se", "b", "b_se", "reference_hardness", "cv_before", "cv_after", "mean_rate",
-                   "mean_corrected_rate", "r_squared", "periods", "time_unit", "wear_column"});
-  ft.add_row({f.a, f.a_se, f.b, f.b_se, f.reference_hardness, f.cv_before, f.cv_after, f.mean_rate,
-              f.mean_corrected_rate, f.r_squared, static_cast<int>(data.periods.size()), data.time_unit,
-              data.wear_column});
-  ft.write(io::join_path(a.out, "hardness_fit.csv"));
-
-  char fit_text[160];
-  std::snprintf(fit_text, sizeof fit_text, "CT = %.4g H^%.3g", f.a, f.b);
-  char cv_before[32], cv_after[32];
-  std::snprintf(cv_before, sizeof cv_before, "%.1f", 100.0 * f.cv_before);
-  std::snprintf(cv_after, sizeof cv_after, "%.1f", 100.0 * f.cv_after);
+  validation::write_hardness_outputs(a.out, data, f);
   try {
-    const auto files = plots::render_figure(
-        plots::script_path("hardness"),
-        {{"periods", periods}, {"outbase", io::join_path(a.out, "hardness")}, {"timeunit", data.time_unit},
-         {"wearunit", data.wear_column}, {"fit", fit_text}, {"cv_before", cv_before}, {"cv_after", cv_after}},
-        io::join_path(a.out, "plots/gnuplot.log"));
+    const auto files = validation::render_hardness_figure(a.out, data, f);
     std::printf("results in %s (hardness_periods.csv, hardness_fit.csv); figure %s\n", a.out.c_str(),
                 files.empty() ? "-" : files.front().c_str());
   } catch (const std::exception& e) {

@@ -5,18 +5,15 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
 #include "app/commands.hpp"
-#include "io/atomic_write.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "profiles/profile.hpp"
 
 namespace millwear::app {
@@ -30,41 +27,12 @@ struct ProfileArgs {
   std::string csv_dir;
 };
 
-// Write the polyline in mm to dir/<name>.csv atomically (a reader never sees half a file).
-void write_csv(const LifterProfile& p, const std::filesystem::path& dir) {
-  std::string text = "x_mm,y_mm\n";
-  char line[96];
-  for (const Vec2& v : p.points) {
-    std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
-    text += line;
-  }
-  io::write_file_atomic((dir / (p.name + ".csv")).string(), text);
-}
-
 int run_profile(const ProfileArgs& args) {
   std::vector<LifterProfile> profiles;
   for (const std::string& f : args.files) profiles.push_back(load_profile(f));
 
   // --csv: every file it would write checked before anything is printed or written.
-  namespace fs = std::filesystem;
-  if (!args.csv_dir.empty()) {
-    for (std::size_t i = 0; i < profiles.size(); ++i) {
-      for (std::size_t j = 0; j < i; ++j)
-        if (profiles[i].name == profiles[j].name)
-          throw InputError(profiles[i].source_file, "name",
-                           "expected a name different from " + profiles[j].source_file +
-                               " (both would be written to " + profiles[i].name + ".csv)");
-      // A measured scan's name is its file's: --csv into its own folder would overwrite it.
-      const fs::path target = fs::path(args.csv_dir) / (profiles[i].name + ".csv");
-      for (const LifterProfile& input : profiles) {
-        std::error_code ec;
-        if (fs::equivalent(target, input.source_file, ec))
-          throw InputError("", "--csv",
-                           "a folder other than the one holding " + input.source_file + " (" + target.string() +
-                               " would overwrite it)");
-      }
-    }
-  }
+  if (!args.csv_dir.empty()) check_profile_csv_targets(profiles, args.csv_dir);
 
   char row[256];
   std::snprintf(row, sizeof row, "%-16s %12s %10s %10s %10s %10s %10s\n", "name", "area_mm2",
@@ -96,13 +64,7 @@ int run_profile(const ProfileArgs& args) {
     }
   }
 
-  if (!args.csv_dir.empty()) {
-    std::error_code ec;
-    fs::create_directories(args.csv_dir, ec);
-    if (ec || !fs::is_directory(args.csv_dir))
-      throw InputError("", "--csv", "expected a writable directory: " + args.csv_dir);
-    for (const LifterProfile& p : profiles) write_csv(p, args.csv_dir);
-  }
+  if (!args.csv_dir.empty()) write_profile_csvs(profiles, args.csv_dir);
   return 0;
 }
 

@@ -40,18 +40,13 @@ int run_rule1(const Rule1Args& a) {
   Scene scene = load_scene(a.scene, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
+  Rule1Options opt;
+  opt.factors = a.factors.empty() ? default_rule1_factors(scene.wear.factor) : a.factors;
   // The histories run side by side on the cores; each step gets the cores they leave.
-  const int factors_given = a.factors.empty() ? 4 : static_cast<int>(a.factors.size());
-  const int at_once = std::min(a.jobs > 0 ? a.jobs : core_count(), factors_given * a.replicates);
+  const int at_once = std::min(a.jobs > 0 ? a.jobs : core_count(), static_cast<int>(opt.factors.size()) * a.replicates);
   scene.solver.threads = step_threads_beside(a.threads, at_once);
   scene.solver.threads_fit_size = a.threads == 0;
   check_scene(scene, a.scene);  // before anything is filled or written
-  Rule1Options opt;
-  opt.factors = a.factors;
-  if (opt.factors.empty()) {
-    const double f = scene.wear.factor;
-    opt.factors = {0.5 * f, f, 2.0 * f, 10.0 * f};
-  }
   opt.replicates = a.replicates;
   opt.tolerance_pct_height = a.tolerance_pct;
   opt.jobs = a.jobs;
@@ -65,9 +60,7 @@ int run_rule1(const Rule1Args& a) {
               r.lifter_height_m * 1e3);
   std::printf("%12s %10s %20s %12s %14s  %s\n", "factor", "sim_s", "deviation", "noise", "within tol.", "verdict");
   for (const auto& row : r.rows) {
-    double sim = 0.0;
-    for (const auto& rep : row.replicates) sim += rep.simulated_s;
-    sim /= static_cast<double>(row.replicates.size());
+    const double sim = mean_simulated_s(row);
     const double h = 100.0 / r.lifter_height_m;
     if (row.verdict == Rule1Verdict::Failed || row.verdict == Rule1Verdict::Reference) {
       std::printf("%12.3g %10.2f %20s %12s %14s  %s\n", row.factor, sim, "-", "-", "-", verdict_name(row.verdict));

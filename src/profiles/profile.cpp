@@ -507,4 +507,43 @@ LifterProfile load_profile(const std::string& path) {
   return load_profile_impl(path, chain);
 }
 
+void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const std::string& dir) {
+  namespace fs = std::filesystem;
+  for (std::size_t i = 0; i < profiles.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j)
+      if (profiles[i].name == profiles[j].name)
+        throw InputError(profiles[i].source_file, "name",
+                         "expected a name different from " + profiles[j].source_file + " (both would be written to " +
+                             profiles[i].name + ".csv)");
+    // A measured scan's name is its file's: --csv into its own folder would overwrite it.
+    const fs::path target = fs::path(dir) / (profiles[i].name + ".csv");
+    for (const LifterProfile& input : profiles) {
+      std::error_code ec;
+      if (fs::equivalent(target, input.source_file, ec))
+        throw InputError("", "--csv",
+                         "a folder other than the one holding " + input.source_file + " (" + target.string() +
+                             " would overwrite it)");
+    }
+  }
+}
+
+std::vector<std::string> write_profile_csvs(const std::vector<LifterProfile>& profiles, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) throw InputError("", "--csv", "expected a writable directory: " + dir);
+  std::vector<std::string> files;
+  for (const LifterProfile& p : profiles) {
+    std::string text = "x_mm,y_mm\n";
+    char line[96];
+    for (const Vec2& v : p.points) {
+      std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
+      text += line;
+    }
+    files.push_back((fs::path(dir) / (p.name + ".csv")).string());
+    io::write_file_atomic(files.back(), text);
+  }
+  return files;
+}
+
 }  // namespace millwear

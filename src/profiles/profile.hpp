@@ -91,4 +91,12 @@ Polyline lifter_of_surface(const Polyline& surface, const std::string& file, con
 // leading foot, every other point above the shell, simple. Throws InputError.
 void validate_lifter_polyline(const Polyline& pts, const std::string& file, const std::string& key);
 
+// `profile --csv DIR`: each profile's polyline to DIR/<name>.csv, in mm. The check comes
+// before anything is written: throws InputError when two profiles share a name (one file
+// would overwrite the other) or a target is one of the profiles' own input files.
+void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const std::string& dir);
+// Creates DIR (InputError("", "--csv", ...) if it cannot) and writes each file atomically.
+// Returns the files written.
+std::vector<std::string> write_profile_csvs(const std::vector<LifterProfile>& profiles, const std::string& dir);
+
 }  // namespace millwear

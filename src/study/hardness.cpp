@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <numeric>
@@ -10,6 +11,8 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "plots/plots.hpp"
 #include "study/surveys.hpp"
 
 namespace millwear::validation {
@@ -190,6 +193,44 @@ HardnessFit fit_hardness(HardnessData& data, double reference_hardness) {
   f.mean_rate = std::accumulate(before.begin(), before.end(), 0.0) / n;
   f.mean_corrected_rate = std::accumulate(after.begin(), after.end(), 0.0) / n;
   return f;
+}
+
+std::vector<std::string> write_hardness_outputs(const std::string& out, const HardnessData& data,
+                                                const HardnessFit& fit) {
+  io::CsvTable t({"period", "start", "end", "length", "hardness", "wear", "rate", "ct", "corrected_time",
+                  "corrected_rate"});
+  for (const auto& p : data.periods)
+    t.add_row({p.label, p.start, p.start + p.length, p.length, p.hardness, p.wear, p.rate, p.ct, p.ct * p.length,
+               p.corrected_rate});
+  io::CsvTable ft({"a", "a_se", "b", "b_se", "reference_hardness", "cv_before", "cv_after", "mean_rate",
+                   "mean_corrected_rate", "r_squared", "periods", "time_unit", "wear_column"});
+  ft.add_row({fit.a, fit.a_se, fit.b, fit.b_se, fit.reference_hardness, fit.cv_before, fit.cv_after, fit.mean_rate,
+              fit.mean_corrected_rate, fit.r_squared, static_cast<int>(data.periods.size()), data.time_unit,
+              data.wear_column});
+  const std::vector<std::string> files = {io::join_path(out, "hardness_periods.csv"),
+                                          io::join_path(out, "hardness_fit.csv")};
+  t.write(files[0]);
+  ft.write(files[1]);
+  return files;
+}
+
+std::vector<std::string> render_hardness_figure(const std::string& out, const HardnessData& data,
+                                                const HardnessFit& fit) {
+  io::ensure_dir(io::join_path(out, "plots"));
+  char fit_text[160];
+  std::snprintf(fit_text, sizeof fit_text, "CT = %.4g H^%.3g", fit.a, fit.b);
+  char cv_before[32], cv_after[32];
+  std::snprintf(cv_before, sizeof cv_before, "%.1f", 100.0 * fit.cv_before);
+  std::snprintf(cv_after, sizeof cv_after, "%.1f", 100.0 * fit.cv_after);
+  return plots::render_figure(plots::script_path("hardness"),
+                              {{"periods", io::join_path(out, "hardness_periods.csv")},
+                               {"outbase", io::join_path(out, "hardness")},
+                               {"timeunit", data.time_unit},
+                               {"wearunit", data.wear_column},
+                               {"fit", fit_text},
+                               {"cv_before", cv_before},
+                               {"cv_after", cv_after}},
+                              io::join_path(out, "plots/gnuplot.log"));
 }
 
 }  // namespace millwear::validation

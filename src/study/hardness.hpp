@@ -75,4 +75,18 @@ HardnessFit fit_hardness(HardnessData& data, double reference_hardness = 0.0);
 // Sample coefficient of variation (standard deviation with n - 1, over the mean).
 double coefficient_of_variation(const std::vector<double>& v);
 
+// Written atomically into OUT (times in the file's unit, days or hours):
+//   hardness_periods.csv   period,start,end,length,hardness,wear,rate,ct,corrected_time,
+//                          corrected_rate
+//   hardness_fit.csv       a,a_se,b,b_se,reference_hardness,cv_before,cv_after,mean_rate,
+//                          mean_corrected_rate,r_squared,periods,time_unit,wear_column
+// Returns the files.
+std::vector<std::string> write_hardness_outputs(const std::string& out, const HardnessData& data,
+                                                const HardnessFit& fit);
+// OUT/hardness.{png,svg} from OUT/hardness_periods.csv: the rate per period before the
+// correction, the ore hardness, the rate after. Returns the files; throws RunError when
+// gnuplot is missing or fails (plots/plots.hpp).
+std::vector<std::string> render_hardness_figure(const std::string& out, const HardnessData& data,
+                                                const HardnessFit& fit);
+
 }  // namespace millwear::validation

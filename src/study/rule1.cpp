@@ -216,6 +216,17 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   return report;
 }
 
+std::vector<double> default_rule1_factors(double scene_factor) {
+  return {0.5 * scene_factor, scene_factor, 2.0 * scene_factor, 10.0 * scene_factor};
+}
+
+double mean_simulated_s(const Rule1Row& row) {
+  if (row.replicates.empty()) return 0.0;
+  double sim = 0.0;
+  for (const auto& rep : row.replicates) sim += rep.simulated_s;
+  return sim / static_cast<double>(row.replicates.size());
+}
+
 std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene& scene, const Rule1Report& r) {
   io::ensure_dir(out);
   const double height = r.lifter_height_m;
@@ -225,10 +236,8 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
          "chance_within,recommended\n";
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const Rule1Row& row = r.rows[i];
-    double sim = 0.0;
-    for (const auto& rep : row.replicates) sim += rep.simulated_s;
     csv << scene.name << ',' << fmt(row.factor) << ',' << row.replicates.size() << ','
-        << fmt(sim / row.replicates.size()) << ',' << verdict_name(row.verdict) << ',';
+        << fmt(mean_simulated_s(row)) << ',' << verdict_name(row.verdict) << ',';
     // A comparison only for the factors compared; the reference and failed rows leave it empty.
     if (row.verdict == Rule1Verdict::Agrees || row.verdict == Rule1Verdict::Deviates ||
         row.verdict == Rule1Verdict::Scatters)

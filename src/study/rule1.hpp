@@ -30,6 +30,9 @@
 
 namespace millwear {
 
+// The factors compared when none are given: half, once, twice and ten times the scene's.
+std::vector<double> default_rule1_factors(double scene_factor);
+
 struct Rule1Options {
   std::vector<double> factors;        // C_model / C; run in increasing order
   int replicates = 4;                 // histories per factor (seeds differ)
@@ -75,6 +78,9 @@ struct Rule1Row {
   double chance_within = kUnknown;
   Rule1Verdict verdict = Rule1Verdict::Reference;
 };
+
+// The simulated time of a factor's histories, averaged over its replicates.
+double mean_simulated_s(const Rule1Row& row);
 
 struct Rule1Report {
   std::vector<Rule1Row> rows;         // increasing factor
