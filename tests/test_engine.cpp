@@ -662,6 +662,40 @@ TEST(PowerModels, TheChargesMorrellEstimateFollowsItsBedsMassBelowCriticalSpeed)
   EXPECT_TRUE(std::isnan(morrell_estimate(scene, s).net_power_kW));
 }
 
+// Austin's equation worked by hand: 10.6 x 10^2.5 x 5 x (1 - 1.03 x 0.3) x [0.7 x (2.7 / 0.8) x
+// 0.3 + 0.6 x 0.1 x (7.8 - 2.7 / 0.8)] x 0.75 x (1 - 0.1 / 2^1.5) = 8163.06 kW.
+TEST(PowerModels, AustinMatchesAHandWorkedSagCase) {
+  AustinInput in;
+  in.diameter_m = 10.0;
+  in.length_m = 5.0;
+  in.filling = 0.3;
+  in.ball_filling = 0.1;
+  in.speed_fraction = 0.75;
+  in.ore_density_kg_m3 = 2700.0;
+  in.ball_density_kg_m3 = 7800.0;
+  EXPECT_NEAR(austin_power_W(in), 8163.06e3, 10.0);
+}
+
+// The scene's Austin estimate: per metre of the scene's mill, from its species' densities;
+// none for a charge of balls alone or at critical speed.
+TEST(PowerModels, TheScenesAustinEstimateIsPerMetreAndOnlyForASagMillBelowCritical) {
+  Scene scene = load_scene(testing::source_path("scenarios/sag-2x30.toml"));
+  AustinInput in;
+  in.diameter_m = scene.mill.diameter_m;
+  in.length_m = 1.0;
+  in.filling = scene.charge.filling;
+  in.ball_filling = scene.charge.ball_filling;
+  in.speed_fraction = scene.mill.speed_fraction_critical;
+  in.ore_density_kg_m3 = 2700.0;  // the scene's rock
+  in.ball_density_kg_m3 = 7800.0;  // and steel
+  EXPECT_DOUBLE_EQ(austin_estimate_W_per_m(scene), austin_power_W(in));
+  Scene balls = scene;
+  balls.charge.filling = balls.charge.ball_filling;
+  EXPECT_TRUE(std::isnan(austin_estimate_W_per_m(balls)));
+  scene.mill.speed_fraction_critical = 1.0;
+  EXPECT_TRUE(std::isnan(austin_estimate_W_per_m(scene)));
+}
+
 TEST(PowerModels, MorrellMatchesTheReferenceBallMillCase) {
   // Check value worked by hand from Morrell's published equations: 5 m x 8 m dry grate mill.
   const MorrellResult m = morrell_power({5.0, 8.0, 0.30, 0.75, 4.68});

@@ -66,6 +66,11 @@ int run_charge(const ChargeArgs& args) {
                 morrell.net_power_kW, morrell.toe_deg_from_bottom, morrell.shoulder_deg_from_bottom);
   else
     std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
+  const double austin_W_per_m = austin_estimate_W_per_m(scene);
+  if (std::isfinite(austin_W_per_m))
+    std::printf("  Austin       %10.4g kW/m   (SAG power equation; porosity 0.3, 80%% solids)\n", austin_W_per_m / 1000.0);
+  else
+    std::printf("  Austin       none (a SAG model: rock in the charge, below critical speed)\n");
   const double into_energy = energy_share_of_power(f.summary);
   if (std::fabs(into_energy) > kSteadyEnergyShare)
     std::cerr << "millwear: warning: the charge was not steady in the window: " << std::lround(100.0 * into_energy)

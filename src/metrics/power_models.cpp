@@ -38,4 +38,14 @@ MorrellResult morrell_power(const MorrellInput& in) {
   return r;
 }
 
+double austin_power_W(const AustinInput& in) {
+  const double J = in.filling, Jb = in.ball_filling, phi = in.speed_fraction;
+  const double rho_s = in.ore_density_kg_m3 / 1000.0, rho_b = in.ball_density_kg_m3 / 1000.0;  // t/m^3
+  const double slurry = rho_s / in.solids_mass_fraction;
+  const double load = (1.0 - in.porosity) * slurry * J + 0.6 * Jb * (rho_b - slurry);
+  const double speed = phi * (1.0 - 0.1 / std::pow(2.0, 9.0 - 10.0 * phi));
+  const double kW = 10.6 * std::pow(in.diameter_m, 2.5) * in.length_m * (1.0 - 1.03 * J) * load * speed;
+  return 1000.0 * kW;
+}
+
 }  // namespace millwear

@@ -24,14 +24,16 @@ namespace {
 
 std::string fmt(double v) { return io::format_number(v); }
 
-// The rows of charge_summary.csv with Morrell's C-model for this mill and charge: an
-// analytic power, toe and shoulder to set the window's against.
-std::string morrell_rows(const Scene& scene, const ChargeSummary& s) {
+// The rows of charge_summary.csv with Morrell's C-model and Austin's SAG equation for this
+// mill and charge: analytic powers, toe and shoulder to set the window's against.
+std::string power_model_rows(const Scene& scene, const ChargeSummary& s) {
   const MorrellResult m = morrell_estimate(scene, s);
   std::ostringstream rows;
   rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model; dry; this bed's bulk density)\n"
        << "morrell_toe_angle," << fmt(m.toe_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
-       << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n";
+       << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
+       << "austin_power_per_m," << fmt(austin_estimate_W_per_m(scene) / 1000.0)
+       << ",kW/m (Austin's SAG power equation; porosity 0.3; 80% solids)\n";
   return rows.str();
 }
 
@@ -148,7 +150,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "toe_angle," << (s.centrifuged ? "centrifuged" : fmt(s.toe_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "shoulder_angle," << (s.centrifuged ? "centrifuged" : fmt(s.shoulder_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "centre_of_mass_angle," << fmt(s.centre_of_mass_deg) << ",deg from 6 o'clock (+ rising side)\n"
-      << morrell_rows(scene, s)
+      << power_model_rows(scene, s)
       << "charge_mass_per_m," << fmt(s.mass_kg / t) << ",kg/m\n"
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
