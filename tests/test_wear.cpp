@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "common/units.hpp"
@@ -44,6 +46,13 @@ Halves half_areas(const LinerUnit& u) {
     (0.5 * (a.x + b.x) < 0 ? h.minus_x : h.plus_x) += strip;
   }
   return h;
+}
+
+// An area in m^2 as mm^2 text with one decimal, for a test's recorded property.
+std::string mm2_text(double area_m2) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", area_m2 * 1e6);
+  return text;
 }
 
 // Life: a height that falls 2 mm per 100 h from 20 mm reaches a 10 mm replacement height at
@@ -209,6 +218,8 @@ TEST(WearLoop, SymmetricLifterInABidirectionalMillStaysSymmetric) {
   double rel = 0.0;
   for (const auto& st : h.stages) rel = std::max(rel, st.area_loss_rate_rel_sem);
   const double lost = lost_plus + lost_minus;
+  RecordProperty("lost_minus_x_mm2", mm2_text(lost_minus));
+  RecordProperty("lost_plus_x_mm2", mm2_text(lost_plus));
   EXPECT_NEAR(lost_plus, lost_minus, 3.0 * rel * lost + 0.05 * lost)
       << "+x lost " << lost_plus << " m^2, -x lost " << lost_minus << " m^2, rel error " << rel;
   // The uni-directional mill, for contrast, is clearly asymmetric.
@@ -230,6 +241,11 @@ TEST(WearLoop, AReverseMillWearsTheMirrorImageOfAForwardOne) {
   const double lead_f = n.plus_x - wf.plus_x, lead_r = n.minus_x - wr.minus_x;
   const double trail_f = n.minus_x - wf.minus_x, trail_r = n.plus_x - wr.plus_x;
   const double lost = lead_f + trail_f;
+  // The half areas lost, in the test's XML output (--gtest_output=xml:FILE; docs/wear-model.md).
+  RecordProperty("forward_lost_minus_x_mm2", mm2_text(trail_f));
+  RecordProperty("forward_lost_plus_x_mm2", mm2_text(lead_f));
+  RecordProperty("reverse_lost_minus_x_mm2", mm2_text(lead_r));
+  RecordProperty("reverse_lost_plus_x_mm2", mm2_text(trail_r));
   EXPECT_NEAR(lead_f, lead_r, 3.0 * rel * lost + 0.05 * lost) << "leading: forward " << lead_f << ", reverse " << lead_r;
   EXPECT_NEAR(trail_f, trail_r, 3.0 * rel * lost + 0.05 * lost) << "trailing: forward " << trail_f << ", reverse " << trail_r;
   EXPECT_GT(lead_r, 1.2 * trail_r);
