@@ -1,5 +1,5 @@
 # tradeoff.gp - speed against accuracy: error of each fidelity setting against wall time,
-# the Pareto front marked (millwear tradeoff, src/wear/tradeoff.hpp).
+# the Pareto front marked (millwear tradeoff, src/study/tradeoff.hpp).
 # Inputs (see common.gp for the shared variables):
 #   OUT/tradeoff.csv        columns used: label, knob, cpu_s, dev_max_pct, dev_mean_pct
 #   OUT/tradeoff_front.csv  the front rows by CPU time: label, cpu_s, dev_max_pct

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -493,6 +494,37 @@ TEST(HostileScenes, DisksLostBeforeTheWindowAreCountedInTheChargeSummary) {
   EXPECT_GT(lost, escaped) << "no disk was lost before the window: the case is not tested";
   EXPECT_NE(r.output.find("lost disks " + std::to_string(static_cast<int>(lost)) + " since the fill"), std::string::npos)
       << r.output;
+}
+
+// A charge of balls alone has no Austin estimate (a SAG model), and a mill at critical speed
+// no Morrell estimate either: their rows are left out of charge_summary.csv, which holds no
+// non-finite figure.
+TEST(HostileScenes, APowerModelWithoutAnEstimateLeavesNoRowInTheChargeSummary) {
+  const fs::path dir = scratch("power-models");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  for (const char* speed : {"0.75", "1.0"}) {
+    const fs::path out = dir / (std::string("out-") + speed);
+    const auto r = run_millwear("charge " + quoted(scene) + " --revolutions 0.2 --set mill.speed=" + speed + " -o " +
+                                quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const millwear::io::CsvData sum = millwear::io::read_csv((out / "charge_summary.csv").string());
+    bool morrell = false, austin = false;
+    for (std::size_t i = 0; i < sum.row_count(); ++i) {
+      const std::string q = sum.text(i, sum.column("quantity"));
+      morrell |= q == "morrell_power_per_m";
+      austin |= q == "austin_power_per_m";
+      const std::string v = sum.text(i, sum.column("value"));
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (end != v.c_str() && *end == '\0') {
+        EXPECT_TRUE(std::isfinite(x)) << speed << ": " << q << " = " << v;
+      }
+    }
+    EXPECT_EQ(morrell, std::string(speed) == "0.75") << speed;
+    EXPECT_FALSE(austin) << speed;
+    EXPECT_NE(r.output.find("Austin       none"), std::string::npos) << r.output;
+  }
 }
 
 // A wear rate that wears the lifter to the shell within the first stage: the history ends

@@ -17,7 +17,6 @@
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
-#include "study/run_outputs.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;

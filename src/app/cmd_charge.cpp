@@ -68,7 +68,8 @@ int run_charge(const ChargeArgs& args) {
     std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
   const double austin_W_per_m = austin_estimate_W_per_m(scene);
   if (std::isfinite(austin_W_per_m))
-    std::printf("  Austin       %10.4g kW/m   (SAG power equation; porosity 0.3, 80%% solids)\n", austin_W_per_m / 1000.0);
+    std::printf("  Austin       %10.4g kW/m   (SAG power equation; porosity %.2g, %.0f%% solids)\n",
+                austin_W_per_m / 1000.0, AustinInput{}.porosity, 100.0 * AustinInput{}.solids_mass_fraction);
   else
     std::printf("  Austin       none (a SAG model: rock in the charge, below critical speed)\n");
   const double into_energy = energy_share_of_power(f.summary);

@@ -17,7 +17,6 @@
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/run_folder.hpp"
-#include "io/run_folder.hpp"
 
 namespace millwear::io {
 

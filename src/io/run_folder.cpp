@@ -207,8 +207,6 @@ int last_finished_stage(const std::string& out, const std::string& design) {
   return last;
 }
 
-// ---- JSON ----
-
 // ---- the folder's owner ----
 
 std::vector<std::string> manifest_files(const std::string& out) {

@@ -1,6 +1,6 @@
 #pragma once
-// Layout of a run output folder, stage-done markers for --resume, and a minimal JSON
-// writer for the manifest.
+// Layout of a run output folder, stage-done markers for --resume, the manifest's file list,
+// and the mark that says which command's results a folder holds.
 //
 //   OUT/manifest.json                    program version, seed, fidelity, settings, wall times
 //   OUT/summary.csv                      one row per design and stage

@@ -23,8 +23,8 @@ struct MorrellResult {
 MorrellResult morrell_power(const MorrellInput& in);
 
 // Austin's SAG mill power equation (Austin, "A mill power equation for SAG mills", Minerals
-// and Metallurgical Processing 7, 1990), net power at the pinion of the cylindrical section,
-// no cone ends. In its units (kW; D, L in m; densities in t/m^3):
+// and Metallurgical Processing 7, 1990): the power of the cylindrical section, no cone ends.
+// In its units (kW; D, L in m; densities in t/m^3):
 //   P = 10.6 D^2.5 L (1 - 1.03 J) [(1 - f) (rho_s / w) J + 0.6 J_b (rho_b - rho_s / w)]
 //       phi (1 - 0.1 / 2^(9 - 10 phi))
 // with f the charge's porosity and w the solids' mass fraction of the slurry filling it.

@@ -2,6 +2,7 @@
 #include "study/charge_outputs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -25,15 +26,20 @@ namespace {
 std::string fmt(double v) { return io::format_number(v); }
 
 // The rows of charge_summary.csv with Morrell's C-model and Austin's SAG equation for this
-// mill and charge: analytic powers, toe and shoulder to set the window's against.
+// mill and charge: analytic powers, toe and shoulder to set the window's against. A model
+// with no estimate for the scene (Morrell at or above critical speed, Austin there or for a
+// charge without rock) has no rows: every figure written is a real one.
 std::string power_model_rows(const Scene& scene, const ChargeSummary& s) {
-  const MorrellResult m = morrell_estimate(scene, s);
   std::ostringstream rows;
-  rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model; dry; this bed's bulk density)\n"
-       << "morrell_toe_angle," << fmt(m.toe_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
-       << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
-       << "austin_power_per_m," << fmt(austin_estimate_W_per_m(scene) / 1000.0)
-       << ",kW/m (Austin's SAG power equation; porosity 0.3; 80% solids)\n";
+  const MorrellResult m = morrell_estimate(scene, s);
+  if (std::isfinite(m.net_power_kW))
+    rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model; dry; this bed's bulk density)\n"
+         << "morrell_toe_angle," << fmt(m.toe_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
+         << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n";
+  const double austin_W_per_m = austin_estimate_W_per_m(scene);
+  if (std::isfinite(austin_W_per_m))
+    rows << "austin_power_per_m," << fmt(austin_W_per_m / 1000.0) << ",kW/m (Austin's SAG power equation; porosity "
+         << fmt(AustinInput{}.porosity) << "; " << fmt(100.0 * AustinInput{}.solids_mass_fraction) << "% solids)\n";
   return rows.str();
 }
 
