@@ -2,7 +2,9 @@
 // factor's, against the seed-to-seed scatter and the tolerance.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "cli_support.hpp"
 #include "engine_fixtures.hpp"
@@ -147,6 +149,17 @@ TEST(Rule1Cli, WritesTheTableAndFigureFive) {
   for (const char* f : {"rule1_replicates.csv", "rule1_profiles.dat", "plots/fig5_rule1.png", "plots/fig5_rule1.svg"})
     EXPECT_GT(fs::file_size(out / f), 0u) << f;
   fs::remove_all(out);
+}
+
+// The help shows the defaults the command runs with: they are read from the options' structs.
+TEST(Rule1Cli, TheHelpShowsTheLibrarysDefaults) {
+  const auto r = run_millwear("rule1 --help");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Rule1Options defaults;
+  EXPECT_NE(r.output.find("(default " + std::to_string(defaults.replicates) + ")"), std::string::npos) << r.output;
+  char tolerance[32];
+  std::snprintf(tolerance, sizeof tolerance, "(default %g)", defaults.tolerance_pct_height);
+  EXPECT_NE(r.output.find(tolerance), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -6,9 +6,10 @@
 #include <cstdio>
 #include <string>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/default_text.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "study/animation.hpp"
@@ -40,10 +41,10 @@ void register_animate(CLI::App& app, Action* action) {
       "(mm per 1000 h). Needs gnuplot with the gif terminal.");
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required();
   cmd->add_option("-o,--out", args->out, "output file, FILE.gif")->required()->check(output_file());
-  cmd->add_option("--seconds", args->seconds, "simulated seconds shown (default 3)")
+  cmd->add_option("--seconds", args->seconds, "simulated seconds shown (" + default_text(args->seconds) + ")")
       ->check(finite_in(0.1, 60.0));
-  cmd->add_option("--frames", args->frames, "frames in the GIF (default 60)")->check(CLI::Range(10, 200));
-  cmd->add_option("--size", args->size, "image size in pixels, square (default 640)")->check(CLI::Range(200, 2000));
+  cmd->add_option("--frames", args->frames, "frames in the GIF (" + default_text(args->frames) + ")")->check(CLI::Range(10, 200));
+  cmd->add_option("--size", args->size, "image size in pixels, square (" + default_text(args->size) + ")")->check(CLI::Range(200, 2000));
   cmd->add_option("--history", args->history, "a finished `millwear run` output folder of this design");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   add_set_option(cmd, &args->overrides);

@@ -7,17 +7,18 @@
 #include <cstdio>
 #include <memory>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
-#include "app/set_option.hpp"
+#include "app/default_text.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
+#include "app/set_option.hpp"
 #include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/reshape.hpp"
 #include "study/rule1.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::app {
 
@@ -27,12 +28,9 @@ struct Rule1Args {
   std::string scene;
   std::string out;
   std::string fidelity;
-  std::vector<double> factors;
-  double tolerance_pct = 5.0;
+  Rule1Options options;  // no factors: default_rule1_factors of the scene's
   int stages = 1;
   std::vector<std::string> overrides;
-  int replicates = 4;
-  int jobs = 0;
   int threads = 0;
 };
 
@@ -40,16 +38,13 @@ int run_rule1(const Rule1Args& a) {
   Scene scene = load_scene(a.scene, a.overrides);
   if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
   scene.wear.stages = a.stages;
-  Rule1Options opt;
-  opt.factors = a.factors.empty() ? default_rule1_factors(scene.wear.factor) : a.factors;
+  Rule1Options opt = a.options;
+  if (opt.factors.empty()) opt.factors = default_rule1_factors(scene.wear.factor);
   // The histories run side by side on the cores; each step gets the cores they leave.
-  const int at_once = std::min(a.jobs > 0 ? a.jobs : core_count(), static_cast<int>(opt.factors.size()) * a.replicates);
+  const int at_once = std::min(opt.jobs > 0 ? opt.jobs : core_count(), static_cast<int>(opt.factors.size()) * opt.replicates);
   scene.solver.threads = step_threads_beside(a.threads, at_once);
   scene.solver.threads_fit_size = a.threads == 0;
   check_scene(scene, a.scene);  // before anything is filled or written
-  opt.replicates = a.replicates;
-  opt.tolerance_pct_height = a.tolerance_pct;
-  opt.jobs = a.jobs;
   std::unique_ptr<io::FolderLock> lock;
   if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out, "rule1");
   const Rule1Report r = rule1_check(scene, opt);
@@ -119,14 +114,17 @@ void register_rule1(CLI::App& app, Action* action) {
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder: rule1.csv, the profiles and Fig. 5 (default: print only)")
       ->check(output_folder());
-  cmd->add_option("--factors", args->factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
+  cmd->add_option("--factors", args->options.factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
       ->check(finite_positive());
-  cmd->add_option("--replicates", args->replicates, "histories per factor, seeds s, s+1, ... (default 4)")
+  cmd->add_option("--replicates", args->options.replicates,
+                  "histories per factor, seeds s, s+1, ... (" + default_text(args->options.replicates) + ")")
       ->check(CLI::Range(1, 1000));
-  cmd->add_option("--tolerance", args->tolerance_pct, "allowed deviation, % of lifter height (default 5)")
+  cmd->add_option("--tolerance", args->options.tolerance_pct_height,
+                  "allowed deviation, % of lifter height (" + default_text(args->options.tolerance_pct_height) + ")")
       ->check(finite_in(1e-6, 100.0));
-  cmd->add_option("--stages", args->stages, "stages to run (default 1)")->check(CLI::Range(1, 10000));
-  cmd->add_option("-j,--jobs", args->jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--stages", args->stages, "stages to run (" + default_text(args->stages) + ")")
+      ->check(CLI::Range(1, 10000));
+  cmd->add_option("-j,--jobs", args->options.jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
   cmd->add_option("--threads", args->threads,
                   "threads of each history's engine step (default: the cores the histories at once leave, at "

@@ -15,20 +15,21 @@
 #include <csignal>
 #include <cstdio>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
-#include "app/set_option.hpp"
+#include "app/default_text.hpp"
 #include "app/duration_text.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
-#include "app/run_command.hpp"
 #include "app/plain_progress.hpp"
+#include "app/run_command.hpp"
 #include "app/run_view.hpp"
+#include "app/set_option.hpp"
 #include "app/signals.hpp"
 #include "common/units.hpp"
 #include "io/run_folder.hpp"
-#include "scene/filling.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
+#include "scene/filling.hpp"
 #include "study/run_progress.hpp"
 
 namespace millwear::app {
@@ -191,7 +192,8 @@ void register_run(CLI::App& app, Action* action) {
                "OUT holds another run's results: delete the files its manifest lists, then run");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_option("--progress-every", args->progress_every_s,
-                  "without a terminal: a plain progress line every SECONDS and at each stage (default 60)")
+                  "without a terminal: a plain progress line every SECONDS and at each stage (" +
+                      default_text(args->progress_every_s) + ")")
       ->check(finite_in(1.0, 86400.0));
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
@@ -212,7 +214,7 @@ void register_run(CLI::App& app, Action* action) {
       ->check(CLI::Range(0, 10000));
   cmd->add_option("--replicates", args->replicates,
                   "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
-                  "standard error (default 1: errors from one history's batch means)")
+                  "standard error (" + default_text(args->replicates) + ": errors from one history's batch means)")
       ->check(CLI::Range(1, 1000));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");

@@ -19,9 +19,10 @@
 #include <cstdio>
 #include <optional>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/default_text.hpp"
 #include "app/duration_text.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
@@ -170,12 +171,13 @@ void register_screen(CLI::App& app, Action* action) {
       ->needs(emit);
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--replicates", r.replicates,
-                  "histories per design, seeds s, s+1, ... (default 1): the life's error from their spread; "
-                  "with 1 it is propagated from one history's batch means");
+                  "histories per design, seeds s, s+1, ... (" + default_text(r.replicates) +
+                      "): the life's error from their spread; with 1 it is propagated from one history's batch means");
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,
-                  "without a terminal: a plain progress line every SECONDS and at each design (default 60)")
+                  "without a terminal: a plain progress line every SECONDS and at each design (" +
+                      default_text(args->progress_every_s) + ")")
       ->check(finite_in(1.0, 86400.0));
   cmd->callback([args, action] { *action = [args] { return screen_command(*args); }; });
 }

@@ -5,9 +5,10 @@
 #include <cstdio>
 #include <iostream>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
+#include "app/default_text.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -78,8 +79,8 @@ void register_sweep(CLI::App& app, Action* action) {
       ->check(finite_in(1e-6, 1e4));
   cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--replicates", args->replicates,
-                  "charges per value, seeds s .. s+N-1: figures are their mean with its standard error "
-                  "(default 1: batch means, a lower bound)")
+                  "charges per value, seeds s .. s+N-1: figures are their mean with its standard error (" +
+                      default_text(args->replicates) + ": batch means, a lower bound)")
       ->check(CLI::Range(1, 1000));
   cmd->add_flag("--no-plot", *no_plot, "skip the figures");
   cmd->add_flag("-q,--quiet", *quiet, "no progress lines, only the final table");

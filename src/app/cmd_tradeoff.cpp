@@ -10,11 +10,12 @@
 #include <cstdio>
 #include <mutex>
 
-#include "app/number_checks.hpp"
 #include "app/commands.hpp"
-#include "app/set_option.hpp"
+#include "app/default_text.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
+#include "app/set_option.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
 #include "study/tradeoff_study.hpp"
@@ -98,7 +99,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
   cmd->add_option("--stages", r.options.stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
   cmd->add_option("--stage-hours", r.options.stage_hours, "hours per stage (default: the scene's)")
       ->check(finite_in(1.0, 1e6));
-  cmd->add_option("-j,--jobs", r.jobs, "runs (setting x design) at once (default 1; wall times then share the cores)")
+  cmd->add_option("-j,--jobs", r.jobs, "runs (setting x design) at once (" + default_text(r.jobs) + "; wall times then share the cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-plot", *no_plot, "skip the figure");
   add_set_option(cmd, &r.overrides);

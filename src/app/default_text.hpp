@@ -1,0 +1,15 @@
+#pragma once
+// "default VALUE" for an option's help, read from the variable the option fills, so that the
+// help shows the default the command uses (set once, in its struct) and cannot drift from it.
+#include <cstdio>
+#include <string>
+
+namespace millwear::app {
+
+inline std::string default_text(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "default %g", value);
+  return text;
+}
+
+}  // namespace millwear::app
