@@ -677,18 +677,17 @@ TEST(PowerModels, AustinMatchesAHandWorkedSagCase) {
 }
 
 // The scene's Austin estimate: per metre of the scene's mill, from its species' densities;
-// none for a charge of balls alone or at critical speed.
+// none for a charge of balls alone or at critical speed. For the SAG scene (10 m, J 0.28,
+// Jb 0.12, 75% of critical, rock 2700 and steel 7800 kg/m^3) by hand: 10.6 x 10^2.5 x
+// (1 - 1.03 x 0.28) x [0.7 x 3.375 x 0.28 + 0.6 x 0.12 x (7.8 - 3.375)] x 0.75 x
+// (1 - 0.1 / 2^1.5) = 1691.38 kW per metre.
 TEST(PowerModels, TheScenesAustinEstimateIsPerMetreAndOnlyForASagMillBelowCritical) {
   Scene scene = load_scene(testing::source_path("scenarios/sag-2x30.toml"));
-  AustinInput in;
-  in.diameter_m = scene.mill.diameter_m;
-  in.length_m = 1.0;
-  in.filling = scene.charge.filling;
-  in.ball_filling = scene.charge.ball_filling;
-  in.speed_fraction = scene.mill.speed_fraction_critical;
-  in.ore_density_kg_m3 = 2700.0;  // the scene's rock
-  in.ball_density_kg_m3 = 7800.0;  // and steel
-  EXPECT_DOUBLE_EQ(austin_estimate_W_per_m(scene), austin_power_W(in));
+  const AustinInput in = austin_input(scene);
+  EXPECT_EQ(in.length_m, 1.0);
+  EXPECT_EQ(in.ore_density_kg_m3, 2700.0);
+  EXPECT_EQ(in.ball_density_kg_m3, 7800.0);
+  EXPECT_NEAR(austin_estimate_W_per_m(scene), 1691.38e3, 10.0);
   Scene balls = scene;
   balls.charge.filling = balls.charge.ball_filling;
   EXPECT_TRUE(std::isnan(austin_estimate_W_per_m(balls)));

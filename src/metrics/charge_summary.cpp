@@ -55,7 +55,7 @@ MorrellResult morrell_estimate(const Scene& scene, const ChargeSummary& s) {
   return morrell_power(in);
 }
 
-double austin_estimate_W_per_m(const Scene& scene) {
+AustinInput austin_input(const Scene& scene) {
   double ore = 0.0, balls = 0.0;
   int rocks = 0, ball_species = 0;
   for (const SpeciesDef& sp : scene.charge.species) {
@@ -63,15 +63,20 @@ double austin_estimate_W_per_m(const Scene& scene) {
     (sp.is_ball ? balls : ore) += sp.density_kg_m3;
     ++(sp.is_ball ? ball_species : rocks);
   }
-  if (!(scene.mill.speed_fraction_critical < 1.0) || rocks == 0) return std::nan("");
   AustinInput in;
   in.diameter_m = scene.mill.diameter_m;
   in.length_m = 1.0;
   in.filling = scene.charge.filling;
   in.ball_filling = scene.charge.ball_filling;
   in.speed_fraction = scene.mill.speed_fraction_critical;
-  in.ore_density_kg_m3 = ore / rocks;
+  in.ore_density_kg_m3 = rocks > 0 ? ore / rocks : 0.0;
   in.ball_density_kg_m3 = ball_species > 0 ? balls / ball_species : 0.0;
+  return in;
+}
+
+double austin_estimate_W_per_m(const Scene& scene) {
+  const AustinInput in = austin_input(scene);
+  if (!(in.speed_fraction < 1.0) || !(in.ore_density_kg_m3 > 0.0)) return std::nan("");
   return austin_power_W(in);
 }
 

@@ -77,11 +77,13 @@ constexpr double kSteadyEnergyShare = 0.1;
 // there is no estimate (every field NaN).
 MorrellResult morrell_estimate(const Scene& scene, const ChargeSummary& s);
 
-// Austin's SAG power equation (power_models.hpp) for the scene's mill, speed, filling and
-// ball filling, per metre of mill length (W/m), with the rock species' mean density as the
-// ore's and the balls' as the balls' (each species an equal share of its kind, as filled).
-// A model of SAG mills turning below critical speed: NaN at or above it, and for a charge
-// without rock (a ball mill).
+// The scene's inputs to Austin's SAG power equation (power_models.hpp), per metre of mill
+// length: its mill, speed, filling and ball filling, the rock species' mean density as the
+// ore's and the balls' as the balls' (each species an equal share of its kind, as filled; 0
+// for a kind the charge does not have).
+AustinInput austin_input(const Scene& scene);
+// Its power per metre (W/m). A model of SAG mills turning below critical speed: NaN at or
+// above it, and for a charge without rock (a ball mill).
 double austin_estimate_W_per_m(const Scene& scene);
 
 // Batch-means standard errors of a window's figures: the spread of the figures of its batches
