@@ -116,7 +116,7 @@ void reorder_by_cell(const Model& model, const LinerModel& liner, const StepBoun
       // Swapping the roles flips the normal and tangent: the tangent impulse on the new a
       // keeps its sign, the rolling couple on it changes sign.
       std::swap(a, b);
-      pairs.row[q].lr = -pairs.row[q].lr;
+      pairs.impulse[q].lr = -pairs.impulse[q].lr;
     }
     c.a = a;
     c.b = b;

@@ -5,8 +5,9 @@
 // Most disk-pair contacts are speculative margins that never carry an impulse: every solve
 // and relax pass (2 x 4 a step) reads their gap (bodies, normal, start separation: 32
 // bytes, two to a cache line) and the state byte, finds the row inert and goes on. The row
-// proper (anchors, masses, impulses) is read only for rows that act; the step sums are
-// written once per substep (relax); the key is read by the matching; the info is cold
+// proper (anchors, masses, material) and the impulses are read only for rows that act; the
+// step sums are written once per substep (relax); the key is read by the matching, which
+// copies a live contact's impulses alone (24 bytes, not its row); the info is cold
 // (restitution; a liner contact's edge and point, for the accounting).
 //
 // A contact's normal, anchors and liner velocity are fixed for the step (as in Box2D);
@@ -27,9 +28,14 @@ struct PairGap {
   double nx = 0, ny = 0;       // unit normal from b toward a
   double s0 = 0;               // separation at the start of the step
 };
+// The impulses of the current substep: what the warm start applies and the matching carries
+// from one step to the next. An array of their own: the matching and the lanes' loading and
+// reading back touch only these, not the row around them (at 30k disks and more the rows
+// stream from memory; docs/soft-solver.md).
+struct Impulse {
+  double ln = 0, lt = 0, lr = 0;  // normal, tangent, rolling
+};
 struct PairRow {
-  double ln = 0, lt = 0, lr = 0;  // impulses of the current substep (warm start; first: the
-                                  // matching reads only these)
   double alpha = 0, beta = 0;  // anchors: r_a = -alpha n, r_b = +beta n
   double mn = 0, mt = 0, mr = 0;  // effective masses: normal, tangent, rolling
   double mu = 0, lever = 0;    // friction coefficient, rolling-resistance lever
@@ -44,7 +50,6 @@ struct LinerRow {
   double alpha = 0;            // anchor r_a = -alpha n
   double mn = 0, mt = 0, mr = 0;
   double mu = 0, lever = 0;
-  double ln = 0, lt = 0, lr = 0;
 };
 
 // Per-contact state bits. kLive: some impulse of the row is not zero (kept up to date
@@ -58,9 +63,8 @@ struct LinerRow {
 // byte and touches the cold info and sums of these rows only.
 constexpr std::uint8_t kLive = 1, kBuilt = 2, kBounce = 4;
 
-template <class Row>
-std::uint8_t has_impulse(const Row& c) {
-  return c.ln != 0.0 || c.lt != 0.0 || c.lr != 0.0 ? kLive : 0;
+inline std::uint8_t has_impulse(const Impulse& p) {
+  return p.ln != 0.0 || p.lt != 0.0 || p.lr != 0.0 ? kLive : 0;
 }
 
 struct StepSum {
@@ -96,6 +100,7 @@ template <class Gap, class Row, class Info>
 struct ContactSet {
   std::vector<Gap> gap;
   std::vector<Row> row;
+  std::vector<Impulse> impulse;
   std::vector<std::uint8_t> state;  // kLive | kBuilt | kBounce
   std::vector<StepSum> sum;
   std::vector<ContactKey> key;
@@ -107,6 +112,7 @@ struct ContactSet {
     if (row.size() >= m) return;
     gap.resize(m);
     row.resize(m);
+    impulse.resize(m);
     state.resize(m);
     sum.resize(m);
     key.resize(m);
@@ -119,6 +125,7 @@ struct ContactSet {
   void swap(ContactSet& o) {
     gap.swap(o.gap);
     row.swap(o.row);
+    impulse.swap(o.impulse);
     state.swap(o.state);
     sum.swap(o.sum);
     key.swap(o.key);
@@ -128,6 +135,7 @@ struct ContactSet {
   void copy(std::size_t to, const ContactSet& o, std::size_t from) {
     gap[to] = o.gap[from];
     row[to] = o.row[from];
+    impulse[to] = o.impulse[from];
     state[to] = o.state[from];
     sum[to] = o.sum[from];
     key[to] = o.key[from];

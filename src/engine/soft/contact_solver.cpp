@@ -10,8 +10,9 @@ namespace {
 
 // The normal row of one contact at separation s and normal velocity vn; returns the
 // change of its impulse. kBias: the soft solve; otherwise the relax (rigid, no bias).
-template <bool kBias, class Row>
-double solve_normal(Row& c, double s, double vn, const Softness& sf, double inv_h, double push) {
+template <bool kBias>
+double solve_normal(double mn, double& ln, double s, double vn, const Softness& sf, double inv_h,
+                    double push) {
   double mass_scale = 1.0, impulse_scale = 0.0, bias = 0.0;
   if (s > 0.0) {
     bias = s * inv_h;  // speculative: close the gap, no more
@@ -20,10 +21,10 @@ double solve_normal(Row& c, double s, double vn, const Softness& sf, double inv_
     mass_scale = sf.mass_scale;
     impulse_scale = sf.impulse_scale;
   }
-  const double raw = -c.mn * mass_scale * (vn + bias) - impulse_scale * c.ln;
-  const double next = std::max(c.ln + raw, 0.0);
-  const double d = next - c.ln;
-  c.ln = next;
+  const double raw = -mn * mass_scale * (vn + bias) - impulse_scale * ln;
+  const double next = std::max(ln + raw, 0.0);
+  const double d = next - ln;
+  ln = next;
   return d;
 }
 
@@ -44,6 +45,7 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
   const Softness& soft = model.pair_softness;
   const PairGap* gaps = pairs.gap.data();
   PairRow* row_of = pairs.row.data();
+  Impulse* impulse = pairs.impulse.data();
   std::uint8_t* state = pairs.state.data();
   StepSum* sums = pairs.sum.data();
   std::size_t warm_n = 0;
@@ -59,11 +61,12 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
     // it): skip it. Many rows are such margins kept against tunnelling.
     if (s > 0.0 && vn + s * inv_h >= 0.0 && !(state[q] & kLive)) continue;
     if (!(state[q] & kBuilt)) build_pair_row(model, disks, start, pairs, q);
-    PairRow& c = row_of[q];
+    const PairRow& c = row_of[q];
+    Impulse& p = impulse[q];
     double vax = A.vx, vay = A.vy, wa = A.w;
     double vbx = B.vx, vby = B.vy, wb = B.w;
     const double ima = A.im, imb = B.im, iia = A.ii, iib = B.ii;
-    const double dn = solve_normal<kBias>(c, s, vn, soft, inv_h, push);
+    const double dn = solve_normal<kBias>(c.mn, p.ln, s, vn, soft, inv_h, push);
     vax += ima * dn * g.nx;
     vay += ima * dn * g.ny;
     vbx -= imb * dn * g.nx;
@@ -71,10 +74,10 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
     // Friction.
     const double tx = -g.ny, ty = g.nx;
     const double vt = tx * (vax - vbx) + ty * (vay - vby) - c.alpha * wa - c.beta * wb;
-    const double bound = c.mu * c.ln;
-    const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
-    const double dt_imp = lt - c.lt;
-    c.lt = lt;
+    const double bound = c.mu * p.ln;
+    const double lt = std::clamp(p.lt - c.mt * vt, -bound, bound);
+    const double dt_imp = lt - p.lt;
+    p.lt = lt;
     vax += ima * dt_imp * tx;
     vay += ima * dt_imp * ty;
     wa -= iia * c.alpha * dt_imp;
@@ -83,10 +86,10 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
     wb -= iib * c.beta * dt_imp;
     // Rolling resistance.
     if (c.lever > 0.0) {
-      const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (wa - wb), -rb, rb);
-      const double dr = lr - c.lr;
-      c.lr = lr;
+      const double rb = c.lever * p.ln;
+      const double lr = std::clamp(p.lr - c.mr * (wa - wb), -rb, rb);
+      const double dr = lr - p.lr;
+      p.lr = lr;
       wa += iia * dr;
       wb -= iib * dr;
     }
@@ -96,15 +99,15 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
     B.vx = vbx;
     B.vy = vby;
     B.w = wb;
-    const std::uint8_t live = has_impulse(c);
+    const std::uint8_t live = has_impulse(p);
     state[q] = (state[q] & kBounce) | kBuilt | live;
     if (!kBias) {
       // The next warm start applies the rows left live (a skipped row stays inert).
       warm[warm_n] = static_cast<int>(q);
       warm_n += live;
-      sums[q].pn += c.ln;
-      sums[q].pt += c.lt;
-      sums[q].pr += c.lr;
+      sums[q].pn += p.ln;
+      sums[q].pt += p.lt;
+      sums[q].pr += p.lr;
     }
   }
   if (!kBias) warm_count = static_cast<int>(warm_n);
@@ -120,6 +123,7 @@ void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& li
   const Softness& soft = model.liner_softness;
   const LinerGap* lgaps = liner.gap.data();
   LinerRow* lrows = liner.row.data();
+  Impulse* limpulse = liner.impulse.data();
   std::uint8_t* lstate = liner.state.data();
   StepSum* lsums = liner.sum.data();
   for (std::size_t q = q0; q < q1; ++q) {
@@ -128,35 +132,36 @@ void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& li
     const double s = g.s0 + g.nx * (A.dpx - g.vlx * elapsed_s) + g.ny * (A.dpy - g.vly * elapsed_s);
     const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
     if (s > 0.0 && vn + s * inv_h >= 0.0 && !(lstate[q] & kLive)) continue;
-    LinerRow& c = lrows[q];
+    const LinerRow& c = lrows[q];
+    Impulse& p = limpulse[q];
     double vax = A.vx, vay = A.vy, wa = A.w;
     const double ima = A.im, iia = A.ii;
-    const double dn = solve_normal<kBias>(c, s, vn, soft, inv_h, push);
+    const double dn = solve_normal<kBias>(c.mn, p.ln, s, vn, soft, inv_h, push);
     vax += ima * dn * g.nx;
     vay += ima * dn * g.ny;
     const double tx = -g.ny, ty = g.nx;
     const double vt = tx * (vax - g.vlx) + ty * (vay - g.vly) - c.alpha * wa;
-    const double bound = c.mu * c.ln;
-    const double lt = std::clamp(c.lt - c.mt * vt, -bound, bound);
-    const double dt_imp = lt - c.lt;
-    c.lt = lt;
+    const double bound = c.mu * p.ln;
+    const double lt = std::clamp(p.lt - c.mt * vt, -bound, bound);
+    const double dt_imp = lt - p.lt;
+    p.lt = lt;
     vax += ima * dt_imp * tx;
     vay += ima * dt_imp * ty;
     wa -= iia * c.alpha * dt_imp;
     if (c.lever > 0.0) {
-      const double rb = c.lever * c.ln;
-      const double lr = std::clamp(c.lr - c.mr * (wa - omega), -rb, rb);
-      wa += iia * (lr - c.lr);
-      c.lr = lr;
+      const double rb = c.lever * p.ln;
+      const double lr = std::clamp(p.lr - c.mr * (wa - omega), -rb, rb);
+      wa += iia * (lr - p.lr);
+      p.lr = lr;
     }
     A.vx = vax;
     A.vy = vay;
     A.w = wa;
-    lstate[q] = kBuilt | has_impulse(c);
+    lstate[q] = kBuilt | has_impulse(p);
     if (!kBias) {
-      lsums[q].pn += c.ln;
-      lsums[q].pt += c.lt;
-      lsums[q].pr += c.lr;
+      lsums[q].pn += p.ln;
+      lsums[q].pt += p.lt;
+      lsums[q].pr += p.lr;
     }
   }
 }
@@ -172,7 +177,7 @@ void load_lanes(const Model& model, const Disks& disks, const StepStart& start, 
     const std::size_t slot = coloured.coloured_slot(t);
     const PairMaterial mat = build_pair_contact(model, disks, start, pairs, q);
     const PairGap& g = pairs.gap[q];
-    const PairRow& c = pairs.row[q];  // live: its impulses were carried into the step
+    const Impulse& c = pairs.impulse[q];  // live: its impulses were carried into the step
     WideRows& w = coloured.chunk_of(slot);
     const std::size_t l = slot % kLanes;
     w.a[l] = g.a;
@@ -396,15 +401,16 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
       const auto q = static_cast<std::size_t>(warm[t]);
       const PairGap& g = pairs.gap[q];
       const PairRow& c = pairs.row[q];
+      const Impulse& p = pairs.impulse[q];
       Body& A = body[g.a];
       Body& B = body[g.b];
-      const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
+      const double px = p.ln * g.nx - p.lt * g.ny, py = p.ln * g.ny + p.lt * g.nx;
       A.vx += A.im * px;
       A.vy += A.im * py;
-      A.w += A.ii * (c.lr - c.alpha * c.lt);
+      A.w += A.ii * (p.lr - c.alpha * p.lt);
       B.vx -= B.im * px;
       B.vy -= B.im * py;
-      B.w += B.ii * (-c.lr - c.beta * c.lt);
+      B.w += B.ii * (-p.lr - c.beta * p.lt);
     }
   });
   const LinerSet& liner = contacts.liner;
@@ -412,11 +418,12 @@ void warm_start(const Contacts& contacts, SolverRows& rows, Disks& disks, Worker
     for (std::size_t q = q0; q < q1; ++q) {
       const LinerGap& g = liner.gap[q];
       const LinerRow& c = liner.row[q];
+      const Impulse& p = liner.impulse[q];
       Body& A = body[g.a];
-      const double px = c.ln * g.nx - c.lt * g.ny, py = c.ln * g.ny + c.lt * g.nx;
+      const double px = p.ln * g.nx - p.lt * g.ny, py = p.ln * g.ny + p.lt * g.nx;
       A.vx += A.im * px;
       A.vy += A.im * py;
-      A.w += A.ii * (c.lr - c.alpha * c.lt);
+      A.w += A.ii * (p.lr - c.alpha * p.lt);
     }
   });
 }
@@ -489,7 +496,7 @@ void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {
       const auto k = static_cast<std::size_t>(q);
       const WideRows& w = coloured.chunk_of(slot);
       const std::size_t l = slot % kLanes;
-      PairRow& c = pairs.row[k];
+      Impulse& c = pairs.impulse[k];
       c.ln = w.ln[l];
       c.lt = w.lt[l];
       c.lr = w.lr[l];
@@ -512,7 +519,7 @@ void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
     StepSum& sum = pairs.sum[q];
     if (sum.pn == 0.0) continue;
     const PairGap& g = pairs.gap[q];
-    PairRow& c = pairs.row[q];
+    Impulse& c = pairs.impulse[q];
     Body& A = body[g.a];
     Body& B = body[g.b];
     const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
@@ -535,10 +542,10 @@ void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
     StepSum& sum = liner.sum[q];
     if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
     const LinerGap& g = liner.gap[q];
-    LinerRow& c = liner.row[q];
+    Impulse& c = liner.impulse[q];
     Body& A = body[g.a];
     const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-    const double next = std::max(c.ln - c.mn * (vn + info.e * info.vn0), 0.0);
+    const double next = std::max(c.ln - liner.row[q].mn * (vn + info.e * info.vn0), 0.0);
     const double d = next - c.ln;
     c.ln = next;
     liner.state[q] = kBuilt | has_impulse(c);

@@ -232,7 +232,7 @@ void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearc
       LinerRow& c = contacts.row[q];
       LinerInfo& info = contacts.info[q];
       g.a = i;
-      c.ln = c.lt = c.lr = 0.0;
+      contacts.impulse[q] = Impulse{};
       contacts.state[q] = kBuilt;
       contacts.sum[q] = StepSum{};
       contacts.key[q] = {pair_key(i, hit.owner), 0.0};
@@ -302,11 +302,7 @@ void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& 
         if (p < p_end && old.key[p].key == c.key) {
           // Only a live row carries impulses (an unbuilt one stores none).
           if (old.state[p] & kLive) {
-            auto& row = now.row[q];
-            const auto& prev = old.row[p];
-            row.ln = prev.ln;
-            row.lt = prev.lt;
-            row.lr = prev.lr;
+            now.impulse[q] = old.impulse[p];
             now.state[q] |= kLive;
           }
           if (events) c.event_J = old.key[p].event_J;  // otherwise zero in both

@@ -116,7 +116,7 @@ inline void build_pair_row(const Model& model, const Disks& disks, const StepSta
   const PairGap& g = pairs.gap[q];
   PairRow& c = pairs.row[q];
   const auto a = static_cast<std::size_t>(g.a), b = static_cast<std::size_t>(g.b);
-  if (!(pairs.state[q] & kLive)) c.ln = c.lt = c.lr = 0.0;
+  if (!(pairs.state[q] & kLive)) pairs.impulse[q] = Impulse{};
   pairs.sum[q] = StepSum{};
   const PairMaterial m = build_pair_contact(model, disks, start, pairs, q);
   c.mu = m.mu;
