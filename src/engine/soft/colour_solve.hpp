@@ -34,12 +34,12 @@ constexpr int kLanes = 4;
 // kLanes contacts' rows, structure of arrays: what a row needs that its bodies do not give.
 // The names are those of contact_set.hpp's PairGap, PairRow, Impulse and StepSum: unit
 // normal from b toward a, start separation, friction coefficient, rolling lever, the
-// substep's impulses: 288 bytes a chunk. The anchors (alpha = r_a + s0 / 2, beta = r_b + s0 / 2) and the
-// effective masses are computed in the lanes, with the serial row's operations, from the
-// radius, inverse mass and inertia of the bodies each pass loads anyway: the same bits as
-// storing them, in 72 bytes a row instead of 112 (at 30k disks and more the passes stream
-// the rows from memory; docs/benchmarks.md). The step's impulse sums are a chunk array of
-// their own (WideSums), written by the relax only.
+// substep's impulses: 288 bytes a chunk. The anchors (alpha = r_a + s0 / 2, beta = r_b +
+// s0 / 2) and the effective masses are computed in the lanes, with the serial row's
+// operations, from the radius, inverse mass and inertia of the bodies each pass loads
+// anyway: the same bits as storing them, in 72 bytes a row instead of 112 (at 30k disks and
+// more the passes stream the rows from memory; docs/benchmarks.md). The step's impulse sums
+// are a chunk array of their own (WideSums), written by the relax only.
 struct alignas(32) WideRows {
   int a[kLanes], b[kLanes];
   double nx[kLanes], ny[kLanes], s0[kLanes];

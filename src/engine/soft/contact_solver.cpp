@@ -44,7 +44,7 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
   const double push = model.push_out_m_s;
   const Softness& soft = model.pair_softness;
   const PairGap* gaps = pairs.gap.data();
-  PairRow* row_of = pairs.row.data();
+  const PairRow* row_of = pairs.row.data();
   Impulse* impulse = pairs.impulse.data();
   std::uint8_t* state = pairs.state.data();
   StepSum* sums = pairs.sum.data();
@@ -122,7 +122,7 @@ void pass_liner(const Model& model, double elapsed_s, double omega, LinerSet& li
   const double push = model.push_out_m_s;
   const Softness& soft = model.liner_softness;
   const LinerGap* lgaps = liner.gap.data();
-  LinerRow* lrows = liner.row.data();
+  const LinerRow* lrows = liner.row.data();
   Impulse* limpulse = liner.impulse.data();
   std::uint8_t* lstate = liner.state.data();
   StepSum* lsums = liner.sum.data();
