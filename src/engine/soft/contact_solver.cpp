@@ -277,7 +277,7 @@ void gravity_range(const Model& model, Disks& disks, int i0, int i1) {
 // it belongs to (b > a, so b is in block k or after it; compared, not divided: this runs for
 // every row of every step).
 Phase phase_of(int b, int end, int block_disks) {
-  return b < end ? kInside : b - end < block_disks ? kNext : kFar;
+  return static_cast<Phase>(static_cast<int>(b >= end) + static_cast<int>(b - end >= block_disks));
 }
 
 // State bit of a row placed in a lane this step (the colouring's; store_lanes rewrites the
@@ -324,9 +324,15 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
   // The live rows, block by block.
   workers.run(rows.blocks, [&](int k) {
     const std::size_t q0 = rows.first[static_cast<std::size_t>(k)], q1 = rows.first[static_cast<std::size_t>(k) + 1];
+    // Written whether live or not, counted only if live: no branch on the state (a third
+    // of the rows are live, in no pattern a predictor learns).
+    int* live = rows.live.data() + q0;
+    const std::uint8_t* state = pairs.state.data();
     int count = 0;
-    for (std::size_t q = q0; q < q1; ++q)
-      if (pairs.state[q] & kLive) rows.live[q0 + static_cast<std::size_t>(count++)] = static_cast<int>(q);
+    for (std::size_t q = q0; q < q1; ++q) {
+      live[count] = static_cast<int>(q);
+      count += state[q] & kLive;
+    }
     rows.live_count[static_cast<std::size_t>(k)] = count;
   });
   // Colour them in key order.
@@ -354,12 +360,15 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
     const int end = (k + 1) * rows.block_disks;
     int count[kPhases] = {}, warm_count[kPhases] = {};
+    int* list[kPhases];
+    for (int p = 0; p < kPhases; ++p) list[p] = rows.list[p].data() + q0;
     for (std::size_t q = q0; q < q1; ++q) {
+      // As the live rows above: every row written, only those outside the lanes counted.
       const std::uint8_t st = pairs.state[q];
-      if (st & kInLane) continue;
       const int p = phase_of(gap[q].b, end, rows.block_disks);
-      rows.list[p][q0 + static_cast<std::size_t>(count[p]++)] = static_cast<int>(q);
-      if (!(st & kLive)) continue;
+      list[p][count[p]] = static_cast<int>(q);
+      count[p] += !(st & kInLane);
+      if ((st & (kInLane | kLive)) != kLive) continue;
       build_pair_row(model, disks, start, pairs, q);
       rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
     }
