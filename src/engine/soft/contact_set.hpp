@@ -57,7 +57,8 @@ struct LinerRow {
 // row's anchors, masses and material (and the info's restitution and start
 // velocity) have been computed. A disk-pair row is built lazily, the first time a pass
 // does not skip it: most are margins that never carry load, and for them the narrow phase
-// computes only the gap. An unbuilt row's impulses are zero (not stored: kLive is clear).
+// computes only the gap. A row neither built nor live has zero impulses, whatever its slot
+// of the impulse array holds (nothing reads that slot before building the row zeroes it).
 // kBounce: a built disk-pair row whose contact closed faster than the restitution
 // threshold with a restitution above zero: the once-a-step restitution pass reads this
 // byte and touches the cold info and sums of these rows only.

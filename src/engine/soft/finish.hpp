@@ -39,6 +39,7 @@ struct FinishScratch {
     double normal_J = 0, tangent_J = 0;
     std::size_t ended = 0;           // events ended, at the front of ended_J
     std::vector<double> ended_J;
+    std::vector<std::uint32_t> acted, idle;  // the range's rows that carried an impulse, and not
   };
   std::vector<PairSums> pairs;       // per range of disk-pair contacts
   std::vector<double> position_J;    // per range of disks: the solver's position correction

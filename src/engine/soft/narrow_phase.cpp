@@ -105,10 +105,12 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
         // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever
         // disk scans, so the pair set does not depend on the grid.
         const double reach = p.reach + q.reach;
-        const bool p_low = p.j < q.j;
-        const auto lo = static_cast<std::uint64_t>(p_low ? p.j : q.j);
-        const auto hi = static_cast<std::uint64_t>(p_low ? q.j : p.j);
-        out[found] = (lo << 32) | hi;
+        // The lower index by masks: the compiler turns a select of two indices into a
+        // branch, and which disk comes first follows no pattern either.
+        const auto pj = static_cast<std::uint64_t>(p.j), qj = static_cast<std::uint64_t>(q.j);
+        const std::uint64_t p_low = 0 - static_cast<std::uint64_t>(pj < qj);
+        const std::uint64_t lo = qj ^ ((pj ^ qj) & p_low);
+        out[found] = (lo << 32) | (pj ^ qj ^ lo);
         found += dx * dx + dy * dy < reach * reach ? 1 : 0;
       }
     };
@@ -300,11 +302,11 @@ void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& 
           ++p;
         }
         if (p < p_end && old.key[p].key == c.key) {
-          // Only a live row carries impulses (an unbuilt one stores none).
-          if (old.state[p] & kLive) {
-            now.impulse[q] = old.impulse[p];
-            now.state[q] |= kLive;
-          }
+          // Only a live row carries impulses; a row that is not live stores none (its
+          // slot holds whatever it held, read by nobody), so the slot is copied either way:
+          // a third of the rows are live, in no pattern a branch predictor learns.
+          now.impulse[q] = old.impulse[p];
+          now.state[q] |= old.state[p] & kLive;
           if (events) c.event_J = old.key[p].event_J;  // otherwise zero in both
           ++p;
         }
