@@ -3,13 +3,18 @@
 
 #include <cmath>
 #include <algorithm>
+#include <cstdint>
 #include <map>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "common/units.hpp"
 #include "engine/engine.hpp"
+#include "engine/soft/broad_phase.hpp"
 #include "engine/soft/colour_solve.hpp"
 #include "engine/soft/liner_lookup.hpp"
+#include "engine/soft/narrow_phase.hpp"
 #include "engine_fixtures.hpp"
 #include "metrics/power_models.hpp"
 #include "scene/fidelity.hpp"
@@ -484,8 +489,9 @@ TEST(SoftEngine, FastDiskNeverPassesThroughAThinLifterOrTheShell) {
 // moves no disk by more than 1% of the smallest radius, and the kinetic energy left in the
 // bed (jitter) is below 1e-6 of its potential energy above the mill's bottom.
 // The coloured rows are solved four lanes at a time where the CPU has AVX2 and two (SSE2)
-// otherwise; a lane computes what the serial row computes, so a scene gives the same bits
-// on either machine. Checked by forcing the two-lane kernels on this one.
+// otherwise, and the pair search scans four candidates at a time or one; a lane computes
+// what the serial row computes, so a scene gives the same bits on either machine. Checked
+// by forcing the baseline kernels on this one.
 TEST(SoftEngine, TwoAndFourLaneSolvesGiveTheSameBits) {
   if (soft::lane_width() != 4) GTEST_SKIP() << "this CPU has no AVX2: only the two-lane kernels run here";
   Scene scene = testing::lab_mill();
@@ -516,6 +522,67 @@ TEST(SoftEngine, TwoAndFourLaneSolvesGiveTheSameBits) {
     ASSERT_EQ(four.accounting.shear_work_J[e], two.accounting.shear_work_J[e]) << "edge " << e;
   EXPECT_EQ(four.accounting.drive_work_J, two.accounting.drive_work_J);
   EXPECT_GT(four.accounting.drive_work_J, 0.0);
+}
+
+// The pair search finds exactly the pairs whose centres are nearer than the sum of their
+// radii and margins, each once and in key order, with the four-wide scan and the baseline
+// one; every pair tested directly. Two charges: the lab mill's, given random velocities
+// (so that the margins differ from disk to disk), and the same disks stacked two to a row
+// in a column narrower than a cell, where the search grid is one cell wide and the four-wide scan's last group of a
+// run reaches into the next row's disks, which it must leave to that row's run.
+std::vector<std::uint64_t> pairs_within_reach(const soft::Disks& disks) {
+  std::vector<std::uint64_t> keys;
+  for (int i = 0; i < disks.n; ++i) {
+    for (int j = i + 1; j < disks.n; ++j) {
+      const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+      const double dx = disks.x[a] - disks.x[b], dy = disks.y[a] - disks.y[b];
+      const double reach = (disks.radius[a] + disks.margin[a]) + (disks.radius[b] + disks.margin[b]);
+      if (dx * dx + dy * dy < reach * reach) keys.push_back(soft::pair_key(i, j));
+    }
+  }
+  return keys;
+}
+
+TEST(SoftPairSearch, FindsExactlyThePairsWithinReachInKeyOrder) {
+  const Scene scene = testing::lab_mill();
+  const MillGeometry mill = build_scene_mill(scene);
+  ChargeState packed = fill_charge(scene, mill);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> speed(-4.0, 4.0), jitter(-0.1, 0.1);
+  for (Vec2& v : packed.velocity_m_s) v = {speed(rng), speed(rng)};
+  ChargeState column = packed;
+  double r_max = 0.0;
+  for (const double r : column.radius_m) r_max = std::max(r_max, r);
+  for (std::size_t i = 0; i < column.size(); ++i)
+    column.position_m[i] = {(static_cast<double>(i % 2) + jitter(rng)) * 0.8 * r_max,
+                            (static_cast<double>(i / 2) + jitter(rng)) * 1.9 * r_max};
+  for (const ChargeState* charge : {&packed, &column}) {
+    const char* name = charge == &packed ? "packed charge" : "column";
+    const soft::Model model = soft::build_model(scene, mill, *charge);
+    soft::Disks disks = soft::load_disks(*charge);
+    soft::Workers workers(1);
+    soft::BroadPhase broad;
+    broad.reserve(disks.n);
+    const soft::StepBounds bounds = soft::update_margins(model, disks, broad, workers);
+    soft::build_pair_grid(model, bounds, disks, broad);
+    const std::vector<std::uint64_t> expected = pairs_within_reach(disks);
+    ASSERT_GT(expected.size(), static_cast<std::size_t>(disks.n)) << name << ": more pairs than disks";
+    if (charge == &column) {
+      ASSERT_EQ(broad.pair_grid.nx, 1) << "the column's search grid is one cell wide";
+    }
+    for (const bool baseline : {false, true}) {
+      struct Kernels {
+        explicit Kernels(bool b) { soft::force_baseline_lanes(b); }
+        ~Kernels() { soft::force_baseline_lanes(false); }
+      } kernels(baseline);
+      soft::PairSearch search;
+      soft::PairSet pairs;
+      soft::find_pairs(model, disks, broad.pair_grid, bounds, search, pairs, workers);
+      std::vector<std::uint64_t> found;
+      for (std::size_t q = 0; q < pairs.size(); ++q) found.push_back(pairs.key[q].key);
+      EXPECT_EQ(found, expected) << name << ", " << (baseline ? "baseline scan" : "scan of this CPU");
+    }
+  }
 }
 
 TEST(SoftEngine, DensePileAtRestStaysAtRest) {

@@ -62,9 +62,10 @@ void wide_warm_start(Body* body, WideRows* rows, std::size_t chunks);
 void wide_solve(Body* body, WideRows* rows, std::size_t chunks, const WideSoftness& soft);
 void wide_relax(Body* body, WideRows* rows, WideSums* sums, std::size_t chunks, double inv_h);
 
-// The lane width in use: 4 (AVX2) or 2 (the SSE2 baseline). Forcing the baseline on a CPU
-// with AVX2 is how a test checks that both widths give the same bits (set it before any
-// engine steps; it is a process-wide switch, not meant to change mid-run).
+// The lane width in use: 4 (AVX2) or 2 (the SSE2 baseline). The pair search's scan follows
+// it (narrow_phase.cpp: four candidates at a time where the lanes are four wide). Forcing
+// the baseline on a CPU with AVX2 is how a test checks that both widths give the same bits
+// (set it before any engine steps; it is a process-wide switch, not meant to change mid-run).
 int lane_width();
 void force_baseline_lanes(bool on);
 

@@ -2,7 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 
+#if defined(MILLWEAR_HAVE_AVX2_TARGET)
+#include <immintrin.h>
+#endif
+
+#include "engine/soft/colour_solve.hpp"
 #include "geometry/vec2.hpp"
 
 namespace millwear::soft {
@@ -37,6 +44,134 @@ void add_pair_contact(const Disks& disks, PairSet& pairs, std::size_t q, int i, 
   g.s0 = dist - disks.radius[a] - disks.radius[b];
 }
 
+using Candidate = PairSearch::Candidate;
+
+// The pair scan of one run of candidates [k0, k1) (contiguous in grid order) against p:
+// each key stored at out[found], counted only where the two are within reach (no branch:
+// whether a neighbour is a pair follows no pattern a predictor can learn). Room for
+// k1 - k0 + kScanSlack keys past found is the caller's to make.
+constexpr int kScanSlack = 3;
+inline std::size_t scan_run(const Candidate& p, const Candidate* cd, int k0, int k1,
+                            std::uint64_t* out, std::size_t found) {
+  for (int k = k0; k < k1; ++k) {
+    const Candidate& q = cd[k];
+    const double dx = p.x - q.x, dy = p.y - q.y;
+    // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever disk
+    // scans, so the pair set does not depend on the grid.
+    const double reach = p.reach + q.reach;
+    // The lower index by masks: the compiler turns a select of two indices into a branch,
+    // and which disk comes first follows no pattern either.
+    const auto pj = static_cast<std::uint64_t>(p.j), qj = static_cast<std::uint64_t>(q.j);
+    const std::uint64_t p_low = 0 - static_cast<std::uint64_t>(pj < qj);
+    const std::uint64_t lo = qj ^ ((pj ^ qj) & p_low);
+    out[found] = (lo << 32) | (pj ^ qj ^ lo);
+    found += dx * dx + dy * dy < reach * reach ? 1 : 0;
+  }
+  return found;
+}
+
+#if defined(MILLWEAR_HAVE_AVX2_TARGET)
+#define MW_AVX2 __attribute__((target("avx2")))
+// The same scan four candidates at a time: the same operations on each (no contraction), so
+// the same pairs. A group reads up to three candidates past k1 (the candidate array has that
+// many spare at its end); their lanes are masked off. The keys of a group's pairs are packed
+// to its front by a permutation chosen by the group's 4-bit mask.
+struct PackTable {
+  alignas(32) std::int32_t index[16][8] = {};
+  constexpr PackTable() {
+    for (int m = 0; m < 16; ++m) {
+      int n = 0;
+      for (int l = 0; l < 4; ++l)
+        if (m & (1 << l)) {
+          index[m][2 * n] = 2 * l;
+          index[m][2 * n + 1] = 2 * l + 1;
+          ++n;
+        }
+      for (; n < 4; ++n) index[m][2 * n] = index[m][2 * n + 1] = 0;
+    }
+  }
+};
+constexpr PackTable kPack;
+
+MW_AVX2 inline std::size_t scan_run_avx2(const Candidate& p, const Candidate* cd, int k0, int k1,
+                                         std::uint64_t* out, std::size_t found) {
+  static_assert(sizeof(Candidate) == 32 && offsetof(Candidate, x) == 0 && offsetof(Candidate, j) == 24,
+                "a candidate is loaded as four doubles' worth: x, y, reach, then j");
+  const __m256d px = _mm256_set1_pd(p.x), py = _mm256_set1_pd(p.y), pr = _mm256_set1_pd(p.reach);
+  const __m256i pj = _mm256_set1_epi64x(p.j);
+  const __m256i low32 = _mm256_set1_epi64x(0xffffffff);
+  const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+  for (int k = k0; k < k1; k += 4) {
+    // Four candidates in, their columns out.
+    const __m256d c0 = _mm256_loadu_pd(&cd[k].x), c1 = _mm256_loadu_pd(&cd[k + 1].x);
+    const __m256d c2 = _mm256_loadu_pd(&cd[k + 2].x), c3 = _mm256_loadu_pd(&cd[k + 3].x);
+    const __m256d t0 = _mm256_unpacklo_pd(c0, c1), t1 = _mm256_unpackhi_pd(c0, c1);
+    const __m256d t2 = _mm256_unpacklo_pd(c2, c3), t3 = _mm256_unpackhi_pd(c2, c3);
+    const __m256d qx = _mm256_permute2f128_pd(t0, t2, 0x20), qy = _mm256_permute2f128_pd(t1, t3, 0x20);
+    const __m256d qr = _mm256_permute2f128_pd(t0, t2, 0x31), qjd = _mm256_permute2f128_pd(t1, t3, 0x31);
+    const __m256d dx = _mm256_sub_pd(px, qx), dy = _mm256_sub_pd(py, qy);
+    const __m256d reach = _mm256_add_pd(pr, qr);
+    const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+    const __m256d within = _mm256_cmp_pd(d2, _mm256_mul_pd(reach, reach), _CMP_LT_OQ);
+    const __m256i in_run = _mm256_cmpgt_epi64(_mm256_set1_epi64x(k1 - k), lane);
+    const int mask = _mm256_movemask_pd(_mm256_and_pd(within, _mm256_castsi256_pd(in_run)));
+    const __m256i qj = _mm256_and_si256(_mm256_castpd_si256(qjd), low32);
+    const __m256i p_low = _mm256_cmpgt_epi64(qj, pj);
+    const __m256i lo = _mm256_blendv_epi8(qj, pj, p_low), hi = _mm256_blendv_epi8(pj, qj, p_low);
+    const __m256i key = _mm256_or_si256(_mm256_slli_epi64(lo, 32), hi);
+    const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(kPack.index[mask]));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + found), _mm256_permutevar8x32_epi32(key, order));
+    found += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(mask)));
+  }
+  return found;
+}
+#endif
+
+// One range of the scan [k_begin, k_end): each candidate p against the cells after its own
+// within its reach plus the largest reach; the count of keys found. kWide: four candidates
+// at a time.
+template <bool kWide>
+__attribute__((always_inline)) inline std::size_t scan_range(const Grid& grid, const Candidate* cd, int k_begin,
+                                                             int k_end, double reach_max,
+                                                             std::vector<std::uint64_t>& keys) {
+  const int nx = grid.nx;
+  const int* start = grid.start.data();
+  std::size_t found = 0;
+  auto scan = [&](const Candidate& p, int k0, int k1) {
+    const std::size_t need = found + static_cast<std::size_t>(k1 - k0 + kScanSlack);
+    if (keys.size() < need) keys.resize(2 * need);
+#if defined(MILLWEAR_HAVE_AVX2_TARGET)
+    if constexpr (kWide) {
+      found = scan_run_avx2(p, cd, k0, k1, keys.data(), found);
+      return;
+    }
+#endif
+    found = scan_run(p, cd, k0, k1, keys.data(), found);
+  };
+  for (int k = k_begin; k < k_end; ++k) {
+    const Candidate& p = cd[k];
+    const double box = p.reach + reach_max;
+    const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
+    const int row = grid.row(p.y);
+    // The rest of this row: the disks after p in its own cell, then the cells to its right.
+    scan(p, k + 1, start[row * nx + x_hi + 1]);
+    for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
+      scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
+  }
+  return found;
+}
+
+std::size_t scan_range_baseline(const Grid& grid, const Candidate* cd, int k_begin, int k_end,
+                                double reach_max, std::vector<std::uint64_t>& keys) {
+  return scan_range<false>(grid, cd, k_begin, k_end, reach_max, keys);
+}
+#if defined(MILLWEAR_HAVE_AVX2_TARGET)
+MW_AVX2 std::size_t scan_range_avx2(const Grid& grid, const Candidate* cd, int k_begin, int k_end,
+                                    double reach_max, std::vector<std::uint64_t>& keys) {
+  return scan_range<true>(grid, cd, k_begin, k_end, reach_max, keys);
+}
+#endif
+
 }  // namespace
 
 void build_liner_search(const Model& model, const LinerModel& liner, LinerSearch& search) {
@@ -61,17 +196,15 @@ void fit_liner_search(const Model& model, const LinerModel& liner, const StepBou
 void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
                 const StepBounds& bounds, PairSearch& search, PairSet& pairs,
                 Workers& workers) {
-  using Candidate = PairSearch::Candidate;
   constexpr std::size_t kPerRange = 1024;  // candidates (disks) per range of the scan
   pairs.clear();
-  const int nx = grid.nx;
-  const int* start = grid.start.data();
   const double* x = disks.x.data();
   const double* y = disks.y.data();
   const double* r = disks.radius.data();
   const double* margin = disks.margin.data();
   const int placed = grid.placed();
-  search.candidates.resize(static_cast<std::size_t>(placed));
+  // kScanSlack spare candidates at the end, read (and masked off) by the four-wide scan.
+  search.candidates.resize(static_cast<std::size_t>(placed) + kScanSlack);
   const int ranges = range_count(static_cast<std::size_t>(placed), kPerRange);
   if (search.found_keys.size() < static_cast<std::size_t>(ranges)) {
     search.found_keys.resize(static_cast<std::size_t>(ranges));
@@ -89,44 +222,18 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
   // Any partner's reach is at most this; the slack (far above rounding) keeps a pair at
   // the edge of the box from being lost to the rounding of the box.
   const double reach_max = model.r_max_m + bounds.margin_max_m + 1e-6 * model.r_min_m;
+  // The four-wide scan where the coloured lanes are four wide (colour_solve.hpp: AVX2, and
+  // not forced to the baseline); both find the same pairs.
+  auto* scan_range_fn = &scan_range_baseline;
+#if defined(MILLWEAR_HAVE_AVX2_TARGET)
+  if (lane_width() == 4) scan_range_fn = &scan_range_avx2;
+#endif
   workers.run(ranges, [&](int rg) {
-    std::vector<std::uint64_t>& keys = search.found_keys[static_cast<std::size_t>(rg)];
-    std::size_t found = 0;
-    // Branch-free: whether a neighbour is a pair follows no pattern a predictor can learn,
-    // so every one is tested and stored, and only counted if it passes (room for a whole
-    // range is made first).
-    auto scan = [&](const Candidate& p, int k0, int k1) {
-      if (keys.size() < found + static_cast<std::size_t>(k1 - k0))
-        keys.resize(2 * (found + static_cast<std::size_t>(k1 - k0)));
-      std::uint64_t* out = keys.data();
-      for (int k = k0; k < k1; ++k) {
-        const Candidate& q = cd[k];
-        const double dx = p.x - q.x, dy = p.y - q.y;
-        // (r_p + margin_p) + (r_q + margin_q): a sum of two terms is the same whichever
-        // disk scans, so the pair set does not depend on the grid.
-        const double reach = p.reach + q.reach;
-        // The lower index by masks: the compiler turns a select of two indices into a
-        // branch, and which disk comes first follows no pattern either.
-        const auto pj = static_cast<std::uint64_t>(p.j), qj = static_cast<std::uint64_t>(q.j);
-        const std::uint64_t p_low = 0 - static_cast<std::uint64_t>(pj < qj);
-        const std::uint64_t lo = qj ^ ((pj ^ qj) & p_low);
-        out[found] = (lo << 32) | (pj ^ qj ^ lo);
-        found += dx * dx + dy * dy < reach * reach ? 1 : 0;
-      }
-    };
     const int k_end = static_cast<int>(std::min(static_cast<std::size_t>(placed),
                                                 (static_cast<std::size_t>(rg) + 1) * kPerRange));
-    for (int k = rg * static_cast<int>(kPerRange); k < k_end; ++k) {
-      const Candidate& p = cd[k];
-      const double box = p.reach + reach_max;
-      const int x_lo = grid.col(p.x - box), x_hi = grid.col(p.x + box);
-      const int row = grid.row(p.y);
-      // The rest of this row: the disks after p in its own cell, then the cells to its right.
-      scan(p, k + 1, start[row * nx + x_hi + 1]);
-      for (int gy = row + 1, y_hi = grid.row(p.y + box); gy <= y_hi; ++gy)
-        scan(p, start[gy * nx + x_lo], start[gy * nx + x_hi + 1]);
-    }
-    search.found[static_cast<std::size_t>(rg)] = found;
+    search.found[static_cast<std::size_t>(rg)] =
+        scan_range_fn(grid, cd, rg * static_cast<int>(kPerRange), k_end, reach_max,
+                      search.found_keys[static_cast<std::size_t>(rg)]);
   });
   // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
   const auto n = static_cast<std::size_t>(disks.n);
