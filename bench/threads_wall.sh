@@ -15,6 +15,7 @@ set -euo pipefail
 near=""
 if [ "${1:-}" = "--near" ]; then
   near=${2:?usage: bench/threads_wall.sh [--near NS] BUILD_DIR SNAPSHOT:STEPS...}
+  [[ $near =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "threads_wall: --near wants a round trip in ns, a number; got '$near'" >&2; exit 2; }
   shift 2
 fi
 build=${1:?usage: bench/threads_wall.sh [--near NS] BUILD_DIR SNAPSHOT:STEPS...}
