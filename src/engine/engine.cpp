@@ -2,7 +2,6 @@
 #include "engine/engine.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <string>
 

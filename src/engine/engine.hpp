@@ -107,7 +107,7 @@ void settle_and_spin_up(Engine& engine, const Scene& scene, double direction_sig
 int steps_for(double seconds, double dt_s);
 
 // Disks per thread of a soft step when the thread count fits the charge's size
-// (SolverDef::threads_fit_size). A smaller share can pay (3k disks on two threads: 1.34-1.42x)
+// (SolverDef::threads_fit_size). A smaller share can pay (3k disks on two threads: 1.33-1.38x)
 // but only while the cores pass cache lines quickly; on a host that moves its virtual CPUs
 // apart it runs slower than one thread (0.73x), where 10k disks still break even
 // (docs/benchmarks.md, "Threads").

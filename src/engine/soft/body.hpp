@@ -1,7 +1,7 @@
 #pragma once
 // Solver state of one disk of the soft backend: everything a contact row reads or writes
 // during the substeps, in one 64-byte cache line (a pair row touches two lines, not
-// fourteen scattered arrays). The wide solver (colour_solve) loads a body as two halves of
+// sixteen scattered arrays). The wide solver (colour_solve) loads a body as two halves of
 // four doubles each, so the field order is part of its layout: keep vx, vy, w, dpx first.
 // The radius fills the second half: the wide solve and the accounting compute a pair row's
 // anchors (and the wide solve its masses) from the bodies they load anyway instead of

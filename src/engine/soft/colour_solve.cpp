@@ -84,7 +84,7 @@ MW_INLINE void transpose(f64x2& r0, f64x2& r1) {
   r0 = t0;
 }
 
-// Each body is a few aligned loads and a transpose, not seven scalar loads and inserts.
+// Each body is a few aligned loads and a transpose, not eight scalar loads and inserts.
 MW_INLINE void gather(const Body* body, const int* idx, Side<f64x4>& s) {
   f64x4 r0 = load<f64x4>(&body[idx[0]].vx), r1 = load<f64x4>(&body[idx[1]].vx);
   f64x4 r2 = load<f64x4>(&body[idx[2]].vx), r3 = load<f64x4>(&body[idx[3]].vx);

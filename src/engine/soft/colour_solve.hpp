@@ -101,7 +101,6 @@ class ColouredRows {
   std::size_t coloured() const { return added_n_; }
   int coloured_contact(std::size_t t) const { return added_[t].q; }
   std::size_t coloured_slot(std::size_t t) const { return added_[t].slot; }
-  std::size_t chunks() const { return chunks_; }
   int colours() const { return colours_; }
   // Chunks [colour_begin(c), colour_begin(c + 1)) hold colour c: they share no body, so
   // they may be solved in any order, or at once, with the same bits.

@@ -96,7 +96,7 @@ inline std::uint64_t pair_key(int a, int b) {
 }
 
 // The arrays only grow (to their high-water mark, during warm-up); n counts the contacts in
-// use, so adding a contact is a bounds check and plain stores, no construction.
+// use, so filling a step's contacts is a bounds check and plain stores, no construction.
 template <class Gap, class Row, class Info>
 struct ContactSet {
   std::vector<Gap> gap;
@@ -141,13 +141,6 @@ struct ContactSet {
     sum[to] = o.sum[from];
     key[to] = o.key[from];
     info[to] = o.info[from];
-  }
-  // Append a contact; the caller writes gap, state and key, and row, info and zero step
-  // sums when it builds the row (only a built row's sums are ever read: most disk-pair rows
-  // are margins that are never built, and their sums are not written at all).
-  std::size_t add() {
-    if (n == row.size()) reserve(std::max<std::size_t>(64, 2 * n));
-    return n++;
   }
 };
 

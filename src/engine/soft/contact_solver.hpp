@@ -16,9 +16,10 @@
 // Order. The disk-pair rows live at the start of a step (they carried an impulse out of
 // the last one: a third of the pairs, and nearly all that act in a pass) are coloured and
 // solved four at a time in vector lanes (colour_solve.hpp); the serial passes keep the rest,
-// with their skip of inert rows and lazy building. In each pass the serial rows go first,
-// then the colours in order, then the liner contacts (last, so that they win: the liner
-// must not be pushed through).
+// with their skip of inert rows and lazy building. In the solve and the relax the serial rows
+// go first, then the colours in order, then the liner contacts (last, so that they win: the
+// liner must not be pushed through); the warm start applies the colours' impulses, then the
+// live serial rows', then the liner's.
 //
 // Threads (workers.hpp). The disks are cut into blocks of a fixed size (broad_phase.hpp:
 // from the positions, never from the thread count), and the serial rows are listed by the

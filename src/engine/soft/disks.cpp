@@ -1,7 +1,5 @@
 #include "engine/soft/disks.hpp"
 
-#include <algorithm>
-
 namespace millwear::soft {
 
 Disks load_disks(const ChargeState& charge) {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <string>
 
-#include "common/units.hpp"
 #include "geometry/vec2.hpp"
 
 namespace millwear::soft {

@@ -3,8 +3,8 @@
 // the disks, no allocation once the arrays reached their size). Two uses: the reordering
 // of the disks for locality (square cells over the whole mill, at least the interaction
 // range wide, so the order depends only on positions), and the pair search (cells over the
-// disks' bounding box, finer than the range, each disk scanning only the cells its own
-// reach can touch).
+// disks' bounding box, one largest reach wide, each disk scanning the cells within its own
+// reach plus the largest: broad_phase.hpp).
 #include <algorithm>
 #include <cmath>
 #include <vector>

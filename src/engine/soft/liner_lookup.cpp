@@ -113,7 +113,6 @@ int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out) const {
         h.owner = h.edge = k;
         h.normal = n_in_[static_cast<std::size_t>(k)];
         h.gap = gap;
-        h.foot = a_[static_cast<std::size_t>(k)] + t * u_[static_cast<std::size_t>(k)];
       }
     } else if (t < 0.0 && reflex_start_[static_cast<std::size_t>(k)]) {
       // Vertex k sticks out: the disk is in its wedge when it is also past the end of the
@@ -135,7 +134,6 @@ int LinerLookup::query(Vec2 p, double r, double max_gap, LinerHit* out) const {
                      ? k
                      : prev;
         h.gap = gap;
-        h.foot = a_[static_cast<std::size_t>(k)];
       }
     }
   }

@@ -29,7 +29,6 @@ struct LinerHit {
   int edge = -1;    // the edge its work is attributed to
   Vec2 normal;      // unit, from the liner toward the disk centre
   double gap = 0.0; // centre distance to the feature minus the disk radius (< 0: overlap)
-  Vec2 foot;        // nearest point of the liner
 };
 
 class LinerLookup {
@@ -49,7 +48,6 @@ class LinerLookup {
   // Write the contacts of a disk at p_mill (radius r) with gap below max_gap to out (room
   // for max_hits()), in increasing edge order; returns how many.
   int query(Vec2 p_mill, double r, double max_gap, LinerHit* out) const;
-  std::size_t edge_count() const { return a_.size(); }
 
  private:
   std::vector<Vec2> a_, u_, n_in_;      // edge start, unit direction, inward normal
