@@ -9,8 +9,9 @@
 # (snapshots from `BUILD_DIR/bench_backends --snapshot SIZE FILE`). Prints the state
 # fingerprint (equal for both thread counts), disk-steps per wall second and the pair's
 # ratio. --near NS: before each pair, wait until the round trip is under NS nanoseconds
-# (polled every 10 s, for at most an hour a pair), for the scaling of two near CPUs on a
-# host that moves them.
+# (polled every 2 s), and keep only the pairs with it under NS before and after, running
+# a pair again until three are kept (at most an hour a pair): the scaling of two near CPUs
+# on a host that moves them.
 set -euo pipefail
 near=""
 if [ "${1:-}" = "--near" ]; then
@@ -21,24 +22,26 @@ fi
 build=${1:?usage: bench/threads_wall.sh [--near NS] BUILD_DIR SNAPSHOT:STEPS...}
 shift
 round_trip() { "$build/core_to_core" 0 1 200000 | grep -o '[0-9.]* ns'; }
+is_near() { awk -v r="${1%% *}" -v n="$near" 'BEGIN { exit !(r < n) }'; }
+# When the search for the current pair began (reset when a pair is kept).
+pair_began=$SECONDS
 wait_near() {
-  local waited=0
   while :; do
     local rt
-    rt=$(round_trip | cut -d' ' -f1)
-    awk -v r="$rt" -v n="$near" 'BEGIN { exit !(r < n) }' && return 0
-    if [ $waited -ge 3600 ]; then
-      echo "threads_wall: the CPUs' round trip stayed at or above $near ns for an hour (last $rt ns)" >&2
+    rt=$("$build/core_to_core" 0 1 20000 | grep -o '[0-9.]* ns' | cut -d' ' -f1)
+    is_near "$rt" && return 0
+    if [ $((SECONDS - pair_began)) -ge 3600 ]; then
+      echo "threads_wall: no pair ran with the CPUs' round trip under $near ns throughout in an hour (last $rt ns)" >&2
       exit 1
     fi
-    sleep 10
-    waited=$((waited + 10))
+    sleep 2
   done
 }
 for arg in "$@"; do
   file=${arg%%:*}
   steps=${arg##*:}
-  for rep in 1 2 3; do
+  rep=1
+  while [ $rep -le 3 ]; do
     [ -z "$near" ] || wait_near
     before=$(round_trip)
     declare -A rate
@@ -49,6 +52,13 @@ for arg in "$@"; do
       echo "$file threads=$threads load=$load $(grep -o 'state [0-9a-f]*' <<<"$line") ${rate[$threads]} disk-steps/wall-s"
     done
     after=$(round_trip)
-    echo "$file pair $rep: 2 threads / 1 = $(awk -v a="${rate[1]}" -v b="${rate[2]}" 'BEGIN { printf "%.2f", b / a }'), round trip $before before, $after after"
+    ratio=$(awk -v a="${rate[1]}" -v b="${rate[2]}" 'BEGIN { printf "%.2f", b / a }')
+    if [ -n "$near" ] && ! { is_near "$before" && is_near "$after"; }; then
+      echo "$file pair not kept: 2 threads / 1 = $ratio, round trip $before before, $after after (not under $near ns throughout)"
+      continue
+    fi
+    echo "$file pair $rep: 2 threads / 1 = $ratio, round trip $before before, $after after"
+    rep=$((rep + 1))
+    pair_began=$SECONDS
   done
 done
