@@ -126,10 +126,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(CLI::Range(1, 10000));
   cmd->add_option("-j,--jobs", args->options.jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
-  cmd->add_option("--threads", args->threads,
-                  "threads of each history's engine step (default: the cores the histories at once leave, at "
-                  "least 1; the results are the same bits for any count)")
-      ->check(CLI::Range(1, 256));
+  add_threads_option(cmd, args->threads, "each history's engine step", "the cores the histories at once leave");
   add_set_option(cmd, &args->overrides);
   cmd->callback([args, action] { *action = [args] { return run_rule1(*args); }; });
 }

@@ -26,6 +26,7 @@
 #include "app/run_view.hpp"
 #include "app/set_option.hpp"
 #include "app/signals.hpp"
+#include "app/threads_option.hpp"
 #include "common/units.hpp"
 #include "io/run_folder.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -205,10 +206,7 @@ void register_run(CLI::App& app, Action* action) {
                                     "with --continue: the stage to go on from (default: each design's last)")
                         ->check(CLI::Range(0, 10000));
   stage_opt->needs("--continue");
-  cmd->add_option("--threads", args->threads,
-                  "threads of each design's engine step (default: the cores the designs at once leave, "
-                  "at least 1; the results are the same bits for any count)")
-      ->check(CLI::Range(1, 256));
+  add_threads_option(cmd, args->threads, "each design's engine step", "the cores the designs at once leave");
   cmd->add_option("--stop-after-stage", args->stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));

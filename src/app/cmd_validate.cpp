@@ -88,7 +88,7 @@ int run_validate(const validation::ValidateRequest& a) {
 
 void register_validate(CLI::App& app, Action* action) {
   auto args = std::make_shared<validation::ValidateRequest>();
-  args->threads = 0;  // not given: every core
+  args->threads = 0;  // not given: one per kDisksPerStepThread disks, up to every core
   CLI::App* cmd = app.add_subcommand(
       "validate", "Compare measured lifter profiles or areas with the simulated wear history (paper Fig. 4)");
   cmd->add_option("scene", args->scene_file, "scene file (TOML)")->required()->check(CLI::ExistingFile);
@@ -99,10 +99,7 @@ void register_validate(CLI::App& app, Action* action) {
   cmd->add_option("--from", args->from, "reuse a finished `millwear run` folder instead of running")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
-  cmd->add_option("--threads", args->threads,
-                  "threads of the soft engine's step (default: the hardware's cores; the results are "
-                  "the same bits for any count)")
-      ->check(CLI::Range(1, 256));
+  add_threads_option(cmd, args->threads);
   add_set_option(cmd, &args->overrides);
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: normal distances (mm, % of the lifter height) and area error per survey.\n"

@@ -18,7 +18,7 @@ struct RunArgs {
   double progress_every_s = 60.0;  // without a terminal: plain progress lines this often
   bool check = false;
   int jobs = 0;
-  int threads = 0;  // --threads: each design's engine step (0: the cores the designs leave)
+  int threads = 0;  // --threads: each design's engine step (0: fit to the charge, up to the cores the designs leave)
   int stop_after_stage = -1;
   std::string continue_from;   // --continue RUN
   int continue_stage = -1;     // --stage N (-1: each design's last finished stage)
