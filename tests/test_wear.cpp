@@ -10,7 +10,10 @@
 
 #include "common/units.hpp"
 #include "engine_fixtures.hpp"
+#include "common/errors.hpp"
 #include "geometry/polyline.hpp"
+#include "study/stage_files.hpp"
+#include "study/vtk_output.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear {
@@ -83,6 +86,50 @@ TEST(Archard, KnownWorkGivesKnownDepth) {
   // A dh = C dw: 10 J on a 0.1 m x 0.05 m edge with C = 1e-9 m^3/J -> 2e-6 m.
   EXPECT_DOUBLE_EQ(archard_depth_m(10.0, 0.1, 0.05, 1e-9), 2e-6);
   EXPECT_DOUBLE_EQ(archard_depth_m(0.0, 0.1, 0.05, 1e-9), 0.0);
+}
+
+TEST(Archard, ShellEdgesWearAtTheShellsOwnRateOrNotAtAll) {
+  Scene s = testing::lab_mill();
+  const MillGeometry mill = build_mill(s.radius_m(), s.mill.rows, {lab_unit(s)});
+  std::size_t shell = mill.boundary.size(), lifter = mill.boundary.size();
+  for (std::size_t e = 0; e < mill.boundary.size(); ++e)
+    (mill.edges[e].owner == EdgeOwner::Shell ? shell : lifter) = e;
+  ASSERT_LT(shell, mill.boundary.size());
+  ASSERT_LT(lifter, mill.boundary.size());
+  const double c = 1e-11, power_W = 2.0, t = s.slice_thickness();
+  auto rate = [&](std::size_t e) { return boundary_edge_wear_rate_m_per_s(s, mill, e, power_W, c); };
+  s.wear.shell_wear = true;
+  s.wear.shell_wear_rate_m3_per_J = 0.0;  // not given: the lifters' rate
+  EXPECT_DOUBLE_EQ(rate(shell), c * power_W / (mill.edge_length_m[shell] * t));
+  s.wear.shell_wear_rate_m3_per_J = 4e-11;
+  EXPECT_DOUBLE_EQ(rate(shell), 4e-11 * power_W / (mill.edge_length_m[shell] * t));
+  EXPECT_DOUBLE_EQ(rate(lifter), c * power_W / (mill.edge_length_m[lifter] * t));
+  s.wear.shell_wear = false;
+  EXPECT_EQ(rate(shell), 0.0);
+  EXPECT_DOUBLE_EQ(rate(lifter), c * power_W / (mill.edge_length_m[lifter] * t));
+}
+
+TEST(Archard, TheParaViewLinerFieldsWearTheShellAtItsOwnRate) {
+  Scene s = testing::lab_mill();
+  s.wear.shell_wear_rate_m3_per_J = 4e-11;
+  const MillGeometry mill = build_mill(s.radius_m(), s.mill.rows, {lab_unit(s)});
+  const std::size_t n = mill.boundary.size();
+  Accounting window;
+  window.time_s = 0.5;
+  window.shear_work_J.assign(n, 1.0);
+  window.impact_energy_J.assign(n, 0.25);
+  const double c = 1e-11, t = s.slice_thickness();
+  const LinerFields f = liner_fields(s, mill, window, c);
+  int shell_edges = 0;
+  for (std::size_t e = 0; e < n; ++e) {
+    const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
+    shell_edges += shell;
+    const double area = mill.edge_length_m[e] * t;
+    EXPECT_DOUBLE_EQ(f.shear_W_per_m2[e], 2.0 / area) << "edge " << e;
+    EXPECT_DOUBLE_EQ(f.impact_W_per_m2[e], 0.5 / area) << "edge " << e;
+    EXPECT_DOUBLE_EQ(f.wear_rate_m_per_s[e], (shell ? 4e-11 : c) * 2.0 / area) << "edge " << e;
+  }
+  EXPECT_GT(shell_edges, 0);
 }
 
 TEST(Rule1, ScalingCModelAndTimeInverselyGivesTheSameProfileWithoutFeedback) {
@@ -423,6 +470,11 @@ TEST(WearLoop, RowsCanWearOnTheirOwn) {
   EXPECT_LT(unexplained, 0.25 * spread) << "rows' Archard areas spread " << spread * 1e6
                                         << " mm^2, areas lost differ from them by " << unexplained * 1e6
                                         << " mm^2 rms";
+  // A command drawing on such a run (validate --from, animate --history) takes its stages,
+  // one unit per row; under a scene whose rows wear as one they are another run's.
+  EXPECT_NO_THROW(study::check_stage_of_scene(worn, s, "run", "--from"));
+  s.wear.average_rows = true;
+  EXPECT_THROW(study::check_stage_of_scene(worn, s, "run", "--from"), InputError);
 }
 
 }  // namespace

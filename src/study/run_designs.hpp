@@ -57,8 +57,9 @@ struct RunOptions {
   // Hold OUT's lock (io/folder_lock.hpp) for the whole run; false when the caller holds it.
   bool lock_folder = true;
   int jobs = 0;                         // designs at once (0: the hardware's cores)
-  // Threads of each design's engine step (0: the cores the designs at once leave, shared
-  // out: cores / jobs, at least 1). The results do not depend on it.
+  // Threads of each design's engine step (0: one per kDisksPerStepThread disks of its
+  // charge, up to the cores the designs at once leave: cores / jobs, at least 1). The
+  // results do not depend on it.
   int threads = 0;
   int stop_after_stage = -1;            // >= 0: stop cleanly after that stage, as if interrupted
   const std::atomic<int>* stop_signal = nullptr;  // non-zero: stop at the next window (a signal number)

@@ -463,15 +463,17 @@ void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std:
   if (rec.units.empty()) return;  // a worn-out marker holds no liner
   const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
   const auto kinds = static_cast<std::size_t>(scene.mill.kind_count());
+  // One unit per kind when the rows of a kind wear as one (wear.average_rows), else one per row.
+  const std::size_t units = scene.wear.average_rows ? kinds : static_cast<std::size_t>(scene.mill.rows);
   double width = 0.0;
   for (const LinerUnit& u : rec.units)
     if (!u.surface.empty()) width = std::max(width, u.surface.back().x - u.surface.front().x);
-  if (rec.units.size() == kinds && std::abs(width - pitch) <= 1e-6 * pitch) return;
+  if (rec.units.size() == units && std::abs(width - pitch) <= 1e-6 * pitch) return;
   char buf[400];
   std::snprintf(buf, sizeof buf,
-                "a run of this scene's mill (%zu lifter kind(s), %d rows, %.4g m): its stage %d of design '%s' has "
-                "%zu liner unit(s) %.1f mm wide, where the scene's pitch is %.1f mm",
-                kinds, scene.mill.rows, scene.mill.diameter_m, rec.stage, scene.name.c_str(), rec.units.size(),
+                "a run of this scene's mill (%zu lifter kind(s), %d rows, %.4g m, %zu liner unit(s)): its stage %d "
+                "of design '%s' has %zu liner unit(s) %.1f mm wide, where the scene's pitch is %.1f mm",
+                kinds, scene.mill.rows, scene.mill.diameter_m, units, rec.stage, scene.name.c_str(), rec.units.size(),
                 width * 1e3, pitch * 1e3);
   throw InputError(run, option, buf);
 }

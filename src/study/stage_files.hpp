@@ -29,7 +29,8 @@ void write_stage_state(const std::string& out, const std::string& design, const 
 StageRecord read_stage_state(const std::string& out, const std::string& design, int stage);
 // A command that draws on a finished run (validate --from, animate --history) with a scene:
 // throws InputError(run, option, ...) unless stage `rec` of the run is of this scene's mill,
-// one liner unit per lifter kind, each one pitch (2 pi R / rows) wide. A run of another mill
+// one liner unit per lifter kind (one per row when the rows wear on their own,
+// wear.average_rows = false), each one pitch (2 pi R / rows) wide. A run of another mill
 // or row count under the same design name is refused, not drawn on.
 void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std::string& run,
                           const std::string& option);

@@ -26,7 +26,8 @@ struct LinerFields {
 };
 
 // Shear and impact power per edge area from a window's sums, and Archard's wear rate at the
-// real wear rate c_m3_per_J (shell edges 0 unless the shell wears).
+// real wear rate c_m3_per_J (boundary_edge_wear_rate_m_per_s: the shell at its own rate,
+// 0 unless it wears).
 LinerFields liner_fields(const Scene& scene, const MillGeometry& mill, const Accounting& window, double c_m3_per_J);
 
 // Writes the files above atomically into DIR (created if needed); returns their paths, the

@@ -63,6 +63,14 @@ double shell_wear_rate(const Scene& scene, double c_real) {
   return scene.wear.shell_wear_rate_m3_per_J > 0.0 ? scene.wear.shell_wear_rate_m3_per_J : c_real;
 }
 
+double boundary_edge_wear_rate_m_per_s(const Scene& scene, const MillGeometry& mill, std::size_t e,
+                                       double power_W, double c_real) {
+  if (mill.edges[e].owner != EdgeOwner::Shell)
+    return archard_depth_m(power_W, mill.edge_length_m[e], scene.slice_thickness(), c_real);
+  if (!scene.wear.shell_wear) return 0.0;
+  return archard_depth_m(power_W, mill.edge_length_m[e], scene.slice_thickness(), shell_wear_rate(scene, c_real));
+}
+
 std::vector<std::vector<double>> archard_depths(const Scene& scene, const MillGeometry& mill,
                                                 const std::vector<std::vector<double>>& unit_work,
                                                 double c_real, double factor) {

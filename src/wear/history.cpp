@@ -169,7 +169,6 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   rec.area_loss_rate_m2_per_s = c_real * w.lifter_power_mean_W / t;
   for (double p : kind_lifter_power_W(mill, w.unit_power_W)) rec.kind_area_loss_rate_m2_per_s.push_back(c_real * p / t);
   if (mill.kinds > 1) rec.kind_area_loss_rate_rel_sem = w.kind_lifter_power_rel_sem;
-  const double c_shell = shell_wear_rate(scene, c_real);
   rec.area_loss_rate_rel_sem = w.lifter_power_rel_sem;
   rec.charge_errors = w.charge_errors;
   rec.spectrum_count_per_s.resize(kSpectrumBins);
@@ -180,9 +179,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   }
   rec.edge_wear_rate_m_per_s.resize(mill.boundary.size());
   for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
-    const bool shell = mill.edges[e].owner == EdgeOwner::Shell;
-    rec.edge_wear_rate_m_per_s[e] = (shell && !scene.wear.shell_wear) ? 0.0
-        : archard_depth_m(w.edge_power_W[e], mill.edge_length_m[e], t, shell ? c_shell : c_real);
+    rec.edge_wear_rate_m_per_s[e] = boundary_edge_wear_rate_m_per_s(scene, mill, e, w.edge_power_W[e], c_real);
     rec.liner_loss_rate_m2_per_s += rec.edge_wear_rate_m_per_s[e] * mill.edge_length_m[e];
   }
   if (scene.outputs.vtk) {
