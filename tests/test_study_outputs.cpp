@@ -209,5 +209,23 @@ TEST(RunProgress, ARunningDesignHasNoTimeLeftUntilItsHoursAdvance) {
   EXPECT_GE(p.elapsed_s, 1.0);
 }
 
+TEST(RunProgress, AWornLinersHoursCountFromItsStart) {
+  OneDesignRun run;
+  run.plan.designs[0].scene.wear.start_hours = 2000.0;
+  run.state = std::make_unique<study::RunState>(run.plan);
+  run.state->designs.push_back(std::make_unique<study::DesignState>());
+  study::DesignState& d = run.design();
+  d.status = study::DesignStatus::Running;
+  // A report at 2100 of 2000-2400 h one second in: three seconds left, as from new.
+  d.progress.stage = 1;
+  d.progress.hours = 2100.0;
+  d.progress.simulated_s = 5.0;
+  d.started = study::Clock::now() - std::chrono::seconds(1);
+  d.progress_at = study::Clock::now();
+  const study::DesignProgress p = study::design_progress(*run.state, 0);
+  EXPECT_DOUBLE_EQ(p.start_hours, 2000.0);
+  EXPECT_NEAR(p.left_s, 3.0, 0.2);
+}
+
 }  // namespace
 }  // namespace millwear

@@ -24,12 +24,13 @@ DesignProgress design_progress(const RunState& ctx, std::size_t i) {
   p.wall_s = st.wall_s;
   p.error = st.error;
   if (st.status != DesignStatus::Running) return p;
-  const double total = d.scene.wear.stage_hours * d.scene.wear.stages;
+  // Hours count from the liner's own start (lifters.start_hours: a worn liner).
+  const double end_h = d.scene.wear.start_hours + d.scene.wear.stage_hours * d.scene.wear.stages;
   p.start_hours = st.resumed_up_to >= 0 && st.stages.count(st.resumed_up_to) ? st.stages.at(st.resumed_up_to).hours
-                                                                              : 0.0;
+                                                                              : d.scene.wear.start_hours;
   // The wear loop reports after each stage; before the first report only time runs.
   p.measuring = st.progress.simulated_s <= 0.0;
-  const double done_h = st.progress.hours - p.start_hours, left_h = total - st.progress.hours;
+  const double done_h = st.progress.hours - p.start_hours, left_h = end_h - st.progress.hours;
   p.elapsed_s = std::chrono::duration<double>(Clock::now() - st.started).count();
   const double at_report = std::chrono::duration<double>(st.progress_at - st.started).count();
   const double since = std::chrono::duration<double>(Clock::now() - st.progress_at).count();
