@@ -20,7 +20,6 @@ inline constexpr const char* kMeasuredFileHelp =
     "         or   hours,area_loss_mm2 one row per lifter: the area lost since new, mm^2\n"
     "Examples: validation/lab-mill-surveys.csv, validation/lab-mill-areas.csv.";
 
-// One line per finished stage on stdout (histories here are short; no live display).
 // A plain line per finished stage, with the time of day (the histories are read in logs too).
 inline WearCallbacks progress_callbacks() {
   WearCallbacks cb;

@@ -42,8 +42,8 @@ using CgalPolygon = CGAL::Polygon_2<Kernel>;
 using CgalPolygonWithHoles = CGAL::Polygon_with_holes_2<Kernel>;
 
 // 32 sides: the polygon lies within 0.5% of r inside the circle (r (1 - cos(pi/32))), far
-// below a wear step; each side turns 11.25 deg, under resample()'s corner threshold, so a
-// rounded corner resamples as a curve.
+// below a wear step; each side turns 11.25 deg, over the 5 deg corner threshold the wear
+// update resamples with (wear/reshape.cpp), so a rounded corner keeps its vertices.
 constexpr int kDiskSides = 32;
 
 CgalPolygon to_cgal(const Polygon& ring) {

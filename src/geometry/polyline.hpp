@@ -81,7 +81,7 @@ Polygon clip_half_plane(const Polygon& ring, F keep) {
 // smoothed once comes back unchanged (up to the removal of collinear vertices). Returns the
 // largest piece if the opening splits the polygon; cavities enclosed by the closing are
 // filled; returns an empty polygon if nothing survives. Input orientation is kept; r <= 0
-// returns the input. Throws RunError if the input is not simple.
+// returns the input without repeated points. Throws RunError if the input is not simple.
 Polygon smooth_by_offsets(const Polygon& ring, double r);
 
 // The largest piece of the intersection of two simple polygons (exact Boolean operation), in

@@ -41,7 +41,7 @@ std::string folder_holder(const std::string& folder);
 class FolderLock {
  public:
   // Checks the path (check_output_folder), creates the folder if needed (ensure_dir) and
-  // takes its lock. Throws InputError(folder, "", ...) naming the holder's pid if another
+  // takes its lock. Throws InputError(folder, "-o", ...) naming the holder's pid if another
   // process holds it, RunError if the lock file cannot be made. With a command (a command
   // other than `run`, which tells its own runs apart): also refuses a folder holding another
   // command's results (run_folder.hpp's check_folder_not_taken), under the lock, and marks

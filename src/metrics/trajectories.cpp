@@ -48,8 +48,9 @@ FlightTracker::FlightTracker(const Polygon& liner, const ChargeState& first, con
   inner_m_ = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < edges; ++k)
     inner_m_ = std::min(inner_m_, segment_distance({0.0, 0.0}, liner_[k], liner_[(k + 1) % edges]));
-  // A point within reach of a liner point x (|x| >= inner) lies within asin(reach / inner) of
-  // its angle, so each edge goes into every bin its angular span, widened by that, touches.
+  // A point within reach of a liner point x (|x| >= inner, so the point's own radius is at
+  // least inner - reach) lies within asin(reach / (inner - reach)) of its angle, so each edge
+  // goes into every bin its angular span, widened by that, touches.
   // Bins about reach / inner wide keep a handful of edges each. A liner that is no ring round
   // the axis with room to spare (a test's box) gets one bin of every edge.
   const bool binned = edges >= 16 && inner_m_ > 2.0 * reach_m_ && reach_m_ > 0.0;

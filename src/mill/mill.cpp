@@ -32,7 +32,7 @@ std::string fmt_num(double v) {
 
 double row_angle(int row, int rows) { return 2.0 * kPi * row / rows; }
 
-// Points of a straight run from a to b (both included) in n equal edges, n >= 1.
+// Points of a straight run from a to b in n equal edges, n >= 1: b always, a when include_first.
 void append_straight(Polyline& out, Vec2 a, Vec2 b, double target, bool include_first) {
   const int n = std::max(1, static_cast<int>(std::lround(length(b - a) / target)));
   if (include_first) out.push_back(a);

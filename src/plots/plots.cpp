@@ -19,6 +19,7 @@
 #include <gnuplot-iostream.h>
 
 #include "common/errors.hpp"
+#include "common/names.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -564,8 +565,7 @@ FigureOutcome draw_all_figures(const std::string& out, const std::vector<std::st
   }
   for (const auto& d : designs)
     if (!io::is_valid_design_name(d))
-      throw RunError("design name '" + d + "' cannot be used in file names "
-                     "(letters, digits, '.', '-', '_')");
+      throw RunError("design name '" + d + "' cannot be used in file names (" + safe_name_rule() + ")");
   if (reference.empty() && !designs.empty()) reference = designs.front();
 
   // profiles/DESIGN_stageK.csv -> DESIGN_profiles.dat, one titled block per stage.

@@ -53,8 +53,10 @@ std::vector<std::string> render_figure(const std::string& script_path,
 //   fig7_area, fig8_power, fig9_collision, fig10_utilization   need OUT/summary.csv
 //   spectrum           needs OUT/spectrum.csv
 //   snapshot_DESIGN    needs OUT/snapshot_DESIGN.csv and OUT/liner_DESIGN.csv
+//   kinds_area         needs OUT/kinds.csv (a pattern of lifter kinds)
 // First splits the run's files per design into OUT/plots/data/ (DESIGN_summary.csv sorted
-// by hours, DESIGN_profiles.dat one block per stage, DESIGN_spectrum.csv), the inputs the
+// by hours, DESIGN_profiles.dat one block per stage, DESIGN_spectrum.csv, DESIGN_kindK.csv
+// per lifter kind), the inputs the
 // scripts read. `designs` gives the legend order; empty = the order in summary.csv (or the
 // profile file names). `reference` names the design the normalised values refer to, for
 // titles; empty = the design whose stage 0 has power_norm = 1, else the first design.
@@ -75,7 +77,8 @@ FigureOutcome draw_all_figures(const std::string& out_dir, const std::vector<std
 std::vector<std::string> figures_or_throw(const FigureOutcome& outcome);
 
 // The files render_all_figures writes besides the figures, those on disk: OUT/plots/gnuplot.log
-// and, per design, OUT/plots/data/DESIGN_{summary.csv,spectrum.csv,profiles.dat}.
+// and, per design, OUT/plots/data/DESIGN_{summary.csv,spectrum.csv,profiles.dat} and
+// DESIGN_kindK.csv.
 std::vector<std::string> figure_data_files(const std::string& out_dir, const std::vector<std::string>& designs);
 
 }  // namespace millwear::plots

@@ -7,7 +7,7 @@
 //
 // A profile is a TOML file (a trapezoid or a polyline) or a measured profile, a CSV file
 // x_mm,y_mm of points in order along the surface (a laser scan, a template gauge, a stage
-// profile millwear wrote): see load_measured_profile.
+// profile millwear wrote): see parse_measured_profile.
 #include <string>
 #include <vector>
 

@@ -10,7 +10,7 @@ const std::vector<FidelityDef>& fidelity_presets() {
     // standard: the scene defaults themselves (FidelityDef's own defaults).
     const FidelityDef standard;
     // draft: fewer library iterations, a shorter window, larger wear updates and a coarser
-    // mesh, at the same time step.
+    // mesh, at the same time step (the library backend's own step longer).
     FidelityDef draft = standard;
     draft.name = "draft";
     draft.velocity_iterations = 6;

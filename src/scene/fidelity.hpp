@@ -41,7 +41,8 @@
 // - standard's time step and mesh: docs/fidelity.md gives each preset's and each knob's
 //   distance from the reference, its noise floor and its speed-up, measured by
 //   `millwear tradeoff` on the default comparison. Standard shares the reference's 20/10 mm
-//   edges; draft takes standard's time step with coarser edges and a shorter window.
+//   edges; draft takes standard's time step (on the library backend a longer one, 1/300 s
+//   against 1/400 s) with coarser edges and a shorter window.
 // - backend: the soft solver is the default of every preset (docs/soft-solver.md: faster
 //   than the library at better accuracy); a scene that names solver.backend keeps it.
 // - measured: `millwear tradeoff` runs every preset and one knob at a time against

@@ -4,7 +4,8 @@
 // key, a wrong type and an out-of-range value all fail here with the file, the dotted key
 // ("charge.species[1].density"), the expectation in the file's units and the line. Units are
 // converted in exactly one place each: mm -> m, hours stay hours (named *_hours), rpm ->
-// fraction of critical speed. Nothing outside this file sees a toml++ type.
+// fraction of critical speed. The scene type and its users see no toml++ type; the readers of
+// other input files (profiles, screens, comparisons) parse their own tables.
 #include "common/units.hpp"
 #include "scene/scene.hpp"
 

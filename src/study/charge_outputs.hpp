@@ -2,8 +2,9 @@
 // The files of `millwear charge`: charge_summary.csv (quantity, value, unit), liner_work.csv
 // (shear and impact power per liner edge), spectrum.csv, contacts.csv, the snapshot
 // (snapshot_NAME.csv, liner_NAME.csv in the run's formats) and the ParaView files
-// vtk/NAME.pvd (study/vtk_output.hpp) as the scene's outputs ask (docs/run.md lists their
-// columns); then the spectrum and snapshot figures.
+// vtk/NAME.pvd (study/vtk_output.hpp) as the scene's outputs ask, impacts.csv (first impacts
+// by angle) and trajectories_NAME.csv (flight paths) (docs/run.md, docs/trajectories.md list
+// their columns); then the spectrum, snapshot, impacts and trajectories figures.
 #include <string>
 #include <vector>
 
@@ -15,7 +16,8 @@ namespace millwear {
 // Writes every file atomically into `out` (which exists). wall_s is the run's wall time.
 void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r, double wall_s);
 
-// OUT/plots/spectrum and OUT/plots/snapshot_NAME (PNG and SVG) from those files. Returns the
+// OUT/plots/spectrum, snapshot_NAME, impacts_NAME and trajectories_NAME (PNG and SVG) from
+// those files. Returns the
 // figures written; throws RunError when gnuplot is missing or fails (plots/plots.hpp).
 std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene);
 

@@ -12,6 +12,8 @@
 //   .spectrum.csv  bin,count_per_s,energy_W
 //   .edges.csv     edge,wear_rate_m_per_s  per mill boundary edge (m per operating second)
 //   .charge.csv    x_m,y_m,vx_m_s,vy_m_s,angle_rad,spin_rad_s,radius_m,mass_kg,species,active
+//   .start.csv     the same columns: the charge the stage started from, when it was carried
+//                  over from the stage before (not filled afresh)
 // then the done marker OUT/stages/DESIGN_stageK.done (io/run_folder.hpp), written last, with
 // each file's content hash (hash.EXT=, io/hash.hpp): read_stage_state refuses a file that no
 // longer matches it.

@@ -12,7 +12,8 @@
 //   iterations         solver.*_iterations       draft's, reference's (box2d backend)
 //   window             wear.window_revolutions   draft's, reference's
 //   depth_step         wear.max_depth_step       draft's, reference's
-//   size_cutoff        solver.size_cutoff        1.25 and 1.5 x the smallest rock size
+//   size_cutoff        solver.size_cutoff        25 and 50 mm (where above the smallest rock),
+//                                                1.25 and 1.5 x the smallest rock size
 //   mesh               lifters.*_edge            draft's, half standard's
 //   smoothing          wear.smoothing_radius     0.5 and 2 x the default (smallest radius)
 //   factor             wear.factor               draft's, reference's (continuous mode only)

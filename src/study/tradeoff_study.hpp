@@ -9,7 +9,7 @@
 //   OUT/tradeoff_front.csv    the Pareto-front rows by CPU time (the figure's front line)
 //   OUT/tradeoff_profiles.csv final unit surface of every setting (label, design, x_mm, y_mm)
 //   OUT/tradeoff.md           the table as Markdown, with the run's settings
-//   OUT/tradeoff.png, .svg    error against wall time (plots/tradeoff.gp), front marked
+//   OUT/tradeoff.png, .svg    error against CPU time (plots/tradeoff.gp), front marked
 #include <functional>
 #include <string>
 #include <vector>
