@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
-#include <sstream>
 
 #include "app/commands.hpp"
 #include "app/fidelity_option.hpp"

@@ -11,10 +11,8 @@
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
-#include "common/errors.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
-#include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "study/hardness.hpp"
 

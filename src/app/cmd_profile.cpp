@@ -12,7 +12,6 @@
 
 #include "app/commands.hpp"
 #include "app/output_folder.hpp"
-#include "common/errors.hpp"
 #include "common/units.hpp"
 #include "profiles/profile.hpp"
 

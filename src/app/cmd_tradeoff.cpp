@@ -5,7 +5,6 @@
 // Exit codes: 0 done; 1 the reference run failed or the figure failed; 2 bad input.
 #include <CLI/CLI.hpp>
 
-#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <mutex>

@@ -1,7 +1,6 @@
 #include "geometry/simplify.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 namespace millwear {
 

@@ -85,7 +85,6 @@ FlightTracker::FlightTracker(const Polygon& liner, const ChargeState& first, con
   prev_time_s_ = first.time_s;
   prev_mill_angle_rad_ = first.mill_angle_rad;
   prev_mill_speed_ = first.mill_speed_rad_s;
-  launch_time_s_.assign(n, 0.0);
   launch_m_.assign(n, Vec2{});
   counted_.assign(n, 0);
   flying_path_.assign(n, FlightPath{});
@@ -166,7 +165,6 @@ void FlightTracker::start_flight(std::size_t i, const ChargeState& frame) {
   }
   phase_[i] = Phase::Flying;
   counted_[i] = 0;
-  launch_time_s_[i] = prev_time_s_;
   launch_m_[i] = p0;
   FlightPath& path = flying_path_[i];
   path.points_m.clear();
@@ -200,13 +198,10 @@ void FlightTracker::end_flight(std::size_t i, const ChargeState& frame) {
   m.disk = static_cast<int>(i);
   m.species = frame.species[i];
   m.batch = batch_;
-  m.launch_time_s = launch_time_s_[i];
-  m.time_s = prev_time_s_;
   m.launch_m = launch_m_[i];
   m.point_m = prev_position_[i];
   m.launch_deg = angle_from_bottom_deg(m.launch_m, prev_mill_speed_);
   m.angle_deg = angle_from_bottom_deg(m.point_m, prev_mill_speed_);
-  m.radius_m = length(m.point_m);
   // The mill frame's velocity at the point: omega x p.
   const Vec2 v_mill = prev_mill_speed_ * left_perp(m.point_m);
   m.energy_J = 0.5 * frame.mass_kg[i] * length_sq(prev_velocity_[i] - v_mill);

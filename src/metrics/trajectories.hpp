@@ -58,11 +58,8 @@ struct Impact {
   int disk = -1;
   int species = 0;
   int batch = 0;                  // the caller's sub-window when it landed (set_batch)
-  double launch_time_s = 0.0;     // the frame it left the liner
-  double time_s = 0.0;            // its last free frame
   Vec2 launch_m, point_m;         // world frame
   double launch_deg = 0.0, angle_deg = 0.0;  // from 6 o'clock, + toward the rising side
-  double radius_m = 0.0;          // of the impact point from the mill axis
   double energy_J = 0.0;          // translational KE relative to the mill frame
   bool on_liner = false;          // struck the liner itself, not the charge
 };
@@ -115,7 +112,6 @@ class FlightTracker {
   std::vector<Phase> phase_;
   std::vector<Vec2> prev_position_, prev_velocity_;
   double prev_time_s_ = 0.0, prev_mill_angle_rad_ = 0.0, prev_mill_speed_ = 0.0;
-  std::vector<double> launch_time_s_;
   std::vector<Vec2> launch_m_;
   std::vector<unsigned char> counted_;  // the flight has got a diameter away from its launch
   std::vector<FlightPath> flying_path_;  // the path of the flight in progress (empty: none)

@@ -22,7 +22,6 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "profiles/profile.hpp"
-#include "scene/limits.hpp"
 #include "scene/table_reader.hpp"
 #include "wear/wear.hpp"
 
@@ -111,7 +110,6 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
                      "not valid TOML: " + std::string(e.description()) + " (column " + std::to_string(b.column) + ")");
   }
   ScreenDef d;
-  d.source_file = path;
   d.name = fs::path(path).stem().string();
   tr::TableReader top(root, "", path, nullptr, {"screen", "family"});
   const toml::table* st = top.table("screen");

@@ -71,7 +71,6 @@ struct Axis {
 
 struct ScreenDef {
   std::string name;
-  std::string source_file;
   std::string base_scene;        // resolved path
   std::string fidelity;          // "" = the base scene's
   int stages = 0;                // 0 = the base scene's

@@ -20,7 +20,6 @@
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
-#include "study/charge_run.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
 

@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-
-#include "metrics/batch_means.hpp"
 
 namespace millwear {
 

@@ -16,7 +16,6 @@
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
 #include "study/run_outputs.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "io/csv.hpp"
-
 namespace millwear::validation {
 
 namespace {

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
-#include <thread>
 
 #include <boost/math/distributions/fisher_f.hpp>
 

@@ -58,7 +58,6 @@ std::vector<DesignLines> design_lines(const RunState& ctx) {
       if (d.scene.mill.kind_count() > 1)
         for (std::size_t k = 0; k < r.kinds.size(); ++k) {
           l.kind_area_m2.push_back(r.kinds[k].area_m2);
-          l.kind_height_m.push_back(r.kinds[k].height_m);
           l.kind_area_loss_rate_m2_per_s.push_back(
               k < r.kind_area_loss_rate_m2_per_s.size() ? r.kind_area_loss_rate_m2_per_s[k] : std::nan(""));
         }

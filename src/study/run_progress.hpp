@@ -36,9 +36,9 @@ struct StageLine {
   double hours = 0.0;
   double area_m2 = 0.0, height_m = 0.0;  // lifter of row 0
   double area_loss_fraction = 0.0;       // since the design's own stage 0 (NaN without it)
-  // Each kind of lifter of a pattern (empty for a plain liner): area, height, and the
-  // lifters' area loss rate at this stage's geometry (m^2 per operating s).
-  std::vector<double> kind_area_m2, kind_height_m, kind_area_loss_rate_m2_per_s;
+  // Each kind of lifter of a pattern (empty for a plain liner): area and the lifters' area
+  // loss rate at this stage's geometry (m^2 per operating s).
+  std::vector<double> kind_area_m2, kind_area_loss_rate_m2_per_s;
 };
 
 struct DesignLines {

@@ -5,7 +5,6 @@
 #include <map>
 
 #include "common/errors.hpp"
-#include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 
 namespace millwear::validation {

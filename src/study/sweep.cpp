@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
-#include <thread>
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
@@ -25,7 +24,6 @@
 #include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
-#include "scene/limits.hpp"
 #include "study/charge_outputs.hpp"
 #include "study/charge_run.hpp"
 #include "wear/reshape.hpp"

@@ -48,7 +48,6 @@ struct HistoryDigest {
   std::vector<double> hours, area_m2, power_kW_per_m;
   Polyline final_profile;
   double life_h = 0.0;
-  bool life_extrapolated = false;
 };
 
 // Every setting's scenes within the run limits, before any of them runs. The smoothing radius
@@ -303,7 +302,6 @@ HistoryDigest digest(const WearHistory& h) {
   }
   if (!h.stages.empty()) d.final_profile = h.stages.back().units[0].surface;
   d.life_h = h.life_h;
-  d.life_extrapolated = h.life_extrapolated;
   return d;
 }
 

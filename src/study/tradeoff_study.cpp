@@ -3,8 +3,6 @@
 #include "study/tradeoff_study.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <sstream>
 
 #include "common/errors.hpp"

@@ -15,7 +15,6 @@
 #include <memory>
 
 #include "common/errors.hpp"
-#include "common/units.hpp"
 #include "wear/archard.hpp"
 #include "wear/life.hpp"
 #include "wear/reshape.hpp"

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "metrics/batch_means.hpp"
 #include "wear/archard.hpp"
