@@ -22,6 +22,7 @@
 #include "scene/scene.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
+#include "wear/window.hpp"
 
 namespace millwear::study {
 
@@ -60,16 +61,6 @@ std::string gp_string(const std::string& s) {
   return q + "\"";
 }
 
-// Direction of rotation at an operating time (bidirectional: reverses every reverse_every).
-double direction_at_hours(const Scene& scene, double hours) {
-  if (scene.mill.direction == Direction::Reverse) return -1.0;
-  if (scene.mill.direction == Direction::Forward) return 1.0;
-  const double period = scene.mill.reverse_every_hours;
-  if (!(period > 0)) return 1.0;
-  const long n = static_cast<long>(std::floor(hours / period + 1e-9));
-  return n % 2 == 0 ? 1.0 : -1.0;
-}
-
 // The finished stages' liners of a run folder, coloured by their wear rates.
 std::vector<Segment> history_segments(const Scene& scene, const std::string& history) {
   const int last = io::last_finished_stage(history, scene.name);
@@ -106,7 +97,7 @@ std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& seg
   const ChargeState initial = fill_charge(scene, segments.front().mill);
   disks = initial.size();
   auto engine = make_engine(scene, segments.front().mill, initial, accounting_options_for(scene));
-  double dir = direction_at_hours(scene, segments.front().hours);
+  double dir = direction_at(scene, segments.front().hours);
   settle_and_spin_up(*engine, scene, dir);
   engine->reset_window();
   const double start_s = engine->state().time_s;
@@ -121,7 +112,7 @@ std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& seg
     if (want != seg) {
       seg = want;
       engine->set_liner(segments[seg].mill);
-      const double d = direction_at_hours(scene, segments[seg].hours);
+      const double d = direction_at(scene, segments[seg].hours);
       if (d != dir) {
         // A reversal: the charge falls back and is lifted the other way. Let it settle into
         // its new shape (the scene's spin-up) before the next frame is drawn.
