@@ -132,10 +132,33 @@ bool deeper_than_liner_surface(const MillGeometry& mill, Vec2 p_mill, double dep
   return false;
 }
 
-LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
-                          const MillMeshDef& mesh) {
+namespace {
+
+// A lifter half_extent either side of its centre and height tall must fit its row's pitch
+// and stay under half the mill radius.
+void check_lifter_fits(double half_extent, double height, double radius_m, int rows) {
+  const double pitch = 2.0 * kPi * radius_m / rows;
+  if (!(2.0 * half_extent < pitch))
+    throw InputError("", "lifters.rows",
+                     "expected lifters that fit the pitch: " + std::to_string(rows) + " rows give a pitch of " +
+                         fmt_num(pitch * 1e3) + " mm along the shell, the lifter is " +
+                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
+  if (!(height < 0.5 * radius_m))
+    throw InputError("", "lifters.profile",
+                     "expected a lifter lower than half the mill radius (" + fmt_num(0.5 * radius_m * 1e3) +
+                         " mm), got " + fmt_num(height * 1e3) + " mm");
+}
+
+void check_rows_and_radius(double radius_m, int rows) {
   if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");
   if (!(radius_m > 0.0)) throw InputError("", "mill.radius", "expected a radius > 0");
+}
+
+}  // namespace
+
+LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
+                          const MillMeshDef& mesh) {
+  check_rows_and_radius(radius_m, rows);
   if (!(mesh.lifter_edge_m > 0.0) || !(mesh.shell_edge_m > 0.0))
     throw InputError("", "mesh", "expected positive target edge lengths");
   validate_lifter_polyline(lifter_local, "", "lifters.profile");
@@ -151,18 +174,8 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
     height = std::max(height, p.y);
   }
 
+  check_lifter_fits(half_extent, height, radius_m, rows);
   const double pitch = 2.0 * kPi * radius_m / rows;
-  if (!(2.0 * half_extent < pitch))
-    throw InputError("", "lifters.rows",
-                     "expected lifters that fit the pitch: " + std::to_string(rows) +
-                         " rows give a pitch of " + fmt_num(pitch * 1e3) +
-                         " mm along the shell, the lifter is " +
-                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
-  if (!(height < 0.5 * radius_m))
-    throw InputError("", "lifters.profile",
-                     "expected a lifter lower than half the mill radius (" +
-                         fmt_num(0.5 * radius_m * 1e3) + " mm), got " +
-                         fmt_num(height * 1e3) + " mm");
 
   LinerUnit unit;
   unit.lifter_half_base_m = half_extent;
@@ -175,8 +188,7 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
 
 LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_local, double radius_m, int rows,
                              const MillMeshDef& mesh, bool whole_unit) {
-  if (rows < 1) throw InputError("", "lifters.rows", "expected at least 1 row of lifters");
-  if (!(radius_m > 0.0)) throw InputError("", "mill.radius", "expected a radius > 0");
+  check_rows_and_radius(radius_m, rows);
   validate_lifter_polyline(lifter_local, "", "lifters.profile");
   // Centred on the lifter's base, as a new lifter is.
   const double shift = -0.5 * (lifter_local.front().x + lifter_local.back().x);
@@ -210,15 +222,7 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_loc
                          std::to_string(rows) + " rows give a pitch of " + fmt_num(pitch * 1e3) +
                          " mm, the profile reaches from " + fmt_num(s.front().x * 1e3) + " to " +
                          fmt_num(s.back().x * 1e3) + " mm about its lifter's centre");
-  if (!(2.0 * half_extent < pitch))
-    throw InputError("", "lifters.rows",
-                     "expected lifters that fit the pitch: " + std::to_string(rows) + " rows give a pitch of " +
-                         fmt_num(pitch * 1e3) + " mm along the shell, the lifter is " +
-                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
-  if (!(height < 0.5 * radius_m))
-    throw InputError("", "lifters.profile",
-                     "expected a lifter lower than half the mill radius (" + fmt_num(0.5 * radius_m * 1e3) +
-                         " mm), got " + fmt_num(height * 1e3) + " mm");
+  check_lifter_fits(half_extent, height, radius_m, rows);
   // Within the pitch (a whole unit's scan may overrun it by the slack).
   s = clip_polyline_x(s, -half_pitch, half_pitch);
   // The unit's ends sit at one height so the rows join without a step: the mean of the
