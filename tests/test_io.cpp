@@ -52,6 +52,17 @@ int count_entries(const std::string& dir) {
 
 // ---- atomic writes ----
 
+TEST(IoRunFolder, AStageFileNameGivesItsStageAndNothingElseDoes) {
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage0.csv", "sag-2x30", ".csv"), 0);
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage12.done", "sag-2x30", ".done"), 12);
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage12.done", "sag-2x30", ".csv"), -1);    // another suffix
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage12.done", "sag-1x30", ".done"), -1);   // another design
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage.csv", "sag-2x30", ".csv"), -1);       // no number
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage-1.csv", "sag-2x30", ".csv"), -1);     // not digits
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage1x.csv", "sag-2x30", ".csv"), -1);
+  EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage1234567890.csv", "sag-2x30", ".csv"), -1);  // too long
+}
+
 TEST(IoAtomicWrite, ReplacesContentAndLeavesNoTempFile) {
   TempDir dir;
   const std::string f = dir / "summary.csv";

@@ -165,22 +165,24 @@ void write_stage_done(const std::string& out, const std::string& design, int sta
                     format_key_values(kv, "millwear stage marker"));
 }
 
+int stage_in_file_name(const std::string& name, const std::string& design, const std::string& suffix) {
+  const std::string prefix = design + "_stage";
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return -1;
+  int k = -1;
+  return parse_int(name.substr(prefix.size(), name.size() - prefix.size() - suffix.size()), &k) ? k : -1;
+}
+
 std::vector<int> list_finished_stages(const std::string& out, const std::string& design) {
   std::vector<int> stages;
   std::error_code ec;
   const std::string dir = stages_dir(out);
   if (!fs::is_directory(dir, ec)) return stages;
-  const std::string prefix = design + "_stage";
-  const std::string suffix = ".done";
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     if (!entry.is_regular_file(ec)) continue;
-    std::string name = entry.path().filename().string();
-    if (name.size() <= prefix.size() + suffix.size()) continue;
-    if (name.compare(0, prefix.size(), prefix) != 0) continue;
-    if (name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
-    int k = -1;
-    if (!parse_int(name.substr(prefix.size(), name.size() - prefix.size() - suffix.size()), &k))
-      continue;
+    const int k = stage_in_file_name(entry.path().filename().string(), design, ".done");
+    if (k < 0) continue;
     try {
       KeyValues kv = read_key_values(entry.path().string());
       if (find_value(kv, "design") != design) continue;

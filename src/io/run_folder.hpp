@@ -85,6 +85,8 @@ void write_stage_done(const std::string& out, const std::string& design, int sta
 // Stage numbers K with a marker OUT/stages/DESIGN_stageK.done, ascending. A marker that
 // does not parse, or whose design=/stage= disagree with its name, is not counted.
 std::vector<int> list_finished_stages(const std::string& out, const std::string& design);
+// K of a file named DESIGN_stageK + suffix (K digits only, at most nine); -1 for any other name.
+int stage_in_file_name(const std::string& name, const std::string& design, const std::string& suffix);
 // Highest K such that stages 0..K are all finished; -1 if stage 0 is not.
 // A resumed run continues from K + 1.
 int last_finished_stage(const std::string& out, const std::string& design);

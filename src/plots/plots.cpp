@@ -365,18 +365,11 @@ std::string join_words(const std::vector<std::string>& w) {
 std::vector<int> profile_stages(const std::string& out, const std::string& design) {
   std::vector<int> k;
   std::error_code ec;
-  const std::string dir = io::profiles_dir(out), prefix = design + "_stage", suffix = ".csv";
+  const std::string dir = io::profiles_dir(out);
   if (!fs::is_directory(dir, ec)) return k;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
-    std::string n = e.path().filename().string();
-    if (n.size() <= prefix.size() + suffix.size() || n.compare(0, prefix.size(), prefix) != 0 ||
-        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
-      continue;
-    std::string mid = n.substr(prefix.size(), n.size() - prefix.size() - suffix.size());
-    if (mid.empty() || mid.size() > 6 ||
-        !std::all_of(mid.begin(), mid.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
-      continue;
-    k.push_back(std::atoi(mid.c_str()));
+    const int stage = io::stage_in_file_name(e.path().filename().string(), design, ".csv");
+    if (stage >= 0) k.push_back(stage);
   }
   std::sort(k.begin(), k.end());
   return k;
