@@ -96,6 +96,19 @@ std::string resolve(const std::string& file, const std::string& rel) {
 
 std::string fmt(double v) { return io::format_exact(v); }
 
+// Entry k of a list of profile files (resolved against the screen file at `path`): it must
+// name an existing file that loads as a profile (load_profile's errors name the file).
+std::string listed_profile(const std::string& path, const toml::node& e, const std::string& k) {
+  if (!e.is_string()) throw InputError(path, k, "expected a profile file name, " + tr::got_text(e) + tr::line_text(e));
+  const std::string p = resolve(path, e.as_string()->get());
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec))
+    throw InputError(path, k, "expected an existing profile file, relative to the screen file (tried '" + p + "')" +
+                                  tr::line_text(e));
+  load_profile(p);
+  return p;
+}
+
 }  // namespace
 
 ScreenDef load_screen(const std::string& path, const std::vector<std::string>& overrides) {
@@ -142,17 +155,8 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
   if (ea && ea->is_array()) {
     const toml::array& arr = *ea->as_array();
     if (arr.empty()) s.fail("equal_area", "\"base\", a profile file, or a list of profile files (one per kind of lifter)");
-    for (std::size_t i = 0; i < arr.size(); ++i) {
-      const std::string k = "screen.equal_area[" + std::to_string(i) + "]";
-      if (!arr[i].is_string())
-        throw InputError(path, k, "expected a profile file name, " + tr::got_text(arr[i]) + tr::line_text(arr[i]));
-      const std::string p = resolve(path, arr[i].as_string()->get());
-      if (!fs::is_regular_file(p, ec))
-        throw InputError(path, k, "expected an existing profile file, relative to the screen file (tried '" + p + "')" +
-                                      tr::line_text(arr[i]));
-      load_profile(p);  // its errors name the profile file
-      d.equal_area_kinds.push_back(p);
-    }
+    for (std::size_t i = 0; i < arr.size(); ++i)
+      d.equal_area_kinds.push_back(listed_profile(path, arr[i], "screen.equal_area[" + std::to_string(i) + "]"));
     d.equal_area = "kinds";
   } else if (auto v = s.string("equal_area")) {
     if (*v == "base") {
@@ -202,17 +206,8 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
       s.fail("equal_area", "no equal_area with family.profiles (it scales trapezoids only)");
     const toml::node* n = f.raw().get("profiles");
     if (!n->is_array() || n->as_array()->empty()) f.fail("profiles", "a list of profile files");
-    for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
-      const toml::node& e = (*n->as_array())[i];
-      const std::string k = "family.profiles[" + std::to_string(i) + "]";
-      if (!e.is_string()) throw InputError(path, k, "expected a profile file name, " + tr::got_text(e) + tr::line_text(e));
-      const std::string p = resolve(path, e.as_string()->get());
-      if (!fs::is_regular_file(p, ec))
-        throw InputError(path, k, "expected an existing profile file, relative to the screen file (tried '" + p + "')" +
-                                      tr::line_text(e));
-      load_profile(p);
-      d.profiles.push_back(p);
-    }
+    for (std::size_t i = 0; i < n->as_array()->size(); ++i)
+      d.profiles.push_back(listed_profile(path, (*n->as_array())[i], "family.profiles[" + std::to_string(i) + "]"));
   }
   if (!d.equal_area.empty() && d.top_width_mm.given)
     f.fail("top_width", "no top_width with screen.equal_area (the area sets the top width)");
