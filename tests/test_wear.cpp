@@ -97,7 +97,7 @@ TEST(Archard, ShellEdgesWearAtTheShellsOwnRateOrNotAtAll) {
   ASSERT_LT(shell, mill.boundary.size());
   ASSERT_LT(lifter, mill.boundary.size());
   const double c = 1e-11, power_W = 2.0, t = s.slice_thickness();
-  auto rate = [&](std::size_t e) { return boundary_edge_wear_rate_m_per_s(s, mill, e, power_W, c); };
+  auto rate = [&](std::size_t e) { return boundary_edge_wear_rate_m_per_s(s, mill, e, power_W, t, c); };
   s.wear.shell_wear = true;
   s.wear.shell_wear_rate_m3_per_J = 0.0;  // not given: the lifters' rate
   EXPECT_DOUBLE_EQ(rate(shell), c * power_W / (mill.edge_length_m[shell] * t));

@@ -24,7 +24,7 @@ LinerFields liner_fields(const Scene& scene, const MillGeometry& mill, const Acc
     const double area = mill.edge_length_m[e] * t;
     f.shear_W_per_m2[e] = w.shear_work_J[e] / w.time_s / area;
     f.impact_W_per_m2[e] = w.impact_energy_J[e] / w.time_s / area;
-    f.wear_rate_m_per_s[e] = boundary_edge_wear_rate_m_per_s(scene, mill, e, w.shear_work_J[e] / w.time_s, c_m3_per_J);
+    f.wear_rate_m_per_s[e] = boundary_edge_wear_rate_m_per_s(scene, mill, e, w.shear_work_J[e] / w.time_s, t, c_m3_per_J);
   }
   return f;
 }

@@ -64,11 +64,11 @@ double shell_wear_rate(const Scene& scene, double c_real) {
 }
 
 double boundary_edge_wear_rate_m_per_s(const Scene& scene, const MillGeometry& mill, std::size_t e,
-                                       double power_W, double c_real) {
+                                       double power_W, double thickness_m, double c_real) {
   if (mill.edges[e].owner != EdgeOwner::Shell)
-    return archard_depth_m(power_W, mill.edge_length_m[e], scene.slice_thickness(), c_real);
+    return archard_depth_m(power_W, mill.edge_length_m[e], thickness_m, c_real);
   if (!scene.wear.shell_wear) return 0.0;
-  return archard_depth_m(power_W, mill.edge_length_m[e], scene.slice_thickness(), shell_wear_rate(scene, c_real));
+  return archard_depth_m(power_W, mill.edge_length_m[e], thickness_m, shell_wear_rate(scene, c_real));
 }
 
 std::vector<std::vector<double>> archard_depths(const Scene& scene, const MillGeometry& mill,

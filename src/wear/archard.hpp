@@ -44,10 +44,11 @@ std::vector<double> edge_depths(const LinerUnit& unit, const std::vector<double>
 // The real wear rate of the shell plates: wear.shell_wear_rate, else the lifters' c_real.
 double shell_wear_rate(const Scene& scene, double c_real_m3_per_J);
 
-// Archard's wear rate (m/s) of mill boundary edge e under power_W of shear: a lifter edge
-// at c_real, a shell edge at shell_wear_rate, or 0 when the shell does not wear.
+// Archard's wear rate (m/s) of mill boundary edge e under power_W of shear in a slice of
+// thickness_m (scene.slice_thickness()): a lifter edge at c_real, a shell edge at
+// shell_wear_rate, or 0 when the shell does not wear.
 double boundary_edge_wear_rate_m_per_s(const Scene& scene, const MillGeometry& mill, std::size_t e,
-                                       double power_W, double c_real_m3_per_J);
+                                       double power_W, double thickness_m, double c_real_m3_per_J);
 
 // edge_depths for every unit of the mill at the scene's mesh resolution, at the real rate
 // c_real (lifters; the shell at shell_wear_rate) times `factor` (continuous mode's

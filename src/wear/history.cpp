@@ -178,7 +178,7 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   }
   rec.edge_wear_rate_m_per_s.resize(mill.boundary.size());
   for (std::size_t e = 0; e < mill.boundary.size(); ++e) {
-    rec.edge_wear_rate_m_per_s[e] = boundary_edge_wear_rate_m_per_s(scene, mill, e, w.edge_power_W[e], c_real);
+    rec.edge_wear_rate_m_per_s[e] = boundary_edge_wear_rate_m_per_s(scene, mill, e, w.edge_power_W[e], t, c_real);
     rec.liner_loss_rate_m2_per_s += rec.edge_wear_rate_m_per_s[e] * mill.edge_length_m[e];
   }
   if (scene.outputs.vtk) {
