@@ -387,6 +387,8 @@ TEST_F(Replicates, TwoCopiesOfADesignAreNotResolvedAndADoubledWearRateIs) {
     const auto v = verdict(same, figure);
     EXPECT_FALSE(v["resolved"].get<bool>()) << v.dump();
     EXPECT_NE(v["text"].get<std::string>().find("not resolved"), std::string::npos);
+    EXPECT_EQ(v["replicates"].get<int>(), 3) << v.dump();
+    EXPECT_EQ(v["error_source"], "replicates") << v.dump();
   }
   EXPECT_NE(read_text(same / "summary.md").find("not resolved"), std::string::npos);
 
@@ -398,6 +400,8 @@ TEST_F(Replicates, TwoCopiesOfADesignAreNotResolvedAndADoubledWearRateIs) {
   ASSERT_EQ(r2.exit_code, 0) << r2.output;
   const auto loss = verdict(doubled, "area_loss_pct");
   EXPECT_TRUE(loss["resolved"].get<bool>()) << loss.dump();
+  EXPECT_GT(loss["hours"].get<double>(), 0.0) << loss.dump();
+  EXPECT_TRUE(verdict(doubled, "life_h")["hours"].is_null());
   EXPECT_GT(loss["difference"].get<double>(), 0.0);
   const auto life = verdict(doubled, "life_h");
   EXPECT_TRUE(life["resolved"].get<bool>()) << life.dump();

@@ -37,6 +37,7 @@
 
 #include "cli_support.hpp"
 #include "io/csv.hpp"
+#include "metrics/pareto.hpp"
 #include "profiles/profile.hpp"
 #include "scene/scene.hpp"
 #include "screen/jobs.hpp"
@@ -792,9 +793,14 @@ TEST(ScreenRanking, ParetoFrontKeepsOnlyUndominatedDesigns) {
   // life (more is better) against power (less is better).
   const std::vector<double> life{1000, 900, 800, 950};
   const std::vector<double> power{10, 8, 9, 12};
-  const auto f = pareto_front(life, power, false);
+  const auto f = pareto_front(life, Better::Higher, power, Better::Lower);
   EXPECT_EQ(f, (std::vector<bool>{true, true, false, false}));  // 800@9 by 900@8; 950@12 by 1000@10
-  EXPECT_EQ(pareto_front(life, power, true), (std::vector<bool>{true, false, false, true}));
+  EXPECT_EQ(pareto_front(life, Better::Higher, power, Better::Higher), (std::vector<bool>{true, false, false, true}));
+  // Equal points do not dominate each other; a point with an unknown figure is off the front
+  // and dominates nothing, however good its other figure.
+  const std::vector<double> life2{1000, 1000, 2000, 500};
+  const std::vector<double> power2{10, 10, NAN, 12};
+  EXPECT_EQ(pareto_front(life2, Better::Higher, power2, Better::Lower), (std::vector<bool>{true, true, false, false}));
 }
 
 TEST(ScreenRanking, TiesWithinTwiceTheCombinedUncertainty) {

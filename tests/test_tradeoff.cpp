@@ -47,14 +47,16 @@ TradeoffRow row(const std::string& label, double cpu_s, double dev_pct) {
 
 TEST(TradeoffPareto, DominatedRowsAreOffTheFront) {
   std::vector<TradeoffRow> rows{row("ref", 100, 0), row("fast", 10, 5), row("slow-bad", 50, 6),
-                                row("mid", 30, 2), row("failed", 1, NAN)};
+                                row("mid", 30, 2), row("failed", 1, NAN), row("failed-fast", 0.5, 0)};
   rows[4].error = "solver.time_step";
+  rows[5].error = "lost disks";  // its figures would dominate every row: they count for nothing
   mark_pareto(rows);
   EXPECT_TRUE(rows[0].pareto);
   EXPECT_TRUE(rows[1].pareto);
   EXPECT_FALSE(rows[2].pareto);  // slower and worse than "fast"
   EXPECT_TRUE(rows[3].pareto);
   EXPECT_FALSE(rows[4].pareto);  // a failed run is never on the front
+  EXPECT_FALSE(rows[5].pareto);
 }
 
 TEST(TradeoffLadder, StartsWithTheReferenceAndMovesOneKnobFromStandard) {

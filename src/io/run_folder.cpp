@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 
 namespace millwear::io {
@@ -87,13 +88,6 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
 // ---- key=value ----
 
 namespace {
-
-std::string trim(const std::string& s) {
-  std::size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
 
 bool parse_int(const std::string& s, int* out) {
   if (s.empty() || s.size() > 9) return false;

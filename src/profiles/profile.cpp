@@ -18,6 +18,7 @@
 
 #include "common/errors.hpp"
 #include "common/names.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 
@@ -317,12 +318,6 @@ void validate_lifter_polyline(const Polyline& pts, const std::string& file,
 
 namespace {
 
-std::string trimmed(const std::string& t) {
-  const auto b = t.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return t.substr(b, t.find_last_not_of(" \t") - b + 1);
-}
-
 // Points closer than this are one point measured twice: a micrometre is far below any
 // gauge's resolution and far above the rounding of a millimetre written with 10 digits.
 constexpr double kSamePointM = 1e-6;
@@ -405,22 +400,21 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
   for (int line = 1; pos <= text.size(); ++line) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();
-    std::string l = trimmed(text.substr(pos, end - pos));
-    if (!l.empty() && l.back() == '\r') l = trimmed(l.substr(0, l.size() - 1));
+    std::string l = trim(text.substr(pos, end - pos));
     pos = end + 1;
     if (l.empty() || l[0] != '#') continue;
-    l = trimmed(l.substr(1));
+    l = trim(l.substr(1));
     if (l.compare(0, 8, "pitch_mm") != 0 || (l.size() > 8 && l[8] != ' ' && l[8] != '\t' && l[8] != '=')) continue;
     const std::string where = "line " + std::to_string(line);
     if (found.second != 0)
       throw InputError(name, where, "one pitch_mm line (line " + std::to_string(found.second) + " gives it already)");
-    std::string rest = trimmed(l.substr(8));
+    std::string rest = trim(l.substr(8));
     const std::string expected =
         "'# pitch_mm = P' with P the liner unit's pitch along the shell, a number of mm in (0, 100000]";
     if (rest.empty() || rest[0] != '=') throw InputError(name, where, expected);
-    rest = trimmed(rest.substr(1));
+    rest = trim(rest.substr(1));
     const std::size_t hash = rest.find('#');  // a comment after the value
-    if (hash != std::string::npos) rest = trimmed(rest.substr(0, hash));
+    if (hash != std::string::npos) rest = trim(rest.substr(0, hash));
     if (rest.find('.') == std::string::npos) std::replace(rest.begin(), rest.end(), ',', '.');  // decimal comma
     char* stop = nullptr;
     const double mm = rest.empty() ? std::nan("") : std::strtod(rest.c_str(), &stop);
@@ -436,7 +430,7 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
 
 LifterProfile parse_measured_profile(const std::string& text, const std::string& name) {
   io::CsvData d = io::parse_csv(io::strip_comment_lines(text), name);
-  for (auto& h : d.header) h = trimmed(h);
+  for (auto& h : d.header) h = trim(h);
   const std::size_t cx = d.column("x_mm"), cy = d.column("y_mm");
   Polyline raw;
   for (std::size_t r = 0; r < d.row_count(); ++r) {

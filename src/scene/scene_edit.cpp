@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <utility>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -64,7 +65,17 @@ std::string toml_path_string(const std::string& p) {
 }
 
 
+// A line's columns [from, to) replaced with text (1-based, as toml++ gives them).
 struct SpanEdit { std::size_t line, from, to; std::string with; };
+
+// The spans applied bottom-up, and right to left within a line, so that each edit's line and
+// columns still point where the parse found them.
+void apply_spans(std::vector<SpanEdit> spans, std::vector<std::string>& lines, const std::string& scene_path) {
+  std::sort(spans.begin(), spans.end(), [](const SpanEdit& a, const SpanEdit& b) {
+    return a.line != b.line ? a.line > b.line : a.from > b.from;
+  });
+  for (const SpanEdit& e : spans) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
+}
 
 // lifters.profile rewritten to resolve from out_dir (relative when the copy stays near the
 // scene, else absolute); nothing when out_dir is the scene's folder or there is no profile.
@@ -98,9 +109,7 @@ toml::table parse_scene_text(const std::string& text, const std::string& scene_p
 std::string calibrated_scene_text(const std::string& text, const std::string& scene_path, const WearRateEdit& edit) {
   toml::table t = parse_scene_text(text, scene_path);
   std::vector<std::string> lines = split_lines(text);
-  // Edits go bottom-up within a line, so columns stay valid: collect, then apply by line.
-  struct Edit { std::size_t line, from, to; std::string with; };
-  std::vector<Edit> edits;
+  std::vector<SpanEdit> edits;
 
   toml::table* wear = t["wear"].as_table();
   if (!wear) throw InputError(scene_path, "wear", "a [wear] table with the wear rate to replace");
@@ -121,11 +130,8 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
     throw InputError(scene_path, "wear.wear_rate",
                      "a wear-rate key to replace (wear_rate, area_loss_rate or height_loss_rate)");
 
-  if (auto e = profile_repoint(t, scene_path, edit.out_dir)) edits.push_back({e->line, e->from, e->to, e->with});
-  std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) {
-    return a.line != b.line ? a.line > b.line : a.from > b.from;
-  });
-  for (const Edit& e : edits) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
+  if (auto e = profile_repoint(t, scene_path, edit.out_dir)) edits.push_back(*e);
+  apply_spans(std::move(edits), lines, scene_path);
 
   std::string out = "# Calibrated copy of " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
   for (const auto& l : lines) out += l + "\n";
@@ -176,10 +182,7 @@ std::string edited_scene_text(const std::string& text, const std::string& scene_
   }
   if (!profile_edited)
     if (auto e = profile_repoint(t, scene_path, out_dir)) spans.push_back(*e);
-  std::sort(spans.begin(), spans.end(), [](const SpanEdit& a, const SpanEdit& b) {
-    return a.line != b.line ? a.line > b.line : a.from > b.from;
-  });
-  for (const SpanEdit& e : spans) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
+  apply_spans(std::move(spans), lines, scene_path);
   // Insertions bottom-up, so the line numbers above stay valid; end-of-file ones last.
   std::stable_sort(inserts.begin(), inserts.end(), [](const auto& a, const auto& b) {
     const std::size_t la = a.first ? a.first : SIZE_MAX, lb = b.first ? b.first : SIZE_MAX;

@@ -12,6 +12,7 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/estimates.hpp"
+#include "metrics/pareto.hpp"
 
 namespace millwear::screen {
 
@@ -86,24 +87,6 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
   return r;
 }
 
-std::vector<bool> pareto_front(const std::vector<double>& a, const std::vector<double>& b, bool b_higher) {
-  const std::size_t n = a.size();
-  std::vector<bool> front(n, false);
-  auto better_b = [b_higher](double x, double y) { return b_higher ? x > y : x < y; };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(a[i]) || !std::isfinite(b[i])) continue;
-    bool dominated = false;
-    for (std::size_t j = 0; j < n && !dominated; ++j) {
-      if (j == i || !std::isfinite(a[j]) || !std::isfinite(b[j])) continue;
-      const bool no_worse = a[j] >= a[i] && (b[j] == b[i] || better_b(b[j], b[i]));
-      const bool better = a[j] > a[i] || better_b(b[j], b[i]);
-      dominated = no_worse && better;
-    }
-    front[i] = !dominated;
-  }
-  return front;
-}
-
 std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power_higher) {
   std::vector<DesignResult> done, failed, missing;
   for (auto& r : res)
@@ -138,8 +121,8 @@ std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power
     power.push_back(r.power_W);
     util.push_back(r.utilization);
   }
-  const auto fp = pareto_front(life, power, power_higher);
-  const auto fu = pareto_front(life, util, true);
+  const auto fp = pareto_front(life, Better::Higher, power, power_higher ? Better::Higher : Better::Lower);
+  const auto fu = pareto_front(life, Better::Higher, util, Better::Higher);
   for (std::size_t i = 0; i < done.size(); ++i) {
     done[i].pareto_power = fp[i];
     done[i].pareto_utilization = fu[i];

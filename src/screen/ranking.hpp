@@ -42,10 +42,6 @@ struct DesignResult {
 // missing or failed design with the reason.
 DesignResult read_design_result(const std::string& out, const Candidate& c);
 
-// True where a point is on the Pareto front: no other point is at least as good in both
-// (a larger, b larger if b_higher_is_better else smaller) and better in one. NaN: never.
-std::vector<bool> pareto_front(const std::vector<double>& a, const std::vector<double>& b, bool b_higher_is_better);
-
 // Ranks the finished designs by life (longest first; equal lives by task order), marks
 // ties with the best and the Pareto fronts (life vs power, life vs utilization). Returns
 // the rows in ranking order: ranked designs, then failed, then missing.

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -27,12 +28,6 @@ bool label_number(const std::string& label, double& v) {
   char* end = nullptr;
   v = std::strtod(label.c_str(), &end);
   return !label.empty() && *end == '\0';
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
 }
 
 // The one column of `names` the file has; InputError if none or several.

@@ -451,6 +451,7 @@ void write_manifest(const RunReport& r) {
     verdicts.push_back(Json{{"figure", v.figure},
                             {"unit", v.unit},
                             {"stage", v.stage},
+                            {"hours", v.stage >= 0 ? Json(v.hours) : Json(nullptr)},
                             {"design", v.design},
                             {"reference", v.reference},
                             {"value", number(v.value.mean)},
@@ -462,6 +463,7 @@ void write_manifest(const RunReport& r) {
                             {"threshold_se", number(v.difference.threshold)},
                             {"resolved", v.difference.resolved},
                             {"replicates_needed", v.difference.replicates_needed},
+                            {"replicates", v.replicates},
                             {"error_source", error_source_name(v.source)},
                             {"text", v.text}});
   m["verdicts"] = verdicts;

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/csv.hpp"
 
 namespace millwear::validation {
@@ -12,12 +13,6 @@ namespace millwear::validation {
 namespace {
 
 constexpr double kMm = 1e-3;
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
-}
 
 std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + std::to_string(d.row_line[row]); }
 

@@ -14,6 +14,7 @@
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
+#include "common/text.hpp"
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
@@ -38,13 +39,6 @@ namespace {
 
 // 1000 values: a sweep is a curve, not a screen; more is a typo in the step.
 constexpr std::size_t kMaxSweepValues = 1000;
-
-std::string trim(std::string s) {
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.pop_back();
-  std::size_t i = 0;
-  while (i < s.size() && (s[i] == ' ' || s[i] == '\t')) ++i;
-  return s.substr(i);
-}
 
 bool parse_number(const std::string& text, double& v) {
   if (text.empty()) return false;

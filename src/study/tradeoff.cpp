@@ -13,6 +13,7 @@
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
 #include "geometry/polyline.hpp"
+#include "metrics/pareto.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
 
@@ -366,20 +367,13 @@ void compare_setting(TradeoffRow& row, const std::vector<HistoryDigest>& d, cons
 }  // namespace
 
 void mark_pareto(std::vector<TradeoffRow>& rows) {
-  for (auto& r : rows) {
-    r.pareto = false;
-    if (!r.error.empty() || !std::isfinite(r.dev_max_pct)) continue;
-    bool dominated = false;
-    for (const auto& o : rows) {
-      if (&o == &r || !o.error.empty() || !std::isfinite(o.dev_max_pct)) continue;
-      if (o.cpu_s <= r.cpu_s && o.dev_max_pct <= r.dev_max_pct &&
-          (o.cpu_s < r.cpu_s || o.dev_max_pct < r.dev_max_pct)) {
-        dominated = true;
-        break;
-      }
-    }
-    r.pareto = !dominated;
+  std::vector<double> cpu, dev;
+  for (const TradeoffRow& r : rows) {
+    cpu.push_back(r.error.empty() ? r.cpu_s : kNaN);
+    dev.push_back(r.dev_max_pct);
   }
+  const std::vector<bool> front = pareto_front(cpu, Better::Lower, dev, Better::Lower);
+  for (std::size_t i = 0; i < rows.size(); ++i) rows[i].pareto = front[i];
 }
 
 TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const TradeoffCallbacks& cb) {
