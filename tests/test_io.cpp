@@ -355,6 +355,13 @@ TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
   EXPECT_THROW(io::parse_csv("", "empty.csv"), InputError);
 }
 
+TEST(IoCsv, ColumnNamesLoseTheBlanksAroundThem) {
+  // As a spreadsheet or a hand may write them: "x_mm, y_mm", a tab, a quoted name.
+  const io::CsvData d = io::parse_csv(" x_mm ,\ty_mm,\"hours \"\n1,2,3\n", "blanks.csv");
+  EXPECT_EQ(d.header, (std::vector<std::string>{"x_mm", "y_mm", "hours"}));
+  EXPECT_EQ(d.number(0, d.column("y_mm")), 2.0);
+}
+
 // ---- run folder ----
 
 // Spreadsheets save CSV with a byte-order mark, CRLF line ends and, in much of Europe, ';'

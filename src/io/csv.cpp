@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 
 namespace millwear::io {
@@ -256,6 +257,7 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
   std::vector<Record> records = split_records(text, name, data.separator);
   if (records.empty()) throw InputError(name, "line 1", "a header row");
   data.header = std::move(records[0].fields);
+  for (std::string& h : data.header) h = trim(h);  // "x_mm, y_mm" as a spreadsheet may write it
   data.header_line = records[0].line;
   for (std::size_t r = 1; r < records.size(); ++r) {
     if (records[r].fields.size() != data.header.size())

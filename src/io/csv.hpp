@@ -81,7 +81,7 @@ constexpr const char kUtf8Bom[] = "\xEF\xBB\xBF";
 struct CsvData {
   std::string path;                     // as given to read_csv, used in error messages
   char separator = ',';                 // ',' or ';' (found from the header)
-  std::vector<std::string> header;
+  std::vector<std::string> header;      // the column names without the blanks around them
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> row_line;    // 1-based line number of each row in the file
   std::size_t header_line = 1;          // 1-based line number of the header (after blank lines)

@@ -430,7 +430,6 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
 
 LifterProfile parse_measured_profile(const std::string& text, const std::string& name) {
   io::CsvData d = io::parse_csv(io::strip_comment_lines(text), name);
-  for (auto& h : d.header) h = trim(h);
   const std::size_t cx = d.column("x_mm"), cy = d.column("y_mm");
   Polyline raw;
   for (std::size_t r = 0; r < d.row_count(); ++r) {

@@ -58,7 +58,6 @@ double coefficient_of_variation(const std::vector<double>& v) {
 
 HardnessData parse_hardness(const std::string& text, const std::string& name) {
   io::CsvData d = io::parse_csv(strip_comment_lines(text), name);
-  for (auto& h : d.header) h = trim(h);
   HardnessData data;
   data.path = name;
   data.time_unit = exactly_one(d, {"days", "hours"}, "period length");

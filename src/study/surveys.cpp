@@ -23,7 +23,6 @@ SurveyCsv parse_survey_csv(const std::string& text, const std::string& name) {
   // Comment lines become blank lines, so parse_csv's line numbers are the file's.
   SurveyCsv csv{io::parse_csv(stripped, name), 1};
   csv.header_line = csv.data.header_line;
-  for (auto& h : csv.data.header) h = trim(h);
   return csv;
 }
 
