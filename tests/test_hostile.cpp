@@ -142,6 +142,28 @@ TEST(HostileSteps, AWindowOfTooManyStepsIsRefusedWithTheLimit) {
   }
 }
 
+// The measured window is four batches for its errors: fewer than four steps would leave a
+// batch empty, and its zeros would become a made-up spread. Four steps pass.
+TEST(HostileSteps, AMeasuredWindowOfFewerStepsThanBatchesIsRefused) {
+  millwear::Scene s = millwear::load_scene(kSource + "/scenarios/lab-mill.toml");
+  const double step_revolutions = s.solver.time_step_s / s.revolution_time_s();
+  s.run.revolutions = 2.5 * step_revolutions;  // 3 steps (a phase takes whole steps, rounded up)
+  try {
+    millwear::check_step_counts(s, "lab.toml");
+    FAIL() << "not refused";
+  } catch (const millwear::InputError& e) {
+    EXPECT_EQ(e.where, "run.revolutions");
+    EXPECT_NE(e.expected.find("at least 4 time steps"), std::string::npos) << e.expected;
+  }
+  s.run.revolutions = 3.5 * step_revolutions;  // 4 steps
+  EXPECT_NO_THROW(millwear::check_step_counts(s, "lab.toml"));
+
+  const fs::path dir = scratch("short-window");
+  const std::string scene = kSource + "/scenarios/lab-mill.toml";
+  expect_refused(run_millwear("charge " + quoted(fs::path(scene)) + " -o " + quoted(dir / "out") + " --revolutions 1e-6"),
+                 scene, "run.revolutions", dir / "out");
+}
+
 // ---- physical ranges -------------------------------------------------------------------------
 
 TEST(HostileRanges, ADensityOfNothingIsRefused) {
@@ -332,7 +354,7 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
   const auto r = run_millwear("calibrate " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " --measured " +
                               quoted(dir / "areas.csv") + " -o " + quoted(dir / "out"));
   expect_refused(r, (dir / "areas.csv").string(), "line 4", dir / "out");
-  EXPECT_NE(r.output.find("areas grow with time"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("areas do not shrink with time"), std::string::npos) << r.output;
 }
 
 // A survey that lost more area than the lifter has is refused at its line before any history
@@ -750,7 +772,21 @@ TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const auto r = run_millwear("rule1 " + lab + " --factors 1e-300");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("--factors: a factor within the run's limits; 1e-300"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--factors, --stages: factors within the run's limits over 1 stage; factor 1e-300 gives"),
+            std::string::npos)
+      << r.output;
+  // A factor out of range is written as given, not as a 309-digit number.
+  const auto big = run_millwear("rule1 " + lab + " --factors 1e308");
+  EXPECT_EQ(big.exit_code, 2) << big.output;
+  EXPECT_NE(big.output.find("got 1e+308"), std::string::npos) << big.output;
+  // tradeoff's --stages and --stage-hours make the history too long: they are named, not the
+  // scene key whose limit they broke.
+  const auto t = run_millwear("tradeoff " + lab + " -o " + quoted(dir / "ladder") +
+                              " --quick --stages 10000 --stage-hours 1e6");
+  EXPECT_EQ(t.exit_code, 2) << t.output;
+  EXPECT_NE(t.output.find("--stages, --stage-hours: a history within the run's limits"), std::string::npos)
+      << t.output;
+  EXPECT_FALSE(fs::exists(dir / "ladder"));
   fs::create_directories(dir / "out" / "stages");
   write(dir / "out" / "stages" / "run.key", "");
   const auto k = run_millwear("run " + lab + " -o " + quoted(dir / "out") + " -q");

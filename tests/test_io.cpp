@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <random>
 #include <string>
@@ -353,6 +354,25 @@ TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
   }
   EXPECT_THROW(io::read_csv("/nonexistent/millwear/x.csv"), InputError);
   EXPECT_THROW(io::parse_csv("", "empty.csv"), InputError);
+}
+
+TEST(IoReadFile, AFileLargerThanAnyInputIsRefusedBeforeItIsRead) {
+  // A sparse file: its size, not its bytes, is what the reader must look at first.
+  const fs::path dir = fs::temp_directory_path() / "millwear_test_huge";
+  fs::create_directories(dir);
+  const fs::path huge = dir / "scan.csv";
+  std::ofstream(huge) << "x_mm,y_mm\n";
+  fs::resize_file(huge, io::kMaxInputFileBytes + 1);
+  try {
+    io::read_file(huge.string());
+    ADD_FAILURE() << "not refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, huge.string());
+    EXPECT_NE(e.expected.find("at most 256 MB"), std::string::npos) << e.expected;
+  }
+  std::ofstream(dir / "small.csv") << "x_mm,y_mm\n1,2\n";
+  EXPECT_EQ(io::read_file((dir / "small.csv").string()), "x_mm,y_mm\n1,2\n");
+  fs::remove_all(dir);
 }
 
 TEST(IoCsv, ColumnNamesLoseTheBlanksAroundThem) {

@@ -134,6 +134,13 @@ std::string read_file(const std::string& path) {
   if (fs::exists(st) && !fs::is_regular_file(st))
     throw InputError(path, "", fs::is_directory(st) ? "a readable file, but it is a folder"
                                                      : "a readable file, but it is not a regular file (a FIFO, socket or device)");
+  // A file is read whole and parsed into several times its size: a size past any input's is
+  // refused before it is read (a multi-gigabyte file would exhaust memory first).
+  const std::uintmax_t bytes = fs::is_regular_file(st) ? fs::file_size(path, ec) : 0;
+  if (!ec && bytes > kMaxInputFileBytes)
+    throw InputError(path, "", "a file of at most " + std::to_string(kMaxInputFileBytes >> 20) +
+                                   " MB (a liner scan of ten million points), found " +
+                                   std::to_string(bytes >> 20) + " MB");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "a readable file");
   std::ostringstream s;

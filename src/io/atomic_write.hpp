@@ -4,6 +4,7 @@
 // resumed run after Ctrl-C, SIGTERM or a crash) sees either the old file or the complete
 // new one, never a truncated one. rename() is atomic only within one file system, which
 // is why the temporary lives next to the target and not in /tmp.
+#include <cstdint>
 #include <string>
 
 namespace millwear::io {
@@ -24,8 +25,11 @@ void ensure_dir(const std::string& path);
 // True if `path` names an existing regular file.
 bool file_exists(const std::string& path);
 
-// The whole content of a file. Throws millwear::InputError(path, "", ...) if unreadable:
-// files read back are the user's (or a previous run's) input.
+// The largest file read_file reads: 256 MB, ten times a scan of a million points.
+constexpr std::uintmax_t kMaxInputFileBytes = std::uintmax_t{256} << 20;
+
+// The whole content of a file. Throws millwear::InputError(path, "", ...) if unreadable or
+// larger than kMaxInputFileBytes: files read back are the user's (or a previous run's) input.
 std::string read_file(const std::string& path);
 
 // The temporary name write_file_atomic would use for `path` next (for tests and for

@@ -27,6 +27,13 @@ std::string count_text(double n) {
   return buf;
 }
 
+// A size in mm to three digits: 0.1 mm stays 0.1, not 0.
+std::string size_text(double mm) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", mm);
+  return buf;
+}
+
 void check_steps(const std::string& file, const std::string& key, std::int64_t steps, const std::string& what) {
   if (steps <= kMaxPhaseSteps) return;
   throw InputError(file, key,
@@ -120,8 +127,13 @@ void check_step_counts(const Scene& scene, const std::string& file) {
   check_steps(file, "mill.speed", steps_in(rev_s, dt), "one revolution of the mill");
   check_steps(file, "solver.spinup_revolutions", steps_in(v.spinup_revolutions * rev_s, dt), "the spin-up");
   check_steps(file, "run.revolutions", steps_in(scene.run.revolutions * rev_s, dt), "the measured revolutions");
-  if (steps_in(scene.run.revolutions * rev_s, dt) < 1)
-    throw InputError(file, "run.revolutions", "expected at least one time step of measured revolutions");
+  // The measured window is cut into kWindowBatches batches for the errors: an empty batch
+  // would enter their spread as a zero.
+  if (steps_in(scene.run.revolutions * rev_s, dt) < kWindowBatches)
+    throw InputError(file, "run.revolutions",
+                     "expected measured revolutions (run.revolutions, or --revolutions) of at least " +
+                         std::to_string(kWindowBatches) + " time steps (one per batch of the errors), got " +
+                         std::to_string(steps_in(scene.run.revolutions * rev_s, dt)));
 
   const double stage_sim_s = w.stage_hours * kSecondsPerHour / w.factor;  // continuous mode
   if (w.mode == WearMode::Staged) {
@@ -182,7 +194,8 @@ void check_filling(const Scene& scene, const std::string& file) {
     throw InputError(file, "charge.filling",
                      "expected a charge of at most " + count_text(double(kMaxDisks)) + " disks, got about " +
                          count_text(total) + " (smallest particle " +
-                         count_text(2e3 * scene.smallest_particle_radius_m()) + " mm; raise solver.size_cutoff)");
+                         size_text(2e3 * scene.smallest_particle_radius_m()) +
+                         " mm; raise solver.size_cutoff)");
 }
 
 void check_liner_size(const Scene& scene, const std::string& file) {

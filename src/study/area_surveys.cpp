@@ -99,7 +99,7 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const st
   throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
                    std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
                                "lost); these ") +
-                       (surveys.losses ? "area losses are not positive" : "areas grow with time") +
+                       (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
                        " (the reference area is " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") +
                        ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
 }

@@ -152,15 +152,17 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   const auto nrep = static_cast<std::uint64_t>(options.replicates);
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
   for (double f : factors) {
-    if (!(f > 0.0 && f <= 1e12))
-      throw InputError("", "--factors", "factors in (0, 1e12], got " + std::to_string(f));
-    // The factor comes from the command line, not the scene: the limit is named as its.
+    char given[32];
+    std::snprintf(given, sizeof given, "%g", f);
+    if (!(f > 0.0 && f <= 1e12)) throw InputError("", "--factors", std::string("factors in (0, 1e12], got ") + given);
+    // The factors and the stage count come from the command line, not the scene: the limit is
+    // named as theirs.
     try {
       check_run_limits(factor_scene(scene, f, scene.solver.seed), scene.source_file);
     } catch (const InputError& e) {
-      char given[32];
-      std::snprintf(given, sizeof given, "%g", f);
-      throw InputError("", "--factors", std::string("a factor within the run's limits; ") + given + " gives " + e.where + ": " + e.expected);
+      throw InputError("", "--factors, --stages",
+                       "factors within the run's limits over " + std::to_string(scene.wear.stages) +
+                           (scene.wear.stages == 1 ? " stage" : " stages") + "; factor " + given + " gives " + e.where + ": " + e.expected);
     }
   }
 

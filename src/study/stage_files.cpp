@@ -289,7 +289,8 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
   rec.stage = static_cast<int>(r.integer("stage"));
   if (rec.stage != stage) throw InputError(r.path, "stage", "stage=" + std::to_string(stage));
   const long long nunits = r.integer("units");
-  if (nunits < 1 || nunits > 100000) throw InputError(r.path, "units", "a unit count >= 1");
+  if (nunits < 1 || nunits > 100000)
+    throw InputError(r.path, "units", "a unit count in [1, 100000], found " + std::to_string(nunits));
   rec.units.resize(static_cast<std::size_t>(nunits));
   for (long long u = 0; u < nunits; ++u)
     rec.units[static_cast<std::size_t>(u)].lifter_half_base_m =

@@ -78,8 +78,15 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
   if (surveys.back().profile_m.size() < 2)
     throw InputError(name, "line " + std::to_string(surveys.back().first_line),
                      "at least 2 points in the survey at " + io::format_number(surveys.back().hours) + " h");
-  for (Survey& s : surveys)
+  for (Survey& s : surveys) {
     if (s.profile_m.front().x > s.profile_m.back().x) std::reverse(s.profile_m.begin(), s.profile_m.end());
+    // Its area and area error are over the span between its ends: a span of no width has none.
+    if (!(s.profile_m.back().x - s.profile_m.front().x > 0.0))
+      throw InputError(name, "line " + std::to_string(s.first_line),
+                       "a survey spanning a width along the shell (its first and last points at different x_mm); "
+                       "the survey at " + io::format_number(s.hours) + " h starts and ends at x = " +
+                           io::format_number(s.profile_m.front().x / kMm) + " mm");
+  }
   return surveys;
 }
 

@@ -13,6 +13,7 @@
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
 #include "geometry/polyline.hpp"
+#include "io/csv.hpp"
 #include "metrics/pareto.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -67,6 +68,15 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
   for (Scene& s : base) {
     if (o.stages > 0) s.wear.stages = o.stages;
     if (o.stage_hours > 0.0) s.wear.stage_hours = o.stage_hours;
+    // The history's length comes from the command line: a limit it breaks is named as its.
+    if (o.stages > 0 || o.stage_hours > 0.0) try {
+        check_run_limits(s, s.source_file);
+      } catch (const InputError& e) {
+        throw InputError("", "--stages, --stage-hours",
+                         "a history within the run's limits; " + std::to_string(s.wear.stages) + " stages of " +
+                             io::format_number(s.wear.stage_hours) + " h give " + e.file + ": " + e.where + ": " +
+                             e.expected);
+      }
   }
   const FidelityDef& draft = fidelity_preset("draft");
   const FidelityDef& standard = fidelity_preset("standard");
