@@ -168,6 +168,9 @@ TEST_F(ScreenRun, ReplicatesGiveTheLifeErrorFromTheSpreadOfTheHistories) {
   Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --quiet --replicates 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("standard error of the mean of 2 replicates"), std::string::npos) << r.output;
+  // The legend states the tie rule the ranking used: Student's t for two histories, not 2 sigma.
+  EXPECT_NE(r.output.find("not resolved by Student's t for 2 replicates"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("within 2 combined sigma"), std::string::npos) << r.output;
   EXPECT_NE(slurp(out / "screen.key").find("\nreplicates=2\n"), std::string::npos);
   const io::CsvData rank = io::read_csv((out / "ranking.csv").string());
   const io::CsvData ref = io::read_csv((ref_ / "ranking.csv").string());
@@ -816,13 +819,23 @@ TEST(ScreenRanking, TiesWithinTwiceTheCombinedUncertainty) {
   }
   v.push_back(DesignResult{});  // a missing design goes last, unranked
   v.back().design.name = "d3";
+  v.insert(v.begin(), v[0]);  // a finished design that never wore: no life, unranked after the lives
+  v.front().design.name = "unworn";
+  v.front().life_h = std::nan("");
   const auto r = rank_designs(v, false);
-  ASSERT_EQ(r.size(), 4u);
+  ASSERT_EQ(r.size(), 5u);
+  EXPECT_EQ(r[0].rank, 1);
+  EXPECT_EQ(r[2].rank, 3);
   EXPECT_TRUE(r[0].tied_with_best);
   EXPECT_TRUE(r[1].tied_with_best);    // 100 <= 2 * 50
   EXPECT_FALSE(r[2].tied_with_best);   // 300 > 100
+  EXPECT_EQ(r[3].design.name, "unworn");
+  EXPECT_EQ(r[3].status, "finished");
   EXPECT_EQ(r[3].rank, 0);
-  EXPECT_EQ(r[3].status, "missing");
+  EXPECT_NE(r[3].reason.find("no life"), std::string::npos);
+  EXPECT_FALSE(r[3].tied_with_best);
+  EXPECT_EQ(r[4].rank, 0);
+  EXPECT_EQ(r[4].status, "missing");
 }
 
 TEST(ScreenRanking, TiesWithFewReplicatesTakeStudentsThreshold) {

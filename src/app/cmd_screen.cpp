@@ -16,8 +16,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string>
 
 #include "app/commands.hpp"
 #include "app/default_text.hpp"
@@ -54,13 +56,20 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
     if (r.status == "finished") replicates = std::max(replicates, r.replicates);
   for (const auto& r : o.ranked) {
     if (r.status != "finished") continue;
-    std::printf("%4d %-10s %11.0f%s %10.0f %4s %10.4g %8.4f %12.1f %6s\n", r.rank, r.design.name.c_str(), r.life_h,
-                r.life_extrapolated ? "*" : " ", 2.0 * r.life_sigma_h, r.tied_with_best ? "=" : "",
+    const std::string rank = r.rank > 0 ? std::to_string(r.rank) : "-";  // finished with no life
+    std::printf("%4s %-10s %11.0f%s %10.0f %4s %10.4g %8.4f %12.1f %6s\n", rank.c_str(), r.design.name.c_str(), r.life_h,
+                r.life_extrapolated && std::isfinite(r.life_h) ? "*" : " ", 2.0 * r.life_sigma_h, r.tied_with_best ? "=" : "",
                 in_kW(r.power_W), r.utilization, r.area_loss_mm2_per_1000h,
                 r.pareto_power && r.pareto_utilization ? "P,U" : r.pareto_power ? "P" : r.pareto_utilization ? "U" : "");
   }
-  std::printf("(* life extrapolated; = tied with the best within 2 sigma; front P: life vs power, U: life vs "
-              "utilisation)\n");
+  // The tie rule is compare()'s: 2 combined sigma on one history's errors, Student's t for
+  // the replicates' degrees of freedom on their spread.
+  const std::string tie_rule = replicates > 1 ? "not resolved by Student's t for " + std::to_string(replicates) +
+                                                    " replicates, as run's verdicts"
+                                              : "within 2 combined sigma";
+  std::printf("(* life extrapolated; - no life to rank; = tied with the best: %s; front P: life vs power, U: life vs "
+              "utilisation)\n",
+              tie_rule.c_str());
   if (replicates > 1)
     std::printf("sigma: standard error of the mean of %d replicates per design\n", replicates);
   else if (replicates == 1)

@@ -58,7 +58,7 @@ std::string render_screen_figures(const std::string& out, const std::vector<Desi
   std::vector<const DesignResult*> done;
   for (const auto& r : ranked)
     if (r.status == "finished" && std::isfinite(r.life_h)) done.push_back(&r);
-  if (done.empty()) return "no finished design: figures skipped";
+  if (done.empty()) return "no finished design with a life: figures skipped";
   draw("screen_pareto", {{"power_sense", io::find_value(key, "power", "min")}});
 
   // The top three: new and last-stage profiles from each design's run folder.

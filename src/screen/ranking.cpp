@@ -97,7 +97,16 @@ std::vector<DesignResult> rank_designs(std::vector<DesignResult> res, bool power
     if (fx != fy) return fx;
     return fx && x.life_h > y.life_h;
   });
-  for (std::size_t i = 0; i < done.size(); ++i) done[i].rank = static_cast<int>(i) + 1;
+  // Only a life ranks: a design whose lifters never head for the replacement height (no wear,
+  // or a height that does not fall) finished with no life, and stays unranked.
+  for (std::size_t i = 0; i < done.size(); ++i) {
+    if (std::isfinite(done[i].life_h)) {
+      done[i].rank = static_cast<int>(i) + 1;
+    } else {
+      done[i].rank = 0;
+      done[i].reason = "no life to rank: the lifters' height does not fall toward the replacement height";
+    }
+  }
   if (!done.empty() && std::isfinite(done[0].life_h)) {
     // Tied with the best: the lives' difference is not resolved by the comparison's own rule
     // (metrics/estimates.hpp's compare: Student's t over the replicates' spread, or one
