@@ -201,6 +201,16 @@ TEST_F(ProfileFile, MatchAreaOfMissingFileIsRejected) {
   EXPECT_NE(e.expected.find("absent.toml"), std::string::npos);
 }
 
+// A trapezoid can take the area of a measured lifter: a scan of a worn one, say.
+TEST_F(ProfileFile, MatchAreaOfAMeasuredLifterTakesItsArea) {
+  const std::string scan = shipped("lab-survey-2000h.csv");
+  const double target = measure_profile(load_profile(scan).points).area_m2;
+  const LifterProfile p = load_profile(write("p.toml",
+                                             "form = \"trapezoid\"\nheight = 15.0\nleading_face_angle = 30.0\n"
+                                             "trailing_face_angle = 30.0\nmatch_area_of = \"" + scan + "\"\n"));
+  EXPECT_NEAR(measure_profile(p.points).area_m2 / target, 1.0, 1e-6);
+}
+
 TEST_F(ProfileFile, CircularMatchAreaOfIsRejected) {
   const char* a =
       "form = \"trapezoid\"\nheight = 200.0\nleading_face_angle = 30.0\n"

@@ -27,6 +27,13 @@ namespace millwear {
 namespace {
 
 constexpr double kMmToM = 1e-3;
+
+// A file name's extension in lower case (".csv", ".toml").
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
 constexpr double kDegToRad = kPi / 180.0;
 // Feet must lie on the shell line; file values are in mm, so 1 nm is "exactly zero" for
 // anything a person types, and still catches a foot written at 0.001 mm.
@@ -211,7 +218,11 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       if (!fs::is_regular_file(other_path, ec))
         throw InputError(path, "match_area_of",
                          "expected an existing profile file; not found: " + other_path.string());
-      const LifterProfile ref = load_profile_impl(other_path.string(), chain);
+      // A measured lifter (CSV) refers to nothing further; a TOML one may, and the chain
+      // catches a loop.
+      const bool measured = lower_extension(other_path) == ".csv";
+      const LifterProfile ref = measured ? parse_measured_profile(io::read_file(other_path.string()), other_path.string())
+                                         : load_profile_impl(other_path.string(), chain);
       const double target = measure_profile(ref.points).area_m2;
       t.top_width_m = top_width_for_area(t, target, path);
     } else if (has_top) {
@@ -488,9 +499,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
 }
 
 LifterProfile load_profile(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".csv") {
+  if (lower_extension(path) == ".csv") {
     std::error_code ec;
     if (!fs::is_regular_file(path, ec))
       throw InputError(path, "", "expected an existing, readable profile file");
