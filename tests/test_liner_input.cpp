@@ -292,6 +292,15 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
   EXPECT_NE(m.find("pitch_mm = 140"), std::string::npos) << m;
   m = message([] { parse_measured_profile(whole_unit_scan("# pitch_mm = wide\n"), "bad.csv"); });
   EXPECT_NE(m.find("line 2"), std::string::npos) << m;
+  // Ends at two heights cannot repeat round the mill: the step is named, not a crossing.
+  m = message([&] {
+    std::string text = whole_unit_scan(pitch);
+    const std::size_t last = text.rfind(',', text.size() - 2);
+    text = text.substr(0, last) + ",-10\n";  // the last point 10 mm below the first
+    parse_measured_profile(text, "step.csv");
+  });
+  EXPECT_NE(m.find("step.csv: line 2"), std::string::npos) << m;
+  EXPECT_NE(m.find("at one height"), std::string::npos) << m;
   // Agreeing with its points but not with the mill: 10 rows stand 188.5 mm apart.
   const std::string ten = dir.file("ten.toml", lab_scene_text("rows = 10\nprofile = \"unit.csv\""));
   m = message([&] { load_scene(ten); });

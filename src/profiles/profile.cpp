@@ -492,6 +492,16 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
                        "points one pitch apart (within " + fmt_num(100.0 * kPitchTolerance) + "%); its points reach from x = " +
                            fmt_num(s.front().x * 1e3) + " to " + fmt_num(s.back().x * 1e3) + " mm, " +
                            fmt_num(width * 1e3) + " mm");
+    // The unit repeats around the mill: its last point is the next copy's first, so the two
+    // ends are one place up to the gauge's mismatch.
+    const double step_m = s.back().y - s.front().y;
+    if (std::abs(step_m) > kPitchTolerance * pitch_m)
+      throw InputError(name, "line " + std::to_string(pitch_line),
+                       "pitch_mm = " + fmt_num(pitch_m * 1e3) + ": a scan of one whole liner unit, its first and last "
+                       "points at one height (the unit repeats, and each end meets the next copy's other end; within " +
+                           fmt_num(kPitchTolerance * pitch_m * 1e3) + " mm, " + fmt_num(100.0 * kPitchTolerance) +
+                           "% of the pitch); its ends are at y = " + fmt_num(s.front().y * 1e3) + " and " +
+                           fmt_num(s.back().y * 1e3) + " mm");
     prof.unit_pitch_m = pitch_m;
     prof.pitch_line = pitch_line;
   }
