@@ -172,6 +172,9 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
   EXPECT_NE(message("x_mm,y_mm\n-20,0\n0,abc\n20,0\n").find("line 3"), std::string::npos);
   EXPECT_NE(message("x,y\n-20,0\n0,10\n20,0\n").find("x_mm"), std::string::npos);
   EXPECT_NE(message("x_mm,y_mm\n-20,-1\n0,-0.5\n20,-1\n").find("above the shell line"), std::string::npos);
+  // A lifter drawn as a closed polygon (the base back to the first point) is all loop.
+  EXPECT_NE(message("x_mm,y_mm\n-20,0\n-10,20\n10,20\n20,0\n20,0\n-20,0\n").find("close on themselves"),
+            std::string::npos);
   // A second lifter in the scan would wear as shell plate.
   EXPECT_NE(message("x_mm,y_mm\n-40,-1\n-16.5,0\n-5,20\n5,20\n16.5,0\n23,-1\n23.5,0\n35,12\n45,12\n56.5,0\n75,-1\n")
                 .find("one lifter per surface"),

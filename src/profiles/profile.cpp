@@ -467,6 +467,12 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   Polygon loop;
   s = without_loops(s, &loop);
   prof.dropped_points = static_cast<int>(raw.size() - s.size());
+  // A file that comes back to where it began is all loop: nothing of a surface is left.
+  if (s.size() < 3 && !loop.empty())
+    throw InputError(name, "x_mm,y_mm",
+                     "an open surface from one foot to the other; the points close on themselves around a loop of " +
+                         fmt_num(std::abs(signed_area(loop)) * 1e6) + " mm^2 and leave " + std::to_string(s.size()) +
+                         " points of surface (is the base written back to the first point?)");
   if (!is_simple_open(s))
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
   prof.measured = s;
