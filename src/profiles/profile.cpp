@@ -472,7 +472,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
     throw InputError(name, "x_mm,y_mm",
                      "an open surface from one foot to the other; the points close on themselves around a loop of " +
                          fmt_num(std::abs(signed_area(loop)) * 1e6) + " mm^2 and leave " + std::to_string(s.size()) +
-                         " points of surface (is the base written back to the first point?)");
+                         (s.size() == 1 ? " point" : " points") + " of surface (is the base written back to the first point?)");
   if (!is_simple_open(s))
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
   prof.measured = s;
