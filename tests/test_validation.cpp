@@ -136,7 +136,7 @@ TEST(ValidationSurveys, MalformedFilesNameFileAndLine) {
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n100,1,1\n100,2,1\n", "line 2", "at least 2 points");
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,1,2\n", "line 3", "repeated");
   expect_survey_error("hours,x_mm,y_mm\n", "line 2", "survey rows");
-  // Two points straight above each other span no width: no area to compare (0/0 before).
+  // Two points straight above each other span no width: their area error would be 0/0.
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,3,2\n100,0,0\n100,0,18\n", "line 4", "spanning a width");
 }
 
