@@ -22,7 +22,7 @@ constexpr int kRows = 48;
 Polyline lifter_2x30() { return trapezoid_points({0.2, 0.1, 30 * kDeg, 30 * kDeg}); }
 
 MillGeometry mill_2x30() {
-  return build_mill(kR, kRows, {make_liner_unit(lifter_2x30(), kR, kRows, kMesh)});
+  return build_mill(kR, kRows, {make_liner_unit(lifter_2x30(), kR, kRows, kMesh)}, 1);
 }
 
 }  // namespace
@@ -120,7 +120,7 @@ TEST(Mill, EdgeOwnersAndLocalCoordinatesAtLifterFeet) {
 TEST(Mill, VerticalFaceEdgesBelongToTheLifter) {
   // 0 deg faces put the face edge midpoints exactly at |x| = half base.
   const Polyline rect = trapezoid_points({0.2, 0.2, 0.0, 0.0});
-  const MillGeometry g = build_mill(kR, 8, {make_liner_unit(rect, kR, 8, kMesh)});
+  const MillGeometry g = build_mill(kR, 8, {make_liner_unit(rect, kR, 8, kMesh)}, 1);
   int lifter_edges = 0;
   for (const LinerEdgeInfo& e : g.edges)
     if (e.owner == EdgeOwner::Lifter && e.owner_index == 0) ++lifter_edges;

@@ -378,7 +378,7 @@ TEST_F(SceneErrors, NonPositivePushOutNamesKey) {
 TEST_F(SceneUnits, AreaLossRateSetsTheCalibrationSource) {
   const Scene s = load_scene(scene_with("wear_rate = 1e-11", "area_loss_rate = 2500.0"));
   EXPECT_EQ(s.wear.rate_source, WearRateSource::AreaLossRate);
-  EXPECT_DOUBLE_EQ(s.wear.calibration_value, 2500.0);
+  EXPECT_DOUBLE_EQ(s.wear.target_loss_rate, 2500.0 * 1e-6 / (1000.0 * kSecondsPerHour));  // m^2/s
 }
 
 TEST_F(SceneUnits, SliceThicknessDefaultsToLargestUsedDiameter) {

@@ -25,13 +25,13 @@ namespace {
 
 struct CalibrateArgs {
   validation::CalibrateRequest request;
-  double tolerance_pct = 1.0;
+  double tolerance_pct = 100.0 * validation::CalibrationOptions{}.rel_tol;
   int threads = 0;
   bool min_runs_given = false;
 };
 
 int run_calibrate(CalibrateArgs a) {
-  // Both given and contradicting: refused. The default minimum (2) yields to --max-runs 1.
+  // Both given and contradicting: refused. The default minimum yields to --max-runs 1.
   if (a.min_runs_given && a.request.options.min_runs > a.request.options.max_runs)
     throw InputError("", "--min-runs", "at most --max-runs (" + std::to_string(a.request.options.max_runs) +
                                            "), got " + std::to_string(a.request.options.min_runs));

@@ -19,6 +19,7 @@
 #include "scene/scene.hpp"
 #include "study/charge_outputs.hpp"
 #include "study/charge_run.hpp"
+#include "study/plan.hpp"
 #include "wear/reshape.hpp"
 
 namespace millwear::app {
@@ -38,17 +39,17 @@ struct ChargeArgs {
 int run_charge(const ChargeArgs& args) {
   std::vector<std::string> overrides = args.overrides;
   if (args.vtk) overrides.push_back("outputs.vtk=true");
-  Scene scene = load_scene(args.scene, overrides);
-  if (!args.fidelity.empty()) apply_fidelity(scene, args.fidelity);
-  if (args.revolutions > 0.0) scene.run.revolutions = args.revolutions;
-  scene.solver.threads = step_threads(args.threads);
-  scene.solver.threads_fit_size = args.threads == 0;
-  check_scene(scene, args.scene);
+  Scene scene = study::load_checked_scene(args.scene, overrides, args.fidelity, [&args](Scene& s) {
+    if (args.revolutions > 0.0) s.run.revolutions = args.revolutions;
+    s.solver.threads = step_threads(args.threads);
+    s.solver.threads_fit_size = args.threads == 0;
+  });
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_charge_outputs(args.out, scene, result, wall);
+  const ChargeEstimates est = charge_estimates(scene, result);
+  write_charge_outputs(args.out, scene, result, est, wall);
   const ChargeFigures& f = result.figures;
   for (const auto& e : result.events) std::cerr << "millwear: warning: t=" << e.time_s << " s: " << e.what << "\n";
   std::printf("%s: %zu disks, %.1f revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
@@ -59,13 +60,13 @@ int run_charge(const ChargeArgs& args) {
               f.power_kW_per_m, f.power_kW_per_m * scene.mill.length_m, f.torque_arm_kW_per_m);
   std::printf("  collisions   %10.4g kW/m   liner %.4g kW/m, solver %.4g kW/m\n", f.collision_kW_per_m,
               f.liner_kW_per_m, f.solver_kW_per_m);
-  const MorrellResult morrell = morrell_estimate(scene, f.summary);
+  const MorrellResult& morrell = est.morrell;
   if (std::isfinite(morrell.net_power_kW))
     std::printf("  Morrell      %10.4g kW/m   toe %.0f deg, shoulder %.0f deg (C-model, dry, this bed's density)\n",
                 morrell.net_power_kW, morrell.toe_deg_from_bottom, morrell.shoulder_deg_from_bottom);
   else
     std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
-  const double austin_W_per_m = austin_estimate_W_per_m(scene);
+  const double austin_W_per_m = est.austin_W_per_m;
   if (std::isfinite(austin_W_per_m))
     std::printf("  Austin       %10.4g kW/m   (SAG power equation; porosity %.2g, %.0f%% solids)\n",
                 austin_W_per_m / 1000.0, AustinInput{}.porosity, 100.0 * AustinInput{}.solids_mass_fraction);
@@ -88,8 +89,7 @@ int run_charge(const ChargeArgs& args) {
                 "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"
                 "          (README \"Numerical limits\")\n",
                 f.summary.mean_packed_disks, 100.0 * f.summary.packed_shear_share);
-  const ImpactSummary im = summarize_impacts(result.impacts, static_cast<int>(result.batches.size()),
-                                             f.summary.toe_deg, f.summary.shoulder_deg, f.summary.centrifuged);
+  const ImpactSummary& im = est.impacts;
   const double flights_per_s = f.summary.time_s > 0 ? static_cast<double>(im.window.impacts) / f.summary.time_s : 0.0;
   if (im.window.impacts == 0)
     std::printf("  flights      none from the lifters landed in the window\n");

@@ -19,7 +19,6 @@ namespace millwear::app {
 
 namespace {
 
-constexpr double kRadToDeg = 180.0 / kPi;
 
 struct ProfileArgs {
   std::vector<std::string> files;
@@ -41,8 +40,8 @@ int run_profile(const ProfileArgs& args) {
     const ProfileMetrics m = measure_profile(p.points);
     std::snprintf(row, sizeof row, "%-16s %12.1f %10.1f %10.1f %10.1f %10.1f %10.1f\n",
                   p.name.c_str(), m.area_m2 * 1e6, m.height_m * 1e3, m.base_width_m * 1e3,
-                  m.top_width_m * 1e3, m.leading_face_angle_rad * kRadToDeg,
-                  m.trailing_face_angle_rad * kRadToDeg);
+                  m.top_width_m * 1e3, deg_from_rad(m.leading_face_angle_rad),
+                  deg_from_rad(m.trailing_face_angle_rad));
     std::cout << row;
   }
   // Measured profiles: what was read, and what lies outside the lifter.

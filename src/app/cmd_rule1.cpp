@@ -17,6 +17,7 @@
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/plan.hpp"
 #include "study/rule1.hpp"
 #include "wear/reshape.hpp"
 
@@ -35,16 +36,15 @@ struct Rule1Args {
 };
 
 int run_rule1(const Rule1Args& a) {
-  Scene scene = load_scene(a.scene, a.overrides);
-  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  scene.wear.stages = a.stages;
   Rule1Options opt = a.options;
-  if (opt.factors.empty()) opt.factors = default_rule1_factors(scene.wear.factor);
-  // The histories run side by side on the cores; each step gets the cores they leave.
-  const int at_once = std::min(opt.jobs > 0 ? opt.jobs : core_count(), static_cast<int>(opt.factors.size()) * opt.replicates);
-  scene.solver.threads = step_threads_beside(a.threads, at_once);
-  scene.solver.threads_fit_size = a.threads == 0;
-  check_scene(scene, a.scene);  // before anything is filled or written
+  const Scene scene = study::load_checked_scene(a.scene, a.overrides, a.fidelity, [&](Scene& s) {
+    s.wear.stages = a.stages;
+    if (opt.factors.empty()) opt.factors = default_rule1_factors(s.wear.factor);
+    // The histories run side by side on the cores; each step gets the cores they leave.
+    const int at_once = jobs_for(opt.jobs, opt.factors.size() * static_cast<std::size_t>(opt.replicates));
+    s.solver.threads = step_threads_beside(a.threads, at_once);
+    s.solver.threads_fit_size = a.threads == 0;
+  });
   std::unique_ptr<io::FolderLock> lock;
   if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out, "rule1");
   const Rule1Report r = rule1_check(scene, opt);
@@ -118,7 +118,7 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(finite_positive());
   cmd->add_option("--replicates", args->options.replicates,
                   "histories per factor, seeds s, s+1, ... (" + default_text(args->options.replicates) + ")")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, study::kMaxReplicates));
   cmd->add_option("--tolerance", args->options.tolerance_pct_height,
                   "allowed deviation, % of lifter height (" + default_text(args->options.tolerance_pct_height) + ")")
       ->check(finite_in(1e-6, 100.0));

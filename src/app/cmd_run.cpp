@@ -31,6 +31,7 @@
 #include "io/run_folder.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "scene/filling.hpp"
+#include "study/plan.hpp"
 #include "study/run_progress.hpp"
 
 namespace millwear::app {
@@ -213,7 +214,7 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_option("--replicates", args->replicates,
                   "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
                   "standard error (" + default_text(args->replicates) + ": errors from one history's batch means)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, study::kMaxReplicates));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });

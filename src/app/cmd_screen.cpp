@@ -43,7 +43,7 @@ struct ScreenArgs {
   ScreenRequest request;  // request.screen_file is OUT with --collect
   bool collect = false;
   bool quiet = false;
-  double progress_every_s = 60.0;
+  double progress_every_s = kProgressEveryS;
 };
 
 // The ranking table on stdout, the failed and missing designs on stderr. Returns 0 if every

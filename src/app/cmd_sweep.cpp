@@ -11,6 +11,7 @@
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
+#include "study/plan.hpp"
 #include "study/sweep.hpp"
 
 namespace millwear::app {
@@ -80,7 +81,7 @@ void register_sweep(CLI::App& app, Action* action) {
   cmd->add_option("--replicates", args->replicates,
                   "charges per value, seeds s .. s+N-1: figures are their mean with its standard error (" +
                       default_text(args->replicates) + ": batch means, a lower bound)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, study::kMaxReplicates));
   cmd->add_flag("--no-plot", *no_plot, "skip the figures");
   cmd->add_flag("-q,--quiet", *quiet, "no progress lines, only the final table");
   cmd->callback([args, quiet, no_plot, action] {

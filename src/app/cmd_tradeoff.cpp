@@ -27,23 +27,20 @@ std::string fmt(double v, const char* f = "%.2f") { return io::format_for_table(
 
 int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
   const std::string& out = a.out;
-  TradeoffStudyCallbacks cb;
-  cb.on_ladder = [&a](const TradeoffLadder& ladder) {
-    const Scene& first = ladder.settings.front().scenes.front();
-    std::printf("tradeoff on %zu design(s): %zu settings, %d stage(s) of %g h, %d job(s)\n",
-                ladder.settings.front().scenes.size(), ladder.settings.size(), first.wear.stages,
-                first.wear.stage_hours, a.jobs);
-    for (const auto& h : ladder.held_knobs) std::printf("  held: %s\n", h.c_str());
-    std::fflush(stdout);
-  };
   // One plain line per finished run (the runs go on in worker threads): the time of day, how
   // many of the ladder's runs are done, the elapsed and remaining time.
   std::mutex print_mutex;
   std::size_t total = 0, done = 0;
   const auto t0 = std::chrono::steady_clock::now();
-  cb.on_ladder = [&a, &total, on_ladder = cb.on_ladder](const TradeoffLadder& ladder) {
+  TradeoffStudyCallbacks cb;
+  cb.on_ladder = [&a, &total](const TradeoffLadder& ladder) {
+    const Scene& first = ladder.settings.front().scenes.front();
     total = ladder.settings.size() * ladder.settings.front().scenes.size();
-    on_ladder(ladder);
+    std::printf("tradeoff on %zu design(s): %zu settings, %d stage(s) of %g h, %d job(s)\n",
+                ladder.settings.front().scenes.size(), ladder.settings.size(), first.wear.stages,
+                first.wear.stage_hours, a.jobs);
+    for (const auto& h : ladder.held_knobs) std::printf("  held: %s\n", h.c_str());
+    std::fflush(stdout);
   };
   cb.runs.on_design = [&](const TradeoffSetting& s, const TradeoffDesign& d, double wall, double cpu,
                           const std::string& error) {

@@ -25,7 +25,7 @@ namespace {
 struct ViewArgs {
   std::string scene, fidelity, screenshot, script;
   int frames = 0;
-  std::vector<int> size{1280, 800};
+  std::vector<int> size{view::ViewRequest{}.width, view::ViewRequest{}.height};
 };
 
 // Without a scene: the shipped lab mill (beside the figure scripts, installed or built).

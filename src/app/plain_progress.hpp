@@ -15,6 +15,9 @@
 
 namespace millwear::app {
 
+// Without a terminal, `run` and `screen` print a plain progress line this often by default.
+inline constexpr double kProgressEveryS = 60.0;
+
 // Local wall-clock time, for log lines read hours later.
 inline std::string clock_text() {
   const std::time_t now = std::time(nullptr);

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "app/plain_progress.hpp"
 #include "scene/scene.hpp"
 
 namespace millwear::app {
@@ -15,7 +16,7 @@ struct RunArgs {
   bool resume = false;
   bool force = false;
   bool quiet = false;
-  double progress_every_s = 60.0;  // without a terminal: plain progress lines this often
+  double progress_every_s = kProgressEveryS;  // without a terminal: plain progress lines this often
   bool check = false;
   int jobs = 0;
   int threads = 0;  // --threads: each design's engine step (0: fit to the charge, up to the cores the designs leave)

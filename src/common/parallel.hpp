@@ -14,6 +14,13 @@ namespace millwear {
 // The machine's cores (at least 1).
 inline int core_count() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 
+// How many of `tasks` run at once: `requested` when given (> 0), else the cores; never more
+// than the tasks, at least 1.
+inline int jobs_for(int requested, std::size_t tasks) {
+  const std::size_t wanted = static_cast<std::size_t>(requested > 0 ? requested : core_count());
+  return static_cast<int>(std::max<std::size_t>(1, std::min(wanted, tasks)));
+}
+
 // The threads of each engine step while `at_once` tasks run side by side: `requested` when
 // given (> 0), else the cores the tasks leave, at least 1 (the results are the same bits
 // for any count).

@@ -6,6 +6,12 @@ namespace millwear {
 
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kSecondsPerHour = 3600.0;
+inline constexpr double kGravity = 9.81;  // m/s^2
+
+// Angles and speeds as files and the terminal give them.
+inline constexpr double rad_from_deg(double deg) { return deg * (kPi / 180.0); }
+inline constexpr double deg_from_rad(double rad) { return rad / (kPi / 180.0); }
+inline constexpr double rpm_from_rad_s(double rad_s) { return rad_s * 60.0 / (2.0 * kPi); }
 
 // Lengths, areas and powers as files and the terminal give them.
 inline constexpr double in_mm(double m) { return m * 1e3; }
@@ -15,8 +21,6 @@ inline constexpr double watts_from_kW(double kW) { return kW * 1e3; }
 
 // A rate per second as a rate per operating hour.
 inline constexpr double per_hour(double per_second) { return per_second * kSecondsPerHour; }
-// m^2 per second -> mm^2 per operating hour (files and figures).
-inline constexpr double mm2_per_hour(double m2_per_s) { return per_hour(m2_per_s) * 1e6; }
 // m per second -> mm per 1000 operating hours (the liner's colour scale).
 inline constexpr double mm_per_1000h(double m_per_s) { return per_hour(m_per_s) * 1e6; }
 // Liner metal lost per energy the mill draws: kg/J -> g/kWh (the figure plants report).

@@ -57,9 +57,8 @@ bool liner_contact_packed(LinerStreaks& st, int id, Vec2 point_m, double mill_sp
     }
     st.last_step[k] = st.step;
   }
-  constexpr double kTwoPi = 6.28318530717958647692;
   const double omega = std::fabs(mill_speed_rad_s);
-  const bool packed = omega > 0.0 && (st.clock_s - st.since_s[k]) * omega > kTwoPi;
+  const bool packed = omega > 0.0 && (st.clock_s - st.since_s[k]) * omega > 2.0 * kPi;
   if (packed && first_this_step) packed_disk_steps += 1;
   return packed;
 }

@@ -37,9 +37,11 @@ struct AccountingOptions {
   std::size_t contact_log_limit = 200000;  // records kept per window at most
 };
 
-constexpr int kSpectrumBins = 40;          // log10 bins from 1e-8 J to 1e4 J (3 per decade)
+// The collision-energy spectrum: 40 log10 bins over the 12 decades from 1e-8 J to 1e4 J
+// (10 bins every 3 decades).
+constexpr int kSpectrumBins = 40;
 constexpr double kSpectrumMinJ = 1e-8;
-constexpr double kSpectrumBinsPerDecade = 3.33333333333333;
+constexpr double kSpectrumBinsPerDecade = kSpectrumBins / 12.0;
 constexpr int kShapeAngleBins = 72;        // 5 deg bins around the mill for toe/shoulder
 
 // Unbroken runs of liner contact per disk id, kept across windows: a disk that touches the

@@ -189,12 +189,6 @@ double polyline_length(const Polyline& line) {
   return s;
 }
 
-std::vector<double> cumulative_length(const Polyline& line) {
-  std::vector<double> s(line.size(), 0.0);
-  for (std::size_t i = 1; i < line.size(); ++i) s[i] = s[i - 1] + length(line[i] - line[i - 1]);
-  return s;
-}
-
 Polyline resample(const Polyline& line, double target_length, double keep_corner_deg) {
   if (!(target_length > 0.0)) throw std::invalid_argument("resample: target_length must be > 0");
   // Drop zero-length edges first: they have no direction and would make a false corner.
@@ -206,7 +200,7 @@ Polyline resample(const Polyline& line, double target_length, double keep_corner
 
   // Kept vertices: both ends and every vertex where the direction turns by more than the
   // corner threshold (lifter feet and top corners stay sharp; gently curved runs are not).
-  const double keep_rad = keep_corner_deg * kPi / 180.0;
+  const double keep_rad = rad_from_deg(keep_corner_deg);
   std::vector<std::size_t> kept{0};
   for (std::size_t i = 1; i + 1 < pts.size(); ++i) {
     const Vec2 u = pts[i] - pts[i - 1], v = pts[i + 1] - pts[i];

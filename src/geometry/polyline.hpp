@@ -33,8 +33,6 @@ Polyline without_loops(const Polyline& line, Polygon* largest = nullptr);
 Polyline thin_points(const Polyline& line, double min_spacing);
 
 double polyline_length(const Polyline& line);
-// Cumulative arc length at each vertex (first is 0).
-std::vector<double> cumulative_length(const Polyline& line);
 
 // Resample an open polyline to edges of about target_length, keeping both end points and
 // every vertex whose turning angle exceeds keep_corner_deg (lifter corners stay sharp).

@@ -113,7 +113,7 @@ ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double g
   const int dir = mill_speed_rad_s < 0 ? -1 : 1;
   const Vec2 c = s.centre_of_mass_m;
   // Counter-clockwise from 6 o'clock is toward +x at the bottom.
-  if (c.x != 0.0 || c.y != 0.0) s.centre_of_mass_deg = dir * std::atan2(c.x, -c.y) * 180.0 / kPi;
+  if (c.x != 0.0 || c.y != 0.0) s.centre_of_mass_deg = dir * deg_from_rad(std::atan2(c.x, -c.y));
   s.shoulder_deg = dir * charge_edge_deg(acc.shell_band_occupancy, dir);
   s.toe_deg = dir * charge_edge_deg(acc.shell_band_occupancy, -dir);
   const auto [lo, hi] = std::minmax_element(acc.shell_band_occupancy.begin(), acc.shell_band_occupancy.end());

@@ -49,7 +49,8 @@ struct ChargeSummary {
 };
 ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2);
 
-// Figures of a measured window, per metre of mill length and SI inside.
+// Figures of a measured window, per metre of mill length, in kW (the unit the stage files,
+// CSV files and figures keep them in; the summary's sums are SI).
 struct ChargeFigures {
   ChargeSummary summary;          // per slice
   double power_kW_per_m = 0.0;    // drive power / slice thickness

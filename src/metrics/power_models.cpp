@@ -7,7 +7,7 @@
 namespace millwear {
 
 MorrellResult morrell_power(const MorrellInput& in) {
-  constexpr double g = 9.81;
+  constexpr double g = kGravity;
   const double J = in.filling, phi = in.speed_fraction;
   const double rm = 0.5 * in.diameter_m, L = in.length_m, rho_c = in.charge_density_t_m3;
   const double Nc_rps = 42.3 / std::sqrt(in.diameter_m) / 60.0;
@@ -32,8 +32,8 @@ MorrellResult morrell_power(const MorrellInput& in) {
   MorrellResult r;
   r.toe_rad = thT;
   r.shoulder_rad = thS;
-  r.toe_deg_from_bottom = thT * 180.0 / kPi - 270.0;  // toe lies on the falling side (< 0)
-  r.shoulder_deg_from_bottom = thS * 180.0 / kPi + 90.0;
+  r.toe_deg_from_bottom = deg_from_rad(thT) - 270.0;  // toe lies on the falling side (< 0)
+  r.shoulder_deg_from_bottom = deg_from_rad(thS) + 90.0;
   r.net_power_kW = potential + kinetic;
   return r;
 }

@@ -31,7 +31,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 double angle_from_bottom_deg(Vec2 world, double mill_speed_rad_s) {
   const double dir = mill_speed_rad_s < 0.0 ? -1.0 : 1.0;
   // Counter-clockwise from 6 o'clock is toward +x at the bottom.
-  return dir * std::atan2(world.x, -world.y) * 180.0 / kPi;
+  return dir * deg_from_rad(std::atan2(world.x, -world.y));
 }
 
 bool above_toe(double angle_deg, double toe_deg, double shoulder_deg) {

@@ -31,6 +31,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "common/units.hpp"
 #include "engine/charge.hpp"
 #include "geometry/polyline.hpp"
 #include "metrics/batch_means.hpp"
@@ -38,7 +39,7 @@
 namespace millwear {
 
 struct FlightOptions {
-  double gravity_m_s2 = 9.81;
+  double gravity_m_s2 = kGravity;
   // A free interval's velocity change may differ from g dt by this share of g dt in each
   // component: far above the rounding of either backend (the library's floats), far below
   // any contact's impulse.

@@ -249,7 +249,6 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_loc
 }
 
 MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units, int kinds) {
-  if (kinds <= 0) kinds = units.size() < static_cast<std::size_t>(rows) ? static_cast<int>(units.size()) : 1;
   if (rows < 1 || kinds < 1 || rows % kinds != 0 ||
       !(units.size() == static_cast<std::size_t>(kinds) || units.size() == static_cast<std::size_t>(rows)))
     throw InputError("", "lifters.rows", "expected one liner unit per kind of lifter, or one per row");

@@ -83,9 +83,9 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter, do
                              const MillMeshDef& mesh = {}, bool whole_unit = false);
 
 // Build the whole boundary from one unit per row, or one unit per kind of lifter (`kinds`
-// of them repeating over the rows; rows a multiple of kinds). kinds = 0: as many kinds as
-// units when there are fewer units than rows, else 1.
-MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units, int kinds = 0);
+// of them repeating over the rows; rows a multiple of kinds). A mill of per-row units still
+// has its scene's kinds: they say which rows' lifters are measured together.
+MillGeometry build_mill(double radius_m, int rows, std::vector<LinerUnit> units, int kinds);
 
 // Metrics of a (possibly worn) liner unit against the original shell circle.
 struct LifterMetrics {

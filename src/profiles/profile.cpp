@@ -34,7 +34,6 @@ std::string lower_extension(const std::filesystem::path& path) {
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
 }
-constexpr double kDegToRad = kPi / 180.0;
 // Feet must lie on the shell line; file values are in mm, so 1 nm is "exactly zero" for
 // anything a person types, and still catches a foot written at 0.001 mm.
 constexpr double kFootTolM = 1e-9;
@@ -83,7 +82,7 @@ double face_angle_at(const toml::table& t, std::string_view key, const std::stri
     throw InputError(file, std::string(key),
                      "expected a face angle in degrees, 0 <= angle < 90 (got " +
                          fmt_num(deg) + ")");
-  return deg * kDegToRad;
+  return rad_from_deg(deg);
 }
 
 // Walk a face from its foot (pts[0]) until the polyline first reaches half the height and

@@ -38,11 +38,19 @@ const std::vector<FidelityDef>& fidelity_presets() {
   return presets;
 }
 
+std::vector<std::string> fidelity_names() {
+  std::vector<std::string> names;
+  for (const auto& p : fidelity_presets()) names.push_back(p.name);
+  return names;
+}
+
 const FidelityDef& fidelity_preset(const std::string& name) {
-  for (const auto& p : fidelity_presets())
+  std::string all;
+  for (const auto& p : fidelity_presets()) {
     if (p.name == name) return p;
-  throw InputError("", "fidelity",
-                   "one of draft, standard, reference; got \"" + name + "\"");
+    all += (all.empty() ? "" : ", ") + p.name;
+  }
+  throw InputError("", "fidelity", "one of " + all + "; got \"" + name + "\"");
 }
 
 void apply_fidelity(Scene& scene, const std::string& name) {

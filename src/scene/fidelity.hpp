@@ -35,8 +35,8 @@
 //   at dt <= 1.6 r_min / (omega R + sqrt(2 g D)) per (sub)step and the run refuses a larger
 //   one (scene/limits.hpp): on the SAG scenes the 1/200 s of draft and standard moves 1.93
 //   smallest radii a step (0.48 a substep). The soft backend is checked per substep; the
-//   library backend has no substeps (1/200 s would be refused there: at most about 1/245 s),
-//   so a scene on it gets the preset's box2d_time_step_s. A scene with much smaller particles
+//   library backend has no substeps (1/200 s would be refused there: at most about 1/241 s
+//   on the SAG scenes), so a scene on it gets the preset's box2d_time_step_s. A scene with much smaller particles
 //   must set solver.time_step itself.
 // - standard's time step and mesh: docs/fidelity.md gives each preset's and each knob's
 //   distance from the reference, its noise floor and its speed-up, measured by
@@ -85,6 +85,8 @@ struct FidelityDef {
 
 // The three presets, fastest first: draft, standard, reference.
 const std::vector<FidelityDef>& fidelity_presets();
+// Their names, in the same order ("draft", "standard", "reference").
+std::vector<std::string> fidelity_names();
 // The preset called name; throws InputError (key "fidelity") for an unknown name.
 const FidelityDef& fidelity_preset(const std::string& name);
 // Set the preset's fields on the scene, except those the scene file set explicitly, and

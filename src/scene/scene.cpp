@@ -180,7 +180,7 @@ void read_mill(const TableReader& r, Scene& s) {
   if (auto v = r.number("speed", closed(0.01, 2.0), "fraction of critical speed"))
     m.speed_fraction_critical = *v;
   if (r.has("speed_rpm")) {
-    const double crit_rpm = std::sqrt(kGravity / (0.5 * m.diameter_m)) * 60.0 / (2.0 * kPi);
+    const double crit_rpm = rpm_from_rad_s(std::sqrt(kGravity / (0.5 * m.diameter_m)));
     const double rpm = *r.number("speed_rpm", closed(0.01 * crit_rpm, 2.0 * crit_rpm),
                                  "rpm; critical speed of this mill is " + num_text(crit_rpm) + " rpm");
     m.speed_fraction_critical = rpm / crit_rpm;
@@ -420,12 +420,12 @@ void read_wear(const TableReader& r, Scene& s) {
     w.shell_wear_rate_m3_per_J = *x;
   if (auto x = r.number("area_loss_rate", open_closed(0.0, 1e9), "mm^2 of lifter area per 1000 h, new lifter")) {
     w.rate_source = WearRateSource::AreaLossRate;
-    w.calibration_value = *x;
+    w.target_loss_rate = *x * 1e-6 / (1000.0 * kSecondsPerHour);
     w.wear_rate_m3_per_J = 0.0;  // the wear module calibrates C from it
   }
   if (auto x = r.number("height_loss_rate", open_closed(0.0, 1000.0), "mm of lifter height per h, new lifter")) {
     w.rate_source = WearRateSource::HeightLossRate;
-    w.calibration_value = *x;
+    w.target_loss_rate = *x * 1e-3 / kSecondsPerHour;
     w.wear_rate_m3_per_J = 0.0;
   }
   // 1e12: a whole liner life (1e4 h) in under a tenth of a simulated second; any larger
@@ -727,9 +727,9 @@ Scene read_scene(const toml::table& root, const std::string& path) {
     if (!is_safe_name(*v)) top.fail("name", safe_name_rule());
     s.name = *v;
   }
-  std::string fidelity = "standard";
-  if (auto v = top.choice("fidelity", {"draft", "standard", "reference"}))
-    fidelity = fidelity_presets()[static_cast<std::size_t>(*v)].name;
+  std::string fidelity = s.fidelity;
+  const std::vector<std::string> fidelities = fidelity_names();
+  if (auto v = top.choice("fidelity", fidelities)) fidelity = fidelities[static_cast<std::size_t>(*v)];
 
   auto section = [&](const char* key, bool required, std::vector<std::string> allowed) {
     const toml::table* t = top.table(key);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
 #include "mill/mill.hpp"
 #include "profiles/profile.hpp"
 
@@ -121,7 +122,9 @@ struct WearDef {
   // Operating hours of the liner the history starts from ([lifters] start_hours: a worn
   // liner measured at that time). Stage k is at start_hours + k * stage_hours.
   double start_hours = 0.0;
-  double calibration_value = 0.0;         // mm^2/1000 h or mm/h, per rate_source
+  // The measured loss rate C is calibrated to (rate_source AreaLossRate: lifter area, m^2/s;
+  // HeightLossRate: lifter height, m/s).
+  double target_loss_rate = 0.0;
   double factor = 1e6;                    // C_model = factor * C
   double stage_hours = 750.0;
   int stages = 4;
@@ -187,8 +190,6 @@ struct Scene {
   std::vector<SpeciesDef> species_as_placed() const;
   bool species_in_use(const SpeciesDef& s) const;
 };
-
-constexpr double kGravity = 9.81;  // m/s^2
 
 // Read and validate a scene file. Every problem throws InputError naming the file, the key
 // and what was expected; profile paths are relative to the scene file.

@@ -78,9 +78,7 @@ int spawn_task(Pool& pool, const std::string& exe, const std::string& out, int i
 PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& designs, const std::vector<int>& todo,
                           int already_done, const PoolOptions& options) {
   PoolOutcome outcome;
-  outcome.jobs = static_cast<int>(std::max<std::size_t>(
-      1, std::min<std::size_t>(options.jobs > 0 ? static_cast<std::size_t>(options.jobs) : static_cast<std::size_t>(core_count()),
-                               todo.size())));
+  outcome.jobs = jobs_for(options.jobs, todo.size());
   const std::string exe = options.exe.empty() ? self_executable() : options.exe;
   const std::string logs = io::join_path(out, "logs");
   io::ensure_dir(logs);

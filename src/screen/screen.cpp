@@ -22,6 +22,7 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "profiles/profile.hpp"
+#include "scene/fidelity.hpp"
 #include "scene/table_reader.hpp"
 #include "wear/wear.hpp"
 
@@ -32,7 +33,6 @@ namespace tr = toml_reader;
 
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
 
 // The most candidates a screen may have, drawn or on a grid.
 constexpr int kMaxCandidates = 100000;
@@ -139,8 +139,8 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
   d.base_scene = resolve(path, *base);
   if (!fs::is_regular_file(d.base_scene, ec))
     s.fail("base", "an existing scene file, relative to the screen file (tried '" + d.base_scene + "')");
-  if (auto v = s.choice("fidelity", {"draft", "standard", "reference"}))
-    d.fidelity = std::vector<std::string>{"draft", "standard", "reference"}[static_cast<std::size_t>(*v)];
+  const std::vector<std::string> fidelities = fidelity_names();
+  if (auto v = s.choice("fidelity", fidelities)) d.fidelity = fidelities[static_cast<std::size_t>(*v)];
   if (auto v = s.integer("stages", 1, 10000)) d.stages = static_cast<int>(*v);
   if (auto v = s.number("stage_hours", tr::positive(), "hours of operation")) d.stage_hours = *v;
   if (auto v = s.choice("sampling", {"grid", "latin_hypercube"})) d.sampling = static_cast<Sampling>(*v);
@@ -309,8 +309,8 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
   axes.push_back(profile_axis);
   axes.push_back(filled(d.height_mm, base_trap ? bt.height_m * 1e3 : 0.0));
   axes.push_back(filled(d.top_width_mm, base_trap ? bt.top_width_m * 1e3 : 0.0));
-  axes.push_back(filled(d.leading_deg, base_trap ? bt.leading_face_angle_rad / kDeg : 0.0));
-  axes.push_back(filled(d.trailing_deg, base_trap ? bt.trailing_face_angle_rad / kDeg : 0.0));
+  axes.push_back(filled(d.leading_deg, base_trap ? deg_from_rad(bt.leading_face_angle_rad) : 0.0));
+  axes.push_back(filled(d.trailing_deg, base_trap ? deg_from_rad(bt.trailing_face_angle_rad) : 0.0));
   axes.push_back(filled(d.rows, base.mill.rows));
   Axis dir_axis;
   const std::string base_dir = base.mill.direction == Direction::Bidirectional ? "bi" : "uni";
@@ -387,8 +387,8 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
       const ProfileMetrics m = measure_profile(prof.points);
       c.height_mm = m.height_m * 1e3;
       c.top_width_mm = m.top_width_m * 1e3;
-      c.leading_deg = m.leading_face_angle_rad / kDeg;
-      c.trailing_deg = m.trailing_face_angle_rad / kDeg;
+      c.leading_deg = deg_from_rad(m.leading_face_angle_rad);
+      c.trailing_deg = deg_from_rad(m.trailing_face_angle_rad);
       c.area_mm2 = m.area_m2 * 1e6;
       out.push_back(c);
       continue;
@@ -402,14 +402,14 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
       KindShape ks;
       ks.height_mm = own && !d.height_mm.given ? kt.height_m * 1e3 : p[1];
       ks.top_width_mm = own && !d.top_width_mm.given ? kt.top_width_m * 1e3 : p[2];
-      ks.leading_deg = own && !d.leading_deg.given ? kt.leading_face_angle_rad / kDeg : p[3];
+      ks.leading_deg = own && !d.leading_deg.given ? deg_from_rad(kt.leading_face_angle_rad) : p[3];
       ks.trailing_deg = d.symmetric ? ks.leading_deg
-                        : own && !d.trailing_deg.given ? kt.trailing_face_angle_rad / kDeg : p[4];
+                        : own && !d.trailing_deg.given ? deg_from_rad(kt.trailing_face_angle_rad) : p[4];
       TrapezoidDef t;
       t.height_m = ks.height_mm * 1e-3;
       t.top_width_m = ks.top_width_mm * 1e-3;
-      t.leading_face_angle_rad = ks.leading_deg * kDeg;
-      t.trailing_face_angle_rad = ks.trailing_deg * kDeg;
+      t.leading_face_angle_rad = rad_from_deg(ks.leading_deg);
+      t.trailing_face_angle_rad = rad_from_deg(ks.trailing_deg);
       const std::string of_kind = kinds > 1 ? "kind " + std::to_string(k) + " ('" + kp.name + "'): " : "";
       try {
         const double target = ref_area_m2[static_cast<std::size_t>(k)];

@@ -20,6 +20,7 @@
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
+#include "study/plan.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
 #include "wear/window.hpp"
@@ -74,7 +75,7 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
     study::check_stage_of_scene(rec, scene, history, "--history");
     if (rec.units.empty() || rec.edge_wear_rate_m_per_s.empty()) continue;  // worn-out marker
     Segment s;
-    s.mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+    s.mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units, scene.mill.kind_count());
     if (rec.edge_wear_rate_m_per_s.size() != s.mill.boundary.size())
       throw InputError(io::stages_dir(history), scene.name + "_stage" + std::to_string(k) + ".edges.csv",
                        "one wear rate per liner edge, " + std::to_string(s.mill.boundary.size()) + ", found " +
@@ -200,7 +201,7 @@ void write_frame_files(const Scene& scene, const std::vector<Segment>& segments,
       const Vec2 p = rotated(s.mill.boundary[e % n], fr.mill_angle);
       data += fmt(p.x) + " " + fmt(p.y) + " " + fmt(s.edge_value[e % n]) + "\n";
     }
-    const double rpm = std::fabs(fr.speed) * 60.0 / (2.0 * kPi);
+    const double rpm = rpm_from_rad_s(std::fabs(fr.speed));
     std::string title = scene.name + "   t = " + fmt(fr.time_s, "%.2f") + " s   " + fmt(rpm, "%.1f") + " rpm " +
                         (fr.speed >= 0 ? "(counter-clockwise)" : "(clockwise)");
     if (history) title += "\\nliner after stage " + std::to_string(s.stage) + " (" + fmt(s.hours, "%.0f") + " h)";
@@ -221,9 +222,7 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   std::error_code ec;
   if (!fs::is_regular_file(a.scene_file, ec))
     throw InputError(a.scene_file, "", "a scene file (not found or not a regular file)");
-  Scene scene = load_scene(a.scene_file, a.overrides);
-  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  check_scene(scene, a.scene_file);  // before anything is filled or written
+  Scene scene = study::load_checked_scene(a.scene_file, a.overrides, a.fidelity);
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
   const std::string outbase = a.out.substr(0, a.out.size() - 4);

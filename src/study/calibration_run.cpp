@@ -13,10 +13,11 @@
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "scene/fidelity.hpp"
-#include "wear/reshape.hpp"
 #include "scene/scene_edit.hpp"
 #include "study/area_fit.hpp"
+#include "study/plan.hpp"
 #include "study/profile_fit.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::validation {
 
@@ -29,11 +30,10 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
         throw InputError(a.scene_file, "--set " + o.substr(0, o.find('=')),
                          "no wear rate on the command line of calibrate: the scene's is its first guess "
                          "and the calibration finds the rate");
-  Scene scene = load_scene(a.scene_file, a.overrides);
-  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  scene.solver.threads = a.threads;
-  scene.solver.threads_fit_size = a.threads_fit_size;
-  check_scene(scene, a.scene_file);  // before anything is filled or written
+  Scene scene = study::load_checked_scene(a.scene_file, a.overrides, a.fidelity, [&a](Scene& s) {
+    s.solver.threads = a.threads;
+    s.solver.threads_fit_size = a.threads_fit_size;
+  });
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   bool worn = false;

@@ -18,6 +18,7 @@
 #include "study/stage_files.hpp"
 #include "study/vtk_output.hpp"
 #include "wear/archard.hpp"
+#include "wear/window.hpp"
 
 namespace millwear {
 
@@ -29,16 +30,15 @@ std::string fmt(double v) { return io::format_number(v); }
 // mill and charge: analytic powers, toe and shoulder to set the window's against. A model
 // with no estimate for the scene (Morrell at or above critical speed, Austin there or for a
 // charge without rock) has no rows: every figure written is a real one.
-std::string power_model_rows(const Scene& scene, const ChargeSummary& s) {
+std::string power_model_rows(const ChargeEstimates& e) {
   std::ostringstream rows;
-  const MorrellResult m = morrell_estimate(scene, s);
+  const MorrellResult& m = e.morrell;
   if (std::isfinite(m.net_power_kW))
     rows << "morrell_power_per_m," << fmt(m.net_power_kW) << ",kW/m (Morrell's C-model; dry; this bed's bulk density)\n"
          << "morrell_toe_angle," << fmt(m.toe_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n"
          << "morrell_shoulder_angle," << fmt(m.shoulder_deg_from_bottom) << ",deg from 6 o'clock (+ rising side)\n";
-  const double austin_W_per_m = austin_estimate_W_per_m(scene);
-  if (std::isfinite(austin_W_per_m))
-    rows << "austin_power_per_m," << fmt(austin_W_per_m / 1000.0) << ",kW/m (Austin's SAG power equation; porosity "
+  if (std::isfinite(e.austin_W_per_m))
+    rows << "austin_power_per_m," << fmt(e.austin_W_per_m / 1000.0) << ",kW/m (Austin's SAG power equation; porosity "
          << fmt(AustinInput{}.porosity) << "; " << fmt(100.0 * AustinInput{}.solids_mass_fraction) << "% solids)\n";
   return rows.str();
 }
@@ -46,11 +46,9 @@ std::string power_model_rows(const Scene& scene, const ChargeSummary& s) {
 // The rows of charge_summary.csv on the flights from the lifters: their rate, their impact
 // power, and the shares of it above the toe and on the bare liner there, with batch-means
 // errors ("centrifuged" where there is no toe, "none" without a landed flight).
-std::string impact_rows(const Scene& scene, const ChargeRunResult& r) {
+std::string impact_rows(const Scene& scene, const ChargeRunResult& r, const ImpactSummary& im) {
   const ChargeSummary& s = r.figures.summary;
   const double per_m = 1e-3 / scene.slice_thickness();
-  const ImpactSummary im = summarize_impacts(r.impacts, static_cast<int>(r.batches.size()), s.toe_deg,
-                                             s.shoulder_deg, s.centrifuged);
   const auto share = [&](double v) {
     return s.centrifuged ? std::string("centrifuged") : im.window.impacts == 0 ? std::string("none") : fmt(v);
   };
@@ -130,10 +128,20 @@ void write_trajectories_csv(const std::string& path, const ChargeRunResult& r) {
 
 }  // namespace
 
+ChargeEstimates charge_estimates(const Scene& scene, const ChargeRunResult& r) {
+  const ChargeSummary& s = r.figures.summary;
+  ChargeEstimates e;
+  e.morrell = morrell_estimate(scene, s);
+  e.austin_W_per_m = austin_estimate_W_per_m(scene);
+  e.impacts = summarize_impacts(r.impacts, static_cast<int>(r.batches.size()), s.toe_deg, s.shoulder_deg,
+                                s.centrifuged);
+  return e;
+}
+
 // Files of a charge run: summary, shear work along the liner, spectrum, snapshot.
 
 void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
-                          double wall_s) {
+                          const ChargeEstimates& estimates, double wall_s) {
   const ChargeFigures& f = r.figures;
   const ChargeSummary& s = f.summary;
   const double t = scene.slice_thickness();
@@ -156,11 +164,11 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "toe_angle," << (s.centrifuged ? "centrifuged" : fmt(s.toe_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "shoulder_angle," << (s.centrifuged ? "centrifuged" : fmt(s.shoulder_deg)) << ",deg from 6 o'clock (+ rising side)\n"
       << "centre_of_mass_angle," << fmt(s.centre_of_mass_deg) << ",deg from 6 o'clock (+ rising side)\n"
-      << power_model_rows(scene, s)
+      << power_model_rows(estimates)
       << "charge_mass_per_m," << fmt(s.mass_kg / t) << ",kg/m\n"
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
-      << impact_rows(scene, r)
+      << impact_rows(scene, r, estimates.impacts)
       << "escaped_disks," << s.escaped << ",in the measured window\n"
       << "lost_disks," << r.lost_disks << ",since the fill (settling and spin-up included); any fails the run\n"
       << "disk_steps_per_s," << fmt(r.window_wall_s > 0 ? r.disk_steps / r.window_wall_s : 0.0) << ",1/s\n"
@@ -282,7 +290,7 @@ std::vector<std::string> render_charge_figures(const std::string& out, const Sce
   vars["centrifuged"] = toe == "centrifuged" ? "1" : "0";
   vars["toe_deg"] = toe == "centrifuged" ? "0" : toe;
   vars["shoulder_deg"] = toe == "centrifuged" ? "0" : summary_value(summary, "shoulder_angle");
-  vars["turning"] = initial_direction_sign(scene) > 0 ? "1" : "-1";
+  vars["turning"] = direction_at(scene, 0.0) > 0 ? "1" : "-1";
   vars["liner_share_text"] = percent_text(summary_value(summary, "liner_impact_share"),
                                           summary_value(summary, "liner_impact_share_se"));
   vars["above_toe_share_text"] = percent_text(summary_value(summary, "impact_above_toe_share"),

@@ -8,13 +8,25 @@
 #include <string>
 #include <vector>
 
+#include "metrics/charge_summary.hpp"
+#include "metrics/trajectories.hpp"
 #include "scene/scene.hpp"
 #include "study/charge_run.hpp"
 
 namespace millwear {
 
+// What a charge window is set against: Morrell's C-model and Austin's SAG equation for this
+// mill and charge (NaN where a model has no estimate), and the flights from the lifters.
+struct ChargeEstimates {
+  MorrellResult morrell;
+  double austin_W_per_m = 0.0;
+  ImpactSummary impacts;
+};
+ChargeEstimates charge_estimates(const Scene& scene, const ChargeRunResult& r);
+
 // Writes every file atomically into `out` (which exists). wall_s is the run's wall time.
-void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r, double wall_s);
+void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
+                          const ChargeEstimates& estimates, double wall_s);
 
 // OUT/plots/spectrum, snapshot_NAME, impacts_NAME and trajectories_NAME (PNG and SVG) from
 // those files. Returns the

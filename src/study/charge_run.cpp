@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "wear/window.hpp"
+
 namespace millwear {
 
 namespace {
@@ -13,10 +15,6 @@ constexpr double kPathRevolutions = 0.5;
 constexpr double kPathPointsPerRevolution = 720.0;
 
 }  // namespace
-
-double initial_direction_sign(const Scene& scene) {
-  return scene.mill.direction == Direction::Reverse ? -1.0 : 1.0;
-}
 
 Accounting accounting_since(const Accounting& now, const Accounting& before) {
   Accounting d = now;
@@ -32,7 +30,7 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   r.mill = build_scene_mill(scene);
   const ChargeState initial = fill_charge(scene, r.mill);
   auto engine = make_engine(scene, r.mill, initial, accounting_options_for(scene));
-  const double sign = initial_direction_sign(scene);
+  const double sign = direction_at(scene, 0.0);
   settle_and_spin_up(*engine, scene, sign);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps = steps_for(scene.run.revolutions * scene.revolution_time_s(), engine->time_step_s());

@@ -44,7 +44,4 @@ ChargeRunResult run_charge_only(const Scene& scene);
 // earlier, no reset between): a batch of it.
 Accounting accounting_since(const Accounting& now, const Accounting& before);
 
-// +1 forward (counter-clockwise), -1 reverse; bidirectional starts forward.
-double initial_direction_sign(const Scene& scene);
-
 }  // namespace millwear

@@ -42,10 +42,7 @@ void profile_files(const std::string& path, std::vector<std::string>& files, int
 
 void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override,
                 const std::vector<std::string>& overrides) {
-  Scene scene = load_scene(scene_file, overrides);  // throws InputError naming the file and key
-  if (!fidelity_override.empty()) apply_fidelity(scene, fidelity_override);
-  // The measured limits too, so a scene outside them stops here (exit 2), before any work.
-  check_scene(scene, scene_file);
+  Scene scene = load_checked_scene(scene_file, overrides, fidelity_override);
   for (const auto& d : plan.designs)
     if (d.name == scene.name)
       throw InputError(scene_file, "name",
@@ -247,6 +244,15 @@ std::vector<std::string> design_names(const Plan& plan) {
   for (const auto& d : plan.designs)
     if (std::find(names.begin(), names.end(), d.design) == names.end()) names.push_back(d.design);
   return names;
+}
+
+Scene load_checked_scene(const std::string& file, const std::vector<std::string>& overrides,
+                         const std::string& fidelity, const std::function<void(Scene&)>& adjust) {
+  Scene scene = load_scene(file, overrides);
+  if (!fidelity.empty()) apply_fidelity(scene, fidelity);
+  if (adjust) adjust(scene);
+  check_scene(scene, file);
+  return scene;
 }
 
 std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides) {

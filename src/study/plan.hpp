@@ -10,6 +10,7 @@
 //   designs = ["sag-2x30.toml", "sag-1x30.toml"]     # scene files, relative to this file
 //   reference = "sag-1x30"                           # design whose new stage normalises
 //                                                    # (default: the first design)
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,13 @@ struct PlanArgs {
   std::vector<std::string> overrides;  // --set KEY=VALUE, applied to every design's scene
   int replicates = 1;                  // histories per design (seeds s .. s + N - 1)
 };
+
+// The scene a command runs: the file with its --set overrides, the fidelity preset when one is
+// given ("": the scene's own), then `adjust` (the command's own settings: threads, a window),
+// then every check (wear/reshape.hpp's check_scene), before anything is filled or written.
+// Throws InputError naming the file and key.
+Scene load_checked_scene(const std::string& file, const std::vector<std::string>& overrides,
+                         const std::string& fidelity, const std::function<void(Scene&)>& adjust = {});
 
 // The design names of a plan, in its order, each once (replicates folded).
 std::vector<std::string> design_names(const Plan& plan);

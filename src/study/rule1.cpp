@@ -183,7 +183,7 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
     report.rows[i].factor = factors[i];
     report.rows[i].replicates.resize(nrep);
   }
-  for_each_index_parallel(factors.size() * nrep, options.jobs > 0 ? options.jobs : core_count(), [&](std::size_t j) {
+  for_each_index_parallel(factors.size() * nrep, jobs_for(options.jobs, factors.size() * nrep), [&](std::size_t j) {
     const std::size_t i = j / nrep, k = j % nrep;
     report.rows[i].replicates[k] = run_replicate(factor_scene(scene, factors[i], scene.solver.seed + j));
   });

@@ -229,7 +229,7 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   // ParaView files of the stage's measuring window (a stage read back from disk has none).
   std::vector<std::string> vtk_files;
   if (!rec.frames.empty()) {
-    const MillGeometry mill = build_mill(d.scene.radius_m(), d.scene.mill.rows, rec.units);
+    const MillGeometry mill = build_mill(d.scene.radius_m(), d.scene.mill.rows, rec.units, d.scene.mill.kind_count());
     const LinerFields fields{rec.edge_shear_W_per_m2, rec.edge_impact_W_per_m2, rec.edge_wear_rate_m_per_s};
     vtk_files = write_vtk_series(io::join_path(out, "vtk"), d.name + "_stage" + std::to_string(rec.stage), d.scene,
                                  mill, rec.frames, fields);
@@ -442,7 +442,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     ctx.started_text = buf;
   }
   for (std::size_t i = 0; i < plan.designs.size(); ++i) ctx.designs.push_back(std::make_unique<DesignState>());
-  ctx.jobs = static_cast<int>(std::min<std::size_t>(opt.jobs > 0 ? opt.jobs : core_count(), plan.designs.size()));
+  ctx.jobs = jobs_for(opt.jobs, plan.designs.size());
   // The cores the designs at once leave go to their steps.
   ctx.engine_threads = step_threads_beside(opt.threads, ctx.jobs);
   ctx.engine_threads_fit_size = opt.threads == 0;

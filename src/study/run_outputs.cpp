@@ -40,7 +40,7 @@ Json scene_settings(const Scene& s) {
       {"length_m", s.mill.length_m},
       {"slice_thickness_m", s.slice_thickness()},
       {"speed_fraction_critical", s.mill.speed_fraction_critical},
-      {"speed_rpm", s.angular_speed_rad_s() * 60.0 / (2.0 * kPi)},
+      {"speed_rpm", rpm_from_rad_s(s.angular_speed_rad_s())},
       {"direction", direction_name(s.mill.direction)},
       {"reverse_every_hours", s.mill.reverse_every_hours},
       {"rows", s.mill.rows},
@@ -82,7 +82,7 @@ Json scene_settings(const Scene& s) {
                           : w.rate_source == WearRateSource::AreaLossRate ? "area_loss_rate"
                                                                           : "height_loss_rate"},
       {"wear_rate_m3_per_J", w.wear_rate_m3_per_J},
-      {"calibration_value", w.calibration_value},
+      {"target_loss_rate", w.target_loss_rate},  // m^2/s of area or m/s of height, per rate_source
       {"factor", w.factor},
       {"stage_hours", w.stage_hours},
       {"stages", w.stages},

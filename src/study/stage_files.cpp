@@ -451,7 +451,7 @@ void write_snapshot_csv(const std::string& out, const std::string& design, const
 void write_liner_csv(const std::string& out, const std::string& design, const Scene& scene,
                      const StageRecord& rec) {
   MillGeometry mill;
-  if (!rec.units.empty()) mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units);
+  if (!rec.units.empty()) mill = build_mill(scene.radius_m(), scene.mill.rows, rec.units, scene.mill.kind_count());
   std::vector<double> rate;
   for (double w : rec.edge_wear_rate_m_per_s) rate.push_back(mm_per_1000h(w));
   write_liner_table(io::liner_path(out, design), mill, rec.mill_angle_rad, "wear_rate_mm_per_1000h", rate, rec.stage,

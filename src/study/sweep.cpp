@@ -68,7 +68,7 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
   p.text = axis.texts[static_cast<std::size_t>(index)];
   p.value = axis.values[static_cast<std::size_t>(index)];
   p.speed_fraction_critical = scene.mill.speed_fraction_critical;
-  p.speed_rpm = scene.angular_speed_rad_s() * 60.0 / (2.0 * kPi);
+  p.speed_rpm = rpm_from_rad_s(scene.angular_speed_rad_s());
   p.filling = scene.charge.filling;
   const auto t0 = std::chrono::steady_clock::now();
   const ChargeRunResult r = run_charge_only(scene);
@@ -109,14 +109,13 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
   p.shear_kW_sem = sem(shear_kW);
   p.toe_deg_sem = sem([](const ChargeFigures& b) { return b.summary.toe_deg; });
   p.shoulder_deg_sem = sem([](const ChargeFigures& b) { return b.summary.shoulder_deg; });
-  const ImpactSummary im = summarize_impacts(r.impacts, static_cast<int>(r.batches.size()), f.summary.toe_deg,
-                                             f.summary.shoulder_deg, f.summary.centrifuged);
-  p.liner_impact_share = im.window.liner_share;
-  p.liner_impact_share_sem = im.liner_share.sem;
+  const ChargeEstimates est = charge_estimates(scene, r);
+  p.liner_impact_share = est.impacts.window.liner_share;
+  p.liner_impact_share_sem = est.impacts.liner_share.sem;
 
   const std::string dir = point_dir(out, index, k);
   io::ensure_dir(dir);
-  write_charge_outputs(dir, scene, r, p.wall_s);
+  write_charge_outputs(dir, scene, r, est, p.wall_s);
   return p;
 }
 
@@ -330,7 +329,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const int n = static_cast<int>(scenes.size());
   const int reps = std::max(1, q.replicates);
   const int tasks = n * reps;
-  r.jobs = std::max(1, std::min(q.jobs > 0 ? q.jobs : core_count(), tasks));
+  r.jobs = jobs_for(q.jobs, static_cast<std::size_t>(tasks));
   const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 

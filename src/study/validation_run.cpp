@@ -13,6 +13,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/plan.hpp"
 #include "study/run_outputs.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
@@ -196,11 +197,10 @@ std::string profile_block(const std::string& title, const Polyline& line_m, bool
 }
 
 ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks& cb) {
-  Scene scene = load_scene(a.scene_file, a.overrides);
-  if (!a.fidelity.empty()) apply_fidelity(scene, a.fidelity);
-  scene.solver.threads = a.threads;
-  scene.solver.threads_fit_size = a.threads_fit_size;
-  check_scene(scene, a.scene_file);  // before anything is filled or written
+  Scene scene = study::load_checked_scene(a.scene_file, a.overrides, a.fidelity, [&a](Scene& s) {
+    s.solver.threads = a.threads;
+    s.solver.threads_fit_size = a.threads_fit_size;
+  });
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run

@@ -22,6 +22,7 @@
 #include "study/stage_files.hpp"
 #include "view/charge_edit.hpp"
 #include "wear/reshape.hpp"
+#include "wear/window.hpp"
 
 namespace millwear::view {
 
@@ -90,7 +91,7 @@ std::vector<KeyEdit> LiveMill::edits_with(const KeyEdit& e) const {
 }
 
 double LiveMill::signed_speed_rad_s() const {
-  const double sign = initial_direction_sign(scene_);
+  const double sign = direction_at(scene_, 0.0);
   return phase_ == Phase::Settling ? 0.0 : sign * scene_.angular_speed_rad_s();
 }
 
@@ -193,8 +194,8 @@ std::string LiveMill::set_lifter_shape(double height_mm, double leading_deg, dou
 bool LiveMill::lifter_is_trapezoid() const { return scene_.mill.lifter.form == ProfileForm::Trapezoid; }
 std::string LiveMill::profile_file() const { return scene_.mill.lifter.source_file; }
 double LiveMill::lifter_height_mm() const { return in_mm(scene_.mill.lifter.trapezoid.height_m); }
-double LiveMill::leading_face_deg() const { return scene_.mill.lifter.trapezoid.leading_face_angle_rad * 180.0 / kPi; }
-double LiveMill::trailing_face_deg() const { return scene_.mill.lifter.trapezoid.trailing_face_angle_rad * 180.0 / kPi; }
+double LiveMill::leading_face_deg() const { return deg_from_rad(scene_.mill.lifter.trapezoid.leading_face_angle_rad); }
+double LiveMill::trailing_face_deg() const { return deg_from_rad(scene_.mill.lifter.trapezoid.trailing_face_angle_rad); }
 
 void LiveMill::reset() {
   if (wear_running()) return;
@@ -390,7 +391,7 @@ std::string LiveMill::start_wear(double hours) {
         wear_records_.push_back(rec);
       }
       if (rec.units.empty()) return;
-      const MillGeometry m = build_mill(new_mill_.radius_m, new_mill_.rows, rec.units);
+      const MillGeometry m = build_mill(new_mill_.radius_m, new_mill_.rows, rec.units, new_mill_.kinds);
       show(rec.stage, rec.hours, m, rec.snapshot.size() ? &rec.snapshot : nullptr);
     };
     cb.should_stop = [this] { return wear_stop_.load(); };

@@ -137,7 +137,7 @@ double percentile98(const std::vector<double>& v) {
 
 // Where on the shell an angle from 6 o'clock (+ on the rising side) is.
 Vec2 shell_point(double deg, double dir, double r) {
-  const double a = deg * kPi / 180.0;
+  const double a = rad_from_deg(deg);
   return Vec2{dir * r * std::sin(a), -r * std::cos(a)};
 }
 

@@ -156,9 +156,8 @@ double real_wear_rate(const Scene& scene, const MillGeometry& mill,
     double p = 0.0;
     for (std::size_t j = 0; j < unit_power[0].size(); ++j)
       if (is_lifter_edge(unit, static_cast<int>(j))) p += unit_power[0][j];
-    const double target_m2_per_s = w.calibration_value * 1e-6 / (1000.0 * kSecondsPerHour);
     if (!(p > 0.0)) throw RunError("cannot calibrate the wear rate: no shear work on the lifter");
-    return target_m2_per_s * t / p;
+    return w.target_loss_rate * t / p;
   }
   // Height loss rate: depth rate at the lifter's top edges (within 10% of its height).
   const LifterMetrics m = measure_lifter(unit, mill.radius_m);
@@ -171,8 +170,7 @@ double real_wear_rate(const Scene& scene, const MillGeometry& mill,
     count += 1.0;
   }
   if (!(sum > 0.0)) throw RunError("cannot calibrate the wear rate: no shear work on the lifter top");
-  const double target_m_per_s = w.calibration_value * 1e-3 / kSecondsPerHour;
-  return target_m_per_s / (sum / count);
+  return w.target_loss_rate / (sum / count);
 }
 
 }  // namespace millwear

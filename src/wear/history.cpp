@@ -77,7 +77,7 @@ NewLiner new_liner(const Scene& scene) {
   return n;
 }
 
-// Worn to the shell: the first row of any kind (row 0 for a plain liner, as ever).
+// Worn to the shell: the first row of any kind (row 0 for a plain liner).
 bool any_worn_out(const std::vector<LinerUnit>& units, int kinds, double radius_m,
                   const std::vector<LifterMetrics>& start) {
   for (std::size_t k = 0; k < start.size() && k < units.size() && k < static_cast<std::size_t>(kinds); ++k)

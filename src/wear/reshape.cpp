@@ -331,22 +331,4 @@ std::vector<LinerUnit> reshape(const std::vector<LinerUnit>& units, const std::v
   return worn;
 }
 
-LinerUnit wear_under_load_field(const LinerUnit& unit, double radius_m,
-                                const std::function<double(Vec2)>& shear_power_W_per_m2,
-                                double c_model_m3_per_J, double sim_time_s, int updates,
-                                double smoothing_m, const MillMeshDef& mesh) {
-  LinerUnit u = unit;
-  const double dt = sim_time_s / updates;
-  for (int k = 0; k < updates; ++k) {
-    std::vector<double> depth(u.surface.size() - 1);
-    for (std::size_t j = 0; j + 1 < u.surface.size(); ++j) {
-      const Vec2 mid = 0.5 * (u.surface[j] + u.surface[j + 1]);
-      // Work per area = power per area * dt; the depth is C_model times that (A dh = C dw).
-      depth[j] = c_model_m3_per_J * shear_power_W_per_m2(mid) * dt;
-    }
-    u = apply_wear(u, depth, radius_m, smoothing_m, mesh);
-  }
-  return u;
-}
-
 }  // namespace millwear

@@ -4,7 +4,6 @@
 // the mesh, cut back to the surface before the update (wear never adds metal) and check
 // what the smoothing took. A surface that stops being a valid liner is a numerical failure
 // (RunError), never wear.
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -79,14 +78,5 @@ double resmoothing_loss_m2(const LinerUnit& before, const LinerUnit& after, cons
 std::vector<LinerUnit> reshape(const std::vector<LinerUnit>& units, const std::vector<std::vector<double>>& depths,
                                double radius_m, double smoothing_m, const MillMeshDef& mesh, double new_area_m2,
                                int stage);
-
-// Wear a unit under a synthetic load field in place of the engine: `shear_power_W_per_m2`
-// gives the shear power per unit area at a lifter-local point. The unit wears for
-// sim_time_s of simulated time with C_model, in `updates` equal geometry updates.
-// Without feedback from a real charge rule 1 is exact: C_model * n and time / n agree.
-LinerUnit wear_under_load_field(const LinerUnit& unit, double radius_m,
-                                const std::function<double(Vec2)>& shear_power_W_per_m2,
-                                double c_model_m3_per_J, double sim_time_s, int updates,
-                                double smoothing_m, const MillMeshDef& mesh);
 
 }  // namespace millwear

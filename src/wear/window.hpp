@@ -43,7 +43,8 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
 // Add one batch's sums into a window's (the first batch is copied).
 void accumulate_work(Accounting& total, const Accounting& part);
 
-// Direction of rotation at an operating time: +1 forward (counter-clockwise), -1 reverse.
+// Direction of rotation at an operating time: +1 forward (counter-clockwise), -1 reverse;
+// a bidirectional mill starts forward.
 double direction_at(const Scene& scene, double hours);
 // Operating hours of the next reversal after `hours` (infinity for one-way mills).
 double next_reversal(const Scene& scene, double hours);

@@ -167,10 +167,7 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
       part.normal_J += normal_loss;
       part.tangent_J += tangent_loss;
       part.tangent_J += rolling_loss;
-      if (spectrum) {
-        key.event_J += -sum.pn * 0.5 * (vn_before + vn_after) -
-                       sum.pt * 0.5 * (vt_before + vt_after) + rolling_loss;
-      }
+      if (spectrum) key.event_J += normal_loss + tangent_loss + rolling_loss;
     }
   });
   for (int r = 0; r < ranges; ++r) {
