@@ -68,6 +68,12 @@ TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
   const fs::path out = dir_ / "val";
   const Result r = run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out) + " --from " + q(run_dir_));
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The folder says what made it: the command, the measured file, the run it read.
+  const std::string manifest = slurp(out / "manifest.json");
+  for (const std::string s : {std::string("\"command\": \"validate\""), "\"measured\": " + q(areas),
+                              "\"from\": " + q(run_dir_), std::string("\"validation.csv\""),
+                              std::string("\"simulated_areas.csv\"")})
+    EXPECT_NE(manifest.find(s), std::string::npos) << s << " in\n" << manifest;
 
   const io::CsvData v = io::read_csv((out / "validation.csv").string());
   EXPECT_EQ(v.header, (std::vector<std::string>{"survey", "line", "hours", "measured_area_mm2", "simulated_area_mm2",

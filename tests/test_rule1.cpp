@@ -140,8 +140,14 @@ TEST(Rule1Cli, WritesTheTableAndFigureFive) {
   const fs::path out = fs::temp_directory_path() / "millwear-test-rule1";
   fs::remove_all(out);
   const auto r = run_millwear("rule1 " + testing::quoted(fs::path(testing::source_path("scenarios/lab-mill.toml"))) +
-                              " --factors 1e5 2e5 --replicates 2 -o " + testing::quoted(out));
+                              " --factors 1e5 2e5 --replicates 2 -o " + testing::quoted(out) +
+                              " --set solver.seed=11");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // What made the folder: the overrides and the seed they give, the factors, every file.
+  const std::string manifest = read_text(out / "manifest.json");
+  for (const char* s : {"\"command\": \"rule1\"", "\"solver.seed=11\"", "\"seed\": 11", "\"factors\": \"100000 200000\"",
+                        "\"replicates\": \"2\"", "\"rule1.csv\"", "\"plots/fig5_rule1.svg\""})
+    EXPECT_NE(manifest.find(s), std::string::npos) << s << " in\n" << manifest;
   const std::string csv = read_text(out / "rule1.csv");
   EXPECT_EQ(csv.rfind("scene,factor,replicates,", 0), 0u) << csv;
   EXPECT_NE(csv.find("lab-mill,100000,2,"), std::string::npos) << csv;

@@ -3,11 +3,16 @@
 // measured by `millwear tradeoff` (README "Speed against accuracy"), not here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
 #include "engine_fixtures.hpp"
 #include "scene/fidelity.hpp"
 #include "common/errors.hpp"
@@ -184,6 +189,28 @@ TEST(TradeoffCli, BadSceneIsExitTwoAndWritesNothing) {
   ASSERT_TRUE(WIFEXITED(rc));
   EXPECT_EQ(WEXITSTATUS(rc), 2);
   EXPECT_FALSE(std::ifstream(out + "/tradeoff.csv").good());
+}
+
+// The folder records what made it: the scene, the --set overrides in order, the seed they
+// give, the command's settings and every file written.
+TEST(TradeoffCli, TheManifestRecordsTheOverridesSettingsAndFiles) {
+  namespace fs = std::filesystem;
+  const fs::path out = fs::path(::testing::TempDir()) / "tradeoff_manifest";
+  fs::remove_all(out);
+  const auto r = testing::run_millwear("tradeoff " + testing::quoted(source_path("scenarios/lab-mill.toml")) +
+                                       " -o " + testing::quoted(out) +
+                                       " --only draft --stages 1 --stage-hours 1 --no-plot"
+                                       " --set solver.seed=5 --set charge.filling=0.3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto m = nlohmann::json::parse(testing::read_text(out / "manifest.json"));
+  EXPECT_EQ(m["command"], "tradeoff");
+  EXPECT_EQ(m["set"], nlohmann::json::array({"solver.seed=5", "charge.filling=0.3"}));
+  EXPECT_EQ(m["seed"], 5);
+  EXPECT_EQ(m["settings"]["only"], "draft");
+  EXPECT_EQ(m["settings"]["stages"], "1");
+  for (const std::string f : m["files"]) EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+  EXPECT_NE(std::find(m["files"].begin(), m["files"].end(), "tradeoff.csv"), m["files"].end());
+  fs::remove_all(out);
 }
 
 TEST(TradeoffLadder, AFineChargeLaddersTheFiftyMillimetreCutOff) {

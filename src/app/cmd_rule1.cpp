@@ -14,9 +14,12 @@
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
+#include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/command_manifest.hpp"
 #include "study/plan.hpp"
 #include "study/rule1.hpp"
 #include "wear/reshape.hpp"
@@ -92,16 +95,28 @@ int run_rule1(const Rule1Args& a) {
     std::printf("no factor passed: even the smallest factor's runs reported events\n");
   }
   if (!a.out.empty()) {
-    write_rule1_outputs(a.out, scene, r);
+    study::CommandRecord record{"rule1", MILLWEAR_COMMIT, a.scene, a.overrides, scene.fidelity, scene.solver.seed, {}, {}};
+    std::string factors;
+    for (double f : opt.factors) factors += (factors.empty() ? "" : " ") + io::format_number(f);
+    record.settings = {{"factors", factors},
+                       {"replicates", std::to_string(opt.replicates)},
+                       {"tolerance_pct_height", io::format_number(opt.tolerance_pct_height)},
+                       {"stages", std::to_string(a.stages)}};
+    record.files = write_rule1_outputs(a.out, scene, r);
+    bool figure_failed = false;
     try {
-      render_rule1_figure(a.out, scene, r);
-      std::printf("results in %s (rule1.csv, rule1_replicates.csv, rule1_profiles.dat, plots/fig5_rule1)\n",
-                  a.out.c_str());
+      const std::vector<std::string> figures = render_rule1_figure(a.out, scene, r);
+      record.files.insert(record.files.end(), figures.begin(), figures.end());
+      std::printf("results in %s (manifest.json, rule1.csv, rule1_replicates.csv, rule1_profiles.dat, "
+                  "plots/fig5_rule1)\n", a.out.c_str());
     } catch (const std::exception& e) {
       std::fprintf(stderr, "millwear: warning: figure: %s\n", e.what());
-      std::printf("results in %s (rule1.csv, rule1_replicates.csv, rule1_profiles.dat)\n", a.out.c_str());
-      if (plots::gnuplot_available()) return 1;
+      std::printf("results in %s (manifest.json, rule1.csv, rule1_replicates.csv, rule1_profiles.dat)\n",
+                  a.out.c_str());
+      figure_failed = plots::gnuplot_available();
     }
+    study::write_command_manifest(a.out, record);
+    if (figure_failed) return 1;
   }
   return r.recommended_factor > 0.0 ? 0 : 1;
 }

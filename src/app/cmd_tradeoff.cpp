@@ -17,6 +17,7 @@
 #include "app/set_option.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/tradeoff_study.hpp"
 
 namespace millwear::app {
@@ -105,6 +106,7 @@ void register_tradeoff(CLI::App& app, Action* action) {
       ->delimiter(',');
   cmd->callback([args, no_plot, action] {
     args->figure = !*no_plot;
+    args->commit = MILLWEAR_COMMIT;
     *action = [args] { return run_tradeoff_cmd(*args); };
   });
 }

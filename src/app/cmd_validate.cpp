@@ -8,12 +8,13 @@
 #include <cmath>
 #include <cstdio>
 
-#include "app/threads_option.hpp"
 #include "app/commands.hpp"
-#include "app/set_option.hpp"
 #include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
+#include "app/set_option.hpp"
+#include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/validation_run.hpp"
 
 namespace millwear::app {
@@ -109,6 +110,7 @@ void register_validate(CLI::App& app, Action* action) {
       validation::ValidateRequest request = *args;
       request.threads_fit_size = request.threads == 0;
       request.threads = step_threads(request.threads);
+      request.commit = MILLWEAR_COMMIT;
       return run_validate(request);
     };
   });

@@ -224,6 +224,9 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
                                          : load_profile_impl(other_path.string(), chain);
       const double target = measure_profile(ref.points).area_m2;
       t.top_width_m = top_width_for_area(t, target, path);
+      prof.referenced_files.push_back(other_path.lexically_normal().string());
+      prof.referenced_files.insert(prof.referenced_files.end(), ref.referenced_files.begin(),
+                                   ref.referenced_files.end());
     } else if (has_top) {
       const double w_mm = number_at(root, "top_width", path, "a top width in mm in (0, 5000]");
       if (!(w_mm > 0.0 && w_mm <= kMaxLifterMm))

@@ -28,6 +28,8 @@ struct TrapezoidDef {
 struct LifterProfile {
   std::string name;
   std::string source_file;  // where it was read from (empty if built in code)
+  // The profile files it read besides its own (match_area_of, and theirs), in reading order.
+  std::vector<std::string> referenced_files;
   ProfileForm form = ProfileForm::Trapezoid;
   TrapezoidDef trapezoid;   // meaningful when form == Trapezoid
   Polyline points;          // lifter-local, m, trailing foot -> leading foot

@@ -26,18 +26,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A profile file and every profile it reads (match_area_of), in reading order.
-void profile_files(const std::string& path, std::vector<std::string>& files, int depth = 0) {
-  if (path.empty() || depth > 8) return;
-  if (std::find(files.begin(), files.end(), path) != files.end()) return;
-  files.push_back(path);
-  try {
-    toml::table t = toml::parse_file(path);
-    if (auto m = t["match_area_of"].value<std::string>())
-      profile_files((fs::path(path).parent_path() / *m).lexically_normal().string(), files, depth + 1);
-  } catch (const toml::parse_error&) {
-    // load_scene already read it; nothing more to copy
-  }
+// A profile's file and every profile file it read (match_area_of), in reading order, each
+// once in `files`.
+void add_profile_files(const LifterProfile& p, std::vector<std::string>& files) {
+  if (p.source_file.empty()) return;  // built in code
+  const auto add = [&files](const std::string& f) {
+    if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+  };
+  add(p.source_file);
+  for (const std::string& f : p.referenced_files) add(f);
 }
 
 void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override,
@@ -52,7 +49,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   d.name = scene.name;
   d.design = scene.name;
   d.files.push_back(scene_file);
-  for (int k = 0; k < scene.mill.kind_count(); ++k) profile_files(scene.mill.kind(k).source_file, d.files);
+  for (int k = 0; k < scene.mill.kind_count(); ++k) add_profile_files(scene.mill.kind(k), d.files);
   std::string all = scene.fidelity;
   for (const auto& o : overrides) all += "\n--set " + o;  // a resumed run needs the same overrides
   for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);

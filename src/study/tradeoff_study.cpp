@@ -11,6 +11,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
+#include "study/command_manifest.hpp"
 #include "study/plan.hpp"
 
 namespace millwear {
@@ -106,12 +107,27 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   TradeoffStudy study;
   study.report = run_tradeoff(ladder, request.jobs, cb.runs);
   write_tradeoff_files(study.report, request.out);
-  if (!request.figure) return study;
-  try {
-    study.figure_files = render_tradeoff_figure(request.out);
-  } catch (const RunError& e) {
-    study.figure_error = e.what();
+  if (request.figure) {
+    try {
+      study.figure_files = render_tradeoff_figure(request.out);
+    } catch (const RunError& e) {
+      study.figure_error = e.what();
+    }
   }
+  const TradeoffOptions& o = request.options;
+  std::string only;
+  for (const std::string& label : o.only) only += (only.empty() ? "" : ",") + label;
+  // Every setting runs its own preset: the record names none.
+  study::CommandRecord record{"tradeoff", request.commit, request.scene_file, request.overrides, "",
+                              designs.front().solver.seed, {}, {}};
+  record.settings = {{"quick", o.quick ? "true" : "false"},
+                     {"stages", o.stages > 0 ? std::to_string(o.stages) : "the scene's"},
+                     {"stage_hours", o.stage_hours > 0.0 ? io::format_number(o.stage_hours) : "the scene's"},
+                     {"only", only}};
+  record.files = {"tradeoff.csv", "tradeoff_designs.csv", "tradeoff_front.csv", "tradeoff_profiles.csv",
+                  "tradeoff.md"};
+  record.files.insert(record.files.end(), study.figure_files.begin(), study.figure_files.end());
+  study::write_command_manifest(request.out, record);
   return study;
 }
 

@@ -25,6 +25,7 @@ struct TradeoffStudyRequest {
   TradeoffOptions options;
   int jobs = 1;
   bool figure = true;       // draw OUT/tradeoff.png and .svg
+  std::string commit;       // the program's, for OUT/manifest.json
 };
 
 struct TradeoffStudyCallbacks {

@@ -13,6 +13,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/command_manifest.hpp"
 #include "study/plan.hpp"
 #include "study/run_outputs.hpp"
 #include "study/stage_files.hpp"
@@ -138,7 +139,8 @@ void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::
   const std::string sfile = io::join_path(a.out, "plots/validate_simulated.dat");
   io::write_file_atomic(mfile, measured_dat);
   io::write_file_atomic(sfile, simulated_dat);
-  o.files_note = "validation.csv, simulated_surveys.csv";
+  o.files = {"validation.csv", "simulated_surveys.csv", mfile, sfile};
+  o.files_note = "manifest.json, validation.csv, simulated_surveys.csv";
   render("validate_profiles",
          {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_profiles")},
           {"title", "Measured (dashed) and simulated (solid) profiles: " + scene.name}},
@@ -180,7 +182,8 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
   const std::string sfile = io::join_path(a.out, "plots/validate_area_simulated.csv");
   measured_plot.write(mfile);
   simulated_plot.write(sfile);
-  o.files_note = "validation.csv, simulated_areas.csv";
+  o.files = {"validation.csv", "simulated_areas.csv", mfile, sfile};
+  o.files_note = "manifest.json, validation.csv, simulated_areas.csv";
   render("validate_areas",
          {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_areas")},
           {"title", "Measured (points) and simulated (line) lifter area: " + scene.name}},
@@ -209,6 +212,10 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   o.areas_only = measured.areas_only;
   if (o.areas_only) validate_areas(scene, a, measured.areas, stages, o);
   else validate_profiles(scene, a, measured.profiles, stages, o);
+  study::CommandRecord record{"validate", a.commit, a.scene_file, a.overrides, scene.fidelity, scene.solver.seed,
+                              {{"measured", a.measured_file}, {"from", a.from}}, o.files};
+  record.files.insert(record.files.end(), o.figure_files.begin(), o.figure_files.end());
+  study::write_command_manifest(a.out, record);
   return o;
 }
 

@@ -41,6 +41,7 @@ struct ValidateRequest {
   int threads = 1;         // threads of the engine's step (results do not depend on it)
   bool threads_fit_size = false;  // at most: as many as the charge's size uses (SolverDef)
   std::vector<std::string> overrides;  // --set KEY=VALUE (scene/scene.hpp)
+  std::string commit;      // the program's, for OUT/manifest.json
 };
 
 // Where the history comes from, known before it is read or run.
@@ -65,6 +66,7 @@ struct ValidateOutcome {
   double new_area_m2 = 0.0;                  // areas: the simulated new lifter's area
   MeasuredAreas measured_areas;              // areas: the reference of the losses
   std::string files_note;                    // the tables written, for the caller's message
+  std::vector<std::string> files;            // every file written into OUT (manifest.json lists them)
   std::vector<std::string> figure_files;     // the figure drawn (empty when it was not)
   std::string figure_error;                  // why not
   bool figure_failed = false;                // gnuplot is installed and failed
