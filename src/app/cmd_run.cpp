@@ -109,11 +109,9 @@ void print_final_summary(const study::RunState& state, double wall) {
 
 int run_command(const RunArgs& args) {
   // Every scene validated; nothing written yet.
-  std::vector<std::string> overrides = args.overrides;
-  if (args.vtk) overrides.push_back("outputs.vtk=true");
-  const study::Plan plan = study::make_plan(
-      {args.scenes, args.fidelity, args.reference, args.out, args.continue_from, args.continue_stage, overrides,
-       args.replicates});
+  study::PlanArgs plan_args = args.plan;
+  if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");
+  const study::Plan plan = study::make_plan(plan_args);
   if (args.check) {
     for (const auto& d : plan.designs)
       std::printf("%s: %s (fidelity %s, %d stages of %g h, about %.0f disks)%s\n", d.name.c_str(),
@@ -125,13 +123,8 @@ int run_command(const RunArgs& args) {
   study::RunState state(plan);
   const bool live = !args.quiet && ::isatty(STDERR_FILENO);
   SignalScope signals;
-  study::RunOptions opt;
-  opt.out = args.out;
-  opt.resume = args.resume;
-  opt.force = args.force;
-  opt.jobs = args.jobs;
-  opt.threads = args.threads;
-  opt.stop_after_stage = args.stop_after_stage;
+  study::RunOptions opt = args.run;
+  opt.out = args.plan.out;
   opt.stop_signal = &g_signal;
   opt.commit = MILLWEAR_COMMIT;
   bool drawn = false;
@@ -139,14 +132,14 @@ int run_command(const RunArgs& args) {
   const bool logged = !args.quiet && !live;
   if (logged)
     std::fprintf(stderr, "millwear run: %zu design(s), fidelity %s, output %s; progress every %s\n",
-                 plan.designs.size(), plan.fidelity.c_str(), args.out.c_str(),
+                 plan.designs.size(), plan.fidelity.c_str(), args.plan.out.c_str(),
                  duration_text(args.progress_every_s).c_str());
   opt.on_tick = [&] {
     if (logged) plain.tick(state);
     if (!live) return;
     if (!drawn)
       std::fprintf(stderr, "millwear run: %zu design(s), %d job(s), fidelity %s, output %s%s\n", plan.designs.size(),
-                   state.jobs, plan.fidelity.c_str(), args.out.c_str(), state.resumed ? " (resumed)" : "");
+                   state.jobs, plan.fidelity.c_str(), args.plan.out.c_str(), state.resumed ? " (resumed)" : "");
     draw_progress(state, drawn);
   };
   const study::RunOutcome r = study::run_designs(state, opt);
@@ -156,13 +149,13 @@ int run_command(const RunArgs& args) {
     std::fprintf(stderr, "millwear: interrupted%s; finished stages are kept in %s. Run the same command "
                  "with --resume to continue.\n",
                  r.signal == 0 ? " (--stop-after-stage)" : r.signal == SIGTERM ? " by SIGTERM" : " by SIGINT",
-                 args.out.c_str());
+                 args.plan.out.c_str());
     return r.signal == SIGTERM ? 128 + SIGTERM : 128 + SIGINT;
   }
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   print_final_summary(state, r.wall_s);
-  std::printf("results in %s (summary.csv, manifest.json, profiles/); figures in %s\n", args.out.c_str(),
-              io::plots_out_dir(args.out).c_str());
+  std::printf("results in %s (summary.csv, manifest.json, profiles/); figures in %s\n", args.plan.out.c_str(),
+              io::plots_out_dir(args.plan.out).c_str());
   for (std::size_t i = 0; i < plan.designs.size(); ++i)
     if (state.designs[i]->status == study::DesignStatus::Failed)
       std::fprintf(stderr, "millwear: run failed: %s: %s (finished stages are kept; --resume retries)\n",
@@ -184,13 +177,13 @@ void register_run(CLI::App& app, Action* action) {
       "Units: hours, mm, mm^2, kW per mill (per-metre figure x mill length).\n"
       "Exit codes: 0 done, 1 a design or figure failed (the others finish), 2 bad input,\n"
       "130/143 interrupted (Ctrl-C/SIGTERM): finished stages are kept, --resume continues.");
-  cmd->add_option("scene", args->scenes, "scene or comparison files (TOML)")->required();
-  cmd->add_option("-o,--out", args->out, "output folder")->required()->check(output_folder());
-  cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: each scene's)")->check(fidelity_name());
-  cmd->add_option("--reference", args->reference, "design whose new stage normalises (default: the comparison's, else the first)")
+  cmd->add_option("scene", args->plan.scenes, "scene or comparison files (TOML)")->required();
+  cmd->add_option("-o,--out", args->plan.out, "output folder")->required()->check(output_folder());
+  cmd->add_option("--fidelity", args->plan.fidelity, "draft | standard | reference (default: each scene's)")->check(fidelity_name());
+  cmd->add_option("--reference", args->plan.reference, "design whose new stage normalises (default: the comparison's, else the first)")
       ->check(non_empty("a design name"));
-  cmd->add_flag("--resume", args->resume, "continue an interrupted run in OUT from its last finished stages");
-  cmd->add_flag("--force", args->force,
+  cmd->add_flag("--resume", args->run.resume, "continue an interrupted run in OUT from its last finished stages");
+  cmd->add_flag("--force", args->run.force,
                "OUT holds another run's results: delete the files its manifest lists, then run");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_option("--progress-every", args->progress_every_s,
@@ -198,24 +191,24 @@ void register_run(CLI::App& app, Action* action) {
                       default_text(args->progress_every_s) + ")")
       ->check(finite_in(1.0, 86400.0));
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
-  cmd->add_option("-j,--jobs", args->jobs, "designs run at once (default: hardware cores)")
+  cmd->add_option("-j,--jobs", args->run.jobs, "designs run at once (default: hardware cores)")
       ->check(CLI::Range(1, 1024));
-  cmd->add_option("--continue", args->continue_from,
+  cmd->add_option("--continue", args->plan.continue_from,
                   "go on from a finished run's stage (its exact liner and charge) under these scenes' "
                   "conditions (a new speed, filling); stages up to it are copied into OUT");
-  auto* stage_opt = cmd->add_option("--stage", args->continue_stage,
+  auto* stage_opt = cmd->add_option("--stage", args->plan.continue_stage,
                                     "with --continue: the stage to go on from (default: each design's last)")
                         ->check(CLI::Range(0, 10000));
   stage_opt->needs("--continue");
-  add_threads_option(cmd, args->threads, "each design's engine step", "the cores the designs at once leave");
-  cmd->add_option("--stop-after-stage", args->stop_after_stage,
+  add_threads_option(cmd, args->run.threads, "each design's engine step", "the cores the designs at once leave");
+  cmd->add_option("--stop-after-stage", args->run.stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
       ->check(CLI::Range(0, 10000));
-  cmd->add_option("--replicates", args->replicates,
+  cmd->add_option("--replicates", args->plan.replicates,
                   "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
-                  "standard error (" + default_text(args->replicates) + ": errors from one history's batch means)")
+                  "standard error (" + default_text(args->plan.replicates) + ": errors from one history's batch means)")
       ->check(CLI::Range(1, study::kMaxReplicates));
-  add_set_option(cmd, &args->overrides);
+  add_set_option(cmd, &args->plan.overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });
 }

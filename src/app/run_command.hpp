@@ -4,28 +4,18 @@
 #include <vector>
 
 #include "app/plain_progress.hpp"
-#include "scene/scene.hpp"
+#include "study/plan.hpp"
+#include "study/run_designs.hpp"
 
 namespace millwear::app {
 
 struct RunArgs {
-  std::vector<std::string> scenes;
-  std::string out;
-  std::string fidelity;
-  std::string reference;
-  bool resume = false;
-  bool force = false;
+  study::PlanArgs plan;    // the scenes, fidelity, reference, OUT, --continue, --set, --replicates
+  study::RunOptions run;   // --resume, --force, --jobs, --threads, --stop-after-stage (run.out: plan.out)
   bool quiet = false;
   double progress_every_s = kProgressEveryS;  // without a terminal: plain progress lines this often
   bool check = false;
-  int jobs = 0;
-  int threads = 0;  // --threads: each design's engine step (0: fit to the charge, up to the cores the designs leave)
-  int stop_after_stage = -1;
-  std::string continue_from;   // --continue RUN
-  int continue_stage = -1;     // --stage N (-1: each design's last finished stage)
-  bool vtk = false;                    // as --set outputs.vtk=true
-  std::vector<std::string> overrides;  // --set KEY=VALUE on every design
-  int replicates = 1;                  // --replicates N: histories per design, seeds s .. s+N-1
+  bool vtk = false;        // as --set outputs.vtk=true
 };
 
 // Validates every scene, runs the designs, writes OUT, prints the final table to stdout.
