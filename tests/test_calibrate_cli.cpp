@@ -70,9 +70,9 @@ TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The folder says what made it: the command, the measured file, the run it read.
   const std::string manifest = slurp(out / "manifest.json");
-  for (const std::string s : {std::string("\"command\": \"validate\""), "\"measured\": " + q(areas),
-                              "\"from\": " + q(run_dir_), std::string("\"validation.csv\""),
-                              std::string("\"simulated_areas.csv\"")})
+  for (const std::string& s : {std::string("\"command\": \"validate\""), "\"measured\": " + q(areas),
+                               "\"from\": " + q(run_dir_), std::string("\"validation.csv\""),
+                               std::string("\"simulated_areas.csv\"")})
     EXPECT_NE(manifest.find(s), std::string::npos) << s << " in\n" << manifest;
 
   const io::CsvData v = io::read_csv((out / "validation.csv").string());

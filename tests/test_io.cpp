@@ -64,6 +64,21 @@ TEST(IoRunFolder, AStageFileNameGivesItsStageAndNothingElseDoes) {
   EXPECT_EQ(io::stage_in_file_name("sag-2x30_stage1234567890.csv", "sag-2x30", ".csv"), -1);  // too long
 }
 
+// A manifest lists its files relative to OUT however OUT was typed: "out/" (as a shell's
+// completion gives it) makes the writers' paths "out//x.csv", still inside.
+TEST(IoRunFolder, APathUnderTheFolderIsRelativeToItHoweverTheFolderIsTyped) {
+  EXPECT_EQ(io::relative_to("out", "out/profiles/a.csv"), "profiles/a.csv");
+  EXPECT_EQ(io::relative_to("out/", "out//rule1.csv"), "rule1.csv");
+  EXPECT_EQ(io::relative_to("./out", "out/plots/x.png"), "plots/x.png");
+  EXPECT_EQ(io::relative_to("/tmp/run/", "/tmp/run/plots/x.svg"), "plots/x.svg");
+  // Outside OUT, OUT itself, or no folder: nothing.
+  EXPECT_EQ(io::relative_to("out", "rule1.csv"), "");
+  EXPECT_EQ(io::relative_to("out", "out"), "");
+  EXPECT_EQ(io::relative_to("out", "out2/x.csv"), "");
+  EXPECT_EQ(io::relative_to("out", "out/../x.csv"), "");
+  EXPECT_EQ(io::relative_to("", "x.csv"), "");
+}
+
 TEST(IoAtomicWrite, ReplacesContentAndLeavesNoTempFile) {
   TempDir dir;
   const std::string f = dir / "summary.csv";

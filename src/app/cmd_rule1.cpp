@@ -16,6 +16,7 @@
 #include "app/threads_option.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -115,6 +116,7 @@ int run_rule1(const Rule1Args& a) {
                   a.out.c_str());
       figure_failed = plots::gnuplot_available();
     }
+    record.files.push_back(io::join_path(a.out, "plots/gnuplot.log"));
     study::write_command_manifest(a.out, record);
     if (figure_failed) return 1;
   }

@@ -59,9 +59,11 @@ void create_run_folder(const std::string& out) {
 }
 
 std::string relative_to(const std::string& out, const std::string& path) {
-  const std::string prefix = join_path(out, "");
-  if (prefix.empty() || path.size() <= prefix.size() || path.compare(0, prefix.size(), prefix) != 0) return "";
-  return path.substr(prefix.size());
+  if (out.empty()) return "";
+  // Compared as normal paths: OUT given as "out/" and a file as "out//x.csv" are still inside.
+  const fs::path rel = fs::path(path).lexically_normal().lexically_relative(fs::path(out).lexically_normal());
+  if (rel.empty() || rel == "." || *rel.begin() == "..") return "";
+  return rel.generic_string();
 }
 
 int remove_run_files(const std::string& out, const std::vector<std::string>& files) {

@@ -54,7 +54,8 @@ bool is_valid_design_name(const std::string& design);
 // Creates OUT, OUT/profiles, OUT/stages, OUT/plots, OUT/plots/data. Throws RunError.
 void create_run_folder(const std::string& out);
 
-// `path` relative to `out` if it lies under it ("profiles/x.csv"), else "".
+// `path` relative to `out` if it lies under it ("profiles/x.csv"), else "" (both taken as
+// normal paths: "out/" and "out//x.csv" give "x.csv").
 std::string relative_to(const std::string& out, const std::string& path);
 
 // Deletes the files of an earlier run in OUT: each entry of `files` (relative to OUT, as a

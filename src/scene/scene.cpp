@@ -420,11 +420,13 @@ void read_wear(const TableReader& r, Scene& s) {
     w.shell_wear_rate_m3_per_J = *x;
   if (auto x = r.number("area_loss_rate", open_closed(0.0, 1e9), "mm^2 of lifter area per 1000 h, new lifter")) {
     w.rate_source = WearRateSource::AreaLossRate;
+    w.calibration_value = *x;
     w.target_loss_rate = *x * 1e-6 / (1000.0 * kSecondsPerHour);
     w.wear_rate_m3_per_J = 0.0;  // the wear module calibrates C from it
   }
   if (auto x = r.number("height_loss_rate", open_closed(0.0, 1000.0), "mm of lifter height per h, new lifter")) {
     w.rate_source = WearRateSource::HeightLossRate;
+    w.calibration_value = *x;
     w.target_loss_rate = *x * 1e-3 / kSecondsPerHour;
     w.wear_rate_m3_per_J = 0.0;
   }

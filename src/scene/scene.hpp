@@ -125,6 +125,9 @@ struct WearDef {
   // The measured loss rate C is calibrated to (rate_source AreaLossRate: lifter area, m^2/s;
   // HeightLossRate: lifter height, m/s).
   double target_loss_rate = 0.0;
+  // The same rate as the file gave it (mm^2/1000 h or mm/h): the run's manifest records it,
+  // and a later run or validation compares its settings with that record.
+  double calibration_value = 0.0;
   double factor = 1e6;                    // C_model = factor * C
   double stage_hours = 750.0;
   int stages = 4;

@@ -1,5 +1,7 @@
 #include "study/command_manifest.hpp"
 
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_write.hpp"
@@ -20,14 +22,16 @@ void write_command_manifest(const std::string& out, const CommandRecord& r) {
   m["scene_file"] = r.scene_file;
   m["set"] = r.overrides;
   if (!r.fidelity.empty()) m["fidelity"] = r.fidelity;
-  m["seed"] = static_cast<unsigned long long>(r.seed);
+  if (r.seed) m["seed"] = static_cast<unsigned long long>(*r.seed);
   nlohmann::ordered_json settings = nlohmann::ordered_json::object();
   for (const auto& [key, value] : r.settings) settings[key] = value;
   m["settings"] = settings;
   std::vector<std::string> files{"manifest.json"};
   for (const std::string& f : r.files) {
     const std::string rel = io::relative_to(out, f);
-    files.push_back(rel.empty() ? f : rel);
+    const std::string listed = rel.empty() ? f : rel;
+    const bool outside = rel.empty() && std::filesystem::path(f).is_absolute();
+    if (io::file_exists(outside ? f : io::join_path(out, listed))) files.push_back(listed);
   }
   m["files"] = files;
   io::write_file_atomic(io::join_path(out, "manifest.json"),

@@ -4,6 +4,7 @@
 // --set overrides in order, fidelity, seed, the command's own settings) and the files it
 // wrote, so that a folder says what made it without its command line.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,13 +17,14 @@ struct CommandRecord {
   std::string scene_file;              // a scene, or a comparison file
   std::vector<std::string> overrides;  // --set KEY=VALUE, in order
   std::string fidelity;                // the scene's preset after --fidelity ("": none, not written)
-  std::uint64_t seed = 0;              // the scene's solver.seed
+  std::optional<std::uint64_t> seed;   // the scene's solver.seed (none: designs differ)
   std::vector<std::pair<std::string, std::string>> settings;  // the command's own options, as text
   std::vector<std::string> files;      // written into OUT: absolute, or relative to it
 };
 
-// Writes OUT/manifest.json atomically; the files are listed relative to OUT, and the
-// manifest itself with them.
+// Writes OUT/manifest.json atomically. The files are listed relative to OUT, the manifest
+// itself with them; a file given that is not there (gnuplot's log of a run without
+// figures) is left out.
 void write_command_manifest(const std::string& out, const CommandRecord& r);
 
 }  // namespace millwear::study

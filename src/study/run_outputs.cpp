@@ -82,7 +82,7 @@ Json scene_settings(const Scene& s) {
                           : w.rate_source == WearRateSource::AreaLossRate ? "area_loss_rate"
                                                                           : "height_loss_rate"},
       {"wear_rate_m3_per_J", w.wear_rate_m3_per_J},
-      {"target_loss_rate", w.target_loss_rate},  // m^2/s of area or m/s of height, per rate_source
+      {"calibration_value", w.calibration_value},  // as the file gave it
       {"factor", w.factor},
       {"stage_hours", w.stage_hours},
       {"stages", w.stages},

@@ -10,6 +10,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "study/command_manifest.hpp"
 #include "study/plan.hpp"
@@ -117,16 +118,25 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   const TradeoffOptions& o = request.options;
   std::string only;
   for (const std::string& label : o.only) only += (only.empty() ? "" : ",") + label;
-  // Every setting runs its own preset: the record names none.
-  study::CommandRecord record{"tradeoff", request.commit, request.scene_file, request.overrides, "",
-                              designs.front().solver.seed, {}, {}};
-  record.settings = {{"quick", o.quick ? "true" : "false"},
-                     {"stages", o.stages > 0 ? std::to_string(o.stages) : "the scene's"},
-                     {"stage_hours", o.stage_hours > 0.0 ? io::format_number(o.stage_hours) : "the scene's"},
-                     {"only", only}};
+  // Every setting runs its own preset: the record names none. The designs of a comparison
+  // may each have their own seed: then each is named.
+  study::CommandRecord record{"tradeoff", request.commit, request.scene_file, request.overrides, "", {}, {}, {}};
+  std::string seeds;
+  bool one_seed = true;
+  for (const Scene& d : designs) {
+    seeds += (seeds.empty() ? "" : " ") + d.name + "=" + std::to_string(d.solver.seed);
+    one_seed = one_seed && d.solver.seed == designs.front().solver.seed;
+  }
+  if (one_seed) record.seed = designs.front().solver.seed;
+  else record.settings.emplace_back("seeds", seeds);
+  record.settings.emplace_back("quick", o.quick ? "true" : "false");
+  record.settings.emplace_back("stages", o.stages > 0 ? std::to_string(o.stages) : "the scene's");
+  record.settings.emplace_back("stage_hours", o.stage_hours > 0.0 ? io::format_number(o.stage_hours) : "the scene's");
+  record.settings.emplace_back("only", only);
   record.files = {"tradeoff.csv", "tradeoff_designs.csv", "tradeoff_front.csv", "tradeoff_profiles.csv",
                   "tradeoff.md"};
   record.files.insert(record.files.end(), study.figure_files.begin(), study.figure_files.end());
+  record.files.push_back(io::join_path(request.out, "gnuplot.log"));
   study::write_command_manifest(request.out, record);
   return study;
 }

@@ -215,6 +215,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   study::CommandRecord record{"validate", a.commit, a.scene_file, a.overrides, scene.fidelity, scene.solver.seed,
                               {{"measured", a.measured_file}, {"from", a.from}}, o.files};
   record.files.insert(record.files.end(), o.figure_files.begin(), o.figure_files.end());
+  record.files.push_back(io::join_path(a.out, "plots/gnuplot.log"));
   study::write_command_manifest(a.out, record);
   return o;
 }

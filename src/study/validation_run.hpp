@@ -66,7 +66,7 @@ struct ValidateOutcome {
   double new_area_m2 = 0.0;                  // areas: the simulated new lifter's area
   MeasuredAreas measured_areas;              // areas: the reference of the losses
   std::string files_note;                    // the tables written, for the caller's message
-  std::vector<std::string> files;            // every file written into OUT (manifest.json lists them)
+  std::vector<std::string> files;            // the tables and the figure's data written into OUT
   std::vector<std::string> figure_files;     // the figure drawn (empty when it was not)
   std::string figure_error;                  // why not
   bool figure_failed = false;                // gnuplot is installed and failed
