@@ -29,8 +29,10 @@
 #include "io/run_folder.hpp"
 #include "scene/scene.hpp"
 #include "study/run_outputs.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -208,8 +210,7 @@ TEST_F(AppRun, SettingsChangesNameTheOtherBackendsSettings) {
 // as in the first stage. Half a revolution after reversing left 9% of it (the charge still
 // falling over to the other side).
 TEST(ReversingMill, EveryStageIsMeasuredOnASteadyCharge) {
-  const fs::path out = fs::temp_directory_path() / ("millwear-test-reversing-" + std::to_string(::getpid()));
-  fs::remove_all(out);
+  const TempDir out("millwear-test-reversing");
   const Result r = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) +
                        " --quiet --set mill.direction=bidirectional --set mill.reverse_every=50");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -223,7 +224,6 @@ TEST(ReversingMill, EveryStageIsMeasuredOnASteadyCharge) {
     ASSERT_GT(power, 0.0) << stage;
     EXPECT_LT(std::fabs(change) / power, 0.05) << "stage " << stage << ": " << change << " W of " << power << " W";
   }
-  fs::remove_all(out);
 }
 
 TEST_F(AppRun, ProfilesAreLifterLocalMillimetres) {
@@ -297,11 +297,6 @@ TEST_F(AppRun, AnimateWritesAGifFromAFinishedRun) {
 
 class AppRunCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("millwear-test-app-cli-" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
@@ -312,7 +307,7 @@ class AppRunCli : public ::testing::Test {
     EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing is written before validation passes";
   }
-  fs::path dir_;
+  TempDir dir_{"millwear-test-app-cli"};
 };
 
 TEST_F(AppRunCli, UnknownOptionExits2) {
@@ -591,9 +586,7 @@ TEST_F(FolderRuns, AFileAsTheOutputFolderExits2ForEveryCommand) {
 // windows: a settling of 1000 simulated seconds (minutes of computing) stops within seconds,
 // with the interrupted run's message and exit code.
 TEST(RunSignals, ASigtermDuringALongSettlingStopsTheRunWithinSeconds) {
-  const fs::path root = fs::temp_directory_path() / ("millwear-test-sigterm-" + std::to_string(::getpid()));
-  fs::remove_all(root);
-  fs::create_directories(root);
+  const TempDir root("millwear-test-sigterm");
   const fs::path out = root / "out", log = root / "run.log";
   const pid_t pid = start_millwear("run " + quick_scene() + " -o " + q(out) + " --quiet --set solver.settle_time=1000", log);
   ASSERT_GT(pid, 0);
@@ -619,12 +612,10 @@ TEST(RunSignals, ASigtermDuringALongSettlingStopsTheRunWithinSeconds) {
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << slurp(log);
   EXPECT_NE(slurp(log).find("interrupted by SIGTERM"), std::string::npos) << slurp(log);
   EXPECT_FALSE(fs::exists(out / ".millwear.lock"));
-  fs::remove_all(root);
 }
 
 TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
-  const fs::path out = fs::temp_directory_path() / "millwear-test-charge-figures";
-  fs::remove_all(out);
+  const TempDir out("millwear-test-charge-figures");
   const Result r = run("charge " + src("scenarios/lab-mill.toml") + " -o " + q(out) + " --revolutions 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* f : {"spectrum.png", "spectrum.svg", "snapshot_lab-mill.png", "snapshot_lab-mill.svg"})
@@ -633,15 +624,13 @@ TEST(AppCharge, WritesTheSpectrumAndSnapshotFigures) {
   const std::string svg = slurp(out / "plots" / "snapshot_lab-mill.svg");
   for (const char* text : {"ball", "toe", "shoulder", "turning counter-clockwise"})
     EXPECT_NE(svg.find(text), std::string::npos) << text;
-  fs::remove_all(out);
 }
 
 // Without a terminal (a log, cron, Slurm) `run` prints plain progress lines, each with the
 // time of day, at every stage and when a design finishes; --quiet prints none.
 TEST(AppRunProgress, PlainLinesWithoutATerminalAndNoneWhenQuiet) {
-  const fs::path out = fs::temp_directory_path() / "millwear-test-plain-progress";
-  fs::remove_all(out);
-  const Result r = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --progress-every 1");
+  const TempDir dir("millwear-test-plain-progress");
+  const Result r = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(dir / "plain") + " --progress-every 1");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("progress every 1s"), std::string::npos) << r.output;
   // "YYYY-MM-DD HH:MM:SS  lab-quick  stage 2/2" and "... lab-quick  finished in".
@@ -654,9 +643,7 @@ TEST(AppRunProgress, PlainLinesWithoutATerminalAndNoneWhenQuiet) {
   }
   EXPECT_GE(stage_lines, 2) << r.output;  // at least one line in each of the two stages
   EXPECT_EQ(finished_lines, 1) << r.output;
-  fs::remove_all(out);
-  const Result quiet = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(out) + " --quiet");
+  const Result quiet = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(dir / "quiet") + " --quiet");
   ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
   EXPECT_EQ(quiet.output.find("finished in"), std::string::npos) << quiet.output;
-  fs::remove_all(out);
 }

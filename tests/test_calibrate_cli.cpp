@@ -19,8 +19,10 @@
 #include "io/csv.hpp"
 #include "scene/scene.hpp"
 #include "study/area_surveys.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace millwear {
 namespace {
@@ -38,16 +40,10 @@ const fs::path kScene = fs::path(MILLWEAR_SOURCE_DIR) / "tests/data/lab-quick.to
 class CalibrateCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("millwear-test-calibrate-cli-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     run_dir_ = dir_ / "run";
     const Result r = run("run " + q(kScene) + " -o " + q(run_dir_) + " --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // The run's lifter areas (OUT/summary.csv) as an area survey file: one row per stage.
   fs::path areas_from_run() const {
@@ -60,7 +56,8 @@ class CalibrateCli : public ::testing::Test {
     return p;
   }
 
-  fs::path dir_, run_dir_;
+  TempDir dir_{"millwear-calibrate-cli"};
+  fs::path run_dir_;
 };
 
 TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {

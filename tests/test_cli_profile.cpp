@@ -12,8 +12,10 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -26,14 +28,6 @@ std::string shipped(const std::string& name) {
 
 class CliProfile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("millwear-test-cli-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
     std::ofstream(p) << text;
@@ -48,7 +42,7 @@ class CliProfile : public ::testing::Test {
     EXPECT_NE(r.output.find(where), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("expected"), std::string::npos) << r.output;
   }
-  fs::path dir_;
+  TempDir dir_{"millwear-cli-profile"};
 };
 
 const std::string kAngles = "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n";
@@ -131,7 +125,7 @@ TEST_F(CliProfile, NothingIsWrittenWhenAnyFileIsBad) {
 TEST_F(CliProfile, CsvNeverOverwritesAnInputFile) {
   const std::string scan_text = "# a plant's scan\nx_mm,y_mm\n-20,-1\n-10,0\n-5,20\n5,20\n10,0\n20,-1\n";
   const std::string scan = write("scan.csv", scan_text);
-  const Result r = run("profile \"" + scan + "\" --csv \"" + dir_.string() + "\"");
+  const Result r = run("profile \"" + scan + "\" --csv \"" + dir_.path().string() + "\"");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("would overwrite it"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("area_mm2"), std::string::npos) << "table printed before the refusal";

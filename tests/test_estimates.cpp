@@ -20,8 +20,10 @@
 #include "scene/scene.hpp"
 #include "study/design_estimates.hpp"
 #include "wear/life.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using millwear::Estimate;
 
 namespace {
@@ -229,13 +231,6 @@ const std::string kShort = " --fidelity draft --quiet --set wear.stages=1";
 
 class Replicates : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("millwear-test-replicates-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   // A copy of the lab-mill scene under another name and seed (and wear rate), in a scenarios/
   // folder beside a link to the repository's profiles, which the scene names relatively.
@@ -261,7 +256,7 @@ class Replicates : public ::testing::Test {
     return path;
   }
 
-  fs::path dir_;
+  TempDir dir_{"millwear-replicates"};
 };
 
 struct Row {

@@ -23,8 +23,10 @@
 #include "scene/filling.hpp"
 #include "scene/limits.hpp"
 #include "scene/scene.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using millwear::testing::quoted;
 using millwear::testing::read_text;
 using millwear::testing::run_millwear;
@@ -32,14 +34,6 @@ using millwear::testing::run_millwear;
 namespace {
 
 const std::string kSource = MILLWEAR_SOURCE_DIR;
-
-// A fresh folder for one test.
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-hostile-" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 void write(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);
@@ -99,7 +93,7 @@ TEST(HostileSteps, CountsPastSixtyFourBitsSaturateInsteadOfWrapping) {
 }
 
 TEST(HostileSteps, ChargeRevolutionsPastTheLimitAreRefused) {
-  const fs::path dir = scratch("revolutions");
+  const TempDir dir("millwear-hostile-revolutions");
   const auto r = run_millwear("charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " -o " +
                               quoted(dir / "out") + " --revolutions 3e6");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -108,7 +102,7 @@ TEST(HostileSteps, ChargeRevolutionsPastTheLimitAreRefused) {
 }
 
 TEST(HostileSteps, HugeOrTinyTimesInTheSceneAreRefusedNamingTheKey) {
-  const fs::path dir = scratch("times");
+  const TempDir dir("millwear-hostile-times");
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"window_revolutions = 1.0", "window_revolutions = 1e300", "wear.window_revolutions"},
       {"time_step = 0.001 ", "time_step = 1e-300 ", "solver.time_step"},
@@ -158,7 +152,7 @@ TEST(HostileSteps, AMeasuredWindowOfFewerStepsThanBatchesIsRefused) {
   s.run.revolutions = 3.5 * step_revolutions;  // 4 steps
   EXPECT_NO_THROW(millwear::check_step_counts(s, "lab.toml"));
 
-  const fs::path dir = scratch("short-window");
+  const TempDir dir("millwear-hostile-short-window");
   const std::string scene = kSource + "/scenarios/lab-mill.toml";
   expect_refused(run_millwear("charge " + quoted(fs::path(scene)) + " -o " + quoted(dir / "out") + " --revolutions 1e-6"),
                  scene, "run.revolutions", dir / "out");
@@ -167,7 +161,7 @@ TEST(HostileSteps, AMeasuredWindowOfFewerStepsThanBatchesIsRefused) {
 // ---- physical ranges -------------------------------------------------------------------------
 
 TEST(HostileRanges, ADensityOfNothingIsRefused) {
-  const fs::path dir = scratch("density");
+  const TempDir dir("millwear-hostile-density");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_mill_with("density = 7800.0", "density = 1e-300"));
   expect_refused(run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out")), scene.string(),
@@ -177,7 +171,7 @@ TEST(HostileRanges, ADensityOfNothingIsRefused) {
 // Sizes this fine would fill the mill with more disks than any run can take, and a time step
 // to match: refused at once, not after minutes of filling.
 TEST(HostileRanges, DustSizesAreRefusedBeforeTheFill) {
-  const fs::path dir = scratch("dust");
+  const TempDir dir("millwear-hostile-dust");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_mill_with("size_range = [15.0, 25.0]", "size_range = [0.05, 0.1]"));
   for (const char* cmd : {"charge", "rule1", "animate"}) {
@@ -204,7 +198,7 @@ TEST(HostileNames, SafeNamesAreOneRule) {
 
 // A name with a comma, a quote or a line end would break the CSV files `charge` writes.
 TEST(HostileNames, NamesThatWouldBreakCsvAreRefusedByCharge) {
-  const fs::path dir = scratch("names");
+  const TempDir dir("millwear-hostile-names");
   const fs::path scene = dir / "scene.toml";
   for (const std::string& name : std::vector<std::string>{"a,b", "a\\\"b", "a\\nb", std::string(1 << 20, 'n')}) {
     write(scene, lab_mill_with("name = \"lab-mill\"", "name = \"" + name + "\""));
@@ -262,7 +256,7 @@ TEST(HostileFilling, ManySizesGetTheirShareWithinOneDisk) {
 }
 
 TEST(HostileFilling, AFillingOfNoDiskIsRefused) {
-  const fs::path dir = scratch("empty");
+  const TempDir dir("millwear-hostile-empty");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_mill_with("filling = 0.3                   # fraction of the mill area\nball_filling = 0.3",
                              "filling = 1e-5\nball_filling = 1e-5"));
@@ -275,7 +269,7 @@ TEST(HostileFilling, AFillingOfNoDiskIsRefused) {
 // Stopped by rule 1 is a failed run with the event named, not a finished one with an
 // infinite life.
 TEST(HostileRule1, AContinuousRunStoppedByRuleOneExitsOne) {
-  const fs::path dir = scratch("rule1");
+  const TempDir dir("millwear-hostile-rule1");
   std::string s = lab_quick();
   s.replace(s.find("mode = \"staged\""), 15, "mode = \"continuous\"");
   const auto f = s.find("factor = ");
@@ -304,7 +298,7 @@ TEST(HostileProfile, ThinnestPartOfAFinIsItsThickness) {
 // A sawtooth of 1 mm teeth leaked disks through the liner within 0.2 revolutions: refused up
 // front by every command, with the thickness found and the one needed.
 TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
-  const fs::path dir = scratch("saw");
+  const TempDir dir("millwear-hostile-saw");
   std::string points = "[[-16.0, 0.0]";
   for (int i = 1; i <= 32; ++i) points += ", [" + std::to_string(-16 + i) + ".0, " + (i % 2 ? "40.0" : "1.0") + "]";
   points += ", [16.5, 0.0]]";
@@ -319,7 +313,7 @@ TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
 
 // A lifter wider than the whole shell was reported as "at most -1 rows".
 TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
-  const fs::path dir = scratch("wide");
+  const TempDir dir("millwear-hostile-wide");
   std::string p = read_text(kSource + "/profiles/lab-2x30.toml");
   p.replace(p.find("top_width = 10.0"), 16, "top_width = 4000");  // the shell is 1,885 mm round
   write(dir / "wide.toml", p);
@@ -334,7 +328,7 @@ TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
 
 // Four parameters of 10,000 steps each are 1e16 candidates: refused before any is made.
 TEST(HostileScreen, AGridPastTheCandidateLimitIsRefused) {
-  const fs::path dir = scratch("grid");
+  const TempDir dir("millwear-hostile-grid");
   const fs::path screen = dir / "screen.toml";
   write(screen, "[screen]\nname = \"huge\"\nbase = \"" + kSource +
                     "/scenarios/lab-mill.toml\"\nstages = 1\nsampling = \"grid\"\n\n[family]\n"
@@ -349,7 +343,7 @@ TEST(HostileScreen, AGridPastTheCandidateLimitIsRefused) {
 
 // Areas that grow with time cannot give a wear rate: refused before the first history.
 TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
-  const fs::path dir = scratch("grow");
+  const TempDir dir("millwear-hostile-grow");
   write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,430\n100,445\n");
   const auto r = run_millwear("calibrate " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " --measured " +
                               quoted(dir / "areas.csv") + " -o " + quoted(dir / "out"));
@@ -360,7 +354,7 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
 // A survey that lost more area than the lifter has is refused at its line before any history
 // is run (the histories could never reach it: they would run to --max-runs and not converge).
 TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {
-  const fs::path dir = scratch("whole-lifter");
+  const TempDir dir("millwear-hostile-whole-lifter");
   write(dir / "losses.csv", "hours,area_loss_mm2\n50,100\n100,6000\n");
   const auto r = run_millwear("calibrate " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " --measured " +
                               quoted(dir / "losses.csv") + " -o " + quoted(dir / "out"));
@@ -375,7 +369,7 @@ TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {
 // results of the lab run (430 kB) but not all of its figures (1.2 MB). Mounting one needs
 // root (CI runs as root); elsewhere the test cannot arrange a full disk and says so.
 TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
-  const fs::path dir = scratch("full");
+  const TempDir dir("millwear-hostile-full");
   const std::string mnt = (dir / "fs").string();
   fs::create_directories(mnt);
   if (millwear::testing::run_shell("mount -t tmpfs -o size=700k tmpfs " + quoted(fs::path(mnt))).exit_code != 0)
@@ -395,7 +389,7 @@ TEST(HostileDisk, AFullDiskWhileDrawingFiguresIsNamed) {
 // A scan of a fin 0.2 mm wide is all but gone once re-smoothed: refused by the commands that
 // wear and those that only turn the charge, naming the file and its columns.
 TEST(HostileMeasured, AScanThinnerThanTheParticlesIsRefusedByEveryCommand) {
-  const fs::path dir = scratch("measured-fin");
+  const TempDir dir("millwear-hostile-measured-fin");
   write(dir / "fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
   const fs::path scene = lab_mill_with_profile(dir, "fin.csv");
   for (const char* cmd : {"charge", "run"}) {
@@ -408,7 +402,7 @@ TEST(HostileMeasured, AScanThinnerThanTheParticlesIsRefusedByEveryCommand) {
 // Gauge noise makes loops of a fraction of a square millimetre, which are cut out; points out
 // of order that cross over a real part of the lifter are refused, not reshaped.
 TEST(HostileMeasured, ASurfaceCrossingOverItsLifterIsRefusedNotReshaped) {
-  const fs::path dir = scratch("measured-crossing");
+  const TempDir dir("millwear-hostile-measured-crossing");
   const fs::path crossing = dir / "crossing.csv";
   write(crossing, "x_mm,y_mm\n-20,-1\n-16.55,0\n5,20\n-5,20\n16.55,0\n20,-1\n");
   const auto r = run_millwear("profile " + quoted(crossing));
@@ -426,7 +420,7 @@ TEST(HostileMeasured, ASurfaceCrossingOverItsLifterIsRefusedNotReshaped) {
 }
 
 TEST(HostileMeasured, HexadecimalCellsAreRefused) {
-  const fs::path dir = scratch("measured-hex");
+  const TempDir dir("millwear-hostile-measured-hex");
   const fs::path hex = dir / "hex.csv";
   write(hex, "x_mm,y_mm\n-20,0\n-5,0x14\n5,20\n20,0\n");
   const auto r = run_millwear("profile " + quoted(hex));
@@ -440,7 +434,7 @@ TEST(HostileMeasured, HexadecimalCellsAreRefused) {
 // "nan" passes every comparison: each number option refuses it (and inf) by name, before any
 // work, where CLI11's own range check let it through.
 TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
-  const fs::path dir = scratch("options-nan");
+  const TempDir dir("millwear-hostile-options-nan");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string out = quoted(dir / "out");
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -471,7 +465,7 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
 // scene up front (exit 2, naming charge.filling and the largest filling that fits), before
 // any design's thread would meet it in the fill. A filling under that bound runs.
 TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand) {
-  const fs::path dir = scratch("no-room");
+  const TempDir dir("millwear-hostile-no-room");
   write(dir / "tall.toml",
         "name = \"tall\"\nform = \"trapezoid\"\nheight = 145.0\ntop_width = 30.0\n"
         "leading_face_angle = 0.0\ntrailing_face_angle = 0.0\n");
@@ -500,7 +494,7 @@ TEST(HostileScenes, AChargeWithNoRoomInsideTheLifterTipsIsRefusedByEveryCommand)
 // before the measured window as well as in it. charge fails (exit 1), and its summary and
 // printout count every disk lost since the fill, apart from those lost in the window.
 TEST(HostileScenes, DisksLostBeforeTheWindowAreCountedInTheChargeSummary) {
-  const fs::path dir = scratch("lost-early");
+  const TempDir dir("millwear-hostile-lost-early");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   const auto r = run_millwear("charge " + quoted(scene) + " --set solver.contact_hertz=1 -o " + quoted(dir / "out"));
@@ -522,7 +516,7 @@ TEST(HostileScenes, DisksLostBeforeTheWindowAreCountedInTheChargeSummary) {
 // no Morrell estimate either: their rows are left out of charge_summary.csv, which holds no
 // non-finite figure.
 TEST(HostileScenes, APowerModelWithoutAnEstimateLeavesNoRowInTheChargeSummary) {
-  const fs::path dir = scratch("power-models");
+  const TempDir dir("millwear-hostile-power-models");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   for (const char* speed : {"0.75", "1.0"}) {
@@ -553,7 +547,7 @@ TEST(HostileScenes, APowerModelWithoutAnEstimateLeavesNoRowInTheChargeSummary) {
 // with the worn-out geometry, whose charge figures were never measured. summary.csv leaves
 // them unknown (nan, as their errors): no stage's figures stand in for them.
 TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
-  const fs::path dir = scratch("worn-out");
+  const TempDir dir("millwear-hostile-worn-out");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   const auto r = run_millwear("run " + quoted(scene) + " -q --set wear.wear_rate=1e-6 -o " + quoted(dir / "out"));
@@ -573,7 +567,7 @@ TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
 // without gnuplot, where figures are not expected), and the warning lists each figure that
 // failed once, under one heading.
 TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
-  const fs::path dir = scratch("no-scripts");
+  const TempDir dir("millwear-hostile-no-scripts");
   fs::create_directories(dir / "scripts");
   const auto r = millwear::testing::run_shell("MILLWEAR_PLOTS_DIR=" + quoted(dir / "scripts") + " \"" + MILLWEAR_BINARY +
                                               "\" charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) +
@@ -592,7 +586,7 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
 // No friction between charge and liner: no shear work, no wear, so no life. The run's table
 // says why the life column is empty.
 TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
-  const fs::path dir = scratch("no-wear");
+  const TempDir dir("millwear-hostile-no-wear");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   const auto r = run_millwear("run " + quoted(scene) + " --set \"charge.species[0].friction_liner=0\" -o " +
@@ -610,7 +604,7 @@ TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {
 // the shell in the window, and much of the drive's power goes into its energy, not into
 // dissipation. charge says the window was not steady; at the scene's own speed it does not.
 TEST(HostileScenes, AChargeStillSpinningUpIsSaidNotToBeSteady) {
-  const fs::path dir = scratch("not-steady");
+  const TempDir dir("millwear-hostile-not-steady");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   const auto fast = run_millwear("charge " + quoted(scene) + " --set mill.speed=2.0 -o " + quoted(dir / "fast"));
@@ -622,7 +616,7 @@ TEST(HostileScenes, AChargeStillSpinningUpIsSaidNotToBeSteady) {
 }
 
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
-  const fs::path dir = scratch("options-conflict");
+  const TempDir dir("millwear-hostile-options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.
   const auto one = run_millwear("calibrate " + quoted(fs::path(kSource + "/validation/lab-mill-guess.toml")) +
                                 " --measured " + quoted(fs::path(kSource + "/validation/lab-mill-areas.csv")) + " -o " +
@@ -648,7 +642,7 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
 // An output folder that cannot be made is bad input (exit 2) found before any work, and a
 // command refused after its folder was made does not leave it behind empty.
 TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLeft) {
-  const fs::path dir = scratch("options-folder");
+  const TempDir dir("millwear-hostile-options-folder");
   write(dir / "afile", "x");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   for (const char* cmd : {"run", "charge"}) {
@@ -690,7 +684,7 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
 // before any work, and the folder's files left as they were. The same command's own folder
 // is its to rewrite.
 TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
-  const fs::path dir = scratch("options-taken");
+  const TempDir dir("millwear-hostile-options-taken");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string run_manifest = "{\"program\": \"millwear\", \"files\": [\"manifest.json\"]}\n";
   for (const char* sub : {"run", "key/stages", "sweep", "charge"}) fs::create_directories(dir / sub);
@@ -748,7 +742,7 @@ TEST(HostileOptions, AFolderHoldingAnotherCommandsResultsIsRefused) {
 // figures' scripts (a newline) is refused before the work, not found when the first file is
 // written after it.
 TEST(HostileOptions, AnOutputPathWithAnOverlongNameOrANewlineIsRefusedBeforeTheWork) {
-  const fs::path dir = scratch("options-names");
+  const TempDir dir("millwear-hostile-options-names");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string longname(300, 'a');
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -768,7 +762,7 @@ TEST(HostileOptions, AnOutputPathWithAnOverlongNameOrANewlineIsRefusedBeforeTheW
 // A refusal names what the user gave: rule 1's factor from the command line (not the
 // scene's wear.factor), and a run key that names no design as such (not "design(s) ?").
 TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
-  const fs::path dir = scratch("options-named");
+  const TempDir dir("millwear-hostile-options-named");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const auto r = run_millwear("rule1 " + lab + " --factors 1e-300");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -797,7 +791,7 @@ TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
 // A screen whose base is not a scene (here the comparison file) is refused with the base
 // file's own error and the screen file whose screen.base names it.
 TEST(HostileScreen, ABaseThatIsNotASceneNamesTheScreensBase) {
-  const fs::path dir = scratch("screen-base");
+  const TempDir dir("millwear-hostile-screen-base");
   std::string text = read_text(kSource + "/scenarios/screen-sag-face-angle.toml");
   text.replace(text.find("base = \"sag-2x30.toml\""), 22,
                "base = \"" + kSource + "/scenarios/sag-2x30-vs-1x30.toml\"");
@@ -812,7 +806,7 @@ TEST(HostileScreen, ABaseThatIsNotASceneNamesTheScreensBase) {
 // A FIFO or a device given as an input file is refused at once, naming it, rather than read
 // until it ends (never, for /dev/zero) or waited on (a FIFO nobody writes).
 TEST(HostileFiles, AFifoOrADeviceIsRefusedNotWaitedOn) {
-  const fs::path dir = scratch("files-fifo");
+  const TempDir dir("millwear-hostile-files-fifo");
   const fs::path fifo = dir / "surveys.csv";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
@@ -832,7 +826,7 @@ TEST(HostileFiles, AFifoOrADeviceIsRefusedNotWaitedOn) {
 // A reference hardness far outside the data's would make a = H0^-b zero or infinite and the
 // corrected rates inf or NaN: refused naming the option and the range that holds.
 TEST(HostileOptions, AReferenceHardnessFarFromTheDataIsRefused) {
-  const fs::path dir = scratch("options-hardness");
+  const TempDir dir("millwear-hostile-options-hardness");
   const std::string file = quoted(fs::path(kSource + "/validation/hardness-synthetic.csv"));
   for (const char* h0 : {"1e300", "1e-300"}) {
     const auto r = run_millwear("hardness " + file + " -o " + quoted(dir / "out") + " --reference-hardness " + h0);
@@ -850,7 +844,7 @@ TEST(HostileOptions, AReferenceHardnessFarFromTheDataIsRefused) {
 
 // An empty --fidelity or --reference is a mistake on the command line, not "the default".
 TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
-  const fs::path dir = scratch("options-empty");
+  const TempDir dir("millwear-hostile-options-empty");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   for (const std::string& cmd : {"run " + lab + " -o " + quoted(dir / "r") + " --fidelity \"\"",
                                  "charge " + lab + " -o " + quoted(dir / "c") + " --fidelity \"\"",
@@ -870,7 +864,7 @@ TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
 // not carried into summary.csv as a figure. The marker's content hashes are taken out (a
 // marker without hashes is taken as it is): the numbers themselves are checked too.
 TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
-  const fs::path dir = scratch("stage-nan");
+  const TempDir dir("millwear-hostile-stage-nan");
   std::string s = lab_quick();
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
@@ -902,7 +896,7 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
 // resume from other numbers: its marker's content hash refuses it, naming the file, for
 // every command that reads a finished run's stages. A file left as written resumes.
 TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
-  const fs::path dir = scratch("stage-cut");
+  const TempDir dir("millwear-hostile-stage-cut");
   const fs::path scene = dir / "scene.toml";
   write(scene, lab_quick());
   const fs::path out = dir / "out";
@@ -951,7 +945,7 @@ TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
 
 // --continue reads a finished run: one another process is still writing is refused, naming it.
 TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
-  const fs::path dir = scratch("continue-locked");
+  const TempDir dir("millwear-hostile-continue-locked");
   std::string s = lab_quick();
   const fs::path scene = dir / "scene.toml";
   write(scene, s);
@@ -972,7 +966,7 @@ TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
 // A run of another mill under the same design name (here 10 rows, the scene 12) is refused by
 // the commands that draw on a finished run, naming it; the scene's own run is taken.
 TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
-  const fs::path dir = scratch("other-mill");
+  const TempDir dir("millwear-hostile-other-mill");
   const fs::path scene = lab_mill_with_profile(dir, kSource + "/profiles/lab-2x30.toml");
   std::string ten = read_text(scene);
   ten.replace(ten.find("rows = 12"), 9, "rows = 10");
@@ -997,7 +991,7 @@ TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
 // file, which is what the file means, and the run resumes from it.
 TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {
-  const fs::path dir = scratch("stage-centrifuged");
+  const TempDir dir("millwear-hostile-stage-centrifuged");
   std::string s = lab_quick();
   s.replace(s.find("speed = 0.75"), 12, "speed = 1.60");
   const fs::path scene = dir / "scene.toml";
@@ -1015,7 +1009,7 @@ TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {
 
 // Surveys in metres or of another mill: refused naming the file and the survey's line.
 TEST(HostileSurveys, SurveyPointsOutsideTheLinerUnitAreRefused) {
-  const fs::path dir = scratch("survey-far");
+  const TempDir dir("millwear-hostile-survey-far");
   const fs::path surveys = dir / "far.csv";
   write(surveys, "hours,x_mm,y_mm\n0,-16,0\n0,0,20\n0,16,0\n100,-16000,0\n100,0,18000\n100,16000,0\n");
   const auto r = run_millwear("validate " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " --measured " +
@@ -1027,7 +1021,7 @@ TEST(HostileSurveys, SurveyPointsOutsideTheLinerUnitAreRefused) {
 // the re-meshed surface has a vertex a rounding error above the line, which is a foot, not a
 // lifter point on the line. So is a file point 0.5 nm above it.
 TEST(HostileMeasured, APointARoundingErrorAboveTheShellLineIsAFoot) {
-  const fs::path dir = scratch("measured-rounding");
+  const TempDir dir("millwear-hostile-measured-rounding");
   write(dir / "rect.csv", "x_mm,y_mm\n-30,-2\n-10,-2\n-10,20\n10,20\n10,-2\n30,-2\n");
   const auto r = run_millwear("run " + quoted(lab_mill_with_profile(dir, "rect.csv")) + " -o " + quoted(dir / "out") +
                               " --check");
@@ -1041,7 +1035,7 @@ TEST(HostileMeasured, APointARoundingErrorAboveTheShellLineIsAFoot) {
 // A scan whose shell plate goes 246 mm below the line in a 300 mm mill (a typed -246 for
 // -2.46) is refused by the scene, naming the scan, not run as a crevasse in the shell.
 TEST(HostileMeasured, AScanFarBelowTheShellLineIsRefused) {
-  const fs::path dir = scratch("measured-deep");
+  const TempDir dir("millwear-hostile-measured-deep");
   write(dir / "deep.csv", "x_mm,y_mm\n-30,-2\n-16.5,0\n-5,20\n5,20\n16.5,0\n25,-246\n30,-2\n");
   const fs::path scene = lab_mill_with_profile(dir, "deep.csv");
   for (const char* cmd : {"charge", "run"}) {

@@ -18,27 +18,14 @@
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
+using millwear::testing::TempDir;
 
 namespace {
 
-// A fresh folder under the system temp dir, removed with everything in it at scope end.
-struct TempDir {
-  std::string path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "millwear-io-XXXXXX").string();
-    char* p = ::mkdtemp(tmpl.data());
-    if (!p) throw std::runtime_error("mkdtemp failed");
-    path = p;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return path + "/" + name; }
-};
 
 int count_entries(const std::string& dir) {
   int n = 0;
@@ -80,17 +67,17 @@ TEST(IoRunFolder, APathUnderTheFolderIsRelativeToItHoweverTheFolderIsTyped) {
 }
 
 TEST(IoAtomicWrite, ReplacesContentAndLeavesNoTempFile) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string f = dir / "summary.csv";
   io::write_file_atomic(f, "first\n");
   EXPECT_EQ(io::read_file(f), "first\n");
   io::write_file_atomic(f, "second, longer content\n");
   EXPECT_EQ(io::read_file(f), "second, longer content\n");
-  EXPECT_EQ(count_entries(dir.path), 1);  // only the target, no .tmp.<pid> left behind
+  EXPECT_EQ(count_entries(dir.path()), 1);  // only the target, no .tmp.<pid> left behind
 }
 
 TEST(IoAtomicWrite, FailureIsRunErrorNamingThePath) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string f = dir / "no/such/folder/x.csv";
   try {
     io::write_file_atomic(f, "x");
@@ -101,7 +88,7 @@ TEST(IoAtomicWrite, FailureIsRunErrorNamingThePath) {
 }
 
 TEST(IoAtomicWrite, EnsureDirCreatesNestedFoldersAndIsIdempotent) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string d = dir / "a/b/c";
   io::ensure_dir(d);
   io::ensure_dir(d);
@@ -123,14 +110,14 @@ TEST(IoAtomicWrite, TemporariesAreHiddenAndTaggedNextToTheTarget) {
 }
 
 TEST(IoAtomicWrite, RemoveStaleTempsDeletesOnlyTemporaries) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   io::write_file_atomic(dir / "keep.csv", "x");
   io::write_file_atomic(dir / "keep.tmp.csv", "x");             // ".tmp." not followed by a pid
   io::write_file_atomic(dir / "x.tmp.1", "a user's file");      // the old temporary pattern
   io::write_file_atomic(dir / "notes.csv.tmp.1234.0", "a user's file");
   io::write_file_atomic(dir / ".leftover.csv.millwear-tmp.1234.0", "x");
   io::write_file_atomic(dir / ".fig.millwear-tmp.1234.1.png", "x");
-  EXPECT_EQ(io::remove_stale_temps(dir.path), 2);
+  EXPECT_EQ(io::remove_stale_temps(dir.path()), 2);
   for (const char* kept : {"keep.csv", "keep.tmp.csv", "x.tmp.1", "notes.csv.tmp.1234.0"})
     EXPECT_TRUE(io::file_exists(dir / kept)) << kept;
   EXPECT_FALSE(io::file_exists(dir / ".leftover.csv.millwear-tmp.1234.0"));
@@ -140,7 +127,7 @@ TEST(IoAtomicWrite, RemoveStaleTempsDeletesOnlyTemporaries) {
 // ---- folder lock ----
 
 TEST(IoFolderLock, ASecondLockIsRefusedNamingTheFolderAndTheHoldersPid) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string out = dir / "run";
   {
     io::FolderLock first(out);  // creates the folder
@@ -168,7 +155,7 @@ TEST(IoFolderLock, ASecondLockIsRefusedNamingTheFolderAndTheHoldersPid) {
 // folder it made stays if something was written into it and goes if nothing was (the folders
 // made on the way stay: other commands may be making theirs beside it).
 TEST(IoFolderLock, ReleasedItLeavesTheFolderAsItFoundIt) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string there = dir / "there";
   fs::create_directories(there);
   { io::FolderLock lock(there); }
@@ -191,7 +178,7 @@ TEST(IoFolderLock, ReleasedItLeavesTheFolderAsItFoundIt) {
 // holder, and the mark stays with what was written. A command that wrote nothing leaves no
 // mark, and any command may take the folder.
 TEST(IoFolderLock, ACommandsFolderIsMarkedAndRefusedToAnotherCommand) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string out = dir / "hardness";
   {
     io::FolderLock lock(out, "hardness");
@@ -220,7 +207,7 @@ TEST(IoFolderLock, ACommandsFolderIsMarkedAndRefusedToAnotherCommand) {
 // A command that only reads a run folder asks who holds it: the holder's pid while the lock
 // is held, nobody once it is released.
 TEST(IoFolderLock, TheHolderOfAFolderIsNamedWhileItHoldsIt) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string out = dir / "run";
   fs::create_directories(out);
   EXPECT_EQ(io::folder_holder(out), "");
@@ -233,7 +220,7 @@ TEST(IoFolderLock, TheHolderOfAFolderIsNamedWhileItHoldsIt) {
 }
 
 TEST(IoFolderLock, AFolderThatCannotBeMadeIsAnInputErrorBeforeAnythingIsWritten) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   io::write_file_atomic(dir / "file", "a file, not a folder");
   try {
     io::check_output_folder(dir / "file/out");
@@ -242,11 +229,11 @@ TEST(IoFolderLock, AFolderThatCannotBeMadeIsAnInputErrorBeforeAnythingIsWritten)
     EXPECT_EQ(e.where, "-o");
     EXPECT_NE(std::string(e.what()).find("file"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(count_entries(dir.path), 1);
+  EXPECT_EQ(count_entries(dir.path()), 1);
 }
 
 TEST(IoFolderLock, AFileGivenAsTheFolderIsAnInputErrorNamingIt) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   io::write_file_atomic(dir / "results", "a file, not a folder");
   try {
     io::FolderLock lock(dir / "results");
@@ -262,7 +249,7 @@ TEST(IoFolderLock, AFileGivenAsTheFolderIsAnInputErrorNamingIt) {
 }
 
 TEST(IoRunFolder, RemoveRunFilesDeletesOnlyListedFilesInsideTheFolder) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string out = dir / "out";
   io::create_run_folder(out);
   io::write_file_atomic(dir / "outside.csv", "x");
@@ -314,7 +301,7 @@ TEST(IoCsv, DefaultWritesTenSignificantDigits) {
 }
 
 TEST(IoCsv, FileRoundTripKeepsQuotedText) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   io::CsvTable t({"name", "note"});
   t.add_row({"a,b", "say \"hi\""});
   t.add_row({"plain", ""});
@@ -328,7 +315,7 @@ TEST(IoCsv, FileRoundTripKeepsQuotedText) {
 }
 
 TEST(IoCsv, RaggedRowErrorNamesFileAndLine) {
-  TempDir dir;
+  TempDir dir{"millwear-io"};
   const std::string f = dir / "profile.csv";
   io::write_file_atomic(f, "x_mm,y_mm\n1,2\n\n3\n");
   try {
@@ -373,8 +360,7 @@ TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
 
 TEST(IoReadFile, AFileLargerThanAnyInputIsRefusedBeforeItIsRead) {
   // A sparse file: its size, not its bytes, is what the reader must look at first.
-  const fs::path dir = fs::temp_directory_path() / "millwear_test_huge";
-  fs::create_directories(dir);
+  const TempDir dir("millwear-io-huge");
   const fs::path huge = dir / "scan.csv";
   std::ofstream(huge) << "x_mm,y_mm\n";
   fs::resize_file(huge, io::kMaxInputFileBytes + 1);
@@ -387,7 +373,6 @@ TEST(IoReadFile, AFileLargerThanAnyInputIsRefusedBeforeItIsRead) {
   }
   std::ofstream(dir / "small.csv") << "x_mm,y_mm\n1,2\n";
   EXPECT_EQ(io::read_file((dir / "small.csv").string()), "x_mm,y_mm\n1,2\n");
-  fs::remove_all(dir);
 }
 
 TEST(IoCsv, ColumnNamesLoseTheBlanksAroundThem) {
@@ -468,18 +453,18 @@ TEST(IoRunFolder, PathConventions) {
 }
 
 TEST(IoRunFolder, FinishedStagesAreListedAndTheLastContiguousFound) {
-  TempDir dir;
-  io::create_run_folder(dir.path);
-  io::write_stage_done(dir.path, "2x30", 0, {{"hours", "0"}});
-  io::write_stage_done(dir.path, "2x30", 1, {{"hours", "750"}});
-  io::write_stage_done(dir.path, "2x30", 3, {{"hours", "2250"}});
-  io::write_stage_done(dir.path, "2x30_b", 2);  // another design sharing the prefix
+  TempDir dir{"millwear-io"};
+  io::create_run_folder(dir.path());
+  io::write_stage_done(dir.path(), "2x30", 0, {{"hours", "0"}});
+  io::write_stage_done(dir.path(), "2x30", 1, {{"hours", "750"}});
+  io::write_stage_done(dir.path(), "2x30", 3, {{"hours", "2250"}});
+  io::write_stage_done(dir.path(), "2x30_b", 2);  // another design sharing the prefix
   // A marker whose content disagrees with its name is not trusted.
-  io::write_file_atomic(io::stage_done_marker(dir.path, "2x30", 2), "design=1x30\nstage=2\n");
-  EXPECT_EQ(io::list_finished_stages(dir.path, "2x30"), (std::vector<int>{0, 1, 3}));
-  EXPECT_EQ(io::last_finished_stage(dir.path, "2x30"), 1);
-  EXPECT_EQ(io::last_finished_stage(dir.path, "1x30"), -1);
-  auto kv = io::read_key_values(io::stage_done_marker(dir.path, "2x30", 1));
+  io::write_file_atomic(io::stage_done_marker(dir.path(), "2x30", 2), "design=1x30\nstage=2\n");
+  EXPECT_EQ(io::list_finished_stages(dir.path(), "2x30"), (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(io::last_finished_stage(dir.path(), "2x30"), 1);
+  EXPECT_EQ(io::last_finished_stage(dir.path(), "1x30"), -1);
+  auto kv = io::read_key_values(io::stage_done_marker(dir.path(), "2x30", 1));
   EXPECT_EQ(io::find_value(kv, "design"), "2x30");
   EXPECT_EQ(io::find_value(kv, "hours"), "750");
 }

@@ -10,7 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -92,12 +95,10 @@ TEST(Layout, EveryModuleIncludesOnlyItselfAndTheModulesBeforeIt) {
 
 // The check itself: an include that points the wrong way is caught.
 TEST(Layout, AnIncludeOfALaterModuleIsFound) {
-  const fs::path dir = fs::temp_directory_path() / "millwear-layout-probe";
-  fs::create_directories(dir);
+  const TempDir dir("millwear-layout-probe");
   const fs::path file = dir / "probe.cpp";
   std::ofstream(file) << "// a comment\n#include <vector>\n#include \"study/run_designs.hpp\"\n";
   const std::vector<Include> found = module_includes(file);
-  fs::remove_all(dir);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].module, "study");
   EXPECT_EQ(found[0].line, 3);

@@ -25,6 +25,7 @@
 #include "io/run_folder.hpp"
 #include "study/stage_files.hpp"
 #include "wear/wear.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -33,24 +34,7 @@ namespace {
 
 using testing::source_path;
 
-// A scratch folder per test, removed afterwards.
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag)
-      : path_(fs::temp_directory_path() / ("millwear-liner-input-" + tag + "-" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-  std::string file(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name, std::ios::binary) << text;
-    return (path_ / name).string();
-  }
-
- private:
-  fs::path path_;
-};
+using testing::TempDir;
 
 // The lab-mill scene with its [lifters] table replaced and `extra` lines appended to [wear]
 // (absolute paths, so the scene can live anywhere).
@@ -121,12 +105,12 @@ TEST(MeasuredProfile, NoisyScanWithRepeatsGivesALifterWithFeetOnTheShell) {
 // eighth of the lifter's edge (2 mm here), not a corner kept at every turn of the noise; the
 // wear history starts from nearly the same lifter.
 TEST(MeasuredProfile, ADenseScanMakesALinerAtTheMeshScale) {
-  TempDir dir("dense");
+  TempDir dir("millwear-liner-input-dense");
   int repeats = 0;
-  dir.file("dense.csv", noisy_scan(0.01, repeats, 3, 20.0, 0.001));
-  dir.file("sparse.csv", noisy_scan(0.0, repeats, 3, 20.0, 0.5));
-  const std::string dense_file = dir.file("d.toml", lab_scene_text("rows = 12\nprofile = \"dense.csv\"", "", 1));
-  const std::string sparse_file = dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"sparse.csv\"", "", 1));
+  dir.write("dense.csv", noisy_scan(0.01, repeats, 3, 20.0, 0.001));
+  dir.write("sparse.csv", noisy_scan(0.0, repeats, 3, 20.0, 0.5));
+  const std::string dense_file = dir.write("d.toml", lab_scene_text("rows = 12\nprofile = \"dense.csv\"", "", 1));
+  const std::string sparse_file = dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"sparse.csv\"", "", 1));
   const Scene dense = load_scene(dense_file), sparse = load_scene(sparse_file);
   EXPECT_GT(dense.mill.kind(0).measured.size(), 10000u);  // the reader keeps the scan's detail
   ASSERT_NO_THROW(check_scene(dense, dense_file));
@@ -199,10 +183,10 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
 }
 
 TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
-  TempDir dir("wide");
+  TempDir dir("millwear-liner-input-wide");
   // The lab mill's pitch is 157 mm: a scan 300 mm wide cannot be one liner unit.
-  dir.file("wide.csv", "x_mm,y_mm\n-150,0\n-10,0\n-5,15\n5,15\n10,0\n150,0\n");
-  const std::string scene = dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"wide.csv\""));
+  dir.write("wide.csv", "x_mm,y_mm\n-150,0\n-10,0\n-5,15\n5,15\n10,0\n150,0\n");
+  const std::string scene = dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"wide.csv\""));
   try {
     load_scene(scene);
     FAIL() << "accepted";
@@ -240,7 +224,7 @@ std::string whole_unit_scan(const std::string& pitch_line) {
 }
 
 TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndTheMill) {
-  TempDir dir("pitch");
+  TempDir dir("millwear-liner-input-pitch");
   char pitch[64];
   std::snprintf(pitch, sizeof pitch, "# pitch_mm = %.3f\n", lab_pitch_mm());
   const LifterProfile p = parse_measured_profile(whole_unit_scan(pitch), "unit.csv");
@@ -249,8 +233,8 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
 
   // In the mill the unit is the scan repeated one pitch on: left of where the scan starts
   // (x < -50 mm) the surface is the dish the scan measured right of the lifter.
-  dir.file("unit.csv", whole_unit_scan(pitch));
-  const Scene with = load_scene(dir.file("with.toml", lab_scene_text("rows = 12\nprofile = \"unit.csv\"")));
+  dir.write("unit.csv", whole_unit_scan(pitch));
+  const Scene with = load_scene(dir.write("with.toml", lab_scene_text("rows = 12\nprofile = \"unit.csv\"")));
   auto y_at = [](const LinerUnit& u, double x_mm) {
     for (std::size_t i = 0; i + 1 < u.surface.size(); ++i) {
       const Vec2 a = u.surface[i] * 1e3, b = u.surface[i + 1] * 1e3;
@@ -272,9 +256,9 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
     EXPECT_NEAR(y_at(uw, x), lab_unit_y(x - shift_mm), 0.002) << x;
   // Without the line the scan is taken for one lifter with its plates, centred on the lifter:
   // reaching 107 mm right of it, past the half pitch (78.5 mm), it is refused.
-  dir.file("plain.csv", whole_unit_scan(""));
+  dir.write("plain.csv", whole_unit_scan(""));
   try {
-    load_scene(dir.file("without.toml", lab_scene_text("rows = 12\nprofile = \"plain.csv\"")));
+    load_scene(dir.write("without.toml", lab_scene_text("rows = 12\nprofile = \"plain.csv\"")));
     ADD_FAILURE() << "a scan wider than the pitch about its lifter was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no wider than the pitch"), std::string::npos) << e.what();
@@ -305,7 +289,7 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
   EXPECT_NE(m.find("step.csv: line 2"), std::string::npos) << m;
   EXPECT_NE(m.find("at one height"), std::string::npos) << m;
   // Agreeing with its points but not with the mill: 10 rows stand 188.5 mm apart.
-  const std::string ten = dir.file("ten.toml", lab_scene_text("rows = 10\nprofile = \"unit.csv\""));
+  const std::string ten = dir.write("ten.toml", lab_scene_text("rows = 10\nprofile = \"unit.csv\""));
   m = message([&] { load_scene(ten); });
   EXPECT_NE(m.find("unit.csv"), std::string::npos) << m;
   EXPECT_NE(m.find("line 2"), std::string::npos) << m;
@@ -324,17 +308,17 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
 // the noise the first pass takes is not refused. A scan of a fin thinner than the particles,
 // which the first pass all but removes, is, naming the file.
 TEST(WornStart, NoisyScansOfAWornLifterAreTakenAndAFinIsRefused) {
-  TempDir dir("worn-noise");
+  TempDir dir("millwear-liner-input-worn-noise");
   for (unsigned seed = 1; seed <= 10; ++seed) {
     int repeats = 0;
-    dir.file("scan.csv", noisy_scan(0.5, repeats, seed, 8.0));
+    dir.write("scan.csv", noisy_scan(0.5, repeats, seed, 8.0));
     const std::string scene_file =
-        dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"\nstart_hours = 2000", "", 1));
+        dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"\nstart_hours = 2000", "", 1));
     const Scene scene = load_scene(scene_file);
     EXPECT_NO_THROW(check_scene(scene, scene_file)) << "seed " << seed;
   }
-  const std::string fin = dir.file("fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
-  const std::string fin_scene = dir.file("f.toml", lab_scene_text("rows = 12\nprofile = \"fin.csv\"", "", 1));
+  const std::string fin = dir.write("fin.csv", "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n");
+  const std::string fin_scene = dir.write("f.toml", lab_scene_text("rows = 12\nprofile = \"fin.csv\"", "", 1));
   try {
     check_scene(load_scene(fin_scene), fin_scene);
     FAIL() << "expected InputError";
@@ -345,11 +329,11 @@ TEST(WornStart, NoisyScansOfAWornLifterAreTakenAndAFinIsRefused) {
 }
 
 TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
-  TempDir dir("worn");
+  TempDir dir("millwear-liner-input-worn");
   int repeats = 0;
-  const std::string scan = dir.file("survey-2000h.csv", noisy_scan(0.5, repeats));
+  const std::string scan = dir.write("survey-2000h.csv", noisy_scan(0.5, repeats));
   const std::string scene_file =
-      dir.file("s.toml", lab_scene_text("rows = 12\nprofile = \"survey-2000h.csv\"\nstart_hours = 2000", "", 1));
+      dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"survey-2000h.csv\"\nstart_hours = 2000", "", 1));
   const Scene scene = load_scene(scene_file);
   const WearHistory h = run_wear_history(scene);
   ASSERT_TRUE(h.failure.empty()) << h.failure;
@@ -390,7 +374,7 @@ TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
     study::write_profile_csv(dir.path().string(), "trip", rec);
     const std::string csv = io::profile_path(dir.path().string(), "trip", rec.stage);
     const Scene again = load_scene(
-        dir.file("again.toml", lab_scene_text("rows = 12\nprofile = \"" + csv + "\"", "", 1)));
+        dir.write("again.toml", lab_scene_text("rows = 12\nprofile = \"" + csv + "\"", "", 1)));
     const LifterMetrics m = measure_lifter(new_liner_unit(again), again.radius_m());
     EXPECT_NEAR(m.area_m2, rec.lifter.area_m2, 1e-3 * rec.lifter.area_m2) << "stage " << rec.stage;
     EXPECT_NEAR(m.height_m, rec.lifter.height_m, 1e-3 * rec.lifter.height_m) << "stage " << rec.stage;
@@ -400,11 +384,11 @@ TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {
 // ---- patterns and shell rate ---------------------------------------------------------
 
 TEST(Pattern, RowsOfAKindAreAveragedTogether) {
-  TempDir dir("avg");
+  TempDir dir("millwear-liner-input-avg");
   const std::string lab = source_path("profiles/lab-2x30.toml");
-  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+  dir.write("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
                       "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
-  const Scene s = load_scene(dir.file(
+  const Scene s = load_scene(dir.write(
       "s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]")));
   const MillGeometry mill = build_scene_mill(s);
   ASSERT_EQ(mill.kinds, 2);
@@ -421,11 +405,11 @@ TEST(Pattern, RowsOfAKindAreAveragedTogether) {
 }
 
 TEST(Pattern, BadPatternsAreRefused) {
-  TempDir dir("bad");
+  TempDir dir("millwear-liner-input-bad");
   const std::string lab = source_path("profiles/lab-2x30.toml");
   auto where = [&](const std::string& lifters) {
     try {
-      load_scene(dir.file("s.toml", lab_scene_text(lifters)));
+      load_scene(dir.write("s.toml", lab_scene_text(lifters)));
     } catch (const InputError& e) {
       return e.where;
     }
@@ -438,7 +422,7 @@ TEST(Pattern, BadPatternsAreRefused) {
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", 3]"), "lifters.pattern[1]");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"missing.toml\"]"), "lifters.pattern[1]");
   // A kind too tall for the mill: the key of that kind, not lifters.profile.
-  const std::string tall = dir.file("tall.toml", "name = \"tall\"\nform = \"trapezoid\"\nheight = 160.0\ntop_width = 10.0\n"
+  const std::string tall = dir.write("tall.toml", "name = \"tall\"\nform = \"trapezoid\"\nheight = 160.0\ntop_width = 10.0\n"
                                                  "leading_face_angle = 10.0\ntrailing_face_angle = 10.0\n");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"" + tall + "\"]"), "lifters.pattern[1]");
 }
@@ -458,11 +442,11 @@ TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {
 // Two identical kinds are the plain liner: the same geometry gives the same charge (stage 0
 // bit for bit), and each kind's wear is the plain liner's within the window's statistics.
 TEST(Pattern, TwoIdenticalKindsEqualThePlainLiner) {
-  TempDir dir("same");
+  TempDir dir("millwear-liner-input-same");
   const std::string lab = source_path("profiles/lab-2x30.toml");
-  const Scene plain = load_scene(dir.file("plain.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1)));
+  const Scene plain = load_scene(dir.write("plain.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1)));
   const Scene twice = load_scene(
-      dir.file("twice.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]", "", 1)));
+      dir.write("twice.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]", "", 1)));
   const WearHistory a = run_wear_history(plain), b = run_wear_history(twice);
   ASSERT_EQ(a.stages.size(), 2u);
   ASSERT_EQ(b.stages.size(), 2u);
@@ -488,12 +472,12 @@ TEST(Pattern, TwoIdenticalKindsEqualThePlainLiner) {
 // A hi-lo liner on the lab mill: the high lifters take the charge's lift and lose more area
 // per hour than the low ones; each kind's life is reported.
 TEST(Pattern, HighLiftersWearFasterThanLowOnes) {
-  TempDir dir("hilo");
+  TempDir dir("millwear-liner-input-hilo");
   const std::string lab = source_path("profiles/lab-2x30.toml");
-  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+  dir.write("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
                       "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
   const Scene s = load_scene(
-      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1)));
+      dir.write("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1)));
   const WearHistory h = run_wear_history(s);
   ASSERT_TRUE(h.failure.empty()) << h.failure;
   const StageRecord& r = h.stages[0];
@@ -513,10 +497,10 @@ namespace {
 
 fs::path run_hilo_lab(const TempDir& dir, const std::string& extra) {
   const std::string lab = source_path("profiles/lab-2x30.toml");
-  dir.file("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+  dir.write("lo.toml", "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
                       "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
   const std::string scene =
-      dir.file("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
+      dir.write("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"lo.toml\"]", "", 1));
   const fs::path out = dir.path() / "out";
   const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(scene) + " -o " +
                                                  millwear::testing::quoted(out) + " -q" + extra);
@@ -527,7 +511,7 @@ fs::path run_hilo_lab(const TempDir& dir, const std::string& extra) {
 }  // namespace
 
 TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
-  TempDir dir("hilo-summary");
+  TempDir dir("millwear-liner-input-hilo-summary");
   const fs::path out = run_hilo_lab(dir, "");
   ASSERT_FALSE(::testing::Test::HasFailure());
   const io::CsvData sum = io::read_csv((out / "summary.csv").string());
@@ -570,7 +554,7 @@ TEST(Pattern, SummaryCarriesEveryKindAndTheLinerLife) {
 // rows in replicates.csv) with the standard error of that mean: for two histories, half their
 // difference. With one history they carry batch-means errors.
 TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
-  TempDir dir("hilo-replicates");
+  TempDir dir("millwear-liner-input-hilo-replicates");
   const fs::path out = run_hilo_lab(dir, " --replicates 2");
   ASSERT_FALSE(::testing::Test::HasFailure());
   const io::CsvData sum = io::read_csv((out / "summary.csv").string());
@@ -605,12 +589,12 @@ TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
 // ---- run --continue --------------------------------------------------------------------
 
 TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
-  TempDir dir("cont");
+  TempDir dir("millwear-liner-input-cont");
   const std::string lab = source_path("profiles/lab-2x30.toml");
-  const std::string scene = dir.file("lab4.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4));
+  const std::string scene = dir.write("lab4.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4));
   std::string fast_text = lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4);
   fast_text.replace(fast_text.find("speed = 0.75"), 12, "speed = 0.85");
-  const std::string fast = dir.file("lab4fast.toml", fast_text);
+  const std::string fast = dir.write("lab4fast.toml", fast_text);
   const fs::path first = dir.path() / "first", again = dir.path() / "again", faster = dir.path() / "faster";
   auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
   using millwear::testing::run_millwear;

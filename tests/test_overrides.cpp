@@ -16,9 +16,11 @@
 #include "common/units.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
+using millwear::testing::TempDir;
 using millwear::testing::run_millwear;
 
 namespace {
@@ -65,14 +67,10 @@ trailing_face_angle = 30.0
 class Overrides : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("millwear-set-" + std::string(info->name()) + "-" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
     std::ofstream(dir_ / "lifter.toml") << kLifter;
     std::ofstream(dir_ / "scene.toml") << kScene;
     scene_ = (dir_ / "scene.toml").string();
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   Scene load(const std::vector<std::string>& sets) const { return load_scene(scene_, sets); }
   // The error of a set that must fail.
@@ -86,7 +84,7 @@ class Overrides : public ::testing::Test {
     return InputError("", "", "");
   }
 
-  fs::path dir_;
+  TempDir dir_{"millwear-set"};
   std::string scene_;
 };
 

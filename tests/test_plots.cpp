@@ -18,25 +18,14 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
+using millwear::testing::TempDir;
 
 namespace {
 
-struct TempDir {
-  std::string path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "millwear-plots-XXXXXX").string();
-    char* p = ::mkdtemp(tmpl.data());
-    if (!p) throw std::runtime_error("mkdtemp failed");
-    path = p;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 
 // Writes a run folder in the app's formats: summary.csv, profiles/, spectrum.csv,
@@ -125,9 +114,9 @@ bool has_temp_files(const std::string& dir) {
 class PlotsRendered : public ::testing::TestWithParam<std::string> {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new TempDir();
-    write_synthetic_run(dir_->path);
-    written_ = plots::render_all_figures(dir_->path, {"2x30", "1x30"});
+    dir_ = new TempDir("millwear-plots");
+    write_synthetic_run(dir_->path());
+    written_ = plots::render_all_figures(dir_->path(), {"2x30", "1x30"});
   }
   static void TearDownTestSuite() {
     delete dir_;
@@ -149,7 +138,7 @@ TEST(Plots, PlotsDirHoldsEveryFigureScript) {
 }
 
 TEST_P(PlotsRendered, FigureIsWrittenAsPngAndSvg) {
-  const std::string base = io::plots_out_dir(dir_->path) + "/" + GetParam();
+  const std::string base = io::plots_out_dir(dir_->path()) + "/" + GetParam();
   EXPECT_TRUE(is_png(base + ".png")) << base;
   EXPECT_TRUE(is_svg(base + ".svg")) << base;
   EXPECT_NE(std::find(written_.begin(), written_.end(), base + ".png"), written_.end());
@@ -163,10 +152,10 @@ INSTANTIATE_TEST_SUITE_P(EveryFigure, PlotsRendered,
 
 TEST_F(PlotsRendered, WritesExactlyTheFiguresAndNoTemporaries) {
   EXPECT_EQ(written_.size(), 16u);  // 8 figures x (png, svg)
-  EXPECT_FALSE(has_temp_files(io::plots_out_dir(dir_->path)));
-  EXPECT_FALSE(has_temp_files(io::plots_data_dir(dir_->path)));
+  EXPECT_FALSE(has_temp_files(io::plots_out_dir(dir_->path())));
+  EXPECT_FALSE(has_temp_files(io::plots_data_dir(dir_->path())));
   // The per-design summary is sorted by hours and keeps the header.
-  io::CsvData s = io::read_csv(io::plots_data_dir(dir_->path) + "/1x30_summary.csv");
+  io::CsvData s = io::read_csv(io::plots_data_dir(dir_->path()) + "/1x30_summary.csv");
   EXPECT_EQ(s.row_count(), 5u);
   EXPECT_DOUBLE_EQ(s.number(4, "hours"), 3000.0);
 }
@@ -174,56 +163,56 @@ TEST_F(PlotsRendered, WritesExactlyTheFiguresAndNoTemporaries) {
 // The snapshot's legend names the species as the scene does, and the marks are drawn where
 // the liner file has them.
 TEST_F(PlotsRendered, SnapshotNamesTheSpeciesAndMarksToeAndShoulder) {
-  const std::string marked = io::read_file(io::plots_out_dir(dir_->path) + "/snapshot_2x30.svg");
+  const std::string marked = io::read_file(io::plots_out_dir(dir_->path()) + "/snapshot_2x30.svg");
   for (const char* text : {"ore-rock", "steel-ball", "toe", "shoulder", "centre of mass", "turning counter-clockwise"})
     EXPECT_NE(marked.find(text), std::string::npos) << text;
-  const std::string plain = io::read_file(io::plots_out_dir(dir_->path) + "/snapshot_1x30.svg");
+  const std::string plain = io::read_file(io::plots_out_dir(dir_->path()) + "/snapshot_1x30.svg");
   EXPECT_NE(plain.find("ore-rock"), std::string::npos);
   EXPECT_EQ(plain.find("shoulder"), std::string::npos);
 }
 
 TEST(Plots, MissingInputsSkipTheirFigures) {
-  TempDir dir;
-  write_synthetic_run(dir.path, /*with_everything=*/false);  // summary and profiles only
-  auto written = plots::render_all_figures(dir.path, {});
+  TempDir dir{"millwear-plots"};
+  write_synthetic_run(dir.path(), /*with_everything=*/false);  // summary and profiles only
+  auto written = plots::render_all_figures(dir.path(), {});
   EXPECT_EQ(written.size(), 10u);  // fig6..fig10, png + svg; no spectrum, no snapshots
-  EXPECT_FALSE(io::file_exists(dir.path + "/plots/spectrum.png"));
-  EXPECT_TRUE(is_png(dir.path + "/plots/fig10_utilization.png"));
+  EXPECT_FALSE(io::file_exists((dir / "plots/spectrum.png").string()));
+  EXPECT_TRUE(is_png((dir / "plots/fig10_utilization.png").string()));
 }
 
 TEST(Plots, ScriptErrorIsRunErrorQuotingTheLog) {
-  TempDir dir;
-  const std::string script = dir.path + "/bad.gp";
+  TempDir dir{"millwear-plots"};
+  const std::string script = (dir / "bad.gp").string();
   io::write_file_atomic(script, "set output outbase.'.png'\nthis_is_not_a_command 1\n");
   try {
-    plots::render_figure(script, {{"outbase", dir.path + "/bad"}});
+    plots::render_figure(script, {{"outbase", (dir / "bad").string()}});
     FAIL() << "expected RunError";
   } catch (const RunError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("gnuplot failed on " + script), std::string::npos) << msg;
     EXPECT_NE(msg.find("invalid command"), std::string::npos) << msg;
   }
-  EXPECT_FALSE(io::file_exists(dir.path + "/bad.png"));
-  EXPECT_FALSE(has_temp_files(dir.path));
-  EXPECT_TRUE(io::file_exists(dir.path + "/gnuplot.log"));
+  EXPECT_FALSE(io::file_exists((dir / "bad.png").string()));
+  EXPECT_FALSE(has_temp_files(dir.path()));
+  EXPECT_TRUE(io::file_exists((dir / "gnuplot.log").string()));
 }
 
 TEST(Plots, ScriptThatWritesNothingIsRunError) {
-  TempDir dir;
-  const std::string script = dir.path + "/quiet.gp";
+  TempDir dir{"millwear-plots"};
+  const std::string script = (dir / "quiet.gp").string();
   io::write_file_atomic(script, "a = 1\n");
-  EXPECT_THROW(plots::render_figure(script, {{"outbase", dir.path + "/quiet"}}), RunError);
+  EXPECT_THROW(plots::render_figure(script, {{"outbase", (dir / "quiet").string()}}), RunError);
 }
 
 TEST(Plots, MissingGnuplotIsClearRunError) {
-  TempDir dir;
-  write_synthetic_run(dir.path);
+  TempDir dir{"millwear-plots"};
+  write_synthetic_run(dir.path());
   const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
-  ::setenv("PATH", dir.path.c_str(), 1);  // a folder without gnuplot
+  ::setenv("PATH", dir.path().c_str(), 1);  // a folder without gnuplot
   std::string msg;
   try {
     plots::render_figure(plots::script_path("fig7_area"),
-                         {{"datadir", dir.path}, {"designs", "2x30"}});
+                         {{"datadir", dir.path().string()}, {"designs", "2x30"}});
   } catch (const RunError& e) {
     msg = e.what();
   }
@@ -232,10 +221,10 @@ TEST(Plots, MissingGnuplotIsClearRunError) {
 }
 
 TEST(Plots, EnvironmentOverridesPlotsDir) {
-  TempDir dir;
-  ::setenv("MILLWEAR_PLOTS_DIR", dir.path.c_str(), 1);
-  EXPECT_EQ(plots::plots_dir(), dir.path);
-  ::setenv("MILLWEAR_PLOTS_DIR", (dir.path + "/missing").c_str(), 1);
+  TempDir dir{"millwear-plots"};
+  ::setenv("MILLWEAR_PLOTS_DIR", dir.path().c_str(), 1);
+  EXPECT_EQ(plots::plots_dir(), dir.path());
+  ::setenv("MILLWEAR_PLOTS_DIR", ((dir / "missing").string()).c_str(), 1);
   EXPECT_THROW(plots::plots_dir(), RunError);
   ::unsetenv("MILLWEAR_PLOTS_DIR");
 }

@@ -11,9 +11,11 @@
 #include "common/units.hpp"
 #include "common/errors.hpp"
 #include "profiles/profile.hpp"
+#include "temp_dir.hpp"
 
 using namespace millwear;
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -26,15 +28,6 @@ std::string shipped(const std::string& name) {
 // A fresh folder per test for bad profile files.
 class ProfileFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("millwear-test-profiles-" + std::string(info->name()) + "-" +
-            std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
     std::ofstream(p) << text;
@@ -50,7 +43,7 @@ class ProfileFile : public ::testing::Test {
     ADD_FAILURE() << "no InputError for " << path;
     return InputError("", "", "");
   }
-  fs::path dir_;
+  TempDir dir_{"millwear-profiles"};
 };
 
 const char* kGood =

@@ -9,11 +9,13 @@
 #include "cli_support.hpp"
 #include "engine_fixtures.hpp"
 #include "study/rule1.hpp"
+#include "temp_dir.hpp"
 
 namespace millwear {
 namespace {
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using testing::read_text;
 using testing::run_millwear;
 
@@ -137,8 +139,7 @@ TEST(Rule1Statistics, AFactorPastTheOneUpdateBoundFails) {
 // `millwear rule1 -o OUT` writes the table, the replicates, the profiles and Fig. 5 as PNG
 // and SVG.
 TEST(Rule1Cli, WritesTheTableAndFigureFive) {
-  const fs::path out = fs::temp_directory_path() / "millwear-test-rule1";
-  fs::remove_all(out);
+  const TempDir out("millwear-test-rule1");
   const auto r = run_millwear("rule1 " + testing::quoted(fs::path(testing::source_path("scenarios/lab-mill.toml"))) +
                               " --factors 1e5 2e5 --replicates 2 -o " + testing::quoted(out) +
                               " --set solver.seed=11");
@@ -154,7 +155,6 @@ TEST(Rule1Cli, WritesTheTableAndFigureFive) {
   EXPECT_NE(csv.find("lab-mill,200000,2,"), std::string::npos) << csv;
   for (const char* f : {"rule1_replicates.csv", "rule1_profiles.dat", "plots/fig5_rule1.png", "plots/fig5_rule1.svg"})
     EXPECT_GT(fs::file_size(out / f), 0u) << f;
-  fs::remove_all(out);
 }
 
 // The help shows the defaults the command runs with: they are read from the options' structs.

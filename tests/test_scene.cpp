@@ -14,9 +14,11 @@
 #include "common/errors.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -66,14 +68,8 @@ trailing_face_angle = 30.0
 class SceneTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("millwear-scene-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" +
-            std::to_string(::getpid()));
-    fs::create_directories(dir_);
     write("lifter.toml", kLifter);
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::string write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
@@ -107,7 +103,7 @@ class SceneTest : public ::testing::Test {
     EXPECT_NE(msg.find(key), std::string::npos) << msg;
   }
 
-  fs::path dir_;
+  TempDir dir_{"millwear-scene"};
 };
 
 using SceneErrors = SceneTest;

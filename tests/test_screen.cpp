@@ -43,8 +43,10 @@
 #include "screen/jobs.hpp"
 #include "screen/ranking.hpp"
 #include "screen/screen.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using namespace millwear;
 using namespace millwear::screen;
 
@@ -549,7 +551,7 @@ std::string lab_base() { return src("scenarios/lab-mill.toml"); }
 }  // namespace
 
 TEST(ScreenInput, UnknownKeyExitsTwoNamingFileKeyAndLine) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-bad-" + std::to_string(::getpid()));
+  const TempDir dir("millwear-screen-bad");
   const fs::path f = write_screen(dir, "bad.toml",
                                   "[screen]\nbase = '" + lab_base() + "'\n[family]\nheigth = 20.0\n");
   const Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out"));
@@ -557,11 +559,10 @@ TEST(ScreenInput, UnknownKeyExitsTwoNamingFileKeyAndLine) {
   EXPECT_NE(r.output.find("bad.toml: family.heigth: unknown key (did you mean 'height'?)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("(line 4)"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));  // nothing written before validation passes
-  fs::remove_all(dir);
 }
 
 TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-bad2-" + std::to_string(::getpid()));
+  const TempDir dir("millwear-screen-bad2");
   const fs::path f = write_screen(dir, "bad.toml",
                                   "[screen]\nbase = '" + lab_base() +
                                       "'\n[family]\nleading_face_angle = {min = 10.0, max = 95.0, steps = 3}\n");
@@ -579,13 +580,12 @@ TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
   r = millwear_cmd("screen " + q(m) + " -o " + q(dir / "out"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("screen.base"), std::string::npos) << r.output;
-  fs::remove_all(dir);
 }
 
 TEST(ScreenInput, FamilyWithNoValidCandidateExitsTwo) {
   // The lab mill is 600 mm across: a lifter of 160 mm or more reaches past half the radius
   // (radial faces and a 10 mm top, so the base fits the 157 mm pitch and height is the fault).
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-none-" + std::to_string(::getpid()));
+  const TempDir dir("millwear-screen-none");
   const fs::path f = write_screen(dir, "tall.toml",
                                   "[screen]\nbase = '" + lab_base() + "'\n[family]\nheight = [160.0, 200.0]\n"
                                   "top_width = 10.0\nleading_face_angle = 0.0\ntrailing_face_angle = 0.0\n");
@@ -598,13 +598,12 @@ TEST(ScreenInput, FamilyWithNoValidCandidateExitsTwo) {
   for (auto it = fs::recursive_directory_iterator(dir / "out", ec); !ec && it != fs::recursive_directory_iterator();
        ++it)
     EXPECT_FALSE(it->is_regular_file()) << "left behind: " << it->path();
-  fs::remove_all(dir);
 }
 
 TEST(ScreenInput, CandidatesThatCannotBeBuiltAreRejectedWithTheReason) {
   // 12 rows fit the 33 mm lab lifter; at 60 rows the pitch (31 mm) is narrower than its base;
   // equal area with a 60/60 deg trapezoid of 20 mm has no positive top width (faces alone: 693 mm^2).
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-rej-" + std::to_string(::getpid()));
+  const TempDir dir("millwear-screen-rej");
   const fs::path f = write_screen(dir, "mixed.toml",
                                   "[screen]\nbase = '" + lab_base() + "'\nequal_area = 'base'\n"
                                   "[family]\nrows = [12, 60]\nleading_face_angle = [30.0, 60.0]\nsymmetric = true\n");
@@ -617,15 +616,12 @@ TEST(ScreenInput, CandidatesThatCannotBeBuiltAreRejectedWithTheReason) {
   ASSERT_EQ(bad.row_count(), 3u);
   EXPECT_NE(bad.text(0, bad.column("reason")).find("lifters.rows"), std::string::npos) << bad.text(0, bad.column("reason"));
   EXPECT_NE(bad.text(1, bad.column("reason")).find("positive top width"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 // A measured scan in the list of profiles is a candidate like a drawn one: copied as a CSV (as
 // TOML it would not read), its scene valid; a scan too thin for the charge is rejected.
 TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-csv-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const TempDir dir("millwear-screen-csv");
   std::ofstream(dir / "fin.csv") << "x_mm,y_mm\n-20,-1\n-0.1,0\n0,20\n0.1,0\n20,-1\n";
   const fs::path f = write_screen(dir, "scans.toml",
                                   "[screen]\nbase = '" + lab_base() + "'\n[family]\nprofiles = ['" +
@@ -641,15 +637,13 @@ TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
   ASSERT_EQ(bad.row_count(), 1u);
   EXPECT_NE(bad.text(0, bad.column("reason")).find("thinner than the particles"), std::string::npos)
       << bad.text(0, bad.column("reason"));
-  fs::remove_all(dir);
 }
 
 // --set KEY=VALUE over the base scene: in every candidate's scene file (what the pool, GNU
 // parallel and Slurm tasks read), recorded in screen.key, part of the fingerprint; a task run
 // from the emitted list runs the overridden scene.
 TEST(ScreenSet, OverridesReachEveryCandidateAndTheTasks) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-set-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const TempDir dir("millwear-screen-set");
   const fs::path out = dir / "out";
   Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) +
                           " --emit parallel --set mill.speed=0.6 --set charge.species[0].density=7000");
@@ -677,12 +671,10 @@ TEST(ScreenSet, OverridesReachEveryCandidateAndTheTasks) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--set overrides"), std::string::npos) << r.output;
   EXPECT_EQ(load_scene((out / "candidates/d001.toml").string()).mill.speed_fraction_critical, 0.6);  // untouched
-  fs::remove_all(dir);
 }
 
 TEST(ScreenSet, BadOverrideExitsTwoNamingTheKeyBeforeAnythingIsWritten) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-badset-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const TempDir dir("millwear-screen-badset");
   const fs::path out = dir / "out";
   struct Case {
     std::string set;
@@ -703,15 +695,12 @@ TEST(ScreenSet, BadOverrideExitsTwoNamingTheKeyBeforeAnythingIsWritten) {
     for (const std::string& e : c.expect) EXPECT_NE(r.output.find(e), std::string::npos) << c.set << "\n" << r.output;
     EXPECT_FALSE(fs::exists(out)) << c.set;  // nothing written
   }
-  fs::remove_all(dir);
 }
 
 // A base scene with a hi-lo pattern: each candidate keeps the pattern, each kind a trapezoid
 // with the family's face angle and its own height, its top width chosen for its own area.
 TEST(ScreenPattern, EqualAreaMatchesEachKindToItsOwnArea) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-screen-hilo-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const TempDir dir("millwear-screen-hilo");
   const std::string lab = src("profiles/lab-2x30.toml");
   std::ofstream(dir / "lo.toml") << "name = \"lab-lo\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
                                     "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n";
@@ -786,7 +775,6 @@ TEST(ScreenPattern, EqualAreaMatchesEachKindToItsOwnArea) {
   EXPECT_EQ(sum.number(0, "life_h_se"), sum.number(0, l0 < l1 ? "kind0_life_h_se" : "kind1_life_h_se"));
   const std::string record = slurp(dir / "base/designs/d000/stages/d000_stage0.record");
   EXPECT_NE(record.find("kind.1.area_loss_rate_rel_sem"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 // ---------------------------------------------------------------------------------------

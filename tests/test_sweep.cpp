@@ -15,19 +15,15 @@
 #include "scene/scene.hpp"
 #include "study/charge_run.hpp"
 #include "study/sweep.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using namespace millwear;
 
 namespace {
 
 std::string shipped(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("millwear-sweep-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  return d;
-}
 
 }  // namespace
 
@@ -104,7 +100,7 @@ TEST(SweepCharge, FramesAndBatchesDoNotChangeTheFigures) {
 // drive does almost no work. The margins are three standard errors of the difference. (Three
 // revolutions of spin-up: at 1.6 of critical the charge takes over one to settle on the shell.)
 TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) {
-  const fs::path out = temp_dir("speed");
+  const TempDir out("millwear-sweep-speed");
   const auto r = millwear::testing::run_millwear(
       "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
       millwear::testing::quoted(out) + " --vary mill.speed=0.5,0.85,1.6 --revolutions 2 --fidelity draft " +
@@ -167,7 +163,7 @@ TEST(SweepReplicates, FoldedIntoTheMeanAndTheStandardErrorOfTheMean) {
 // Replicates of a point run its scene with seeds s, s+1, ...: each replicate's charge files in
 // its own folder, the table's errors from their spread.
 TEST(SweepReplicates, EachValueRunsItsReplicatesAndTheTableSaysWhereItsErrorsComeFrom) {
-  const fs::path out = temp_dir("replicates");
+  const TempDir out("millwear-sweep-replicates");
   const auto r = millwear::testing::run_millwear(
       "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
       millwear::testing::quoted(out) + " --vary mill.speed=0.7 --revolutions 0.5 --fidelity draft " +

@@ -16,8 +16,10 @@
 #include "io/csv.hpp"
 #include "metrics/trajectories.hpp"
 #include "study/charge_run.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 using namespace millwear;
 
 namespace {
@@ -220,9 +222,7 @@ TEST(LabMillImpacts, NinetyPercentOfCriticalPutsMoreImpactEnergyAboveTheToe) {
 // `millwear charge` writes impacts.csv, the flight paths and the two figures as PNG and SVG,
 // their legends naming each species of the scene (a lab mill of balls and pebbles here).
 TEST(AppChargeImpacts, WritesTheImpactAndTrajectoryFiguresNamingTheSpecies) {
-  const fs::path dir = fs::temp_directory_path() / ("millwear-test-impacts-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const TempDir dir("millwear-test-impacts");
   std::string text = millwear::testing::read_text(millwear::testing::source_path("scenarios/lab-mill.toml"));
   const auto replace = [&](const std::string& from, const std::string& to) {
     const auto at = text.find(from);
@@ -261,5 +261,4 @@ TEST(AppChargeImpacts, WritesTheImpactAndTrajectoryFiguresNamingTheSpecies) {
     for (const char* word : {"ball", "pebble", "toe", "shoulder"})
       EXPECT_NE(svg.find(word), std::string::npos) << figure << ": " << word;
   }
-  fs::remove_all(dir);
 }

@@ -23,8 +23,10 @@
 #include "study/hardness.hpp"
 #include "study/profile_fit.hpp"
 #include "study/surveys.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace millwear {
 namespace {
@@ -37,13 +39,6 @@ using validation::Survey;
 
 using testing::CliResult;
 constexpr auto run_cli = &testing::run_millwear;
-
-fs::path temp_dir(const std::string& tag) {
-  const fs::path d = fs::temp_directory_path() / ("millwear-test-validation-" + tag + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // The lab mill turning one way, one 100 h stage, 1 mm depth steps: the cheapest history
 // that wears the lifter visibly (a few seconds).
@@ -141,7 +136,7 @@ TEST(ValidationSurveys, MalformedFilesNameFileAndLine) {
 }
 
 TEST(ValidationCli, MalformedMeasurementFilesExitTwoNamingFileAndLine) {
-  const fs::path d = temp_dir("cli");
+  const TempDir d("millwear-test-validation-cli");
   const std::string bad = (d / "bad-surveys.csv").string();
   std::ofstream(bad) << "hours,x_mm,y_mm\n0,-10,0\n0,oops,5\n";
   const std::string scene = testing::source_path("scenarios/lab-mill.toml");
@@ -160,9 +155,9 @@ TEST(ValidationCli, MalformedMeasurementFilesExitTwoNamingFileAndLine) {
 }
 
 TEST(ValidationCli, HardnessCommandWritesTheFitAndTheFigure) {
-  const fs::path d = temp_dir("hardness");
+  const TempDir d("millwear-test-validation-hardness");
   const CliResult r = run_cli("hardness \"" + testing::source_path("validation/hardness-synthetic.csv") + "\" -o \"" +
-                              d.string() + "\" --reference-hardness 14");
+                              d.path().string() + "\" --reference-hardness 14");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const io::CsvData fit = io::read_csv((d / "hardness_fit.csv").string());
   ASSERT_EQ(fit.row_count(), 1u);
@@ -379,7 +374,7 @@ TEST(ValidationAreaSurveys, MalformedFilesNameFileAndLine) {
 }
 
 TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
-  const fs::path d = temp_dir("cli-areas");
+  const TempDir d("millwear-test-validation-cli-areas");
   const std::string bad = (d / "bad-areas.csv").string();
   std::ofstream(bad) << "# areas\nhours,area_mm2\n0,419\n100,-3\n";
   const std::string scene = testing::source_path("scenarios/lab-mill.toml");

@@ -17,7 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 namespace fs = std::filesystem;
+using millwear::testing::TempDir;
 
 namespace {
 
@@ -36,14 +39,7 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("millwear-view-test-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-Result millwear(const std::string& args, const fs::path& dir) {
+Result run_millwear(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
   const std::string cmd = q(MILLWEAR_BINARY) + " " + args + " >" + q(out.string()) + " 2>" + q(err.string());
   const int status = std::system(cmd.c_str());
@@ -90,10 +86,10 @@ const std::string kLab = src("scenarios/lab-mill.toml");
 // min(width, height), centred, the shell at 0.45 of the side; species 0 is drawn (66,135,245).
 // The other tests use a 640 x 400 window: software OpenGL's cost grows with the pixels.
 TEST(View, ScreenshotShowsTheChargeInsideTheShell) {
-  const fs::path dir = temp_dir("shot");
+  const TempDir dir("millwear-view-test-shot");
   const std::string png = (dir / "s.png").string();
   // The command as a user types it (the default 1280 x 800 window; the lab scene is draft).
-  const Result r = millwear("view " + q(kLab) + " --frames 300 --screenshot " + q(png), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --frames 300 --screenshot " + q(png), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("frames/s"), std::string::npos) << r.out;
   int w = 0, h = 0, n = 0;
@@ -127,7 +123,7 @@ TEST(View, ScreenshotShowsTheChargeInsideTheShell) {
 // reads it centrifuged); back at 0.75 it has a toe and a shoulder again; a larger filling
 // adds disks and none escapes or goes non-finite.
 TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
-  const fs::path dir = temp_dir("script");
+  const TempDir dir("millwear-view-test-script");
   write(dir / "s.txt",
         "0 time_scale 3\n"   // 3/60 s simulated a frame: times below are a third of the simulated
         "0 speed 1.5\n"
@@ -137,7 +133,7 @@ TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
         "4 filling 0.4 0.4\n"
         "5 report\n"
         "5 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rep = reports(r.out);
   ASSERT_EQ(rep.size(), 3u) << r.out;
@@ -156,9 +152,9 @@ TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
 // A value the scene checker refuses is refused with its message, and the run says so (exit 2);
 // the message is the one `millwear charge` gives for a scene file with that value.
 TEST(View, RefusesAValueWithTheCheckersMessage) {
-  const fs::path dir = temp_dir("refuse");
+  const TempDir dir("millwear-view-test-refuse");
   write(dir / "s.txt", "0 filling 1.5\n0.5 report\n0.5 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   // The same value in a copy of the scene, checked by `millwear charge`.
   std::string text = slurp(kLab);
@@ -168,7 +164,7 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
   const auto prof = text.find("../profiles/");
   text.replace(prof, 12, src("profiles/"));
   write(dir / "lab-mill.toml", text);
-  const Result c = millwear("charge " + q((dir / "lab-mill.toml").string()) + " -o " + q((dir / "out").string()), dir);
+  const Result c = run_millwear("charge " + q((dir / "lab-mill.toml").string()) + " -o " + q((dir / "out").string()), dir);
   ASSERT_EQ(c.exit_code, 2);
   // "FILE: charge.filling: expected ..." -> the part after the file name.
   const std::string want = c.err.substr(c.err.find("charge.filling"));
@@ -184,17 +180,17 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
 // Values past what the panel's controls allow are refused with the script's line before the
 // window opens (a time scale of 1e9 hung the first frame; wear of 1e12 h overflowed a count).
 TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
-  const fs::path dir = temp_dir("script-range");
+  const TempDir dir("millwear-view-test-script-range");
   for (const char* bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12"}) {
     write(dir / "s.txt", std::string("0 report\n") + bad + "\n1 quit\n");
-    const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+    const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find("line 2"), std::string::npos) << bad << "\n" << r.err;
     EXPECT_TRUE(reports(r.out).empty()) << bad << ": the window ran";
   }
   // A script saved with a byte-order mark reads.
   write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");
-  const Result ok = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "bom.txt").string()), dir);
+  const Result ok = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "bom.txt").string()), dir);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
   fs::remove_all(dir);
 }
@@ -202,15 +198,15 @@ TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
 // A script's files go into folders it names, made as a recording's are; a command that cannot
 // do its work names the script's line.
 TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
-  const fs::path dir = temp_dir("script-files");
+  const TempDir dir("millwear-view-test-script-files");
   write(dir / "s.txt", "0.2 save_scene " + (dir / "out/edited.toml").string() + "\n0.2 screenshot " +
                           (dir / "shots/a.png").string() + "\n0.4 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "out/edited.toml"));
   EXPECT_TRUE(fs::exists(dir / "shots/a.png"));
   write(dir / "p.txt", "0 report\n0.2 save_profiles " + (dir / "prof").string() + "\n0.4 quit\n");
-  const Result p = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "p.txt").string()), dir);
+  const Result p = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "p.txt").string()), dir);
   EXPECT_EQ(p.exit_code, 1) << p.err;
   EXPECT_NE(p.err.find("script line 2, save_profiles"), std::string::npos) << p.err;
   fs::remove_all(dir);
@@ -220,7 +216,7 @@ TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
 // saved, measure one process: they agree within four standard errors of their difference.
 // The view's batch-means error is scaled to charge's shorter window for charge's own.
 TEST(View, SavedScenesPowerMatchesTheReadout) {
-  const fs::path dir = temp_dir("power");
+  const TempDir dir("millwear-view-test-power");
   const std::string saved = (dir / "saved.toml").string();
   write(dir / "s.txt",
         "0 time_scale 4\n"   // 20 s simulated
@@ -228,7 +224,7 @@ TEST(View, SavedScenesPowerMatchesTheReadout) {
         "5 report\n"
         "5 save_scene " + saved + "\n"
         "5 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto rep = reports(r.out);
   ASSERT_EQ(rep.size(), 1u) << r.out;
@@ -237,7 +233,7 @@ TEST(View, SavedScenesPowerMatchesTheReadout) {
   ASSERT_GE(batches, 8) << r.out;
   ASSERT_GT(sem_view, 0.0);
   const double revs = 4.0;
-  const Result c = millwear("charge " + q(saved) + " -o " + q((dir / "out").string()) + " --revolutions 4", dir);
+  const Result c = run_millwear("charge " + q(saved) + " -o " + q((dir / "out").string()) + " --revolutions 4", dir);
   ASSERT_EQ(c.exit_code, 0) << c.err;
   const std::string csv = slurp(dir / "out" / "charge_summary.csv");
   const auto at = csv.find("power_per_m,");
@@ -252,15 +248,15 @@ TEST(View, SavedScenesPowerMatchesTheReadout) {
 // Wear mode runs the scene's wear history: the profiles it draws are, byte for byte, the ones
 // `millwear run` writes for the same scene and seed.
 TEST(View, WearModeDrawsTheProfilesRunWrites) {
-  const fs::path dir = temp_dir("wear");
+  const TempDir dir("millwear-view-test-wear");
   write(dir / "s.txt",
         "0 wear 200\n"
         "0 wait_wear\n"
         "0 save_profiles " + (dir / "view").string() + "\n"
         "0 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const Result run = millwear("run " + q(kLab) + " --fidelity draft -q -o " + q((dir / "run").string()), dir);
+  const Result run = run_millwear("run " + q(kLab) + " --fidelity draft -q -o " + q((dir / "run").string()), dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   for (int k = 0; k <= 2; ++k) {
     const std::string name = "profiles/lab-mill_stage" + std::to_string(k) + ".csv";
@@ -277,7 +273,7 @@ TEST(View, WearModeDrawsTheProfilesRunWrites) {
 // them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
 // writes a frame sequence.
 TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
-  const fs::path dir = temp_dir("edits");
+  const TempDir dir("millwear-view-test-edits");
   const std::string saved = (dir / "edited.toml").string();
   write(dir / "s.txt",
         "0 lifter 25 20 25\n"
@@ -287,7 +283,7 @@ TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
         "1 report\n"
         "1 save_scene " + saved + "\n"
         "1 quit\n");
-  const Result r = millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string scene = slurp(saved), lifter = slurp(dir / "edited_lifter.toml");
   EXPECT_NE(scene.find("direction = \"reverse\""), std::string::npos) << scene;
@@ -301,7 +297,7 @@ TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
   for (const auto& e : fs::directory_iterator(dir / "frames")) frames += e.path().extension() == ".png";
   EXPECT_GE(frames, 30);
   EXPECT_LE(frames, 31);
-  const Result check = millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
   fs::remove_all(dir);
 }
