@@ -19,8 +19,8 @@
 #include "metrics/estimates.hpp"
 #include "scene/scene.hpp"
 #include "study/design_estimates.hpp"
-#include "wear/life.hpp"
 #include "temp_dir.hpp"
+#include "wear/life.hpp"
 
 namespace fs = std::filesystem;
 using millwear::testing::TempDir;

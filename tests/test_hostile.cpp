@@ -764,15 +764,22 @@ TEST(HostileOptions, AnOutputPathWithAnOverlongNameOrANewlineIsRefusedBeforeTheW
 TEST(HostileOptions, RefusalsNameTheOptionOrTheDamagedFile) {
   const TempDir dir("millwear-hostile-options-named");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
-  const auto r = run_millwear("rule1 " + lab + " --factors 1e-300");
+  const auto r = run_millwear("rule1 " + lab + " --factors 1e5 1e-300");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--factors, --stages: factors within the run's limits over 1 stage; factor 1e-300 gives"),
             std::string::npos)
       << r.output;
   // A factor out of range is written as given, not as a 309-digit number.
-  const auto big = run_millwear("rule1 " + lab + " --factors 1e308");
+  const auto big = run_millwear("rule1 " + lab + " --factors 1e5 1e308");
   EXPECT_EQ(big.exit_code, 2) << big.output;
   EXPECT_NE(big.output.find("got 1e+308"), std::string::npos) << big.output;
+  // One factor is compared with nothing: no recommendation can come of it.
+  const auto one = run_millwear("rule1 " + lab + " --factors 1e5 -o " + quoted(dir / "one"));
+  EXPECT_EQ(one.exit_code, 2) << one.output;
+  EXPECT_NE(one.output.find("--factors: at least two factors, each compared with the smallest; got 1"),
+            std::string::npos)
+      << one.output;
+  EXPECT_FALSE(fs::exists(dir / "one"));
   // tradeoff's --stages and --stage-hours make the history too long: they are named, not the
   // scene key whose limit they broke.
   const auto t = run_millwear("tradeoff " + lab + " -o " + quoted(dir / "ladder") +

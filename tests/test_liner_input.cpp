@@ -24,8 +24,8 @@
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
 #include "study/stage_files.hpp"
-#include "wear/wear.hpp"
 #include "temp_dir.hpp"
+#include "wear/wear.hpp"
 
 namespace fs = std::filesystem;
 
@@ -326,6 +326,29 @@ TEST(WornStart, NoisyScansOfAWornLifterAreTakenAndAFinIsRefused) {
     EXPECT_EQ(e.file, fin);
     EXPECT_EQ(e.where, "x_mm,y_mm");
   }
+}
+
+// The history starts from the scan re-smoothed, a little lower than the scan's highest point:
+// a replacement height between the two is refused before any work (its life would have
+// ended before the history began).
+TEST(WornStart, AReplacementHeightAboveTheReSmoothedLifterIsRefused) {
+  const std::string file = source_path("scenarios/lab-worn-start.toml");
+  const Scene scene = load_scene(file);
+  const double start_m = measure_lifter(starting_unit(scene, 0, smoothing_radius(scene)), scene.radius_m()).height_m;
+  double scan_top_m = 0.0;
+  for (const Vec2& p : scene.mill.kind(0).measured) scan_top_m = std::max(scan_top_m, p.y);
+  ASSERT_LT(start_m, scan_top_m);  // what the scene reader alone cannot see
+  const auto with_height = [&](double m) {
+    return load_scene(file, {"wear.replacement_height=" + io::format_number(m * 1e3)});
+  };
+  try {
+    check_scene(with_height(0.5 * (start_m + scan_top_m)), file);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "wear.replacement_height");
+    EXPECT_NE(std::string(e.what()).find("re-smoothed"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(check_scene(with_height(start_m - 1e-4), file));
 }
 
 TEST(WornStart, NoisyScanRunsFromItsHoursAndItsStageProfilesReadBack) {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "common/units.hpp"
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"

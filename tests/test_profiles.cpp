@@ -8,8 +8,8 @@
 
 #include <unistd.h>
 
-#include "common/units.hpp"
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "profiles/profile.hpp"
 #include "temp_dir.hpp"
 

@@ -10,8 +10,8 @@
 
 #include <unistd.h>
 
-#include "common/units.hpp"
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 #include "temp_dir.hpp"

@@ -135,6 +135,49 @@ TEST(ValidationSurveys, MalformedFilesNameFileAndLine) {
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,3,2\n100,0,0\n100,0,18\n", "line 4", "spanning a width");
 }
 
+// A survey's points follow the surface: shuffled points, or one lifter's points given twice in
+// a block, cross the surface over itself and are refused; a loop as small as a gauge's noise
+// on a steep face is cut out.
+TEST(ValidationSurveys, PointsOutOfOrderAreRefusedAndANoiseLoopIsCut) {
+  const std::string lifter = "-10,0\n-5,15\n5,15\n10,0\n";
+  auto block = [](const std::string& hours, const std::string& points) {
+    std::string out;
+    for (std::size_t at = 0; at < points.size();) {
+      const std::size_t end = points.find('\n', at);
+      out += hours + "," + points.substr(at, end - at) + "\n";
+      at = end + 1;
+    }
+    return out;
+  };
+  const std::string head = "hours,x_mm,y_mm\n" + block("0", lifter);
+  expect_survey_error(head + block("100", "-10,0\n5,15\n-5,15\n10,0\n"), "line 6", "crosses itself");
+  expect_survey_error(head + block("100", lifter + lifter), "line 6", "crosses itself");
+  // The face steps back across itself by a few hundredths of a square millimetre.
+  const auto s = validation::parse_surveys(head + block("100", "-10,0\n-7,6\n-6.8,6.6\n-7.1,6.4\n-6.7,6.2\n-5,10\n5,15\n10,0\n"),
+                                           "noisy.csv");
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_TRUE(is_simple_open(s[1].profile_m));
+  EXPECT_LT(s[1].profile_m.size(), 8u);
+  EXPECT_EQ(s[1].profile_m.front(), (Vec2{-10e-3, 0.0}));
+  EXPECT_EQ(s[1].profile_m.back(), (Vec2{10e-3, 0.0}));
+}
+
+// A survey beside the lifter (over the shell alone) has no lifter area to be a share of.
+TEST(ValidationSurveys, ASurveyBesideTheLifterIsRefused) {
+  const Scene scene = testing::lab_mill();
+  const LinerUnit unit = new_liner_unit(scene);
+  const auto beside = validation::parse_surveys("hours,x_mm,y_mm\n0,-19.22,-0.15\n0,-18.15,-0.15\n", "beside.csv");
+  try {
+    validation::check_surveys_over_lifter(beside, unit, scene.radius_m(), "beside.csv");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "line 2");
+    EXPECT_NE(std::string(e.what()).find("no metal above the shell line"), std::string::npos) << e.what();
+  }
+  const auto over = validation::parse_surveys("hours,x_mm,y_mm\n0,-19.22,-0.15\n0,-10,5\n", "over.csv");
+  EXPECT_NO_THROW(validation::check_surveys_over_lifter(over, unit, scene.radius_m(), "over.csv"));
+}
+
 TEST(ValidationCli, MalformedMeasurementFilesExitTwoNamingFileAndLine) {
   const TempDir d("millwear-test-validation-cli");
   const std::string bad = (d / "bad-surveys.csv").string();

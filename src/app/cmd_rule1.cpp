@@ -131,7 +131,7 @@ void register_rule1(CLI::App& app, Action* action) {
   cmd->add_option("scene", args->scene, "scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", args->out, "output folder: rule1.csv, the profiles and Fig. 5 (default: print only)")
       ->check(output_folder());
-  cmd->add_option("--factors", args->options.factors, "factors C_model/C to compare (default: f/2, f, 2f, 10f)")
+  cmd->add_option("--factors", args->options.factors, "factors C_model/C to compare, at least two (default: f/2, f, 2f, 10f)")
       ->check(finite_positive());
   cmd->add_option("--replicates", args->options.replicates,
                   "histories per factor, seeds s, s+1, ... (" + default_text(args->options.replicates) + ")")

@@ -337,8 +337,6 @@ constexpr double kSamePointM = 1e-6;
 // The ends of a measured surface may lie this far above the shell line and still count as on
 // it (the rounding of a file written in mm).
 constexpr double kEndTolM = 1e-6;
-// The largest loop cut out of a measured surface as noise, a share of the lifter's area.
-constexpr double kMaxNoiseLoopShare = 0.01;
 
 }  // namespace
 

@@ -50,6 +50,9 @@ struct LifterProfile {
 // A whole liner unit's scan is its pitch wide, and that pitch the mill's, to within this
 // share of the pitch (a gauge's placement; the same slack as a scan's overrun of the pitch).
 constexpr double kPitchTolerance = 0.01;
+// The largest loop cut out of a measured surface as a gauge's noise (points stepping back on
+// a steep face), as a share of the lifter's area; a larger loop is points out of order.
+constexpr double kMaxNoiseLoopShare = 0.01;
 
 // Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
 struct ProfileMetrics {

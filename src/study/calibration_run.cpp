@@ -36,6 +36,8 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   });
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
+  if (!measured.areas_only)
+    check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > 0.0;
   if (!worn)

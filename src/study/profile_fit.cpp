@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+
+#include "common/errors.hpp"
+#include "io/csv.hpp"
 
 namespace millwear::validation {
 
@@ -147,6 +151,21 @@ ProfileComparison compare_profile(const Survey& measured, const Polyline& simula
   const double new_area = area_between(new_surface, xa, xb, radius_m);
   c.area_error_pct = new_area > 0.0 ? 100.0 * c.area_error_m2 / new_area : std::nan("");
   return c;
+}
+
+void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                               const std::string& file) {
+  for (const Survey& s : surveys) {
+    const double xa = s.profile_m.front().x, xb = s.profile_m.back().x;
+    if (area_between(new_unit.surface, xa, xb, radius_m) > 0.0) continue;
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "a survey over part of the lifter; the survey at %s h spans x = %.4g to %.4g mm, where the new "
+                  "lifter has no metal above the shell line (its base spans x = %.4g to %.4g mm)",
+                  io::format_number(s.hours).c_str(), xa * 1e3, xb * 1e3, -new_unit.lifter_half_base_m * 1e3,
+                  new_unit.lifter_half_base_m * 1e3);
+    throw InputError(file, "line " + std::to_string(s.first_line), buf);
+  }
 }
 
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {

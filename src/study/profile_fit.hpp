@@ -73,6 +73,12 @@ struct ProfileComparison {
 ProfileComparison compare_profile(const Survey& measured, const Polyline& simulated, double radius_m,
                                   double new_height_m, const Polyline& new_surface);
 
+// Every survey spans part of the new lifter (`new_unit`, the scene's): the new lifter has
+// metal between the survey's ends, of which a survey's area error is a share. Throws
+// InputError(file, "line N", ...) naming the first survey beside the lifter.
+void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                               const std::string& file);
+
 // The survey version of calibration.hpp's common_stage_hours.
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = 50);
 

@@ -146,7 +146,11 @@ const char* verdict_name(Rule1Verdict v) {
 Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   std::vector<double> factors = options.factors;
   std::stable_sort(factors.begin(), factors.end());
-  if (factors.empty()) throw InputError("", "--factors", "at least one factor");
+  // Each factor's histories are compared with the smallest factor's: one factor alone is
+  // compared with nothing. (The same factor twice is a comparison: of two sets of seeds.)
+  if (factors.size() < 2)
+    throw InputError("", "--factors",
+                     "at least two factors, each compared with the smallest; got " + std::to_string(factors.size()));
   if (options.replicates < 1 || options.replicates > 1000)
     throw InputError("", "--replicates", "1 to 1000 histories per factor, got " + std::to_string(options.replicates));
   const auto nrep = static_cast<std::uint64_t>(options.replicates);

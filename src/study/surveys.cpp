@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "common/errors.hpp"
 #include "common/text.hpp"
 #include "io/csv.hpp"
+#include "profiles/profile.hpp"
 
 namespace millwear::validation {
 
@@ -15,6 +17,28 @@ namespace {
 constexpr double kMm = 1e-3;
 
 std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + std::to_string(d.row_line[row]); }
+
+// A survey's points follow the surface in order. Shuffled points, or two lifters' points in
+// one block, cross the surface over itself, and its areas and distances mean nothing. Loops
+// as small as a gauge's noise on a steep face (as a measured profile's, profiles/profile.hpp)
+// are cut out; a larger loop is refused.
+Polyline without_noise_loops(const Survey& s, const std::string& name) {
+  Polygon loop;
+  const Polyline cut = without_loops(s.profile_m, &loop);
+  if (loop.empty()) return cut;
+  // The area the survey encloses with the chord between its ends.
+  const double survey_m2 = std::abs(signed_area(s.profile_m));
+  const double loop_m2 = std::abs(signed_area(loop));
+  if (cut.size() >= 2 && is_simple_open(cut) && loop_m2 <= kMaxNoiseLoopShare * survey_m2) return cut;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "points in order along the surface: the survey at %s h crosses itself at x = %.4g, y = %.4g mm "
+                "around a loop of %.4g mm^2 (loops of a gauge's noise, under %.0f%% of the area the survey "
+                "encloses, are cut out); are its points in order, and of one lifter?",
+                io::format_number(s.hours).c_str(), loop[0].x / kMm, loop[0].y / kMm, loop_m2 / (kMm * kMm),
+                100.0 * kMaxNoiseLoopShare);
+  throw InputError(name, "line " + std::to_string(s.first_line), buf);
+}
 
 }  // namespace
 
@@ -80,6 +104,7 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
                      "at least 2 points in the survey at " + io::format_number(surveys.back().hours) + " h");
   for (Survey& s : surveys) {
     if (s.profile_m.front().x > s.profile_m.back().x) std::reverse(s.profile_m.begin(), s.profile_m.end());
+    s.profile_m = without_noise_loops(s, name);
     // Its area and area error are over the span between its ends: a span of no width has none.
     if (!(s.profile_m.back().x - s.profile_m.front().x > 0.0))
       throw InputError(name, "line " + std::to_string(s.first_line),

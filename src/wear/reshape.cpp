@@ -256,6 +256,18 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
   }
   const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
   if (thinnest < needed) refuse_thin_lifter(scene, file, kind, needed, thinnest, true);
+  // The history starts from the re-smoothed lifter, a little lower than the scan's highest
+  // point (which the scene reader compares with): a replacement height between the two would
+  // give a life that ended before the history began.
+  const double start_height_m = measure_lifter(unit, scene.radius_m()).height_m;
+  if (!(scene.wear.replacement_height_m < start_height_m)) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "a height below the measured lifter's as the history starts from it, %.4g mm (%s re-smoothed at "
+                  "%.3g mm, wear.smoothing_radius), got %.4g mm",
+                  start_height_m * 1e3, p.source_file.c_str(), r * 1e3, scene.wear.replacement_height_m * 1e3);
+    throw InputError(file, "wear.replacement_height", buf);
+  }
 }
 
 void check_smoothing_radius(const Scene& scene, const std::string& file, int kind) {
