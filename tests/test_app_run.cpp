@@ -320,6 +320,16 @@ TEST_F(AppRunCli, MissingSceneExits2) {
   expect_bad("run -o " + q(dir_ / "out"), "scene");
 }
 
+// A comparison file given to a command of one design: the message names it as one and the
+// scenes it compares.
+TEST_F(AppRunCli, AComparisonGivenToAOneDesignCommandIsNamedAsOne) {
+  for (const std::string cmd : {"charge", "rule1"})
+    expect_bad(cmd + " " + src("scenarios/sag-2x30-vs-1x30.toml") + " -o " + q(dir_ / "out"),
+               "sag-2x30-vs-1x30.toml: comparison: a scene of one design; this file is a comparison of designs");
+  expect_bad("charge " + src("scenarios/sag-2x30-vs-1x30.toml") + " -o " + q(dir_ / "out"),
+             "(sag-2x30.toml, sag-1x30.toml, beside it)");
+}
+
 TEST_F(AppRunCli, BadFidelityNameExits2) {
   expect_bad("run " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") + " --fidelity sloppy",
              "fidelity");
@@ -391,6 +401,24 @@ TEST_F(AppRunCli, ShippedComparisonSceneIsValid) {
   EXPECT_NE(r.output.find("sag-1x30: "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("reference"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(" disks)"), std::string::npos) << r.output;  // the charge's size, before it is run
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// `charge --check` gives the charge's size and runs nothing: a diameter in mm written as m
+// shows as over a million disks before hours of computing.
+TEST_F(AppRunCli, ChargeCheckGivesTheDisksAndRunsNothing) {
+  const std::string base = "charge " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") + " --check";
+  const Result small = run(base);
+  EXPECT_EQ(small.exit_code, 0) << small.output;
+  const Result big = run(base + " --set mill.diameter=50");
+  EXPECT_EQ(big.exit_code, 0) << big.output;
+  const auto disks = [](const std::string& text) {
+    const std::size_t at = text.find("about ");
+    return at == std::string::npos ? 0.0 : std::stod(text.substr(at + 6));
+  };
+  EXPECT_GT(disks(small.output), 100.0) << small.output;
+  EXPECT_LT(disks(small.output), 1000.0) << small.output;
+  EXPECT_GT(disks(big.output), 1e6) << big.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 

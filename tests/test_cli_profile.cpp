@@ -103,6 +103,14 @@ TEST_F(CliProfile, NotTomlExitsTwoWithLine) {
   expect_rejected("this is not TOML at all\n", "line 1");
 }
 
+// A scene or a comparison where a profile belongs: the message says what the file is.
+TEST_F(CliProfile, ASceneFileGivenAsAProfileIsNamedAsOne) {
+  const Result r = run("profile \"" + std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("lab-mill.toml: form: a lifter profile"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("it is a scene file"), std::string::npos) << r.output;
+}
+
 TEST_F(CliProfile, MissingFileExitsTwo) {
   const Result r = run("profile \"" + (dir_ / "absent.toml").string() + "\"");
   EXPECT_EQ(r.exit_code, 2) << r.output;

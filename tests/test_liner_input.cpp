@@ -655,6 +655,13 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
                    " --stage 7 -q");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--stage"), std::string::npos) << r.output;
+  // From the run's last stage (the default) the scene's own stages end where the run ended:
+  // the refusal says how to go on.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "y") + " --continue " + quoted(first) + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("wear.stages: more stages than the one the run continues from (4)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--set wear.stages=8"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -36,6 +36,18 @@ TEST(SweepVary, ARangeIncludesItsLastValueWrittenWithoutRoundingNoise) {
   EXPECT_DOUBLE_EQ(a.values.back(), 1.6);
 }
 
+// LAST is one of the values: steps that pass it are refused, naming the two values around it.
+TEST(SweepVary, ARangeWhoseStepsPassItsLastValueIsRefused) {
+  try {
+    study::parse_vary("mill.speed=0.5:1.0:0.3");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--vary mill.speed");
+    EXPECT_NE(std::string(e.what()).find("the values go 0.8, then 1.1"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(study::parse_vary("mill.speed=0.5:1.1:0.3").texts.back(), "1.1");
+}
+
 TEST(SweepVary, AListKeepsItsValuesAsWritten) {
   const study::SweepAxis a = study::parse_vary("lifters.rows=10, 12,16");
   ASSERT_EQ(a.texts.size(), 3u);

@@ -16,6 +16,7 @@
 #include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/filling.hpp"
 #include "scene/scene.hpp"
 #include "study/charge_outputs.hpp"
 #include "study/charge_run.hpp"
@@ -33,6 +34,8 @@ struct ChargeArgs {
   double revolutions = 0.0;
   int threads = 0;
   bool vtk = false;
+  bool check = false;
+  bool quiet = false;
   std::vector<std::string> overrides;
 };
 
@@ -44,6 +47,16 @@ int run_charge(const ChargeArgs& args) {
     s.solver.threads = step_threads(args.threads);
     s.solver.threads_fit_size = args.threads == 0;
   });
+  // What is about to run, before the run: a charge of a million disks (a mill diameter in mm
+  // written as m) shows itself here, not after hours of silence.
+  char plan[256];
+  std::snprintf(plan, sizeof plan, "%s: about %.0f disks, fidelity %s, %g revolutions measured after settling",
+                scene.name.c_str(), expected_charge_disks(scene), scene.fidelity.c_str(), scene.run.revolutions);
+  if (args.check) {
+    std::printf("%s\n", plan);
+    return 0;
+  }
+  if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
   ChargeRunResult result = run_charge_only(scene);
@@ -138,6 +151,8 @@ void register_charge(CLI::App& app, Action* action) {
       ->check(finite_in(1e-6, 1e4));
   add_set_option(cmd, &args->overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of the measured window in OUT/vtk/ (as --set outputs.vtk=true)");
+  cmd->add_flag("--check", args->check, "validate the scene, print the disks it will hold, run nothing");
+  cmd->add_flag("-q,--quiet", args->quiet, "no line before the run, only the results");
   cmd->callback([args, action] { *action = [args] { return run_charge(*args); }; });
 }
 

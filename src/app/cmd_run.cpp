@@ -154,8 +154,9 @@ int run_command(const RunArgs& args) {
   }
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   print_final_summary(state, r.wall_s);
-  std::printf("results in %s (summary.csv, manifest.json, profiles/); figures in %s\n", args.plan.out.c_str(),
-              io::plots_out_dir(args.plan.out).c_str());
+  std::printf("results in %s (summary.csv, manifest.json, profiles/)", args.plan.out.c_str());
+  if (r.figures_written > 0) std::printf("; figures in %s", io::plots_out_dir(args.plan.out).c_str());
+  std::printf("\n");
   for (std::size_t i = 0; i < plan.designs.size(); ++i)
     if (state.designs[i]->status == study::DesignStatus::Failed)
       std::fprintf(stderr, "millwear: run failed: %s: %s (finished stages are kept; --resume retries)\n",

@@ -46,7 +46,9 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
                 p.collision_kW, p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, p.centrifuged ? "centrifuged" : toe,
                 p.centrifuged ? "centrifuged" : shoulder, p.error.empty() ? "" : "  FAILED");
   }
-  std::printf("results in %s (sweep.csv, manifest.json, points/); figures in %s/plots\n", q.out.c_str(), q.out.c_str());
+  std::printf("results in %s (sweep.csv, manifest.json, points/)", q.out.c_str());
+  if (!r.figure_files.empty()) std::printf("; figures in %s/plots", q.out.c_str());
+  std::printf("\n");
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   for (const study::SweepPoint& p : r.points)
     if (!p.error.empty())

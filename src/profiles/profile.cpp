@@ -169,6 +169,14 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
                      "expected a TOML profile file: " + std::string(e.description()));
   }
 
+  // A scene or comparison file given where a profile belongs: say what the file is.
+  if (!root.contains("form"))
+    for (const char* table : {"mill", "lifters", "comparison"})
+      if (root.contains(table))
+        throw InputError(path, "form",
+                         std::string("a lifter profile (name, form and its shape); this file has a [") + table +
+                             "] table: it is a " + (std::string(table) == "comparison" ? "comparison" : "scene") +
+                             " file, and a scene names its profile in lifters.profile");
   const std::string form_name = string_at(root, "form", path, "\"trapezoid\" or \"polyline\"");
   ProfileForm form;
   if (form_name == "trapezoid") {

@@ -719,6 +719,17 @@ InputError not_toml(const std::string& path, const toml::parse_error& e) {
 
 // The scene from its parsed table (the file's, with the overrides in it).
 Scene read_scene(const toml::table& root, const std::string& path) {
+  // A comparison file names scenes; it is not one. Say so rather than call its table unknown.
+  if (root.contains("comparison")) {
+    std::string designs;
+    if (const toml::array* a = root["comparison"]["designs"].as_array())
+      for (const toml::node& d : *a)
+        if (const auto v = d.value<std::string>()) designs += (designs.empty() ? "" : ", ") + *v;
+    throw InputError(path, "comparison",
+                     "a scene of one design; this file is a comparison of designs ([comparison]), which `millwear "
+                     "run` and `millwear tradeoff` take. Give one of its designs' scenes" +
+                         (designs.empty() ? std::string() : " (" + designs + ", beside it)"));
+  }
   Scene s;
   s.source_file = path;
   s.name = safe_name_from(fs::path(path).stem().string());

@@ -172,7 +172,9 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                                            std::to_string(last) + "), got " + std::to_string(k));
     if (k >= d.scene.wear.stages)
       throw InputError(d.files.front(), "wear.stages",
-                       "more stages than the one the run continues from (" + std::to_string(k) + ")");
+                       "more stages than the one the run continues from (" + std::to_string(k) +
+                           "): the continued run goes on to the scene's last stage, so give it more stages, e.g. "
+                           "--set wear.stages=" + std::to_string(k + d.scene.wear.stages));
     d.continue_run = run;
     d.continue_stage = k;
     d.continue_hours = study::read_stage_state(run, d.name, k).hours;

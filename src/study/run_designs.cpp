@@ -580,6 +580,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     }
     // The manifest again, now listing the figures and their data files too.
     std::lock_guard<std::mutex> lock(ctx.mutex);
+    outcome.figures_written = figures.size();
     for (const auto& f : figures) note(ctx, out, f);
     for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
     study::write_manifest(report_of(ctx, opt, true));

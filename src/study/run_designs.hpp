@@ -91,6 +91,7 @@ struct RunOutcome {
   int signal = 0;                 // the signal that stopped it (0: stop_after_stage)
   bool figures_failed = false;
   std::string figure_error;
+  std::size_t figures_written = 0;  // files under OUT/plots (none with figures off or no gnuplot)
   double wall_s = 0.0;
 };
 

@@ -264,6 +264,11 @@ SweepAxis parse_vary(const std::string& text) {
     if (last < first) throw InputError("", "--vary " + a.key, "expected LAST >= FIRST, got " + rest);
     // A millionth of a step: 0.5:1.6:0.1 ends at 1.6, whatever the rounding of 11 x 0.1.
     const double n = std::floor((last - first) / step + 1e-6);
+    // LAST is one of the values: a range whose steps pass it would leave it out unsaid.
+    if (std::abs(first + n * step - last) > 1e-6 * step)
+      throw InputError("", "--vary " + a.key,
+                       "expected LAST reached from FIRST in whole steps, got " + rest + ": the values go " +
+                           value_text(first + n * step) + ", then " + value_text(first + (n + 1) * step));
     if (n + 1 > static_cast<double>(kMaxSweepValues))
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values, got " +
                                                   value_text(n + 1));
