@@ -501,6 +501,26 @@ TEST_F(FolderRuns, AUsersFilesNamedLikeTemporariesSurviveARun) {
   EXPECT_FALSE(fs::exists(root_ / "ref/.millwear.lock")) << "the lock goes with the run";
 }
 
+// A user's file under a name a run writes, in a folder no run recorded, is not overwritten:
+// the run is refused naming it, and nothing is written.
+TEST_F(FolderRuns, AUsersFileUnderAResultsNameIsRefusedNotOverwritten) {
+  const fs::path out = root_ / "users-summary";
+  fs::create_directories(out / "profiles");
+  std::ofstream(out / "summary.csv") << "my own table\n";
+  const Result r = run("run " + quick_scene() + " -o " + q(out) + " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("summary.csv is there and no run recorded it"), std::string::npos) << r.output;
+  EXPECT_EQ(slurp(out / "summary.csv"), "my own table\n");
+  EXPECT_FALSE(fs::exists(out / "manifest.json"));
+  EXPECT_FALSE(fs::exists(out / "stages"));
+  // Only the folder under a run's name: the same file moved aside, the run goes ahead.
+  fs::rename(out / "summary.csv", out / "my-summary.csv");
+  fs::remove(out / "profiles");
+  const Result ok = run("run " + quick_scene() + " -o " + q(out) + " --quiet");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(slurp(out / "my-summary.csv"), "my own table\n");
+}
+
 // A second run into a folder another run is writing is refused at once (exit 2, naming the
 // folder and the running process); the first run's results are an undisturbed run's.
 TEST_F(FolderRuns, ASecondRunIntoABusyFolderIsRefusedAndTheFirstIsUndisturbed) {

@@ -65,9 +65,11 @@ TEST_F(CliProfile, CsvWritesOnePolylinePerProfileInMillimetres) {
                        " --csv \"" + (dir_ / "out").string() + "\"");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(dir_ / "out" / "2x30.csv");
-  std::string header, first;
+  std::string comment, header, first;
+  std::getline(in, comment);
   std::getline(in, header);
   std::getline(in, first);
+  EXPECT_EQ(comment.rfind("# written by millwear profile: 2x30 from ", 0), 0u) << comment;
   EXPECT_EQ(header, "x_mm,y_mm");
   EXPECT_EQ(first.substr(0, 9), "-165.4700");  // -(100 + 2 * 200 tan 30) / 2 mm
   EXPECT_TRUE(fs::exists(dir_ / "out" / "hi-lo-example.csv"));
@@ -130,6 +132,20 @@ TEST_F(CliProfile, NothingIsWrittenWhenAnyFileIsBad) {
 // A measured scan is named after its file: --csv into the scan's own folder would write the
 // lifter over the scan. Refused, the scan untouched, nothing printed; so are two profiles of
 // one name, before the table.
+// --csv replaces an earlier --csv's file, never a file of the user's under the same name.
+TEST_F(CliProfile, CsvReplacesItsOwnFileButNotAUsers) {
+  const std::string out = (dir_ / "out").string();
+  ASSERT_EQ(run("profile " + shipped("2x30.toml") + " --csv \"" + out + "\"").exit_code, 0);
+  const Result again = run("profile " + shipped("2x30.toml") + " --csv \"" + out + "\"");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  write("out/lab-2x30.csv", "x_mm,y_mm\n-20,0\n0,20\n20,0\n");  // a scan of the user's
+  const Result r = run("profile " + shipped("lab-2x30.toml") + " --csv \"" + out + "\"");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("lab-2x30.csv is another, which the profile's file would replace"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(millwear::testing::read_text(dir_ / "out/lab-2x30.csv"), "x_mm,y_mm\n-20,0\n0,20\n20,0\n");
+}
+
 TEST_F(CliProfile, CsvNeverOverwritesAnInputFile) {
   const std::string scan_text = "# a plant's scan\nx_mm,y_mm\n-20,-1\n-10,0\n-5,20\n5,20\n10,0\n20,-1\n";
   const std::string scan = write("scan.csv", scan_text);

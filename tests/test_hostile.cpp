@@ -1051,3 +1051,20 @@ TEST(HostileMeasured, AScanFarBelowTheShellLineIsRefused) {
     EXPECT_NE(r.output.find("a tenth of the mill radius"), std::string::npos) << r.output;
   }
 }
+
+// calibrate without -o writes its copy beside the scene: a file of the user's under that name
+// is refused before any run, and stays as it was.
+TEST(HostileFiles, CalibrateDoesNotReplaceAUsersFileUnderTheCopysName) {
+  const TempDir dir("millwear-hostile-calibrated-copy");
+  fs::create_directories(dir / "scenarios");
+  fs::create_directory_symlink(kSource + "/profiles", dir / "profiles");
+  fs::copy_file(kSource + "/scenarios/lab-mill.toml", dir / "scenarios/lab-mill.toml");
+  const fs::path mine = dir / "scenarios/lab-mill-calibrated.toml";
+  write(mine, "# my own edit of the lab mill\n");
+  const auto r = run_millwear("calibrate " + quoted(dir / "scenarios/lab-mill.toml") + " --measured " +
+                              quoted(fs::path(kSource + "/validation/lab-mill-surveys.csv")) + " --max-runs 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("lab-mill-calibrated.toml: no file, or one `millwear calibrate` wrote"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(read_text(mine), "# my own edit of the lab mill\n");
+}

@@ -452,6 +452,27 @@ TEST(IoRunFolder, PathConventions) {
   EXPECT_FALSE(io::is_valid_design_name("a b"));
 }
 
+// A folder no command marked holds the user's files: a command other than run takes it only
+// empty, and one marked by the command itself is its own to rewrite.
+TEST(IoRunFolder, AnUnmarkedFolderWithFilesIsNotTakenByACommand) {
+  TempDir dir{"millwear-io-taken"};
+  EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));  // empty
+  io::write_file_atomic(dir / "notes.txt", "mine");
+  io::write_file_atomic(dir / "spectrum.csv", "mine too");
+  try {
+    io::check_folder_not_taken(dir.path(), "charge");
+    ADD_FAILURE() << "taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "-o");
+    EXPECT_NE(std::string(e.what()).find("it holds notes.txt and 1 more that no millwear command recorded"),
+              std::string::npos)
+        << e.what();
+  }
+  io::mark_folder(dir.path(), "charge");
+  EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));
+  EXPECT_THROW(io::check_folder_not_taken(dir.path(), "sweep"), InputError);
+}
+
 TEST(IoRunFolder, FinishedStagesAreListedAndTheLastContiguousFound) {
   TempDir dir{"millwear-io"};
   io::create_run_folder(dir.path());

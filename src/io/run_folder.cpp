@@ -13,6 +13,7 @@
 #include "common/errors.hpp"
 #include "common/text.hpp"
 #include "io/atomic_write.hpp"
+#include "io/folder_lock.hpp"
 
 namespace millwear::io {
 
@@ -262,7 +263,20 @@ std::string folder_results_command(const std::string& out) {
 
 void check_folder_not_taken(const std::string& out, const std::string& command) {
   const std::string holds = folder_results_command(out);
-  if (holds.empty() || holds == command) return;
+  if (holds.empty()) {
+    std::error_code ec;
+    std::vector<std::string> found;
+    for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+      if (it->path().filename() != kFolderLockName) found.push_back(it->path().filename().string());
+    if (found.empty()) return;
+    std::sort(found.begin(), found.end());
+    throw InputError(out, "-o",
+                     "a new or empty folder, or one `millwear " + command + "` wrote, but it holds " + found.front() +
+                         (found.size() > 1 ? " and " + std::to_string(found.size() - 1) + " more" : std::string()) +
+                         " that no millwear command recorded, which a file of the same name would replace: use "
+                         "another folder");
+  }
+  if (holds == command) return;
   throw InputError(out, "-o",
                    "a folder that is new or holds results of `millwear " + command + "`, but it holds those of `millwear " +
                        holds + "`, which this command would partly overwrite: use another folder");

@@ -110,7 +110,9 @@ void mark_folder(const std::string& out, const std::string& command);
 std::string folder_results_command(const std::string& out);
 // For a command other than `run` that writes into OUT, before any work: throws
 // InputError(OUT, "-o", ...) if OUT holds another command's results, which this one would
-// overwrite in part (a run's liner, snapshot and spectrum files, its manifest).
+// overwrite in part (a run's liner, snapshot and spectrum files, its manifest), or if it
+// holds files no command recorded (the user's own, which a file of the same name would
+// replace; `run`, which tells its own files apart, keeps them beside its results).
 void check_folder_not_taken(const std::string& out, const std::string& command);
 
 }  // namespace millwear::io

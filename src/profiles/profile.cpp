@@ -550,6 +550,13 @@ void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const
                          "a folder other than the one holding " + input.source_file + " (" + target.string() +
                              " would overwrite it)");
     }
+    // Nor a file of the user's (a scan under the profile's name): only an earlier --csv's.
+    std::error_code ec;
+    if (fs::exists(target, ec) && io::read_file(target.string()).rfind(kProfileCsvHeader, 0) != 0)
+      throw InputError("", "--csv",
+                       "a folder without a file " + profiles[i].name + ".csv other than one `millwear profile --csv` "
+                       "wrote (its first line \"" + kProfileCsvHeader + " ...\"); " + target.string() +
+                           " is another, which the profile's file would replace");
   }
 }
 
@@ -560,7 +567,10 @@ std::vector<std::string> write_profile_csvs(const std::vector<LifterProfile>& pr
   if (ec || !fs::is_directory(dir)) throw InputError("", "--csv", "expected a writable directory: " + dir);
   std::vector<std::string> files;
   for (const LifterProfile& p : profiles) {
-    std::string text = "x_mm,y_mm\n";
+    std::string comment = std::string(kProfileCsvHeader) + " " + p.name + " from " + p.source_file;
+    for (char& c : comment)
+      if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // one comment line, whatever the path holds
+    std::string text = comment + "\nx_mm,y_mm\n";
     char line[96];
     for (const Vec2& v : p.points) {
       std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);

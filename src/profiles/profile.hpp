@@ -98,8 +98,12 @@ void validate_lifter_polyline(const Polyline& pts, const std::string& file, cons
 
 // `profile --csv DIR`: each profile's polyline to DIR/<name>.csv, in mm. The check comes
 // before anything is written: throws InputError when two profiles share a name (one file
-// would overwrite the other) or a target is one of the profiles' own input files.
+// would overwrite the other), a target is one of the profiles' own input files, or a target
+// exists and is not a file --csv wrote (its first line is not kProfileCsvHeader's).
 void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const std::string& dir);
+// The first line of every file write_profile_csvs writes (a comment: the file reads back as
+// a measured profile).
+constexpr const char* kProfileCsvHeader = "# written by millwear profile:";
 // Creates DIR (InputError("", "--csv", ...) if it cannot) and writes each file atomically.
 // Returns the files written.
 std::vector<std::string> write_profile_csvs(const std::vector<LifterProfile>& profiles, const std::string& dir);

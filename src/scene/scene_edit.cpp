@@ -133,7 +133,7 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
   if (auto e = profile_repoint(t, scene_path, edit.out_dir)) edits.push_back(*e);
   apply_spans(std::move(edits), lines, scene_path);
 
-  std::string out = "# Calibrated copy of " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
+  std::string out = std::string(kCalibratedCopyHeader) + " " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
   for (const auto& l : lines) out += l + "\n";
   return out;
 }

@@ -15,6 +15,9 @@ struct WearRateEdit {
                                     // resolve from there
 };
 
+// How a calibrated copy's first line begins: calibrate replaces only a file that begins so.
+constexpr const char* kCalibratedCopyHeader = "# Calibrated copy of";
+
 // The text of a scene file with its wear-rate key (wear.wear_rate, wear.area_loss_rate or
 // wear.height_loss_rate, whichever it has) replaced by `wear_rate = C   # m^3/J, NOTE`, the
 // key's line from the key to the line end (its old comment too); lifters.profile, when

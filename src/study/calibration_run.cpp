@@ -52,6 +52,12 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   const std::string stem = fs::path(a.scene_file).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;
   o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
+  // The calibrated copy replaces only an earlier calibrated copy, never a file of the user's.
+  if (io::file_exists(o.scene_out) && io::read_file(o.scene_out).rfind(kCalibratedCopyHeader, 0) != 0)
+    throw InputError(o.scene_out, a.out.empty() ? "" : "-o",
+                     std::string("no file, or one `millwear calibrate` wrote (its first line \"") +
+                         kCalibratedCopyHeader + " ...\"), where the calibrated copy of the scene goes; this file "
+                         "is another, which the copy would replace: move it, or give another folder with -o");
   // One writer per output folder, for the whole calibration (not the scene's own folder).
   std::optional<io::FolderLock> lock;
   if (!a.out.empty()) lock.emplace(a.out, "calibrate");

@@ -384,6 +384,23 @@ Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) 
   return Holds::Other;
 }
 
+// A folder no run recorded may hold the user's own files, which a run keeps; but not under a
+// name the run writes, which it would overwrite: the first such entry ("" if none).
+std::string unrecorded_output(const Plan& plan, const std::string& out) {
+  std::vector<std::string> names = {io::summary_path(out), io::join_path(out, "summary.md"), io::spectrum_path(out),
+                                    io::join_path(out, "kinds.csv"), io::join_path(out, "replicates.csv"),
+                                    io::profiles_dir(out), io::stages_dir(out), io::plots_out_dir(out),
+                                    io::join_path(out, "inputs"), io::join_path(out, "vtk")};
+  for (const auto& d : plan.designs) {
+    names.push_back(io::snapshot_path(out, d.name));
+    names.push_back(io::liner_path(out, d.name));
+  }
+  std::error_code ec;
+  for (const std::string& n : names)
+    if (fs::exists(fs::symlink_status(n, ec))) return n;
+  return "";
+}
+
 // --force: the files the earlier run wrote, by its manifest's list and by the names millwear
 // gives the stage files, snapshot and liner of each design its run.key names. Nothing else.
 void clear_other_run(const std::string& out) {
@@ -467,6 +484,12 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
                      "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
                      "its manifest.json lists; no other file is touched)");
   if (holds == Holds::Other) clear_other_run(out);
+  if (holds == Holds::None && io::folder_results_command(out).empty())
+    if (const std::string taken = unrecorded_output(plan, out); !taken.empty())
+      throw InputError(out, "-o",
+                       "a folder that is new or holds a run's results, but " + taken +
+                           " is there and no run recorded it (no manifest.json or stages/run.key); a run "
+                           "would overwrite it: move it, or use another folder");
   io::ensure_dir(out);
   io::mark_folder(out, "run");
   ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));
