@@ -90,6 +90,16 @@ TEST_F(CliProfile, FaceAngleOf90DegreesExitsTwo) {
                   "leading_face_angle");
 }
 
+// Just under 90 degrees the faces lean a base kilometres wide: held to a polyline's bounds.
+TEST_F(CliProfile, FacesLeaningTheBaseOutOfBoundsExitTwo) {
+  expect_rejected("form = \"trapezoid\"\nheight = 20.0\ntop_width = 10.0\n"
+                  "leading_face_angle = 30.0\ntrailing_face_angle = 89.9999\n",
+                  "trailing_face_angle");
+  const Result ok = run("profile \"" + write("fine.toml", "form = \"trapezoid\"\nheight = 20.0\ntop_width = 10.0\n"
+                                                        "leading_face_angle = 30.0\ntrailing_face_angle = 89.9\n") + "\"");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
 TEST_F(CliProfile, SelfIntersectingPolylineExitsTwo) {
   expect_rejected("form = \"polyline\"\npoints = [[-100, 0], [50, 200], [-50, 200], [100, 0]]\n",
                   "points");

@@ -580,6 +580,16 @@ TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
   r = millwear_cmd("screen " + q(m) + " -o " + q(dir / "out"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("screen.base"), std::string::npos) << r.output;
+  // A value given twice would make every candidate with it twice.
+  for (const auto& [family, says] : std::vector<std::pair<std::string, std::string>>{
+           {"leading_face_angle = [10.0, 20.0, 10.0]",
+            "family.leading_face_angle[2]: expected each value once, got 10 again (as family.leading_face_angle[0])"},
+           {"height = 20.0\ndirection = ['uni', 'uni']", "family.direction[1]: expected each direction once"}}) {
+    const fs::path t = write_screen(dir, "twice.toml", "[screen]\nbase = '" + lab_base() + "'\n[family]\n" + family + "\n");
+    r = millwear_cmd("screen " + q(t) + " -o " + q(dir / "out"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
+  }
 }
 
 TEST(ScreenInput, FamilyWithNoValidCandidateExitsTwo) {

@@ -247,6 +247,15 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
     }
     prof.trapezoid = t;
     prof.points = trapezoid_points(t);
+    // Faces near 90 degrees lean a base kilometres wide out of a few millimetres of height:
+    // held to the bounds of a drawn polyline's points.
+    for (const Vec2& p : prof.points)
+      if (!(std::abs(p.x) * 1e3 <= kMaxPointMm))
+        throw InputError(path, t.leading_face_angle_rad >= t.trailing_face_angle_rad ? "leading_face_angle"
+                                                                                      : "trailing_face_angle",
+                         "expected face angles that keep the base within +-" + fmt_num(kMaxPointMm) +
+                             " mm of the centre; at " + fmt_num(t.height_m * 1e3) + " mm high they reach x = " +
+                             fmt_num(p.x * 1e3) + " mm");
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
     prof.points = read_points(root, path);

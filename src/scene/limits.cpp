@@ -170,8 +170,8 @@ void check_step_counts(const Scene& scene, const std::string& file) {
     const double updates = height / w.max_depth_step_m;
     if (!(updates <= kMaxUpdates))
       throw InputError(file, "wear.max_depth_step",
-                       "expected at least " + count_text(height / kMaxUpdates * 1e6) + " um (the lifter's height over " +
-                           count_text(kMaxUpdates) + " updates), got " + count_text(w.max_depth_step_m * 1e6) + " um");
+                       "expected at least " + size_text(height / kMaxUpdates * 1e3) + " mm (the lifter's height over " +
+                           count_text(kMaxUpdates) + " updates), got " + size_text(w.max_depth_step_m * 1e3) + " mm");
   }
 }
 

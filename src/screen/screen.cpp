@@ -61,8 +61,16 @@ Axis read_axis(const tr::TableReader& r, const char* key, tr::Bounds b, const st
   } else if (n->is_array()) {
     const toml::array& arr = *n->as_array();
     if (arr.empty()) throw InputError(file, full, "expected " + what + ", got an empty list" + tr::line_text(*n));
-    for (std::size_t i = 0; i < arr.size(); ++i)
-      a.values.push_back(number(arr[i], full + "[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const std::string k = full + "[" + std::to_string(i) + "]";
+      const double v = number(arr[i], k);
+      // A value twice makes the same candidates twice: twice the work for one design.
+      for (std::size_t j = 0; j < a.values.size(); ++j)
+        if (a.values[j] == v)
+          throw InputError(file, k, "expected each value once, got " + io::format_exact(v) + " again (as " + full + "[" +
+                                        std::to_string(j) + "])" + tr::line_text(arr[i]));
+      a.values.push_back(v);
+    }
   } else if (n->is_table()) {
     tr::TableReader t(*n->as_table(), full, file, nullptr, {"min", "max", "steps"});
     if (!t.has("min")) t.missing("min", "the range's lower end (" + unit + ")");
@@ -193,8 +201,14 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
       return e.as_string()->get();
     };
     if (n->is_array() && !n->as_array()->empty()) {
-      for (std::size_t i = 0; i < n->as_array()->size(); ++i)
-        d.directions.push_back(word((*n->as_array())[i], "family.direction[" + std::to_string(i) + "]"));
+      for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
+        const std::string k = "family.direction[" + std::to_string(i) + "]";
+        const std::string w = word((*n->as_array())[i], k);
+        if (std::find(d.directions.begin(), d.directions.end(), w) != d.directions.end())
+          throw InputError(path, k, "expected each direction once, got \"" + w + "\" again" +
+                                        tr::line_text((*n->as_array())[i]));
+        d.directions.push_back(w);
+      }
     } else {
       d.directions.push_back(word(*n, "family.direction"));
     }
@@ -206,8 +220,16 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
       s.fail("equal_area", "no equal_area with family.profiles (it scales trapezoids only)");
     const toml::node* n = f.raw().get("profiles");
     if (!n->is_array() || n->as_array()->empty()) f.fail("profiles", "a list of profile files");
-    for (std::size_t i = 0; i < n->as_array()->size(); ++i)
-      d.profiles.push_back(listed_profile(path, (*n->as_array())[i], "family.profiles[" + std::to_string(i) + "]"));
+    for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
+      const std::string k = "family.profiles[" + std::to_string(i) + "]";
+      const std::string p = listed_profile(path, (*n->as_array())[i], k);
+      std::error_code ec;
+      for (std::size_t j = 0; j < d.profiles.size(); ++j)
+        if (fs::equivalent(d.profiles[j], p, ec))
+          throw InputError(path, k, "expected each profile file once, got " + p + " again (as family.profiles[" +
+                                        std::to_string(j) + "])" + tr::line_text((*n->as_array())[i]));
+      d.profiles.push_back(p);
+    }
   }
   if (!d.equal_area.empty() && d.top_width_mm.given)
     f.fail("top_width", "no top_width with screen.equal_area (the area sets the top width)");
