@@ -262,3 +262,31 @@ TEST(AppChargeImpacts, WritesTheImpactAndTrajectoryFiguresNamingTheSpecies) {
       EXPECT_NE(svg.find(word), std::string::npos) << figure << ": " << word;
   }
 }
+
+// A charge run's progress calls follow the settling and then the window through their
+// simulated time, and change no step: the figures are the same bits as a run without them.
+TEST(ChargeRunProgress, ReportsBothPhasesInOrderAndChangesNothing) {
+  Scene scene = millwear::testing::lab_mill();
+  scene.run.revolutions = 1.0;
+  std::vector<ChargeProgress> seen;
+  const ChargeRunResult with = run_charge_only(scene, [&](const ChargeProgress& p) { seen.push_back(p); });
+  const ChargeRunResult without = run_charge_only(scene);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_STREQ(seen.front().phase, "settling");
+  EXPECT_STREQ(seen.back().phase, "measuring");
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    if (std::string(seen[i].phase) != seen[i - 1].phase) {
+      EXPECT_STREQ(seen[i - 1].phase, "settling");  // one change, settling to measuring
+      continue;
+    }
+    EXPECT_GT(seen[i].done_s, seen[i - 1].done_s) << i;
+    EXPECT_LE(seen[i].done_s, seen[i].of_s) << i;
+  }
+  EXPECT_EQ(with.figures.power_kW_per_m, without.figures.power_kW_per_m);
+  ASSERT_EQ(with.final_state.position_m.size(), without.final_state.position_m.size());
+  for (std::size_t i = 0; i < with.final_state.position_m.size(); ++i) {
+    EXPECT_EQ(with.final_state.position_m[i], without.final_state.position_m[i]) << i;
+    EXPECT_EQ(with.final_state.velocity_m_s[i], without.final_state.velocity_m_s[i]) << i;
+  }
+  EXPECT_EQ(with.impacts.size(), without.impacts.size());
+}

@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <iostream>
 
+#include <unistd.h>
+
 #include "app/commands.hpp"
 #include "app/fidelity_option.hpp"
 #include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
+#include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
@@ -59,7 +62,17 @@ int run_charge(const ChargeArgs& args) {
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   const auto t0 = std::chrono::steady_clock::now();
-  ChargeRunResult result = run_charge_only(scene);
+  // A line every few seconds on a terminal, every minute in a log: a long charge is not silent.
+  const double every_s = ::isatty(STDERR_FILENO) ? 5.0 : kProgressEveryS;
+  double last_s = 0.0;
+  const auto progress = [&](const ChargeProgress& p) {
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (wall_s - last_s < every_s) return;
+    last_s = wall_s;
+    std::fprintf(stderr, "millwear charge: %s  %s, %.3g of %.3g s simulated, %s wall\n", clock_text().c_str(),
+                 p.phase, p.done_s, p.of_s, duration_text(wall_s).c_str());
+  };
+  ChargeRunResult result = args.quiet ? run_charge_only(scene) : run_charge_only(scene, progress);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const ChargeEstimates est = charge_estimates(scene, result);
   write_charge_outputs(args.out, scene, result, est, wall);

@@ -25,15 +25,24 @@ Accounting accounting_since(const Accounting& now, const Accounting& before) {
   return d;
 }
 
-ChargeRunResult run_charge_only(const Scene& scene) {
+ChargeRunResult run_charge_only(const Scene& scene, const std::function<void(const ChargeProgress&)>& on_progress) {
   ChargeRunResult r;
   r.mill = build_scene_mill(scene);
   const ChargeState initial = fill_charge(scene, r.mill);
   auto engine = make_engine(scene, r.mill, initial, accounting_options_for(scene));
   const double sign = direction_at(scene, 0.0);
-  settle_and_spin_up(*engine, scene, sign);
+  const double settle_s = scene.solver.settle_time_s + scene.solver.spinup_revolutions * scene.revolution_time_s();
+  const double t_start = engine->state().time_s;
+  std::function<void()> settling;
+  if (on_progress)
+    settling = [&] { on_progress({"settling", engine->state().time_s - t_start, settle_s}); };
+  settle_and_spin_up(*engine, scene, sign, settling);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps = steps_for(scene.run.revolutions * scene.revolution_time_s(), engine->time_step_s());
+  // A progress call about every kStopCheckDiskSteps disk-steps, as the settling's.
+  const long long report_every =
+      std::max<long long>(1, kStopCheckDiskSteps / std::max<long long>(1, static_cast<long long>(initial.size())));
+  const double dt_s = engine->time_step_s();
   // Pieces: kWindowBatches batches, each cut into frames_per_batch when frames are kept.
   const int frames_per_batch =
       scene.outputs.vtk ? (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches : 1;
@@ -52,6 +61,8 @@ ChargeRunResult run_charge_only(const Scene& scene) {
   for (long long k = 1; k <= pieces; ++k) {
     const long long upto = steps * k / pieces;
     for (; done < upto; ++done) {
+      if (on_progress && done % report_every == 0)
+        on_progress({"measuring", static_cast<double>(done) * dt_s, static_cast<double>(steps) * dt_s});
       engine->step(1);
       tracker.observe(engine->state());
     }

@@ -1,5 +1,6 @@
 #pragma once
 // Running the charge alone (no wear): fill, settle, spin up, measure some revolutions.
+#include <functional>
 #include <vector>
 
 #include "engine/engine.hpp"
@@ -34,11 +35,20 @@ struct ChargeRunResult {
   Engine::Timing timing;
 };
 
+// Where a charge run stands: the phase ("settling": settling and spinning up; "measuring":
+// the window) and the simulated seconds done of the phase's.
+struct ChargeProgress {
+  const char* phase = "";
+  double done_s = 0.0, of_s = 0.0;
+};
+
 // Fill, settle and spin up, then run scene.run.revolutions at the scene's speed
 // (forward for bidirectional mills). The window is stepped one step at a time, each step's
 // charge shown to a FlightTracker, and cut into batches (and frames); the steps are the same
-// as in one piece, so the figures do not depend on them.
-ChargeRunResult run_charge_only(const Scene& scene);
+// as in one piece, so the figures do not depend on them. `on_progress` (if any) is called
+// about every kStopCheckDiskSteps disk-steps; it changes no step.
+ChargeRunResult run_charge_only(const Scene& scene,
+                                const std::function<void(const ChargeProgress&)>& on_progress = {});
 
 // The sums of a window between two readings of the same engine's accounting (`before` taken
 // earlier, no reset between): a batch of it.
