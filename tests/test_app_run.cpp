@@ -420,6 +420,12 @@ TEST_F(AppRunCli, ChargeCheckGivesTheDisksAndRunsNothing) {
   EXPECT_LT(disks(small.output), 1000.0) << small.output;
   EXPECT_GT(disks(big.output), 1e6) << big.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
+  // The folder is checked as the command would check it: one holding a user's file is refused.
+  fs::create_directories(dir_ / "out");
+  std::ofstream(dir_ / "out" / "notes.txt") << "mine\n";
+  const Result taken = run(base);
+  EXPECT_EQ(taken.exit_code, 2) << taken.output;
+  EXPECT_NE(taken.output.find("this folder holds notes.txt"), std::string::npos) << taken.output;
 }
 
 // ---- One run per output folder ----
@@ -507,6 +513,9 @@ TEST_F(FolderRuns, AUsersFileUnderAResultsNameIsRefusedNotOverwritten) {
   const fs::path out = root_ / "users-summary";
   fs::create_directories(out / "profiles");
   std::ofstream(out / "summary.csv") << "my own table\n";
+  const Result check = run("run " + quick_scene() + " -o " + q(out) + " --check");  // found by --check too
+  EXPECT_EQ(check.exit_code, 2) << check.output;
+  EXPECT_NE(check.output.find("summary.csv is there and no run recorded it"), std::string::npos) << check.output;
   const Result r = run("run " + quick_scene() + " -o " + q(out) + " --quiet");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("summary.csv is there and no run recorded it"), std::string::npos) << r.output;

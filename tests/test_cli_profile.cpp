@@ -139,15 +139,18 @@ TEST_F(CliProfile, NothingIsWrittenWhenAnyFileIsBad) {
   EXPECT_EQ(r.output.find("2x30 "), std::string::npos) << "table printed before validation";
 }
 
-// A measured scan is named after its file: --csv into the scan's own folder would write the
-// lifter over the scan. Refused, the scan untouched, nothing printed; so are two profiles of
-// one name, before the table.
 // --csv replaces an earlier --csv's file, never a file of the user's under the same name.
 TEST_F(CliProfile, CsvReplacesItsOwnFileButNotAUsers) {
   const std::string out = (dir_ / "out").string();
   ASSERT_EQ(run("profile " + shipped("2x30.toml") + " --csv \"" + out + "\"").exit_code, 0);
   const Result again = run("profile " + shipped("2x30.toml") + " --csv \"" + out + "\"");
   EXPECT_EQ(again.exit_code, 0) << again.output;
+  // A file of the same points without the comment line (as --csv wrote before it had one).
+  const std::string text = millwear::testing::read_text(dir_ / "out/2x30.csv");
+  write("out/2x30.csv", text.substr(text.find('\n') + 1));
+  const Result older = run("profile " + shipped("2x30.toml") + " --csv \"" + out + "\"");
+  EXPECT_EQ(older.exit_code, 0) << older.output;
+  EXPECT_EQ(millwear::testing::read_text(dir_ / "out/2x30.csv"), text);
   write("out/lab-2x30.csv", "x_mm,y_mm\n-20,0\n0,20\n20,0\n");  // a scan of the user's
   const Result r = run("profile " + shipped("lab-2x30.toml") + " --csv \"" + out + "\"");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -156,6 +159,9 @@ TEST_F(CliProfile, CsvReplacesItsOwnFileButNotAUsers) {
   EXPECT_EQ(millwear::testing::read_text(dir_ / "out/lab-2x30.csv"), "x_mm,y_mm\n-20,0\n0,20\n20,0\n");
 }
 
+// A measured scan is named after its file: --csv into the scan's own folder would write the
+// lifter over the scan. Refused, the scan untouched, nothing printed; so are two profiles of
+// one name, before the table.
 TEST_F(CliProfile, CsvNeverOverwritesAnInputFile) {
   const std::string scan_text = "# a plant's scan\nx_mm,y_mm\n-20,-1\n-10,0\n-5,20\n5,20\n10,0\n20,-1\n";
   const std::string scan = write("scan.csv", scan_text);

@@ -457,6 +457,10 @@ TEST(IoRunFolder, PathConventions) {
 TEST(IoRunFolder, AnUnmarkedFolderWithFilesIsNotTakenByACommand) {
   TempDir dir{"millwear-io-taken"};
   EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));  // empty
+  // Hidden files (a file manager's, a killed command's temporaries) are no one's results.
+  io::write_file_atomic(dir / ".DS_Store", "x");
+  io::write_file_atomic(dir / ".summary.csv.millwear-tmp.123.0", "x");
+  EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));
   io::write_file_atomic(dir / "notes.txt", "mine");
   io::write_file_atomic(dir / "spectrum.csv", "mine too");
   try {
@@ -464,13 +468,20 @@ TEST(IoRunFolder, AnUnmarkedFolderWithFilesIsNotTakenByACommand) {
     ADD_FAILURE() << "taken";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where, "-o");
-    EXPECT_NE(std::string(e.what()).find("it holds notes.txt and 1 more that no millwear command recorded"),
+    EXPECT_NE(std::string(e.what()).find("this folder holds notes.txt and 1 more, of no millwear command's results"),
               std::string::npos)
         << e.what();
   }
   io::mark_folder(dir.path(), "charge");
   EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));
   EXPECT_THROW(io::check_folder_not_taken(dir.path(), "sweep"), InputError);
+  // A screen folder written before folders were marked is known by its screen.key.
+  TempDir old_screen{"millwear-io-old-screen"};
+  io::write_file_atomic(old_screen / "screen.key", "x");
+  io::write_file_atomic(old_screen / "designs.csv", "x");
+  EXPECT_EQ(io::folder_results_command(old_screen.path()), "screen");
+  EXPECT_NO_THROW(io::check_folder_not_taken(old_screen.path(), "screen"));
+  EXPECT_THROW(io::check_folder_not_taken(old_screen.path(), "charge"), InputError);
 }
 
 TEST(IoRunFolder, FinishedStagesAreListedAndTheLastContiguousFound) {

@@ -10,6 +10,7 @@
 #include "io/atomic_write.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_edit.hpp"
+#include "temp_dir.hpp"
 
 namespace millwear {
 namespace {
@@ -56,10 +57,9 @@ TEST(SceneEdit, TheProfilePathStillResolvesFromTheCopysFolder) {
   // The lab mill's copy in a folder beside scenarios/: the profile path is rewritten so that
   // the copy loads with the same lifter and exactly the new C (6 significant digits).
   const std::string scene = testing::source_path("scenarios/lab-mill.toml");
-  const fs::path dir = fs::path(::testing::TempDir()) / "scene_edit_copy";
-  fs::create_directories(dir);
+  const testing::TempDir dir("millwear-scene-edit-copy");
   const std::string copy = (dir / "lab-mill-calibrated.toml").string();
-  io::write_file_atomic(copy, calibrated_scene_text(io::read_file(scene), scene, {2.5e-10, "test", dir.string()}));
+  io::write_file_atomic(copy, calibrated_scene_text(io::read_file(scene), scene, {2.5e-10, "test", dir.path().string()}));
   const Scene a = load_scene(scene), b = load_scene(copy);
   EXPECT_EQ(b.wear.rate_source, WearRateSource::Given);
   EXPECT_EQ(b.wear.wear_rate_m3_per_J, 2.5e-10);

@@ -14,26 +14,20 @@
 #include <vector>
 
 #include "cli_support.hpp"
-#include "engine_fixtures.hpp"
 #include "common/errors.hpp"
+#include "engine_fixtures.hpp"
 #include "io/run_folder.hpp"
 #include "screen/collect.hpp"
 #include "screen/pool.hpp"
 #include "screen/run_screen.hpp"
 #include "screen/task.hpp"
+#include "temp_dir.hpp"
 
 namespace millwear::screen {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder per test.
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("screen_pool_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 std::vector<Candidate> three_designs(const fs::path& out) {
   std::vector<Candidate> v(3);
@@ -53,7 +47,8 @@ std::string fake_task(const fs::path& dir) {
 }
 
 TEST(ScreenPool, EachTaskRunsInItsOwnProcessAndACrashIsAFailedStatus) {
-  const fs::path out = fresh_dir("crash");
+  const testing::TempDir dir("millwear-screen-pool-crash");
+  const fs::path out = dir.path();
   const std::vector<Candidate> designs = three_designs(out);
   PoolOptions o;
   o.exe = fake_task(out);
@@ -84,7 +79,8 @@ TEST(ScreenPool, EachTaskRunsInItsOwnProcessAndACrashIsAFailedStatus) {
 }
 
 TEST(ScreenPool, AStopSignalStartsNoTask) {
-  const fs::path out = fresh_dir("stop");
+  const testing::TempDir dir("millwear-screen-pool-stop");
+  const fs::path out = dir.path();
   const std::vector<Candidate> designs = three_designs(out);
   const std::atomic<int> stop{15};
   PoolOptions o;
@@ -102,7 +98,8 @@ TEST(ScreenPool, AStopSignalStartsNoTask) {
 }
 
 TEST(ScreenTask, StatusRoundTripsWithLineEndsInTheReasonAsSpaces) {
-  const fs::path out = fresh_dir("status");
+  const testing::TempDir dir("millwear-screen-pool-status");
+  const fs::path out = dir.path();
   const std::vector<Candidate> designs = three_designs(out);
   write_task_status(out.string(), designs[0], "failed", 1, "first line\nsecond\rthird");
   const io::KeyValues kv = io::read_key_values(task_status_path(out.string(), "d000"));
@@ -114,7 +111,8 @@ TEST(ScreenTask, StatusRoundTripsWithLineEndsInTheReasonAsSpaces) {
 }
 
 TEST(ScreenTask, ATaskNumberOutsideTheDesignsIsAnInputError) {
-  const fs::path out = fresh_dir("range");
+  const testing::TempDir dir("millwear-screen-pool-range");
+  const fs::path out = dir.path();
   const std::vector<Candidate> designs = three_designs(out);
   try {
     run_screen_task(out.string(), designs, 3);
@@ -126,12 +124,14 @@ TEST(ScreenTask, ATaskNumberOutsideTheDesignsIsAnInputError) {
 }
 
 TEST(ScreenCollect, AFolderWithoutAScreenIsAnInputError) {
-  const fs::path out = fresh_dir("nothing");
+  const testing::TempDir dir("millwear-screen-pool-nothing");
+  const fs::path out = dir.path();
   EXPECT_THROW(collect_screen(out.string()), InputError);
 }
 
 TEST(ScreenRequest, AnUnknownEmitTargetIsAnInputErrorBeforeAnythingIsWritten) {
-  const fs::path out = fresh_dir("emit") / "out";
+  const testing::TempDir dir("millwear-screen-pool-emit");
+  const fs::path out = dir / "out";
   ScreenRequest r;
   r.screen_file = testing::source_path("tests/data/screen-lab.toml");
   r.out = out.string();

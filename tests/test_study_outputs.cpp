@@ -18,18 +18,12 @@
 #include "study/run_progress.hpp"
 #include "study/tradeoff_study.hpp"
 #include "study/validation_run.hpp"
+#include "temp_dir.hpp"
 
 namespace millwear {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(::testing::TempDir()) / ("study_outputs_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
 
 StageRecord stage(int k, double hours, double area_m2, double power_kW_per_m, double collision_kW_per_m) {
   StageRecord r;
@@ -59,7 +53,8 @@ struct OneDesignRun {
 };
 
 TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
-  const std::string out = fresh_dir("calibration");
+  const testing::TempDir dir("millwear-study-calibration");
+  const std::string out = dir.path().string();
   validation::CalibrationResult res;
   validation::CalibrationRun run;
   run.run = 1;
@@ -84,7 +79,8 @@ TEST(ValidationFiles, AProfileBlockIsATitleThenMillimetrePoints) {
 }
 
 TEST(TradeoffFiles, LengthsAndAreasAreWrittenInMillimetres) {
-  const std::string out = fresh_dir("tradeoff");
+  const testing::TempDir dir("millwear-study-tradeoff");
+  const std::string out = dir.path().string();
   TradeoffReport r;
   r.scene_name = "lab";
   r.design_names = {"lab"};
@@ -118,7 +114,8 @@ TEST(TradeoffFiles, LengthsAndAreasAreWrittenInMillimetres) {
 TEST(Animation, AnOutputThatIsNotAGifIsAnInputErrorBeforeAnythingRuns) {
   study::AnimationRequest r;
   r.scene_file = testing::source_path("tests/data/lab-quick.toml");
-  r.out = fresh_dir("animation") + "/charge.png";
+  const testing::TempDir dir("millwear-study-animation");
+  r.out = (dir / "charge.png").string();
   try {
     study::make_animation(r);
     FAIL() << "expected InputError";
@@ -132,8 +129,9 @@ TEST(Animation, AnOutputThatIsNotAGifIsAnInputErrorBeforeAnythingRuns) {
 TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {
   study::AnimationRequest r;
   r.scene_file = testing::source_path("tests/data/lab-quick.toml");
-  r.out = fresh_dir("animation_history") + "/charge.gif";
-  r.history = fresh_dir("animation_empty_run");
+  const testing::TempDir dir("millwear-study-animation-history"), run("millwear-study-animation-empty-run");
+  r.out = (dir / "charge.gif").string();
+  r.history = run.path().string();
   try {
     study::make_animation(r);
     FAIL() << "expected InputError";
@@ -144,7 +142,8 @@ TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {
 
 // The frames name the species as the scene does and colour them as the snapshots do.
 TEST(Animation, TheFramesNameAndColourTheScenesSpecies) {
-  const std::string dir = fresh_dir("animation_species");
+  const testing::TempDir scratch("millwear-study-animation-species");
+  const std::string dir = scratch.path().string();
   study::AnimationRequest r;
   r.scene_file = testing::source_path("tests/data/lab-quick.toml");
   r.out = dir + "/charge.gif";

@@ -147,7 +147,6 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
   EXPECT_NE(manifest.find("\"solver.seed=2\""), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("\"0.85\""), std::string::npos) << manifest;
   EXPECT_TRUE(fs::exists(out / "points" / "02" / "charge_summary.csv"));
-  fs::remove_all(out);
 }
 
 TEST(SweepReplicates, FoldedIntoTheMeanAndTheStandardErrorOfTheMean) {
@@ -199,5 +198,4 @@ TEST(SweepReplicates, EachValueRunsItsReplicatesAndTheTableSaysWhereItsErrorsCom
   // The point's figure is the replicates' mean, its error the standard error of that mean.
   EXPECT_NEAR(t.number(0, "power_kW"), mean, 1e-6 * std::abs(mean));
   EXPECT_NEAR(t.number(0, "power_kW_sem"), std::sqrt(var / 3.0), 1e-6 * std::abs(mean));
-  fs::remove_all(out);
 }

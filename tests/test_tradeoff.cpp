@@ -13,10 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "common/errors.hpp"
 #include "engine_fixtures.hpp"
 #include "scene/fidelity.hpp"
-#include "common/errors.hpp"
 #include "study/tradeoff.hpp"
+#include "temp_dir.hpp"
 
 namespace millwear {
 namespace {
@@ -182,7 +183,8 @@ TEST(TradeoffLadder, KnobsTheSceneSetsAreHeld) {
 }
 
 TEST(TradeoffCli, BadSceneIsExitTwoAndWritesNothing) {
-  const std::string out = ::testing::TempDir() + "/tradeoff_bad";
+  const testing::TempDir dir("millwear-tradeoff-bad");
+  const std::string out = (dir / "out").string();
   const std::string cmd = std::string(MILLWEAR_BINARY) + " tradeoff " + source_path("profiles/1x30.toml") +
                           " -o " + out + " --quick > /dev/null 2>&1";
   const int rc = std::system(cmd.c_str());
@@ -195,8 +197,8 @@ TEST(TradeoffCli, BadSceneIsExitTwoAndWritesNothing) {
 // give, the command's settings and every file written.
 TEST(TradeoffCli, TheManifestRecordsTheOverridesSettingsAndFiles) {
   namespace fs = std::filesystem;
-  const fs::path out = fs::path(::testing::TempDir()) / "tradeoff_manifest";
-  fs::remove_all(out);
+  const testing::TempDir dir("millwear-tradeoff-manifest");
+  const fs::path out = dir / "out";
   const auto r = testing::run_millwear("tradeoff " + testing::quoted(source_path("scenarios/lab-mill.toml")) +
                                        " -o " + testing::quoted(out) +
                                        " --only draft --stages 1 --stage-hours 1 --no-plot"

@@ -116,7 +116,6 @@ TEST(View, ScreenshotShowsTheChargeInsideTheShell) {
   EXPECT_GT(lower + upper, 0.5 * solid_px) << "lower " << lower << " upper " << upper;
   EXPECT_GT(lower, 2 * upper) << "lower " << lower << " upper " << upper;
   EXPECT_EQ(outside, 0);
-  fs::remove_all(dir);
 }
 
 // 1.5 of critical: the charge rides round with the shell (the charge summary's definition
@@ -146,7 +145,6 @@ TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
     EXPECT_EQ(num(f, "lost"), 0) << r.out;
     EXPECT_EQ(num(f, "finite"), 1) << r.out;
   }
-  fs::remove_all(dir);
 }
 
 // A value the scene checker refuses is refused with its message, and the run says so (exit 2);
@@ -174,7 +172,6 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
   const auto rep = reports(r.out);
   ASSERT_EQ(rep.size(), 1u);
   EXPECT_GT(num(rep[0], "disks"), 100);
-  fs::remove_all(dir);
 }
 
 // Values past what the panel's controls allow are refused with the script's line before the
@@ -192,7 +189,6 @@ TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
   write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");
   const Result ok = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "bom.txt").string()), dir);
   EXPECT_EQ(ok.exit_code, 0) << ok.err;
-  fs::remove_all(dir);
 }
 
 // A script's files go into folders it names, made as a recording's are; a command that cannot
@@ -209,7 +205,6 @@ TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
   const Result p = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "p.txt").string()), dir);
   EXPECT_EQ(p.exit_code, 1) << p.err;
   EXPECT_NE(p.err.find("script line 2, save_profiles"), std::string::npos) << p.err;
-  fs::remove_all(dir);
 }
 
 // The power the view reads over its steady batches, and `millwear charge` on the scene the view
@@ -242,7 +237,6 @@ TEST(View, SavedScenesPowerMatchesTheReadout) {
   const double sem_charge = sem_view * std::sqrt(0.5 * batches / revs);  // batches are half revolutions
   EXPECT_NEAR(p_view, p_charge, 4.0 * std::hypot(sem_view, sem_charge))
       << "view " << p_view << " +- " << sem_view << ", charge " << p_charge;
-  fs::remove_all(dir);
 }
 
 // Wear mode runs the scene's wear history: the profiles it draws are, byte for byte, the ones
@@ -266,7 +260,6 @@ TEST(View, WearModeDrawsTheProfilesRunWrites) {
   }
   // The history wore the lifter: the last profile differs from the new one.
   EXPECT_NE(slurp(dir / "view" / "profiles/lab-mill_stage0.csv"), slurp(dir / "view" / "profiles/lab-mill_stage2.csv"));
-  fs::remove_all(dir);
 }
 
 // The lifter's shape and the direction change in the running mill, and the saved scene carries
@@ -299,5 +292,4 @@ TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
   EXPECT_LE(frames, 31);
   const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
-  fs::remove_all(dir);
 }

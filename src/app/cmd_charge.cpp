@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
 #include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
 #include "metrics/trajectories.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -56,11 +58,15 @@ int run_charge(const ChargeArgs& args) {
   std::snprintf(plan, sizeof plan, "%s: about %.0f disks, fidelity %s, %g revolutions measured after settling",
                 scene.name.c_str(), expected_charge_disks(scene), scene.fidelity.c_str(), scene.run.revolutions);
   if (args.check) {
+    // What the lock would refuse, found without taking it.
+    io::check_output_folder(args.out);
+    std::error_code ec;
+    if (std::filesystem::is_directory(args.out, ec)) io::check_folder_not_taken(args.out, "charge");
     std::printf("%s\n", plan);
     return 0;
   }
-  if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
+  if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   const auto t0 = std::chrono::steady_clock::now();
   // A line every few seconds on a terminal, every minute in a log: a long charge is not silent.
   const double every_s = ::isatty(STDERR_FILENO) ? 5.0 : kProgressEveryS;

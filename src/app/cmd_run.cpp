@@ -113,6 +113,7 @@ int run_command(const RunArgs& args) {
   if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");
   const study::Plan plan = study::make_plan(plan_args);
   if (args.check) {
+    study::check_run_folder(plan, args.plan.out, args.run.force);
     for (const auto& d : plan.designs)
       std::printf("%s: %s (fidelity %s, %d stages of %g h, about %.0f disks)%s\n", d.name.c_str(),
                   d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages, d.scene.wear.stage_hours,

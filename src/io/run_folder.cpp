@@ -13,7 +13,6 @@
 #include "common/errors.hpp"
 #include "common/text.hpp"
 #include "io/atomic_write.hpp"
-#include "io/folder_lock.hpp"
 
 namespace millwear::io {
 
@@ -257,8 +256,13 @@ std::string folder_results_command(const std::string& out) {
     return "run";
   }
   if (file_exists(run_key_path(out))) return "run";
-  // charge writes no manifest; its summary is its alone.
-  return file_exists(join_path(out, "charge_summary.csv")) ? "charge" : "";
+  // Commands that write no manifest (or did not before the mark): a file that is theirs alone.
+  for (const auto& [file, command] : {std::pair<const char*, const char*>{"charge_summary.csv", "charge"},
+                                      {"screen.key", "screen"},
+                                      {"hardness_fit.csv", "hardness"},
+                                      {"calibration_result.csv", "calibrate"}})
+    if (file_exists(join_path(out, file))) return command;
+  return "";
 }
 
 void check_folder_not_taken(const std::string& out, const std::string& command) {
@@ -267,14 +271,16 @@ void check_folder_not_taken(const std::string& out, const std::string& command) 
     std::error_code ec;
     std::vector<std::string> found;
     for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
-      if (it->path().filename() != kFolderLockName) found.push_back(it->path().filename().string());
+      // Hidden files are no command's results: the lock, a killed command's temporaries, a
+      // file manager's or NFS's own.
+      if (it->path().filename().string().rfind('.', 0) != 0) found.push_back(it->path().filename().string());
     if (found.empty()) return;
     std::sort(found.begin(), found.end());
     throw InputError(out, "-o",
-                     "a new or empty folder, or one `millwear " + command + "` wrote, but it holds " + found.front() +
+                     "a new or empty folder, or one `millwear " + command + "` wrote: this command writes only "
+                     "there, and this folder holds " + found.front() +
                          (found.size() > 1 ? " and " + std::to_string(found.size() - 1) + " more" : std::string()) +
-                         " that no millwear command recorded, which a file of the same name would replace: use "
-                         "another folder");
+                         ", of no millwear command's results: use another folder");
   }
   if (holds == command) return;
   throw InputError(out, "-o",

@@ -542,6 +542,24 @@ LifterProfile load_profile(const std::string& path) {
   return load_profile_impl(path, chain);
 }
 
+namespace {
+
+// What --csv writes for a profile: a comment line naming it, then its points in mm.
+std::string profile_csv_text(const LifterProfile& p) {
+  std::string comment = std::string(kProfileCsvHeader) + " " + p.name + " from " + p.source_file;
+  for (char& c : comment)
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // one comment line, whatever the path holds
+  std::string text = comment + "\nx_mm,y_mm\n";
+  char line[96];
+  for (const Vec2& v : p.points) {
+    std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
+    text += line;
+  }
+  return text;
+}
+
+}  // namespace
+
 void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const std::string& dir) {
   namespace fs = std::filesystem;
   for (std::size_t i = 0; i < profiles.size(); ++i) {
@@ -559,9 +577,12 @@ void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const
                          "a folder other than the one holding " + input.source_file + " (" + target.string() +
                              " would overwrite it)");
     }
-    // Nor a file of the user's (a scan under the profile's name): only an earlier --csv's.
+    // Nor a file of the user's (a scan under the profile's name): only an earlier --csv's, or
+    // the same points as one written before the comment line was.
     std::error_code ec;
-    if (fs::exists(target, ec) && io::read_file(target.string()).rfind(kProfileCsvHeader, 0) != 0)
+    if (!fs::exists(target, ec)) continue;
+    const std::string have = io::read_file(target.string()), text = profile_csv_text(profiles[i]);
+    if (have.rfind(kProfileCsvHeader, 0) != 0 && have != text.substr(text.find('\n') + 1))
       throw InputError("", "--csv",
                        "a folder without a file " + profiles[i].name + ".csv other than one `millwear profile --csv` "
                        "wrote (its first line \"" + kProfileCsvHeader + " ...\"); " + target.string() +
@@ -576,17 +597,8 @@ std::vector<std::string> write_profile_csvs(const std::vector<LifterProfile>& pr
   if (ec || !fs::is_directory(dir)) throw InputError("", "--csv", "expected a writable directory: " + dir);
   std::vector<std::string> files;
   for (const LifterProfile& p : profiles) {
-    std::string comment = std::string(kProfileCsvHeader) + " " + p.name + " from " + p.source_file;
-    for (char& c : comment)
-      if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // one comment line, whatever the path holds
-    std::string text = comment + "\nx_mm,y_mm\n";
-    char line[96];
-    for (const Vec2& v : p.points) {
-      std::snprintf(line, sizeof line, "%.6f,%.6f\n", v.x * 1e3, v.y * 1e3);
-      text += line;
-    }
     files.push_back((fs::path(dir) / (p.name + ".csv")).string());
-    io::write_file_atomic(files.back(), text);
+    io::write_file_atomic(files.back(), profile_csv_text(p));
   }
   return files;
 }

@@ -401,6 +401,30 @@ std::string unrecorded_output(const Plan& plan, const std::string& out) {
   return "";
 }
 
+// What OUT holds, once the run may write there: throws InputError(OUT, "-o", ...) for a
+// folder of another command's results, of another run's (unless force), or holding a file
+// no run recorded under a name the run writes.
+Holds check_folder(const Plan& plan, const std::string& out, bool force) {
+  std::string holds_what;
+  const Holds holds = folder_holds(plan, out, holds_what);
+  if (holds == Holds::Foreign)
+    throw InputError(out, "-o",
+                     "a folder that is new or holds the results of these same scenes and settings, but it "
+                     "holds " + holds_what + ", which a run would partly overwrite: use another folder");
+  if (holds == Holds::Other && !force)
+    throw InputError(out, "-o",
+                     "a folder that is new or holds the results of these same scenes and settings, but it "
+                     "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
+                     "its manifest.json lists; no other file is touched)");
+  if (holds == Holds::None && io::folder_results_command(out).empty())
+    if (const std::string taken = unrecorded_output(plan, out); !taken.empty())
+      throw InputError(out, "-o",
+                       "a folder that is new or holds a run's results, but " + taken +
+                           " is there and no run recorded it (no manifest.json or stages/run.key); a run "
+                           "would overwrite it: move it, or use another folder");
+  return holds;
+}
+
 // --force: the files the earlier run wrote, by its manifest's list and by the names millwear
 // gives the stage files, snapshot and liner of each design its run.key names. Nothing else.
 void clear_other_run(const std::string& out) {
@@ -448,6 +472,12 @@ void copy_inputs(RunState& ctx, const std::string& out) {
 
 }  // namespace
 
+void check_run_folder(const Plan& plan, const std::string& out, bool force) {
+  io::check_output_folder(out);
+  std::error_code ec;
+  if (fs::is_directory(out, ec)) check_folder(plan, out, force);
+}
+
 RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   const Plan& plan = ctx.plan;
   {
@@ -472,24 +502,8 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
 
   // A folder holding another run's results is not mixed with this one's: refused, or with
   // --force cleared of that run's files (and only those) first.
-  std::string holds_what;
-  const Holds holds = folder_holds(plan, out, holds_what);
-  if (holds == Holds::Foreign)
-    throw InputError(out, "-o",
-                     "a folder that is new or holds the results of these same scenes and settings, but it "
-                     "holds " + holds_what + ", which a run would partly overwrite: use another folder");
-  if (holds == Holds::Other && !opt.force)
-    throw InputError(out, "-o",
-                     "a folder that is new or holds the results of these same scenes and settings, but it "
-                     "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
-                     "its manifest.json lists; no other file is touched)");
+  const Holds holds = check_folder(plan, out, opt.force);
   if (holds == Holds::Other) clear_other_run(out);
-  if (holds == Holds::None && io::folder_results_command(out).empty())
-    if (const std::string taken = unrecorded_output(plan, out); !taken.empty())
-      throw InputError(out, "-o",
-                       "a folder that is new or holds a run's results, but " + taken +
-                           " is there and no run recorded it (no manifest.json or stages/run.key); a run "
-                           "would overwrite it: move it, or use another folder");
   io::ensure_dir(out);
   io::mark_folder(out, "run");
   ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));

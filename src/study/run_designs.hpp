@@ -95,6 +95,10 @@ struct RunOutcome {
   double wall_s = 0.0;
 };
 
+// What run_designs checks of OUT before it writes, without writing (`run --check`): throws
+// InputError(OUT, "-o", ...) where the run would refuse the folder.
+void check_run_folder(const Plan& plan, const std::string& out, bool force);
+
 // Runs every design of the plan into options.out. Throws InputError before anything is
 // written when another process is writing into the folder, when the folder holds the
 // results of other inputs (unless force) or when --resume meets a damaged stage file.

@@ -18,26 +18,52 @@ constexpr double kMm = 1e-3;
 
 std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + std::to_string(d.row_line[row]); }
 
+// The area between a survey and the shell line y = 0 over its span: the metal under it (the
+// polar map's correction left out; it sets a tolerance's scale).
+double area_under(const Polyline& s) {
+  double ymin = 0.0;
+  for (const Vec2& p : s) ymin = std::min(ymin, p.y);
+  Polygon region = s;
+  region.push_back({s.back().x, ymin - 1.0});
+  region.push_back({s.front().x, ymin - 1.0});
+  region = clip_half_plane(region, [](Vec2 p) { return p.y; });
+  return region.size() < 3 ? 0.0 : std::abs(signed_area(region));
+}
+
+// The area of the largest loop in a polyline (0 if it does not cross itself).
+double largest_loop_m2(const Polyline& line, Polygon* loop = nullptr) {
+  Polygon l;
+  without_loops(line, &l);
+  if (loop) *loop = l;
+  return l.empty() ? 0.0 : std::abs(signed_area(l));
+}
+
 // A survey's points follow the surface in order. Shuffled points, or two lifters' points in
-// one block, cross the surface over itself, and its areas and distances mean nothing. Loops
-// as small as a gauge's noise on a steep face (as a measured profile's, profiles/profile.hpp)
-// are cut out; a larger loop is refused.
-Polyline without_noise_loops(const Survey& s, const std::string& name) {
+// one block, cross the surface over itself, and its areas and distances mean nothing: a
+// loop of over kMaxNoiseLoopShare of the metal under the survey is refused, naming the line
+// where it closes. Smaller loops, a gauge's noise on a steep face (as a measured profile's,
+// profiles/profile.hpp), are kept as measured: each adds or takes its own sliver of area.
+void check_in_order(const Survey& s, const std::vector<std::size_t>& lines, const std::string& name) {
   Polygon loop;
-  const Polyline cut = without_loops(s.profile_m, &loop);
-  if (loop.empty()) return cut;
-  // The area the survey encloses with the chord between its ends.
-  const double survey_m2 = std::abs(signed_area(s.profile_m));
-  const double loop_m2 = std::abs(signed_area(loop));
-  if (cut.size() >= 2 && is_simple_open(cut) && loop_m2 <= kMaxNoiseLoopShare * survey_m2) return cut;
+  const double loop_m2 = largest_loop_m2(s.profile_m, &loop);
+  const double limit_m2 = kMaxNoiseLoopShare * area_under(s.profile_m);
+  if (loop_m2 <= limit_m2) return;
+  // The shortest run of points from the survey's start with such a loop: its last point.
+  std::size_t lo = 3, hi = s.profile_m.size();  // fewer than 3 points make no loop
+  while (lo < hi) {
+    const std::size_t mid = (lo + hi) / 2;
+    const Polyline head(s.profile_m.begin(), s.profile_m.begin() + static_cast<std::ptrdiff_t>(mid));
+    if (largest_loop_m2(head) > limit_m2) hi = mid;
+    else lo = mid + 1;
+  }
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "points in order along the surface: the survey at %s h crosses itself at x = %.4g, y = %.4g mm "
-                "around a loop of %.4g mm^2 (loops of a gauge's noise, under %.0f%% of the area the survey "
-                "encloses, are cut out); are its points in order, and of one lifter?",
+                "around a loop of %.4g mm^2 (loops of a gauge's noise, under %.0f%% of the metal under the "
+                "survey, are taken as measured); are its points in order, and of one lifter?",
                 io::format_number(s.hours).c_str(), loop[0].x / kMm, loop[0].y / kMm, loop_m2 / (kMm * kMm),
                 100.0 * kMaxNoiseLoopShare);
-  throw InputError(name, "line " + std::to_string(s.first_line), buf);
+  throw InputError(name, "line " + std::to_string(lines[hi - 1]), buf);
 }
 
 }  // namespace
@@ -70,6 +96,7 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
     throw InputError(name, "line " + std::to_string(csv.header_line + 1), "survey rows hours,x_mm,y_mm after the header");
 
   std::vector<Survey> surveys;
+  std::vector<std::vector<std::size_t>> lines;  // each survey's points' lines in the file
   std::map<double, std::size_t> seen;  // hours -> first line of its block
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const double h = d.number(r, ch), x = d.number(r, cx), y = d.number(r, cy);
@@ -92,19 +119,25 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
       s.first_line = d.row_line[r];
       seen[h] = s.first_line;
       surveys.push_back(s);
+      lines.emplace_back();
     }
     Survey& s = surveys.back();
     const Vec2 p{x * kMm, y * kMm};
     if (!s.profile_m.empty() && s.profile_m.back() == p)
       throw InputError(name, line_of(d, r), "a point different from the one before (repeated point)");
     s.profile_m.push_back(p);
+    lines.back().push_back(d.row_line[r]);
   }
   if (surveys.back().profile_m.size() < 2)
     throw InputError(name, "line " + std::to_string(surveys.back().first_line),
                      "at least 2 points in the survey at " + io::format_number(surveys.back().hours) + " h");
-  for (Survey& s : surveys) {
-    if (s.profile_m.front().x > s.profile_m.back().x) std::reverse(s.profile_m.begin(), s.profile_m.end());
-    s.profile_m = without_noise_loops(s, name);
+  for (std::size_t k = 0; k < surveys.size(); ++k) {
+    Survey& s = surveys[k];
+    if (s.profile_m.front().x > s.profile_m.back().x) {
+      std::reverse(s.profile_m.begin(), s.profile_m.end());
+      std::reverse(lines[k].begin(), lines[k].end());
+    }
+    check_in_order(s, lines[k], name);
     // Its area and area error are over the span between its ends: a span of no width has none.
     if (!(s.profile_m.back().x - s.profile_m.front().x > 0.0))
       throw InputError(name, "line " + std::to_string(s.first_line),

@@ -263,7 +263,8 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
   if (!(scene.wear.replacement_height_m < start_height_m)) {
     char buf[400];
     std::snprintf(buf, sizeof buf,
-                  "a height below the measured lifter's as the history starts from it, %.4g mm (%s re-smoothed at "
+                  "expected a height below the measured lifter's as the history starts from it, %.4g mm (%s "
+                  "re-smoothed at "
                   "%.3g mm, wear.smoothing_radius), got %.4g mm",
                   start_height_m * 1e3, p.source_file.c_str(), r * 1e3, scene.wear.replacement_height_m * 1e3);
     throw InputError(file, "wear.replacement_height", buf);
