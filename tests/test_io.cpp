@@ -182,7 +182,8 @@ TEST(IoFolderLock, ACommandsFolderIsMarkedAndRefusedToAnotherCommand) {
   const std::string out = dir / "hardness";
   {
     io::FolderLock lock(out, "hardness");
-    EXPECT_EQ(io::folder_results_command(out), "hardness");
+    // Marked, but nothing written yet: no results to claim (the lock keeps others out).
+    EXPECT_EQ(io::folder_results_command(out), "");
     io::write_file_atomic(out + "/hardness_fit.csv", "x\n1\n");
   }
   EXPECT_EQ(io::folder_results_command(out), "hardness");
@@ -475,6 +476,12 @@ TEST(IoRunFolder, AnUnmarkedFolderWithFilesIsNotTakenByACommand) {
   io::mark_folder(dir.path(), "charge");
   EXPECT_NO_THROW(io::check_folder_not_taken(dir.path(), "charge"));
   EXPECT_THROW(io::check_folder_not_taken(dir.path(), "sweep"), InputError);
+  // A mark with nothing visible beside it (a command killed before it wrote) claims nothing.
+  TempDir killed{"millwear-io-killed"};
+  io::mark_folder(killed.path(), "charge");
+  io::write_file_atomic(killed / ".millwear.lock", "pid=1\n");
+  EXPECT_EQ(io::folder_results_command(killed.path()), "");
+  EXPECT_NO_THROW(io::check_folder_not_taken(killed.path(), "sweep"));
   // A screen folder written before folders were marked is known by its screen.key.
   TempDir old_screen{"millwear-io-old-screen"};
   io::write_file_atomic(old_screen / "screen.key", "x");

@@ -150,10 +150,14 @@ TEST(ValidationSurveys, PointsOutOfOrderAreRefusedAndANoiseLoopIsKept) {
     return out;
   };
   const std::string head = "hours,x_mm,y_mm\n" + block("0", lifter);
-  // The line named is the point that closes the loop: the 4th of the shuffled block, the
-  // 5th (back at the first foot) of the doubled one.
-  expect_survey_error(head + block("100", "-10,0\n5,15\n-5,15\n10,0\n"), "line 9", "crosses itself");
-  expect_survey_error(head + block("100", lifter + lifter), "line 10", "crosses itself");
+  // The shuffled block's first and last edges cross (lines 6 and 9 begin and end them); the
+  // doubled one runs back over its own edges without crossing them, and is named by its block.
+  expect_survey_error(head + block("100", "-10,0\n5,15\n-5,15\n10,0\n"), "line 9",
+                      "crosses itself between lines 6 and 9");
+  expect_survey_error(head + block("100", lifter + lifter), "line 6", "runs back over itself");
+  // A point of each face swapped with the other's: the edges to and from them cross.
+  expect_survey_error(head + block("100", "-10,0\n8,6\n-6,12\n-5,15\n0,15\n5,15\n6,12\n-8,6\n10,0\n"),
+                      "line 13", "crosses itself between lines 7 and 13");
   // The face steps back across itself by a few hundredths of a square millimetre: kept as
   // measured, in a survey of the whole lifter and in one of that face alone.
   const std::string face = "-10,0\n-7,6\n-6.8,6.6\n-7.1,6.4\n-6.7,6.2\n-5,10\n";

@@ -102,6 +102,16 @@ bool is_simple(const Polygon& ring) {
   return CGAL::is_simple_2(pts.begin(), pts.end(), Kernel());
 }
 
+Polygon region_above_zero(const Polyline& surface) {
+  if (surface.empty()) return {};
+  double ymin = 0.0;
+  for (const Vec2& p : surface) ymin = std::min(ymin, p.y);
+  Polygon region = surface;
+  region.push_back({surface.back().x, ymin - 1.0});
+  region.push_back({surface.front().x, ymin - 1.0});
+  return clip_half_plane(region, [](Vec2 p) { return p.y; });
+}
+
 bool is_simple_open(const Polyline& line) {
   const std::size_t n = line.size();
   if (n < 2) return true;

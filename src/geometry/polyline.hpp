@@ -72,6 +72,11 @@ Polygon clip_half_plane(const Polygon& ring, F keep) {
   return out;
 }
 
+// The region between a surface (a polyline along x) and the line y = 0 below it: the surface
+// closed far under its lowest point, then clipped to y >= 0, so what of the surface lies
+// under y = 0 adds nothing. A lifter's metal above the shell line; callers clip it in x.
+Polygon region_above_zero(const Polyline& surface);
+
 // Morphological smoothing of a simple polygon with a disk of radius r (a regular 32-gon,
 // exact Minkowski sums): an opening (erode r, dilate r) rounds convex corners to radius r and
 // removes ridges narrower than 2r, never adding metal; then a closing (dilate r, erode r)

@@ -124,11 +124,9 @@ namespace {
 // only its mark and lock: the mark goes, and any command may take the folder.
 void unmark_if_nothing_written(const std::string& folder) {
   std::error_code ec;
-  const std::string mark = fs::path(folder_mark_path(folder)).filename().string();
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name != mark && name != kFolderLockName) return;
-  }
+  // The mark, the lock and temporaries are all hidden: a visible entry is something written.
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename().string().rfind('.', 0) != 0) return;
   if (!ec) fs::remove(folder_mark_path(folder), ec);
 }
 

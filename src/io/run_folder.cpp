@@ -235,6 +235,14 @@ std::string marked_command(const std::string& out) {
   }
 }
 
+// Whether the folder holds anything but hidden files (the mark, the lock, temporaries).
+bool has_visible_entry(const std::string& out) {
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename().string().rfind('.', 0) != 0) return true;
+  return false;
+}
+
 }  // namespace
 
 void mark_folder(const std::string& out, const std::string& command) {
@@ -245,7 +253,8 @@ void mark_folder(const std::string& out, const std::string& command) {
 
 std::string folder_results_command(const std::string& out) {
   const std::string marked = marked_command(out);
-  if (!marked.empty()) return marked;
+  // A mark with nothing visible beside it: a command stopped (killed) before it wrote.
+  if (!marked.empty()) return has_visible_entry(out) ? marked : "";
   const std::string path = manifest_path(out);
   if (file_exists(path)) {
     try {

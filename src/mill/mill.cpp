@@ -323,12 +323,7 @@ LifterMetrics measure_lifter(const LinerUnit& unit, double radius_m) {
 
   // Region below the surface, closed far beneath the shell, then clipped to the original
   // base span and to y >= 0: the metal above the original shell circle.
-  double ymin = 0.0;
-  for (const Vec2& p : surf) ymin = std::min(ymin, p.y);
-  Polygon region = surf;
-  region.push_back({surf.back().x, ymin - 1.0});
-  region.push_back({surf.front().x, ymin - 1.0});
-  region = clip_half_plane(region, [](Vec2 p) { return p.y; });
+  Polygon region = region_above_zero(surf);
   region = clip_half_plane(region, [hb](Vec2 p) { return p.x + hb; });
   region = clip_half_plane(region, [hb](Vec2 p) { return hb - p.x; });
   if (region.size() < 3) return m;

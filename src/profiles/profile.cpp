@@ -586,7 +586,8 @@ void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const
       throw InputError("", "--csv",
                        "a folder without a file " + profiles[i].name + ".csv other than one `millwear profile --csv` "
                        "wrote (its first line \"" + kProfileCsvHeader + " ...\"); " + target.string() +
-                           " is another, which the profile's file would replace");
+                           " is another (or an older millwear's, of other points), which the profile's file would "
+                           "replace: delete it to replace it");
   }
 }
 

@@ -108,12 +108,7 @@ double signed_distance(Vec2 p, const Polyline& s) {
 
 double area_between(const Polyline& surface, double x_from, double x_to, double radius_m) {
   if (surface.size() < 2) return 0.0;
-  double ymin = 0.0;
-  for (const Vec2& p : surface) ymin = std::min(ymin, p.y);
-  Polygon region = surface;
-  region.push_back({surface.back().x, ymin - 1.0});
-  region.push_back({surface.front().x, ymin - 1.0});
-  region = clip_half_plane(region, [](Vec2 p) { return p.y; });
+  Polygon region = region_above_zero(surface);
   region = clip_half_plane(region, [x_from](Vec2 p) { return p.x - x_from; });
   region = clip_half_plane(region, [x_to](Vec2 p) { return x_to - p.x; });
   if (region.size() < 3) return 0.0;

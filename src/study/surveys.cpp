@@ -30,40 +30,57 @@ double area_under(const Polyline& s) {
   return region.size() < 3 ? 0.0 : std::abs(signed_area(region));
 }
 
-// The area of the largest loop in a polyline (0 if it does not cross itself).
-double largest_loop_m2(const Polyline& line, Polygon* loop = nullptr) {
-  Polygon l;
-  without_loops(line, &l);
-  if (loop) *loop = l;
-  return l.empty() ? 0.0 : std::abs(signed_area(l));
+// Whether segments ab and cd cross at a point inside both (touching does not count).
+bool cross_inside(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a), d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
 }
 
 // A survey's points follow the surface in order. Shuffled points, or two lifters' points in
-// one block, cross the surface over itself, and its areas and distances mean nothing: a
-// loop of over kMaxNoiseLoopShare of the metal under the survey is refused, naming the line
-// where it closes. Smaller loops, a gauge's noise on a steep face (as a measured profile's,
-// profiles/profile.hpp), are kept as measured: each adds or takes its own sliver of area.
+// one block, cross the surface over itself, and its areas and distances mean nothing. Where
+// two of its edges cross, the points between them close a loop: a loop of more than
+// kMaxNoiseLoopShare of the metal under the survey is refused, naming the two edges' lines;
+// smaller loops, a gauge's noise on a steep face (as a measured profile's,
+// profiles/profile.hpp), are kept as measured. Points that run back over the surface without
+// crossing it (a lifter given twice) are refused when cutting their loops out changes the
+// metal under the survey by more than that share.
 void check_in_order(const Survey& s, const std::vector<std::size_t>& lines, const std::string& name) {
-  Polygon loop;
-  const double loop_m2 = largest_loop_m2(s.profile_m, &loop);
-  const double limit_m2 = kMaxNoiseLoopShare * area_under(s.profile_m);
-  if (loop_m2 <= limit_m2) return;
-  // The shortest run of points from the survey's start with such a loop: its last point.
-  std::size_t lo = 3, hi = s.profile_m.size();  // fewer than 3 points make no loop
-  while (lo < hi) {
-    const std::size_t mid = (lo + hi) / 2;
-    const Polyline head(s.profile_m.begin(), s.profile_m.begin() + static_cast<std::ptrdiff_t>(mid));
-    if (largest_loop_m2(head) > limit_m2) hi = mid;
-    else lo = mid + 1;
+  const Polyline& p = s.profile_m;
+  const double metal_m2 = area_under(p);
+  const double limit_m2 = kMaxNoiseLoopShare * metal_m2;
+  double worst_m2 = 0.0;
+  std::size_t first = 0, last = 0;  // the worst loop's edges (first, first + 1) and (last, last + 1)
+  for (std::size_t j = 2; j + 1 < p.size(); ++j)
+    for (std::size_t i = 0; i + 1 < j; ++i) {
+      if (!cross_inside(p[i], p[i + 1], p[j], p[j + 1])) continue;
+      const Vec2 d = p[i + 1] - p[i], e = p[j + 1] - p[j];
+      Polygon loop = {p[i] + (cross(p[j] - p[i], e) / cross(d, e)) * d};
+      loop.insert(loop.end(), p.begin() + static_cast<std::ptrdiff_t>(i + 1), p.begin() + static_cast<std::ptrdiff_t>(j + 1));
+      const double loop_m2 = std::abs(signed_area(loop));
+      if (loop_m2 > worst_m2) {
+        worst_m2 = loop_m2;
+        first = i;
+        last = j;
+      }
+    }
+  char buf[480];
+  if (worst_m2 > limit_m2) {
+    const std::size_t a = std::min(lines[first], lines[last + 1]), b = std::max(lines[first], lines[last + 1]);
+    std::snprintf(buf, sizeof buf,
+                  "points in order along the surface: the survey at %s h crosses itself between lines %zu and %zu "
+                  "around a loop of %.4g mm^2 (loops of a gauge's noise, under %.0f%% of the %.4g mm^2 of metal "
+                  "under the survey, are taken as measured); are its points in order, and of one lifter?",
+                  io::format_number(s.hours).c_str(), a, b, worst_m2 / (kMm * kMm), 100.0 * kMaxNoiseLoopShare,
+                  metal_m2 / (kMm * kMm));
+    throw InputError(name, "line " + std::to_string(b), buf);
   }
-  char buf[400];
+  const double cut_m2 = area_under(without_loops(p));
+  if (std::abs(metal_m2 - cut_m2) <= kMaxNoiseLoopShare * std::max(metal_m2, cut_m2)) return;
   std::snprintf(buf, sizeof buf,
-                "points in order along the surface: the survey at %s h crosses itself at x = %.4g, y = %.4g mm "
-                "around a loop of %.4g mm^2 (loops of a gauge's noise, under %.0f%% of the metal under the "
-                "survey, are taken as measured); are its points in order, and of one lifter?",
-                io::format_number(s.hours).c_str(), loop[0].x / kMm, loop[0].y / kMm, loop_m2 / (kMm * kMm),
-                100.0 * kMaxNoiseLoopShare);
-  throw InputError(name, "line " + std::to_string(lines[hi - 1]), buf);
+                "points in order along the surface: the survey at %s h runs back over itself; as given the metal "
+                "under it is %.4g mm^2, with its loops cut out %.4g mm^2; are its points in order, and of one lifter?",
+                io::format_number(s.hours).c_str(), metal_m2 / (kMm * kMm), cut_m2 / (kMm * kMm));
+  throw InputError(name, "line " + std::to_string(s.first_line), buf);
 }
 
 }  // namespace
