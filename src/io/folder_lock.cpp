@@ -123,11 +123,10 @@ namespace {
 // A folder whose command stopped before writing anything (refused, or failed early) holds
 // only its mark and lock: the mark goes, and any command may take the folder.
 void unmark_if_nothing_written(const std::string& folder) {
-  std::error_code ec;
   // The mark, the lock and temporaries are all hidden: a visible entry is something written.
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().filename().string().rfind('.', 0) != 0) return;
-  if (!ec) fs::remove(folder_mark_path(folder), ec);
+  if (!visible_entries(folder).empty()) return;
+  std::error_code ec;
+  fs::remove(folder_mark_path(folder), ec);
 }
 
 }  // namespace

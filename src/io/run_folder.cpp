@@ -235,15 +235,18 @@ std::string marked_command(const std::string& out) {
   }
 }
 
-// Whether the folder holds anything but hidden files (the mark, the lock, temporaries).
-bool has_visible_entry(const std::string& out) {
-  std::error_code ec;
-  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().filename().string().rfind('.', 0) != 0) return true;
-  return false;
-}
-
 }  // namespace
+
+std::vector<std::string> visible_entries(const std::string& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (name.rfind('.', 0) != 0) names.push_back(std::move(name));
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 void mark_folder(const std::string& out, const std::string& command) {
   if (marked_command(out) == command) return;
@@ -254,7 +257,7 @@ void mark_folder(const std::string& out, const std::string& command) {
 std::string folder_results_command(const std::string& out) {
   const std::string marked = marked_command(out);
   // A mark with nothing visible beside it: a command stopped (killed) before it wrote.
-  if (!marked.empty()) return has_visible_entry(out) ? marked : "";
+  if (!marked.empty()) return visible_entries(out).empty() ? "" : marked;
   const std::string path = manifest_path(out);
   if (file_exists(path)) {
     try {
@@ -277,14 +280,10 @@ std::string folder_results_command(const std::string& out) {
 void check_folder_not_taken(const std::string& out, const std::string& command) {
   const std::string holds = folder_results_command(out);
   if (holds.empty()) {
-    std::error_code ec;
-    std::vector<std::string> found;
-    for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
-      // Hidden files are no command's results: the lock, a killed command's temporaries, a
-      // file manager's or NFS's own.
-      if (it->path().filename().string().rfind('.', 0) != 0) found.push_back(it->path().filename().string());
+    // Hidden files are no command's results: the lock, a killed command's temporaries, a
+    // file manager's or NFS's own.
+    const std::vector<std::string> found = visible_entries(out);
     if (found.empty()) return;
-    std::sort(found.begin(), found.end());
     throw InputError(out, "-o",
                      "a new or empty folder, or one `millwear " + command + "` wrote: this command writes only "
                      "there, and this folder holds " + found.front() +

@@ -103,6 +103,10 @@ std::string folder_mark_path(const std::string& out);
 // Writes the mark (atomically) unless OUT already holds this command's mark.
 void mark_folder(const std::string& out, const std::string& command);
 
+// The names of a folder's entries that are not hidden (hidden: a leading '.', as the lock,
+// the mark, temporaries and a file manager's files are), sorted; none if it cannot be read.
+std::vector<std::string> visible_entries(const std::string& folder);
+
 // Which command's results OUT holds: the command its mark names; else, for a folder written
 // before the mark existed, "run" (OUT/stages/run.key, or a manifest.json without a
 // "command"), the "command" of its manifest.json ("sweep"), "charge" (its
