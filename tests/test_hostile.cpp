@@ -993,6 +993,15 @@ TEST(HostileStageFiles, ARunOfAnotherMillIsNotDrawnOn) {
                               " --fidelity draft");
   expect_refused(c, scene.string(), "lifters.rows", dir / "c");
   EXPECT_NE(c.output.find("10 -> 12"), std::string::npos) << c.output;
+  // The run's own scene draws on it; at another speed it is refused, naming the setting.
+  const auto own = run_millwear("animate " + quoted(dir / "ten.toml") + " --fidelity draft --set wear.stages=1 --history " + quoted(run) +
+                                " --seconds 0.5 --frames 10 -o " + quoted(dir / "own.gif"));
+  EXPECT_EQ(own.exit_code, 0) << own.output;
+  const auto faster = run_millwear("animate " + quoted(dir / "ten.toml") +
+                                   " --fidelity draft --set wear.stages=1 --set mill.speed=0.6 --history " + quoted(run) +
+                                   " -o " + quoted(dir / "b.gif"));
+  expect_refused(faster, run.string(), "--history", dir / "b.gif");
+  EXPECT_NE(faster.output.find("mill.speed"), std::string::npos) << faster.output;
 }
 
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage

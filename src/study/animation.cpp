@@ -21,6 +21,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 #include "study/plan.hpp"
+#include "study/run_outputs.hpp"
 #include "study/stage_files.hpp"
 #include "wear/reshape.hpp"
 #include "wear/window.hpp"
@@ -69,6 +70,8 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
     throw InputError(history, "--history",
                      "a `millwear run` output folder with finished stages of design '" + scene.name + "' (no " +
                          scene.name + "_stage0.done in " + io::stages_dir(history) + ")");
+  // The run's liners are drawn under the scene's name and charge: the run must be the scene's.
+  study::check_run_of_scene(history, scene, "--history");
   std::vector<Segment> segments;
   for (int k = 0; k <= last; ++k) {
     StageRecord rec = study::read_stage_state(history, scene.name, k);

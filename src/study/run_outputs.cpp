@@ -310,6 +310,16 @@ void write_kinds(const RunReport& report) {
   t.write(kinds_path(report.out));
 }
 
+void check_run_of_scene(const std::string& run, const Scene& scene, const std::string& option) {
+  const std::vector<std::string> changes = settings_changes(run, scene.name, scene);
+  if (changes.empty()) return;
+  std::string listed;
+  for (const std::string& c : changes) listed += (listed.empty() ? "" : "; ") + c;
+  throw InputError(run, option,
+                   "a run of the scene as given now (with its --set and --fidelity), but the run's settings "
+                   "differ (run -> scene): " + listed);
+}
+
 std::vector<std::string> settings_changes(const std::string& run, const std::string& design, const Scene& scene) {
   const std::string path = io::manifest_path(run);
   Json old_settings;

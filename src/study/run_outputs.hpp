@@ -82,6 +82,10 @@ std::string kinds_path(const std::string& out);
 // The settings of `design` in run folder RUN's manifest.json that differ from `scene`'s, as
 // "section.key: old -> new". Throws InputError(RUN/manifest.json) if it has no such design.
 std::vector<std::string> settings_changes(const std::string& run, const std::string& design, const Scene& scene);
+// For a command that draws on a finished run (validate --from, animate --history): throws
+// InputError(RUN, option, ...) listing settings_changes unless the run was of `scene` as given
+// now (its --set and --fidelity included).
+void check_run_of_scene(const std::string& run, const Scene& scene, const std::string& option);
 void write_spectrum(const RunReport& report);
 void write_manifest(const RunReport& report);
 

@@ -35,14 +35,7 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
                        "a finished `millwear run` folder with design '" + scene.name + "' (the scene's name)");
     // The run's figures stand for the scene only if the run was of the scene as given now
     // (its --set and --fidelity included).
-    const std::vector<std::string> changes = study::settings_changes(a.from, scene.name, scene);
-    if (!changes.empty()) {
-      std::string listed;
-      for (const std::string& c : changes) listed += (listed.empty() ? "" : "; ") + c;
-      throw InputError(a.from, "--from",
-                       "a run of the scene as given now (with its --set and --fidelity), but the run's settings "
-                       "differ (run -> scene): " + listed);
-    }
+    study::check_run_of_scene(a.from, scene, "--from");
     return src;
   }
   const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
