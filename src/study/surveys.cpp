@@ -21,12 +21,7 @@ std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + st
 // The area between a survey and the shell line y = 0 over its span: the metal under it (the
 // polar map's correction left out; it sets a tolerance's scale).
 double area_under(const Polyline& s) {
-  double ymin = 0.0;
-  for (const Vec2& p : s) ymin = std::min(ymin, p.y);
-  Polygon region = s;
-  region.push_back({s.back().x, ymin - 1.0});
-  region.push_back({s.front().x, ymin - 1.0});
-  region = clip_half_plane(region, [](Vec2 p) { return p.y; });
+  const Polygon region = region_above_zero(s);
   return region.size() < 3 ? 0.0 : std::abs(signed_area(region));
 }
 
