@@ -592,6 +592,20 @@ TEST_F(FolderRuns, AnotherScenesFolderIsRefusedThenTakenOverWithForce) {
   EXPECT_NE(refused.output.find("lab-quick"), std::string::npos) << refused.output;
   EXPECT_NE(refused.output.find("--force"), std::string::npos) << refused.output;
   EXPECT_EQ(folder_contents(out), before) << "a refused run changes nothing";
+  // --check --force says what the run would delete, and deletes nothing.
+  const Result check = run("run " + q(other) + " -o " + q(out) + " --check --force");
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  EXPECT_NE(check.output.find("--force: " + out.string() + " holds the results of design(s) lab-quick"),
+            std::string::npos) << check.output;
+  EXPECT_NE(check.output.find("the run first deletes that run's files"), std::string::npos) << check.output;
+  EXPECT_EQ(folder_contents(out), before) << "--check changes nothing";
+  // The run's own folder: --check says the run replaces it, or with --resume continues it.
+  const Result same = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check");
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_NE(same.output.find("holds a run of these same inputs: the run replaces its files"), std::string::npos)
+      << same.output;
+  const Result resume = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check --resume");
+  EXPECT_NE(resume.output.find("the run continues after its finished stages"), std::string::npos) << resume.output;
 
   const Result forced = run("run " + q(other) + " -o " + q(out) + " --quiet --force");
   ASSERT_EQ(forced.exit_code, 0) << forced.output;

@@ -113,11 +113,13 @@ int run_command(const RunArgs& args) {
   if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");
   const study::Plan plan = study::make_plan(plan_args);
   if (args.check) {
-    study::check_run_folder(plan, args.plan.out, args.run.force);
+    const std::string folder = study::check_run_folder(plan, args.plan.out, args.run.force, args.run.resume);
     for (const auto& d : plan.designs)
-      std::printf("%s: %s (fidelity %s, %d stages of %g h, about %.0f disks)%s\n", d.name.c_str(),
-                  d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages, d.scene.wear.stage_hours,
+      std::printf("%s: %s (fidelity %s, %d stage%s of %g h, about %.0f disks)%s\n", d.name.c_str(),
+                  d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages,
+                  d.scene.wear.stages == 1 ? "" : "s", d.scene.wear.stage_hours,
                   expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
+    if (!folder.empty()) std::printf("%s\n", folder.c_str());
     std::printf("inputs valid; nothing run\n");
     return 0;
   }

@@ -472,10 +472,21 @@ void copy_inputs(RunState& ctx, const std::string& out) {
 
 }  // namespace
 
-void check_run_folder(const Plan& plan, const std::string& out, bool force) {
+std::string check_run_folder(const Plan& plan, const std::string& out, bool force, bool resume) {
   io::check_output_folder(out);
   std::error_code ec;
-  if (fs::is_directory(out, ec)) check_folder(plan, out, force);
+  if (!fs::is_directory(out, ec)) return "";
+  const Holds holds = check_folder(plan, out, force);
+  if (holds == Holds::Same)
+    return out + " holds a run of these same inputs: " +
+           (resume ? "the run continues after its finished stages" : "the run replaces its files (--resume continues it)");
+  if (holds == Holds::Other) {
+    std::string what;
+    folder_holds(plan, out, what);
+    return "--force: " + out + " holds " + what +
+           "; the run first deletes that run's files (those its manifest.json lists; no other file)";
+  }
+  return "";
 }
 
 RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {

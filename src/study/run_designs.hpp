@@ -96,8 +96,9 @@ struct RunOutcome {
 };
 
 // What run_designs checks of OUT before it writes, without writing (`run --check`): throws
-// InputError(OUT, "-o", ...) where the run would refuse the folder.
-void check_run_folder(const Plan& plan, const std::string& out, bool force);
+// InputError(OUT, "-o", ...) where the run would refuse the folder. Returns what the run would
+// do with what OUT holds ("" for a new folder or one of the user's own files alone).
+std::string check_run_folder(const Plan& plan, const std::string& out, bool force, bool resume);
 
 // Runs every design of the plan into options.out. Throws InputError before anything is
 // written when another process is writing into the folder, when the folder holds the
