@@ -18,6 +18,7 @@
 #include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
 #include "study/calibration_run.hpp"
+#include "study/plan.hpp"
 
 namespace millwear::app {
 
@@ -110,7 +111,7 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("--replicates", r.options.replicates,
                   "histories at the calibrated C with seeds s .. s+N-1 (" + default_text(r.options.replicates) +
                       "): their estimates join the mean and their spread measures the charge's noise")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, study::kMaxReplicates));
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (" + default_text(args->tolerance_pct) + ")")
       ->check(finite_in(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +

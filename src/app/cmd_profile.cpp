@@ -39,8 +39,8 @@ int run_profile(const ProfileArgs& args) {
   for (const LifterProfile& p : profiles) {
     const ProfileMetrics m = measure_profile(p.points);
     std::snprintf(row, sizeof row, "%-16s %12.1f %10.1f %10.1f %10.1f %10.1f %10.1f\n",
-                  p.name.c_str(), m.area_m2 * 1e6, m.height_m * 1e3, m.base_width_m * 1e3,
-                  m.top_width_m * 1e3, deg_from_rad(m.leading_face_angle_rad),
+                  p.name.c_str(), in_mm2(m.area_m2), in_mm(m.height_m), in_mm(m.base_width_m),
+                  in_mm(m.top_width_m), deg_from_rad(m.leading_face_angle_rad),
                   deg_from_rad(m.trailing_face_angle_rad));
     std::cout << row;
   }
@@ -57,7 +57,7 @@ int run_profile(const ProfileArgs& args) {
     std::cout << row;
     if (p.unit_pitch_m > 0.0) {
       std::snprintf(row, sizeof row, "%s: one whole liner unit, pitch %.1f mm (line %d)\n", p.name.c_str(),
-                    p.unit_pitch_m * 1e3, p.pitch_line);
+                    in_mm(p.unit_pitch_m), p.pitch_line);
       std::cout << row;
     }
   }

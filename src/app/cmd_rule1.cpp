@@ -14,6 +14,7 @@
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
+#include "common/units.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
@@ -56,7 +57,7 @@ int run_rule1(const Rule1Args& a) {
   std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode, %d seed(s) per factor\n", scene.name.c_str(),
               a.stages, scene.wear.stage_hours, r.replicates);
   std::printf("deviation from the smallest factor's mean profile, %% of the %.1f mm lifter height\n",
-              r.lifter_height_m * 1e3);
+              in_mm(r.lifter_height_m));
   std::printf("%12s %10s %20s %12s %14s  %s\n", "factor", "sim_s", "deviation", "noise", "within tol.", "verdict");
   for (const auto& row : r.rows) {
     const double sim = mean_simulated_s(row);

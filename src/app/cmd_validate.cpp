@@ -14,6 +14,7 @@
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
+#include "common/units.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/validation_run.hpp"
 
@@ -39,12 +40,12 @@ void print_profiles(const validation::ValidateOutcome& o) {
   for (std::size_t i = 0; i < o.profiles.size(); ++i) {
     const auto& c = o.profiles[i];
     std::printf("%7zu %8.0f %9.3f %9.3f %9.3f %8.2f %8.2f %12.1f %12.1f %9.2f\n", i + 1, c.hours,
-                c.mean_distance_m * 1e3, c.max_distance_m * 1e3, c.bias_m * 1e3, c.mean_pct_height,
-                c.max_pct_height, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6, c.area_error_pct);
+                in_mm(c.mean_distance_m), in_mm(c.max_distance_m), in_mm(c.bias_m), c.mean_pct_height,
+                c.max_pct_height, in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2), c.area_error_pct);
   }
   std::printf("(distances: measured point to simulated profile; %% of the new lifter height %.1f mm; "
               "bias > 0: simulation wore deeper; area error %% of the new lifter area over the measured span)\n",
-              o.new_height_m * 1e3);
+              in_mm(o.new_height_m));
 }
 
 void print_areas(const validation::ValidateOutcome& o) {
@@ -55,14 +56,14 @@ void print_areas(const validation::ValidateOutcome& o) {
     char loss_pct[32] = "-";  // no measured loss (the 0 h survey): no percentage of it
     if (!std::isnan(c.loss_error_pct)) std::snprintf(loss_pct, sizeof loss_pct, "%.2f", c.loss_error_pct);
     std::printf("%7zu %6zu %8.0f %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8s\n", i + 1, c.line, c.hours,
-                c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct,
-                c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6, loss_pct);
+                in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2), in_mm2(c.area_error_m2), c.area_error_pct,
+                in_mm2(c.measured_loss_m2), in_mm2(c.simulated_loss_m2), loss_pct);
   }
   std::printf("(errors: simulated - measured; area %% of the new lifter area %.1f mm^2; loss %% of the measured loss; "
               "losses from %s %.1f mm^2)\n",
-              o.new_area_m2 * 1e6,
+              in_mm2(o.new_area_m2),
               o.measured_areas.reference_measured ? "the file's 0 h area" : "the scene's new lifter area",
-              o.measured_areas.reference_m2 * 1e6);
+              in_mm2(o.measured_areas.reference_m2));
 }
 
 int run_validate(const validation::ValidateRequest& a) {

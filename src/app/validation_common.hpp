@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/plain_progress.hpp"
+#include "common/units.hpp"
 #include "wear/wear.hpp"
 
 namespace millwear::app {
@@ -25,7 +26,7 @@ inline WearCallbacks progress_callbacks() {
   WearCallbacks cb;
   cb.on_stage = [](const StageRecord& r) {
     std::printf("  %s  stage %d at %.0f h: lifter area %.1f mm^2, height %.2f mm (%.1f s wall)\n", clock_text().c_str(),
-                r.stage, r.hours, r.lifter.area_m2 * 1e6, r.lifter.height_m * 1e3, r.wall_s);
+                r.stage, r.hours, in_mm2(r.lifter.area_m2), in_mm(r.lifter.height_m), r.wall_s);
     std::fflush(stdout);
   };
   return cb;

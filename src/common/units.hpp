@@ -13,7 +13,10 @@ inline constexpr double rad_from_deg(double deg) { return deg * (kPi / 180.0); }
 inline constexpr double deg_from_rad(double rad) { return rad / (kPi / 180.0); }
 inline constexpr double rpm_from_rad_s(double rad_s) { return rad_s * 60.0 / (2.0 * kPi); }
 
-// Lengths, areas and powers as files and the terminal give them.
+// Lengths, areas and powers as files and the terminal give them: a length in mm times kMm is
+// in m, an area in mm^2 times kMm2 in m^2.
+inline constexpr double kMm = 1e-3;
+inline constexpr double kMm2 = 1e-6;
 inline constexpr double in_mm(double m) { return m * 1e3; }
 inline constexpr double in_mm2(double m2) { return m2 * 1e6; }
 inline constexpr double in_kW(double W) { return W / 1e3; }

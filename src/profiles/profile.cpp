@@ -26,8 +26,6 @@ namespace millwear {
 
 namespace {
 
-constexpr double kMmToM = 1e-3;
-
 // A file name's extension in lower case (".csv", ".toml").
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
@@ -51,10 +49,9 @@ std::string line_of(const toml::node& n) {
   return "line " + std::to_string(n.source().begin.line);
 }
 
-// 5 m bounds a lifter's height and top width (the largest mills are 12 m across); 100 m any
-// point of a polyline profile (a whole liner unit of the largest mill is under 2 m).
+// 5 m bounds a lifter's height and top width (the largest mills are 12 m across); any point of
+// a polyline profile within kMaxPointMm (profile.hpp).
 constexpr double kMaxLifterMm = 5000.0;
-constexpr double kMaxPointMm = 1e5;
 
 // A number (integer or float) or an InputError naming the key.
 double number_at(const toml::table& t, std::string_view key, const std::string& file,
@@ -133,7 +130,7 @@ Polyline read_points(const toml::table& t, const std::string& file) {
     const double x = *pair->get(0)->value<double>(), y = *pair->get(1)->value<double>();
     if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
       throw InputError(file, key, "expected numbers in mm within +-100000 (" + line_of(e) + ")");
-    pts.push_back({x * kMmToM, y * kMmToM});
+    pts.push_back({x * kMm, y * kMm});
   }
   return pts;
 }
@@ -210,7 +207,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
     if (!(h_mm > 0.0 && h_mm <= kMaxLifterMm))
       throw InputError(path, "height",
                        "expected a height in mm in (0, 5000] (got " + fmt_num(h_mm) + ")");
-    t.height_m = h_mm * kMmToM;
+    t.height_m = h_mm * kMm;
     t.leading_face_angle_rad = face_angle_at(root, "leading_face_angle", path);
     t.trailing_face_angle_rad = face_angle_at(root, "trailing_face_angle", path);
 
@@ -240,7 +237,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       if (!(w_mm > 0.0 && w_mm <= kMaxLifterMm))
         throw InputError(path, "top_width",
                          "expected a top width in mm in (0, 5000] (got " + fmt_num(w_mm) + ")");
-      t.top_width_m = w_mm * kMmToM;
+      t.top_width_m = w_mm * kMm;
     } else {
       throw InputError(path, "top_width", "missing; expected a top width in mm > 0 "
                                           "(or match_area_of = \"<other profile>\")");
@@ -254,7 +251,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
         throw InputError(path, t.leading_face_angle_rad >= t.trailing_face_angle_rad ? "leading_face_angle"
                                                                                       : "trailing_face_angle",
                          "expected face angles that keep the base within +-" + fmt_num(kMaxPointMm) +
-                             " mm of the centre; at " + fmt_num(t.height_m * 1e3) + " mm high they reach x = " +
+                             " mm of the centre; at " + fmt_num(in_mm(t.height_m)) + " mm high they reach x = " +
                              fmt_num(p.x * 1e3) + " mm");
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
@@ -285,7 +282,7 @@ double top_width_for_area(const TrapezoidDef& t, double area_m2, const std::stri
   const double top = (area_m2 - 0.5 * h * h * runs) / h;
   if (!(h > 0.0) || !(top > 0.0) || !std::isfinite(top)) {
     std::ostringstream msg;
-    msg << "expected a profile whose area (" << area_m2 * 1e6
+    msg << "expected a profile whose area (" << in_mm2(area_m2)
         << " mm^2) a trapezoid of this height and these face angles can match with a "
            "positive top width (the faces alone give "
         << 0.5 * h * h * runs * 1e6 << " mm^2)";
@@ -407,7 +404,7 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
     throw InputError(file, key,
                      "expected one lifter per surface, the rest at or below the shell line; outside the lifter (x = " +
                          fmt_num(foot_l.x * 1e3) + " to " + fmt_num(foot_r.x * 1e3) + " mm) it holds " +
-                         fmt_num(outside_m2 * 1e6) + " mm^2 above the line, rising to y = " +
+                         fmt_num(in_mm2(outside_m2)) + " mm^2 above the line, rising to y = " +
                          fmt_num(s[highest].y * 1e3) + " mm at x = " + fmt_num(s[highest].x * 1e3) +
                          " mm (a scan of one liner unit per file; a pattern of kinds for hi-lo liners)");
   const std::size_t first = left == 0 ? 1 : left;
@@ -448,7 +445,7 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
     const double mm = rest.empty() ? std::nan("") : std::strtod(rest.c_str(), &stop);
     if (rest.empty() || *stop != '\0' || !std::isfinite(mm) || !(mm > 0.0) || mm > kMaxPointMm)
       throw InputError(name, where, expected + ", got '" + rest + "'");
-    found = {mm * kMmToM, line};
+    found = {mm * kMm, line};
     if (end == text.size()) break;
   }
   return found;
@@ -465,7 +462,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
     if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
       throw InputError(name, "line " + std::to_string(d.row_line[r]),
                        "x_mm and y_mm finite and within +-100000 mm");
-    raw.push_back({x * kMmToM, y * kMmToM});
+    raw.push_back({x * kMm, y * kMm});
   }
   if (raw.size() < 3)
     throw InputError(name, "line " + std::to_string(d.header_line + 1),
@@ -501,7 +498,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   if (loop_m2 > kMaxNoiseLoopShare * lifter_m2)
     throw InputError(name, "x_mm,y_mm",
                      "a surface that does not cross itself: it crosses itself at x = " + fmt_num(loop[0].x * 1e3) +
-                         ", y = " + fmt_num(loop[0].y * 1e3) + " mm around a loop of " + fmt_num(loop_m2 * 1e6) +
+                         ", y = " + fmt_num(loop[0].y * 1e3) + " mm around a loop of " + fmt_num(in_mm2(loop_m2)) +
                          " mm^2, " + fmt_num(100.0 * loop_m2 / lifter_m2) +
                          "% of the lifter (loops of gauge noise, cut out, hold under " +
                          fmt_num(100.0 * kMaxNoiseLoopShare) + "%): are the points in order along the surface?");
@@ -511,7 +508,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
     const double width = s.back().x - s.front().x;
     if (std::abs(width - pitch_m) > kPitchTolerance * pitch_m)
       throw InputError(name, "line " + std::to_string(pitch_line),
-                       "pitch_mm = " + fmt_num(pitch_m * 1e3) + ": a scan of one whole liner unit, its first and last "
+                       "pitch_mm = " + fmt_num(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
                        "points one pitch apart (within " + fmt_num(100.0 * kPitchTolerance) + "%); its points reach from x = " +
                            fmt_num(s.front().x * 1e3) + " to " + fmt_num(s.back().x * 1e3) + " mm, " +
                            fmt_num(width * 1e3) + " mm");
@@ -520,7 +517,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
     const double step_m = s.back().y - s.front().y;
     if (std::abs(step_m) > kPitchTolerance * pitch_m)
       throw InputError(name, "line " + std::to_string(pitch_line),
-                       "pitch_mm = " + fmt_num(pitch_m * 1e3) + ": a scan of one whole liner unit, its first and last "
+                       "pitch_mm = " + fmt_num(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
                        "points at one height (the unit repeats, and each end meets the next copy's other end; within " +
                            fmt_num(kPitchTolerance * pitch_m * 1e3) + " mm, " + fmt_num(100.0 * kPitchTolerance) +
                            "% of the pitch); its ends are at y = " + fmt_num(s.front().y * 1e3) + " and " +

@@ -53,6 +53,9 @@ constexpr double kPitchTolerance = 0.01;
 // The largest loop cut out of a measured surface as a gauge's noise (points stepping back on
 // a steep face), as a share of the lifter's area; a larger loop is points out of order.
 constexpr double kMaxNoiseLoopShare = 0.01;
+// 100 m bounds any point of a polyline profile or measured surface, in mm (a whole liner
+// unit of the largest mill is under 2 m).
+constexpr double kMaxPointMm = 1e5;
 
 // Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
 struct ProfileMetrics {

@@ -113,8 +113,8 @@ void refuse_thin_lifter(const Scene& scene, const std::string& file, int kind, d
   std::snprintf(buf, sizeof buf,
                 "a lifter whose every part is at least %.3g mm thick (the smallest particle radius)%s: %s '%s' has a "
                 "part about %.3g mm thick, so a disk can touch both of its faces at once and pass through the liner",
-                needed_m * 1e3, resmoothed ? " once re-smoothed at wear.smoothing_radius" : "",
-                resmoothed ? "measured profile" : "profile", scene.mill.kind(kind).name.c_str(), thinnest_m * 1e3);
+                in_mm(needed_m), resmoothed ? " once re-smoothed at wear.smoothing_radius" : "",
+                resmoothed ? "measured profile" : "profile", scene.mill.kind(kind).name.c_str(), in_mm(thinnest_m));
   throw InputError(file, scene.mill.profile_key(kind), buf);
 }
 
@@ -171,7 +171,7 @@ void check_step_counts(const Scene& scene, const std::string& file) {
     if (!(updates <= kMaxUpdates))
       throw InputError(file, "wear.max_depth_step",
                        "expected at least " + size_text(height / kMaxUpdates * 1e3) + " mm (the lifter's height over " +
-                           count_text(kMaxUpdates) + " updates), got " + size_text(w.max_depth_step_m * 1e3) + " mm");
+                           count_text(kMaxUpdates) + " updates), got " + size_text(in_mm(w.max_depth_step_m)) + " mm");
   }
 }
 
@@ -206,13 +206,13 @@ void check_liner_size(const Scene& scene, const std::string& file) {
       throw InputError(file, "lifters.lifter_edge",
                        "expected edges of at most the lifter's height (" + count_text(height * 1e3) +
                            " mm) so the lifter has edges of its own to wear, got " +
-                           count_text(scene.mill.mesh.lifter_edge_m * 1e3) + " mm");
+                           count_text(in_mm(scene.mill.mesh.lifter_edge_m)) + " mm");
   }
   const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
   if (scene.mill.mesh.shell_edge_m > pitch)
     throw InputError(file, "lifters.shell_edge",
                      "expected edges of at most the lifter pitch (" + count_text(pitch * 1e3) + " mm), got " +
-                         count_text(scene.mill.mesh.shell_edge_m * 1e3) + " mm");
+                         count_text(in_mm(scene.mill.mesh.shell_edge_m)) + " mm");
   const double shell = 2.0 * kPi * scene.radius_m() / scene.mill.mesh.shell_edge_m;
   const double lifters =
       scene.mill.rows * polyline_length(scene.mill.lifter.points) / scene.mill.mesh.lifter_edge_m;

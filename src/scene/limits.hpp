@@ -45,6 +45,10 @@ constexpr double kMaxStepTravelRadii = 1.6;
 // runs at 10: the limit sits at the clean edge.
 constexpr double kMaxSoftStepTravelRadii = 8.0;
 
+// Every time in hours, in files and on the command line, is at most 1e6 h (over a century of
+// operation).
+constexpr double kMaxHours = 1e6;
+
 // The most steps of any one phase: settling, spin-up, `charge`'s revolutions, a measuring
 // window (all its batches), the simulated time of a continuous stage. 1e8 steps of a
 // thousand disks are days of computing; a count past it is a typo, not a plan.

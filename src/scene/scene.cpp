@@ -24,6 +24,7 @@
 #include "common/names.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/filling.hpp"
+#include "scene/limits.hpp"
 #include "scene/table_reader.hpp"
 
 namespace millwear {
@@ -115,7 +116,7 @@ LinerUnit new_liner_unit(const Scene& scene, int kind) {
     const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
     if (std::abs(lifter.unit_pitch_m - pitch) > kPitchTolerance * pitch)
       throw InputError(lifter.source_file, "line " + std::to_string(lifter.pitch_line),
-                       "pitch_mm = " + toml_reader::num_text(lifter.unit_pitch_m * 1e3) + ": the pitch of the lifters of " +
+                       "pitch_mm = " + toml_reader::num_text(in_mm(lifter.unit_pitch_m)) + ": the pitch of the lifters of " +
                            scene.source_file + " (within " + toml_reader::num_text(100.0 * kPitchTolerance) +
                            "%), whose " + std::to_string(scene.mill.rows) + " rows on a " +
                            toml_reader::num_text(scene.mill.diameter_m) + " m mill stand " +
@@ -150,11 +151,8 @@ namespace {
 using namespace toml_reader;  // Bounds, TableReader and the message helpers
 
 
-constexpr double kMm = 1e-3;  // mm -> m, the one conversion of lengths in scene files
-
-// 1e6 h (over a century of operation) bounds every time in hours; 1e4 revolutions every
-// count of revolutions (the step counts they give are bounded again in scene/limits.hpp).
-constexpr double kMaxHours = 1e6;
+// kMaxHours (scene/limits.hpp) bounds every time in hours; 1e4 revolutions every count of
+// revolutions (the step counts they give are bounded again in scene/limits.hpp).
 constexpr double kMaxRevolutions = 1e4;
 
 const toml::table kEmpty;

@@ -329,8 +329,8 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
   Axis profile_axis;
   for (std::size_t i = 0; i < std::max<std::size_t>(1, d.profiles.size()); ++i) profile_axis.values.push_back(double(i));
   axes.push_back(profile_axis);
-  axes.push_back(filled(d.height_mm, base_trap ? bt.height_m * 1e3 : 0.0));
-  axes.push_back(filled(d.top_width_mm, base_trap ? bt.top_width_m * 1e3 : 0.0));
+  axes.push_back(filled(d.height_mm, base_trap ? in_mm(bt.height_m) : 0.0));
+  axes.push_back(filled(d.top_width_mm, base_trap ? in_mm(bt.top_width_m) : 0.0));
   axes.push_back(filled(d.leading_deg, base_trap ? deg_from_rad(bt.leading_face_angle_rad) : 0.0));
   axes.push_back(filled(d.trailing_deg, base_trap ? deg_from_rad(bt.trailing_face_angle_rad) : 0.0));
   axes.push_back(filled(d.rows, base.mill.rows));
@@ -407,11 +407,11 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
       c.profile_source = d.profiles[static_cast<std::size_t>(p[0])];
       const LifterProfile prof = load_profile(c.profile_source);
       const ProfileMetrics m = measure_profile(prof.points);
-      c.height_mm = m.height_m * 1e3;
-      c.top_width_mm = m.top_width_m * 1e3;
+      c.height_mm = in_mm(m.height_m);
+      c.top_width_mm = in_mm(m.top_width_m);
       c.leading_deg = deg_from_rad(m.leading_face_angle_rad);
       c.trailing_deg = deg_from_rad(m.trailing_face_angle_rad);
-      c.area_mm2 = m.area_m2 * 1e6;
+      c.area_mm2 = in_mm2(m.area_m2);
       out.push_back(c);
       continue;
     }
@@ -422,8 +422,8 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
       const bool own = k > 0 && kp.form == ProfileForm::Trapezoid;
       const TrapezoidDef& kt = kp.trapezoid;
       KindShape ks;
-      ks.height_mm = own && !d.height_mm.given ? kt.height_m * 1e3 : p[1];
-      ks.top_width_mm = own && !d.top_width_mm.given ? kt.top_width_m * 1e3 : p[2];
+      ks.height_mm = own && !d.height_mm.given ? in_mm(kt.height_m) : p[1];
+      ks.top_width_mm = own && !d.top_width_mm.given ? in_mm(kt.top_width_m) : p[2];
       ks.leading_deg = own && !d.leading_deg.given ? deg_from_rad(kt.leading_face_angle_rad) : p[3];
       ks.trailing_deg = d.symmetric ? ks.leading_deg
                         : own && !d.trailing_deg.given ? deg_from_rad(kt.trailing_face_angle_rad) : p[4];
@@ -437,7 +437,7 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
         const double target = ref_area_m2[static_cast<std::size_t>(k)];
         if (target > 0.0) {
           t.top_width_m = top_width_for_area(t, target, d.equal_area);
-          ks.top_width_mm = t.top_width_m * 1e3;
+          ks.top_width_mm = in_mm(t.top_width_m);
         }
         const Polyline pts = trapezoid_points(t);
         validate_lifter_polyline(pts, "", "");

@@ -7,12 +7,11 @@
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear::validation {
 
 namespace {
-
-constexpr double kMm2 = 1e-6;
 
 const char* const kEitherFormat =
     "columns hours,x_mm,y_mm (measured profiles, one block of rows per survey) or hours,area_mm2 "
@@ -39,8 +38,8 @@ AreaSurveys parse_area_surveys(const std::string& text, const std::string& name)
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const std::string line = "line " + std::to_string(d.row_line[r]);
     const double h = d.number(r, ch), v = d.number(r, cv);
-    // 1e6 h is over a century of operation; 1e10 mm^2 (100 m x 100 m) is past any lifter.
-    if (!(h >= 0.0 && h <= 1e6))
+    // 1e10 mm^2 (100 m x 100 m) is past any lifter.
+    if (!(h >= 0.0 && h <= kMaxHours))
       throw InputError(name, line, "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
     if (area && !(v > 0.0 && v <= 1e10))
       throw InputError(name, line, "a lifter area in (0, 1e10] (mm^2) in column area_mm2, found '" + d.text(r, cv) + "'");
@@ -115,7 +114,7 @@ void check_surveys_in_mill(const Measurements& measured, double radius_m, int ro
                     "survey points within the lifter's liner unit, lifter-local mm: |x_mm| at most half the pitch "
                     "(%.1f mm) and |y_mm| under the mill radius (%.1f mm); the survey at %g h has the point "
                     "(%g, %g) mm",
-                    half_pitch_m * 1e3, radius_m * 1e3, s.hours, p.x * 1e3, p.y * 1e3);
+                    in_mm(half_pitch_m), in_mm(radius_m), s.hours, p.x * 1e3, p.y * 1e3);
       throw InputError(file, "line " + std::to_string(s.first_line), buf);
     }
 }

@@ -46,7 +46,8 @@ double extrapolation_limit(const std::vector<double>& stage_hours);
 // Stage hours for a fresh run that puts stage boundaries on the survey hours: the largest
 // step h0 with every survey's hours a whole multiple of it (1e-6 relative), if that needs
 // at most max_stages stages to the last survey; otherwise 0 (use the scene's stage_hours).
-double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = 50);
+constexpr int kMaxCommonStages = 50;
+double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = kMaxCommonStages);
 
 // The scene set up for a fresh history covering the surveys up to `reach` x the last
 // survey's hours: stage_hours from common_stage_hours (or the scene's), enough stages,

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -187,7 +188,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
     const Vec2 a = r.mill.boundary[e], b = r.mill.boundary[(e + 1) % n];
     const double area = r.mill.edge_length_m[e] * t;
     liner << e << ',' << (info.owner == EdgeOwner::Lifter ? "lifter" : "shell") << ','
-          << info.owner_index << ',' << fmt(info.s_local_m * 1e3) << ',' << fmt(a.x) << ','
+          << info.owner_index << ',' << fmt(in_mm(info.s_local_m)) << ',' << fmt(a.x) << ','
           << fmt(a.y) << ',' << fmt(b.x) << ',' << fmt(b.y) << ','
           << fmt(r.accounting.shear_work_J[e] / s.time_s / area) << ','
           << fmt(r.accounting.impact_energy_J[e] / s.time_s / area) << ','

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "io/csv.hpp"
 
 namespace millwear::validation {
@@ -157,8 +158,8 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
     std::snprintf(buf, sizeof buf,
                   "a survey over part of the lifter; the survey at %s h spans x = %.4g to %.4g mm, where the new "
                   "lifter has no metal above the shell line (its base spans x = %.4g to %.4g mm)",
-                  io::format_number(s.hours).c_str(), xa * 1e3, xb * 1e3, -new_unit.lifter_half_base_m * 1e3,
-                  new_unit.lifter_half_base_m * 1e3);
+                  io::format_number(s.hours).c_str(), xa * 1e3, xb * 1e3, -in_mm(new_unit.lifter_half_base_m),
+                  in_mm(new_unit.lifter_half_base_m));
     throw InputError(file, "line " + std::to_string(s.first_line), buf);
   }
 }

@@ -80,7 +80,7 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
                                const std::string& file);
 
 // The survey version of calibration.hpp's common_stage_hours.
-double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = 50);
+double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = kMaxCommonStages);
 
 // ---- calibration ----
 

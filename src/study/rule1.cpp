@@ -12,10 +12,12 @@
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "plots/plots.hpp"
 #include "scene/limits.hpp"
+#include "study/plan.hpp"
 #include "wear/history.hpp"
 
 namespace millwear {
@@ -151,8 +153,9 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   if (factors.size() < 2)
     throw InputError("", "--factors",
                      "at least two factors, each compared with the smallest; got " + std::to_string(factors.size()));
-  if (options.replicates < 1 || options.replicates > 1000)
-    throw InputError("", "--replicates", "1 to 1000 histories per factor, got " + std::to_string(options.replicates));
+  if (options.replicates < 1 || options.replicates > study::kMaxReplicates)
+    throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) + " histories per factor, got " +
+                                             std::to_string(options.replicates));
   const auto nrep = static_cast<std::uint64_t>(options.replicates);
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
   for (double f : factors) {
@@ -246,9 +249,9 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
     // A comparison only for the factors compared; the reference and failed rows leave it empty.
     if (row.verdict == Rule1Verdict::Agrees || row.verdict == Rule1Verdict::Deviates ||
         row.verdict == Rule1Verdict::Scatters)
-      csv << fmt(row.deviation_m * 1e3) << ',' << fmt(row.deviation_se_m * 1e3) << ','
+      csv << fmt(in_mm(row.deviation_m)) << ',' << fmt(in_mm(row.deviation_se_m)) << ','
           << fmt(100.0 * row.deviation_m / height) << ',' << fmt(100.0 * row.deviation_se_m / height) << ','
-          << fmt(row.max_deviation_m * 1e3) << ',' << fmt(row.noise_floor_m * 1e3) << ','
+          << fmt(in_mm(row.max_deviation_m)) << ',' << fmt(in_mm(row.noise_floor_m)) << ','
           << fmt(row.scatter_ratio) << ',' << fmt(row.scatter_p) << ',';
     else
       csv << ",,,,,,,,";

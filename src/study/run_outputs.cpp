@@ -293,17 +293,17 @@ void write_kinds(const RunReport& report) {
     for (int k = 0; k < kinds; ++k) {
       const auto idx = static_cast<std::size_t>(k);
       const double area0 = own0 != d.stages.end() && idx < own0->second.kinds.size()
-                               ? own0->second.kinds[idx].area_m2 * 1e6 : std::nan("");
+                               ? in_mm2(own0->second.kinds[idx].area_m2) : std::nan("");
       const double life = idx < d.kind_life_h.size() ? d.kind_life_h[idx] : std::nan("");
       const bool extrapolated = idx < d.kind_life_extrapolated.size() ? d.kind_life_extrapolated[idx] : true;
       for (const auto& [stage, r] : d.stages) {
         if (idx >= r.kinds.size()) continue;
-        const double area = r.kinds[idx].area_m2 * 1e6;
+        const double area = in_mm2(r.kinds[idx].area_m2);
         const double rate = idx < r.kind_area_loss_rate_m2_per_s.size()
                                 ? r.kind_area_loss_rate_m2_per_s[idx] * kSecondsPerHour * 1000.0 * 1e6 : std::nan("");
         t.add_row({d.name, k, d.scene->mill.kind(k).name, stage, r.hours, area, 100.0 * (1.0 - area / area0),
-                   r.kinds[idx].height_m * 1e3, rate, life, extrapolated,
-                   d.scene->wear.replacement_height_m * 1e3});
+                   in_mm(r.kinds[idx].height_m), rate, life, extrapolated,
+                   in_mm(d.scene->wear.replacement_height_m)});
       }
     }
   }

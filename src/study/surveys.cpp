@@ -7,14 +7,14 @@
 
 #include "common/errors.hpp"
 #include "common/text.hpp"
+#include "common/units.hpp"
 #include "io/csv.hpp"
 #include "profiles/profile.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear::validation {
 
 namespace {
-
-constexpr double kMm = 1e-3;
 
 std::string line_of(const io::CsvData& d, std::size_t row) { return "line " + std::to_string(d.row_line[row]); }
 
@@ -112,10 +112,9 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
   std::map<double, std::size_t> seen;  // hours -> first line of its block
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const double h = d.number(r, ch), x = d.number(r, cx), y = d.number(r, cy);
-    // 1e6 h is over a century of operation; 1e5 mm (100 m) is past any liner.
-    if (!(h >= 0.0 && h <= 1e6))
+    if (!(h >= 0.0 && h <= kMaxHours))
       throw InputError(name, line_of(d, r), "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
-    if (!(std::abs(x) <= 1e5 && std::abs(y) <= 1e5))
+    if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
       throw InputError(name, line_of(d, r), "x_mm and y_mm within +-100000 mm");
     if (surveys.empty() || surveys.back().hours != h) {
       auto it = seen.find(h);

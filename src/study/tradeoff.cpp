@@ -12,6 +12,7 @@
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
+#include "common/units.hpp"
 #include "geometry/polyline.hpp"
 #include "io/csv.hpp"
 #include "metrics/pareto.hpp"
@@ -252,7 +253,7 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     if (!values.empty()) knob("size_cutoff", {"solver.size_cutoff"}, values);
   }
   auto mesh_value = [](double shell_m, double lifter_m) {
-    return std::pair{num(shell_m * 1e3) + "/" + num(lifter_m * 1e3) + "mm", Setter([shell_m, lifter_m](Scene& s) {
+    return std::pair{num(in_mm(shell_m)) + "/" + num(in_mm(lifter_m)) + "mm", Setter([shell_m, lifter_m](Scene& s) {
                        s.mill.mesh.shell_edge_m = shell_m;
                        s.mill.mesh.lifter_edge_m = lifter_m;
                      })};

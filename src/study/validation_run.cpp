@@ -7,6 +7,7 @@
 #include <map>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
@@ -108,9 +109,9 @@ void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::
     const auto& v = surveys[i];
     const Polyline sim = history.profile_at(v.hours);
     const auto c = compare_profile(v, sim, scene.radius_m(), o.new_height_m, new_surface);
-    table.add_row({static_cast<int>(i + 1), v.hours, c.points, c.mean_distance_m * 1e3, c.max_distance_m * 1e3,
-                   c.bias_m * 1e3, c.mean_pct_height, c.max_pct_height, c.measured_area_m2 * 1e6,
-                   c.simulated_area_m2 * 1e6, c.area_error_m2 * 1e6, c.area_error_pct});
+    table.add_row({static_cast<int>(i + 1), v.hours, c.points, in_mm(c.mean_distance_m), in_mm(c.max_distance_m),
+                   in_mm(c.bias_m), c.mean_pct_height, c.max_pct_height, in_mm2(c.measured_area_m2),
+                   in_mm2(c.simulated_area_m2), in_mm2(c.area_error_m2), c.area_error_pct});
     o.profiles.push_back(c);
     // The simulated lifter region: the measured span, or the lifter and its feet.
     const double xa = std::min(v.profile_m.front().x, -study::kProfileMargin * half_base);
@@ -159,10 +160,10 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
     const auto& c = o.areas[i];
     // No measured loss (the 0 h survey): no percentage of it, an empty cell rather than NaN.
     const io::CsvCell loss_pct = std::isnan(c.loss_error_pct) ? io::CsvCell("") : io::CsvCell(c.loss_error_pct);
-    table.add_row({static_cast<int>(i + 1), c.line, c.hours, c.measured_area_m2 * 1e6, c.simulated_area_m2 * 1e6,
-                   c.area_error_m2 * 1e6, c.area_error_pct, c.measured_loss_m2 * 1e6, c.simulated_loss_m2 * 1e6,
-                   c.loss_error_m2 * 1e6, loss_pct});
-    measured_plot.add_row({c.hours, c.measured_area_m2 * 1e6});
+    table.add_row({static_cast<int>(i + 1), c.line, c.hours, in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2),
+                   in_mm2(c.area_error_m2), c.area_error_pct, in_mm2(c.measured_loss_m2), in_mm2(c.simulated_loss_m2),
+                   in_mm2(c.loss_error_m2), loss_pct});
+    measured_plot.add_row({c.hours, in_mm2(c.measured_area_m2)});
     simulated.surveys.push_back({c.hours, c.simulated_area_m2, 0});
   }
   for (std::size_t k = 0; k < history.hours.size(); ++k)

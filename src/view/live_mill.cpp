@@ -1,4 +1,4 @@
-// The live mill behind `millwear view` (see live.hpp): controls through the scene
+// The live mill behind `millwear view` (see live_mill.hpp): controls through the scene
 // checker, the live charge in batches, the wear mode on its own thread.
 #include "view/live_mill.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
 // `millwear view`: the live mill in a window (Dear ImGui on GLFW and OpenGL 3). Everything
-// the window shows comes from view::LiveMill (live.hpp), which drives the same library
+// the window shows comes from view::LiveMill (live_mill.hpp), which drives the same library
 // calls as `charge` and `run`; nothing of GLFW, OpenGL or ImGui leaves src/view/.
 #include <cstddef>
 #include <functional>

@@ -5,6 +5,7 @@
 //
 // Per stage: start_stage (geometry, engine, first window) -> stage_record -> wear_through_stage
 // (wear step -> reshape -> next window, until the stage's hours) -> finish_stage.
+#include "common/units.hpp"
 #include "wear/history.hpp"
 
 #include <algorithm>
@@ -59,7 +60,7 @@ NewLiner new_liner(const Scene& scene) {
     std::snprintf(buf, sizeof buf,
                   "measured profile '%s': resampled and re-smoothed at %.3g mm, its lifter area went from %.6g mm^2 "
                   "(the file's) to %.6g mm^2 (%+.3g mm^2, %+.2f%%)%s",
-                  p.name.c_str(), n.smoothing_m * 1e3, a_file * 1e6, a_start * 1e6, (a_start - a_file) * 1e6,
+                  p.name.c_str(), in_mm(n.smoothing_m), a_file * 1e6, a_start * 1e6, (a_start - a_file) * 1e6,
                   100.0 * (a_start - a_file) / a_file,
                   p.dropped_points > 0 ? (", " + std::to_string(p.dropped_points) + " repeated or looping points dropped").c_str()
                                        : "");

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "geometry/polyline.hpp"
 #include "scene/limits.hpp"
 #include "wear/archard.hpp"
@@ -188,7 +189,7 @@ LinerUnit starting_unit(const Scene& scene, int kind, double smoothing_m) {
   } catch (const RunError& e) {
     throw InputError(scene.mill.kind(kind).source_file, "x_mm,y_mm",
                      std::string("a measured surface that survives re-smoothing at ") +
-                         std::to_string(smoothing_m * 1e3) + " mm (wear.smoothing_radius): " + e.what());
+                         std::to_string(in_mm(smoothing_m)) + " mm (wear.smoothing_radius): " + e.what());
   }
 }
 
@@ -251,7 +252,7 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
                   "a measured lifter the particles can see: re-smoothing the scan at %.3g mm (wear.smoothing_radius) "
                   "takes %.0f%% of its lifter's area (%.4g of %.4g mm^2; gauge noise takes a few per cent), so most "
                   "of it is thinner than the particles",
-                  r * 1e3, 100.0 * (1.0 - start_m2 / scan_m2), start_m2 * 1e6, scan_m2 * 1e6);
+                  r * 1e3, 100.0 * (1.0 - start_m2 / scan_m2), in_mm2(start_m2), in_mm2(scan_m2));
     throw InputError(p.source_file, "x_mm,y_mm", buf);
   }
   const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
@@ -266,7 +267,7 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
                   "expected a height below the measured lifter's as the history starts from it, %.4g mm (%s "
                   "re-smoothed at "
                   "%.3g mm, wear.smoothing_radius), got %.4g mm",
-                  start_height_m * 1e3, p.source_file.c_str(), r * 1e3, scene.wear.replacement_height_m * 1e3);
+                  in_mm(start_height_m), p.source_file.c_str(), r * 1e3, in_mm(scene.wear.replacement_height_m));
     throw InputError(file, "wear.replacement_height", buf);
   }
 }
@@ -337,7 +338,7 @@ std::vector<LinerUnit> reshape(const std::vector<LinerUnit>& units, const std::v
                     "stage %d: re-smoothing at wear.smoothing_radius %.3g mm removed %.1f%% of the new lifter's "
                     "area beyond the wear itself (bound %.0f%%): the worn lifter has a feature narrower than "
                     "twice the radius; lower wear.smoothing_radius",
-                    stage, smoothing_m * 1e3, 100.0 * lost / new_area_m2, 100.0 * kMaxSmoothingAreaLoss);
+                    stage, in_mm(smoothing_m), 100.0 * lost / new_area_m2, 100.0 * kMaxSmoothingAreaLoss);
       throw NumericalError(buf);
     }
   }
