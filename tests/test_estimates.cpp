@@ -11,6 +11,7 @@
 #include <map>
 #include <fstream>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -304,6 +305,14 @@ TEST_F(Replicates, TheReportedErrorAgreesWithTheSpreadOfIndependentRuns) {
   EXPECT_TRUE(fs::exists(a / "profiles/lab-mill_stage1.csv"));
   EXPECT_TRUE(fs::exists(a / "profiles/lab-mill.r4_stage1.csv"));
   EXPECT_NE(read_text(a / "summary.csv").find(",replicates,"), std::string::npos);
+  // The manifest lists every file the run wrote (what --force deletes), the replicates' too,
+  // and nothing that is not there.
+  std::set<std::string> listed, on_disk;
+  for (const auto& f : m["files"]) listed.insert(f.get<std::string>());
+  for (const auto& e : fs::recursive_directory_iterator(a))
+    if (e.is_regular_file()) on_disk.insert(fs::relative(e.path(), a).string());
+  for (const auto& f : on_disk) EXPECT_EQ(listed.count(f), 1u) << "written but not listed: " << f;
+  for (const auto& f : listed) EXPECT_EQ(on_disk.count(f), 1u) << "listed but not written: " << f;
 }
 
 TEST_F(Replicates, OneHistorysErrorsAreLabelledBatchMeans) {

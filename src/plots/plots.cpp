@@ -538,7 +538,8 @@ FigureOutcome draw_all_figures(const std::string& out, const std::vector<std::st
       data.numbers(c);  // checks every value is a number, naming the line if not
     if (designs.empty()) designs = t.order;
     for (const auto& [d, rows] : t.rows) {
-      if (!io::is_valid_design_name(d)) continue;
+      // Only the designs drawn: a run's spectrum.csv also holds each replicate's histogram.
+      if (!io::is_valid_design_name(d) || std::find(designs.begin(), designs.end(), d) == designs.end()) continue;
       write_rows(io::join_path(data_dir, d + "_spectrum.csv"), t.header, rows);
       with_spectrum.insert(d);
     }
