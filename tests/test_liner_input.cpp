@@ -649,6 +649,26 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   // Stages 0-2 are the first run's; stage 3 was worn at the new speed.
   EXPECT_EQ(slurp(first / "profiles/lab-mill_stage2.csv"), slurp(faster / "profiles/lab-mill_stage2.csv"));
   EXPECT_NE(slurp(first / "profiles/lab-mill_stage3.csv"), slurp(faster / "profiles/lab-mill_stage3.csv"));
+  // The errors of stage 3's area and height are those of the wear done at the new speed (kept
+  // in stage 2's record, which the wear from stage 2 on wrote again); at the same speed the
+  // record is the first run's to the byte.
+  const auto worn_se = [](const fs::path& out, int stage) {
+    const auto kv = millwear::study::read_stage_state(out.string(), "lab-mill", stage).worn_se;
+    return std::make_pair(kv.area_m2, kv.height_m);
+  };
+  EXPECT_EQ(slurp(first / "stages/lab-mill_stage2.record"), slurp(again / "stages/lab-mill_stage2.record"));
+  EXPECT_NE(worn_se(first, 2).first, worn_se(faster, 2).first);
+  EXPECT_NE(worn_se(first, 2).second, worn_se(faster, 2).second);
+  EXPECT_EQ(worn_se(first, 1), worn_se(faster, 1));
+  const auto area_se_at = [](const fs::path& out, int stage) {
+    const millwear::io::CsvData t = millwear::io::read_csv((out / "summary.csv").string());
+    const auto stages = t.numbers("stage"), se = t.numbers("area_mm2_se");
+    for (std::size_t i = 0; i < stages.size(); ++i)
+      if (static_cast<int>(stages[i]) == stage) return se[i];
+    return std::nan("");
+  };
+  EXPECT_EQ(area_se_at(first, 3), area_se_at(again, 3));
+  EXPECT_NE(area_se_at(first, 3), area_se_at(faster, 3));
 
   // A stage the first run did not finish is refused (exit 2, naming --stage).
   r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "x") + " --continue " + quoted(first) +

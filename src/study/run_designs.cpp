@@ -211,8 +211,15 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   DesignState& st = *ctx.designs[i];
   const std::string& out = opt.out;
   study::write_profile_csv(out, d.name, rec);  // derived from the exact state: same on resume
-  // Stages read back from OUT are on disk; those of the run --continue names are copied.
-  if (rec.stage > st.resumed_up_to || rec.stage <= st.copied_up_to)
+  // Stages read back from OUT are on disk; those of the run --continue names are copied. A
+  // stage heard of again is the resumed one worn through anew: its record carries the new
+  // wear's errors (on a resume, the same bytes).
+  bool again = false;
+  {
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    again = st.stages.count(rec.stage) > 0;
+  }
+  if (again || rec.stage > st.resumed_up_to || rec.stage <= st.copied_up_to)
     study::write_stage_state(out, d.name, rec);  // then the marker
   bool latest;
   {

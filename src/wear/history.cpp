@@ -199,16 +199,19 @@ StageRecord stage_record(const Scene& scene, const NewLiner& liner, const StageR
   return rec;
 }
 
+// The errors of the area and height the stage's wear removed on its way to the next stage.
+void record_worn_errors(StageRecord& rec, const StageRun& run) {
+  rec.worn_se = {std::sqrt(run.worn.area_m4), std::sqrt(run.worn.height_m2)};
+  rec.kind_worn_se.clear();
+  for (const WornVariance& v : run.kind_worn) rec.kind_worn_se.push_back({std::sqrt(v.area_m4), std::sqrt(v.height_m2)});
+}
+
 // The stage's timings, then the caller hears of it (and persists it).
 void finish_stage(WearHistory& history, const StageRun& run, const WearCallbacks& cb) {
   StageRecord& rec = history.stages.back();
   rec.wall_s = std::chrono::duration<double>(Clock::now() - run.started).count();
   rec.simulated_s = run.simulated_s;
-  if (run.worn_through) {
-    rec.worn_se = {std::sqrt(run.worn.area_m4), std::sqrt(run.worn.height_m2)};
-    rec.kind_worn_se.clear();
-    for (const WornVariance& v : run.kind_worn) rec.kind_worn_se.push_back({std::sqrt(v.area_m4), std::sqrt(v.height_m2)});
-  }
+  if (run.worn_through) record_worn_errors(rec, run);
   rec.disk_steps = run.disk_steps;
   if (cb.on_stage) cb.on_stage(rec);
 }
@@ -407,7 +410,15 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     }
     const bool lost = note_lost_disks();
     if (end == StageEnd::StoppedByRule || (lost && !on_record)) break;
-    if (on_record) finish_stage(history, run, cb);
+    if (on_record) {
+      finish_stage(history, run, cb);
+    } else if (run.worn_through) {
+      // The resumed stage was simulated again to wear on: the errors of that wear are this
+      // run's (the same bits on a resume; under the new conditions of a continued run, the
+      // new wear's), and the caller hears of the record again.
+      record_worn_errors(history.stages.back(), run);
+      if (cb.on_stage) cb.on_stage(history.stages.back());
+    }
     if (lost) break;
     report_progress(cb, run);
     if (end == StageEnd::WornOut) {

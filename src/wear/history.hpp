@@ -107,7 +107,9 @@ struct WearUpdate {
 };
 
 struct WearCallbacks {
-  // Called after each stage record is complete (stage 0 first). Persist it here.
+  // Called after each stage record is complete (stage 0 first). Persist it here. The last
+  // stage of resume_from is heard of once more when it has been worn through again, with the
+  // errors of that wear (worn_se, kind_worn_se) in it.
   std::function<void(const StageRecord&)> on_stage;
   std::function<void(const WearProgress&)> on_progress;
   // Called after every wear update (the liner reshaped, the hours moved on).
