@@ -450,3 +450,30 @@ TEST(Verdicts, AreaLossIsComparedAtStagesOfEqualHoursOnly) {
   EXPECT_EQ(partly[0].stage, 1);
   EXPECT_EQ(partly[0].hours, 100.0);
 }
+
+// A life one design does not have (no height trend to the replacement height yet) is not
+// compared "by nan": the verdict says so, and a known pair of lives still reads as before.
+TEST(Verdicts, AnUnknownLifeIsNotComparedByNan) {
+  auto design = [](const std::string& name, double life_h) {
+    millwear::DesignEstimate d;
+    d.name = name;
+    d.life_h = {life_h, std::isfinite(life_h) ? 10.0 : std::nan("")};
+    millwear::StageEstimate s;
+    s.power_W = {1000.0, 10.0};
+    d.stages.push_back(s);
+    return d;
+  };
+  auto life_text = [](const std::vector<millwear::Verdict>& vs) {
+    for (const auto& v : vs)
+      if (v.figure == "life_h") return v.text;
+    return std::string("(none)");
+  };
+  const std::string unknown = life_text(
+      millwear::study::compare_designs({design("ref", std::nan("")), design("new", std::nan(""))}, "ref"));
+  EXPECT_EQ(unknown.find("nan"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("life: new against ref: not compared"), std::string::npos) << unknown;
+  const std::string one = life_text(millwear::study::compare_designs({design("ref", 1000.0), design("new", std::nan(""))}, "ref"));
+  EXPECT_NE(one.find("not compared"), std::string::npos) << one;
+  const std::string known = life_text(millwear::study::compare_designs({design("ref", 1000.0), design("new", 900.0)}, "ref"));
+  EXPECT_NE(known.find("new wears out before ref by 100"), std::string::npos) << known;
+}

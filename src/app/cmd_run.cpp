@@ -53,6 +53,10 @@ std::string pm(double mean, double se, const char* format = "%.4g") {
   return std::string(m) + " +- " + e;
 }
 
+// A life read off the height trend beyond the last stage (marked *); none is marked where
+// the trend gives no life.
+bool extrapolated(const DesignEstimate& d) { return d.life_extrapolated && std::isfinite(d.life_h.mean); }
+
 void print_final_summary(const study::RunState& state, double wall) {
   const study::RunEstimates est = study::run_estimates(state);
   std::printf("%-*s %5s %7s %18s %13s %15s %18s %16s %17s\n", 16, "design", "stage", "hours", "area_mm2", "loss_%",
@@ -63,9 +67,9 @@ void print_final_summary(const study::RunState& state, double wall) {
                   pm(in_mm2(s.area_m2.mean), in_mm2(s.area_m2.se), "%.1f").c_str(),
                   pm(100.0 * s.area_loss_fraction.mean, 100.0 * s.area_loss_fraction.se, "%.1f").c_str(),
                   pm(in_mm(s.height_m.mean), in_mm(s.height_m.se), "%.1f").c_str(),
-                  pm(1e-3 * s.power_W.mean, 1e-3 * s.power_W.se).c_str(),
+                  pm(in_kW(s.power_W.mean), in_kW(s.power_W.se)).c_str(),
                   pm(s.utilization.mean, s.utilization.se, "%.3f").c_str(),
-                  pm(d.life_h.mean, d.life_h.se, "%.0f").c_str(), d.life_extrapolated ? "*" : " ");
+                  pm(d.life_h.mean, d.life_h.se, "%.0f").c_str(), extrapolated(d) ? "*" : " ");
   for (const study::DesignLines& d : study::design_lines(state)) {
     std::printf("%-*s %s%s%s\n", 16, d.name.c_str(), study::status_name(d.status),
                 d.error.empty() ? "" : ": ", d.error.c_str());
@@ -101,8 +105,11 @@ void print_final_summary(const study::RunState& state, double wall) {
                                     : "batch means of each window (one history per design; "
                                       "--replicates N measures the spread between histories)");
   for (const Verdict& v : est.verdicts) std::printf("%s\n", v.text.c_str());
-  std::printf("(* life extrapolated from the stage trend; normalised to %s new; wall time %s)\n",
-              state.plan.reference.c_str(), duration_text(wall).c_str());
+  const bool any_extrapolated =
+      std::any_of(est.designs.begin(), est.designs.end(), [](const DesignEstimate& d) { return extrapolated(d); });
+  std::printf("(%snormalised to %s new; wall time %s)\n",
+              any_extrapolated ? "* life extrapolated from the stage trend; " : "", state.plan.reference.c_str(),
+              duration_text(wall).c_str());
 }
 
 }  // namespace

@@ -219,6 +219,14 @@ std::string number_text(double x) {
 
 std::string verdict_text(const Verdict& v) {
   const double d = v.difference.value;
+  // A figure one of the two does not have: nothing to compare, rather than "by nan".
+  if (!std::isfinite(d)) {
+    if (v.figure == "life_h")
+      return "life: " + v.design + " against " + v.reference +
+             ": not compared (a life not known: no height trend down to the replacement height yet)";
+    return v.figure + (v.stage >= 0 ? " at stage " + std::to_string(v.stage) : std::string()) + ": " + v.design +
+           " against " + v.reference + ": not compared (not known for both)";
+  }
   const std::string pm =
       number_text(std::abs(d)) + " +- " + number_text(v.difference.se) + (v.unit.empty() ? "" : " " + v.unit);
   std::string what;
