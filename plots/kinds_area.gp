@@ -33,9 +33,12 @@ do for [fmt in formats] {
        with linespoints ls i title curve_title(i)
   set ylabel "Area loss rate (mm^2 per 1000 h)"
   set title "(b) Area loss rate at each stage's geometry"
+  # A rate may rise or fall: the key sits in room kept free above the highest point.
   set key top left
+  set offsets graph 0.03, graph 0.03, graph 0.12 * (n + 1), graph 0.05
   plot for [i = 1:n] kind_file(word(series, i)) using "hours":"area_loss_rate_mm2_per_1000h" \
        with linespoints ls i title curve_title(i)
+  set offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05  # common.gp's again
   set ylabel "Lifter height (mm)"
   set title "(c) Height; filled: the life, at the replacement height"
   set key bottom left
