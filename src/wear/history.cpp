@@ -3,9 +3,9 @@
 // wear ended (kept in its record), so a stage depends only on its record: resuming from a
 // saved stage gives the same results as an uninterrupted run.
 //
-// Per stage: start_stage (geometry, engine, first window) -> stage_record -> wear_through_stage
-// (wear step -> reshape -> next window, until the stage's hours) -> finish_stage.
-#include "common/units.hpp"
+// Per stage (run_wear_history, at the end of the file): start_stage (geometry, engine, first
+// window) -> stage_record -> last_stage_measured? -> wear_on: wear_through_stage (wear step ->
+// reshape -> next window, until the stage's hours) -> finish_stage.
 #include "wear/history.hpp"
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <memory>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "wear/archard.hpp"
 #include "wear/life.hpp"
 #include "wear/reshape.hpp"
@@ -108,6 +109,7 @@ struct StageRun {
   bool worn_through = false;
   WornVariance worn;
   std::vector<WornVariance> kind_worn;
+  std::size_t events_noted = 0;  // the engine's events already in the history
 };
 
 void check_stop(const WearCallbacks& cb) {
@@ -347,6 +349,68 @@ double wear_rate_for(const Scene& scene, const NewLiner& liner, const StageRun& 
                         run.window.edge_power_W);
 }
 
+// The engine's events since the last look into the history. True once a disk is lost: the
+// figures from there on are suspect, so the stage it happened in is kept with the event
+// named, and the history stops.
+bool note_lost_disks(WearHistory& history, StageRun& run) {
+  const auto& events = run.engine->events();
+  for (; run.events_noted < events.size(); ++run.events_noted) {
+    history.events.push_back("stage " + std::to_string(run.stage) + ": " + events[run.events_noted].what);
+    if (history.failure.empty()) history.failure = history.events.back() + " (a disk was lost)";
+  }
+  return !history.failure.empty();
+}
+
+// Whether the stage just measured is the history's last (the scene's last stage, the lifter
+// at the shell, or a disk lost in its window); if so it is finished here.
+bool last_stage_measured(const Scene& scene, WearHistory& history, StageRun& run, const WearCallbacks& cb) {
+  const bool lost = note_lost_disks(history, run);
+  const bool worn_out = history.stages.back().worn_out;
+  if (run.stage < scene.wear.stages && !worn_out && !lost) return false;
+  finish_stage(history, run, cb);
+  if (worn_out) history.events.push_back("stage " + std::to_string(run.stage) + ": the lifter is worn to the shell");
+  return true;
+}
+
+// Wear the measured stage through to the next one's hours, then hand it to the caller: its
+// record complete (finish_stage), or, for a resumed stage simulated again only to wear on,
+// the errors of that wear. False when the history ends here: stopped by a rule, a disk lost,
+// or the lifter worn to the shell (then recorded as the last stage).
+bool wear_on(const Scene& scene, const NewLiner& liner, StageRun& run, double c_real, bool on_record,
+             WearHistory& history, const WearCallbacks& cb) {
+  StageEnd end = StageEnd::Finished;
+  try {
+    end = wear_through_stage(scene, liner, run, c_real, history, cb);
+  } catch (const NumericalError& failure) {
+    // The stage was measured on a valid liner: keep it. Whatever the caller's on_stage
+    // throws then (a stop request, a full disk), the failure is what the run reports.
+    if (on_record) {
+      try {
+        finish_stage(history, run, cb);
+      } catch (...) {
+        throw failure;
+      }
+    }
+    throw;
+  }
+  const bool lost = note_lost_disks(history, run);
+  if (end == StageEnd::StoppedByRule || (lost && !on_record)) return false;
+  if (on_record) {
+    finish_stage(history, run, cb);
+  } else if (run.worn_through) {
+    // The same bits on a resume; under the new conditions of a continued run, the new wear's.
+    record_worn_errors(history.stages.back(), run);
+    if (cb.on_stage) cb.on_stage(history.stages.back());
+  }
+  if (lost) return false;
+  report_progress(cb, run);
+  if (end == StageEnd::WornOut) {
+    record_worn_out(history, run, cb);
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
@@ -370,61 +434,11 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     StageRun run = start_stage(scene, k, std::move(mill), std::move(carry), cb);
     if (c_real <= 0.0) c_real = wear_rate_for(scene, liner, run, resumed);
     history.wear_rate_m3_per_J = c_real;
-    // A resumed run's first stage is on disk already: it is re-simulated only to wear on.
+    // A resumed run's first stage is on disk already: it is simulated again only to wear on.
     const bool on_record = !(k == first_stage && resumed);
-    // A lost disk makes the figures from there on suspect: the stage it happened in is
-    // kept with the event named, and the history stops.
-    std::size_t events_seen = 0;
-    auto note_lost_disks = [&] {
-      const auto& events = run.engine->events();
-      for (; events_seen < events.size(); ++events_seen) {
-        history.events.push_back("stage " + std::to_string(k) + ": " + events[events_seen].what);
-        if (history.failure.empty()) history.failure = history.events.back() + " (a disk was lost)";
-      }
-      return !history.failure.empty();
-    };
-    if (on_record) {
-      history.stages.push_back(stage_record(scene, liner, run, c_real));
-      const bool lost = note_lost_disks();
-      const bool worn_out = history.stages.back().worn_out;
-      if (k == scene.wear.stages || worn_out || lost) {
-        finish_stage(history, run, cb);
-        if (worn_out) history.events.push_back("stage " + std::to_string(k) + ": the lifter is worn to the shell");
-        break;
-      }
-    }
-    StageEnd end = StageEnd::Finished;
-    try {
-      end = wear_through_stage(scene, liner, run, c_real, history, cb);
-    } catch (const NumericalError& failure) {
-      // The stage was measured on a valid liner: keep it. Whatever the caller's on_stage
-      // throws then (a stop request, a full disk), the failure is what the run reports.
-      if (on_record) {
-        try {
-          finish_stage(history, run, cb);
-        } catch (...) {
-          throw failure;
-        }
-      }
-      throw;
-    }
-    const bool lost = note_lost_disks();
-    if (end == StageEnd::StoppedByRule || (lost && !on_record)) break;
-    if (on_record) {
-      finish_stage(history, run, cb);
-    } else if (run.worn_through) {
-      // The resumed stage was simulated again to wear on: the errors of that wear are this
-      // run's (the same bits on a resume; under the new conditions of a continued run, the
-      // new wear's), and the caller hears of the record again.
-      record_worn_errors(history.stages.back(), run);
-      if (cb.on_stage) cb.on_stage(history.stages.back());
-    }
-    if (lost) break;
-    report_progress(cb, run);
-    if (end == StageEnd::WornOut) {
-      record_worn_out(history, run, cb);
-      break;
-    }
+    if (on_record) history.stages.push_back(stage_record(scene, liner, run, c_real));
+    if (on_record && last_stage_measured(scene, history, run, cb)) break;
+    if (!wear_on(scene, liner, run, c_real, on_record, history, cb)) break;
     carry = run.engine->state();
     mill = std::move(run.mill);
   }
