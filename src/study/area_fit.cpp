@@ -9,7 +9,7 @@ namespace millwear::validation {
 
 double AreaHistory::area_at(double h) const {
   for (std::size_t k = 0; k < hours.size(); ++k)
-    if (std::fabs(hours[k] - h) <= 1e-6) return area_m2[k];
+    if (std::fabs(hours[k] - h) <= kSameHoursTolerance) return area_m2[k];
   if (hours.size() < 2) return area_m2.front();
   std::size_t k = 1;
   while (k + 1 < hours.size() && hours[k] < h) ++k;

@@ -31,7 +31,7 @@ struct AreaHistory {
   std::vector<double> hours;
   std::vector<double> area_m2;
   double last_hours() const { return hours.empty() ? 0.0 : hours.back(); }
-  bool covers(double h) const { return !hours.empty() && h >= hours.front() - 1e-6 && h <= last_hours() + 1e-6; }
+  bool covers(double h) const { return !hours.empty() && h >= hours.front() - kSameHoursTolerance && h <= last_hours() + kSameHoursTolerance; }
   double new_area_m2() const { return area_m2.empty() ? 0.0 : area_m2.front(); }
   // Exact at a stage, linear between stages. Precondition: covers(h), or h up to
   // extrapolation_limit() (the calibration only): beyond the last stage the last

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "common/errors.hpp"
+#include "wear/history.hpp"
 
 namespace millwear::validation {
 
@@ -70,7 +71,7 @@ Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& surv
   for (double h : survey_hours) hmax = std::max(hmax, h);
   const double h0 = common_stage_hours(survey_hours);
   if (h0 > 0.0) s.wear.stage_hours = h0;
-  s.wear.stages = std::max(1, static_cast<int>(std::ceil(reach * hmax / s.wear.stage_hours - 1e-9)));
+  s.wear.stages = stages_to_reach(reach * hmax, s.wear.stage_hours);
   if (c > 0.0) {
     s.wear.rate_source = WearRateSource::Given;
     s.wear.wear_rate_m3_per_J = c;
@@ -148,7 +149,7 @@ double history_relative_error(const Scene& scene, const std::vector<StageRecord>
   const double window_s = scene.wear.window_revolutions * scene.revolution_time_s();
   double n_total = 0.0, var_sum = 0.0;
   for (std::size_t k = 0; k + 1 < stages.size(); ++k) {
-    if (stages[k].hours >= hours - 1e-6) break;
+    if (stages[k].hours >= hours - kSameHoursTolerance) break;
     const double n = std::max(1.0, std::round(stages[k].simulated_s / window_s));
     n_total += n;
     var_sum += n * stages[k].area_loss_rate_rel_sem * stages[k].area_loss_rate_rel_sem;

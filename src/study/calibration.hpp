@@ -47,6 +47,10 @@ double extrapolation_limit(const std::vector<double>& stage_hours);
 // step h0 with every survey's hours a whole multiple of it (1e-6 relative), if that needs
 // at most max_stages stages to the last survey; otherwise 0 (use the scene's stage_hours).
 constexpr int kMaxCommonStages = 50;
+
+// A survey's hours and a stage's this close (h) are the same time: a stage's hours are sums
+// of stage lengths, a survey's the decimals of a file.
+constexpr double kSameHoursTolerance = 1e-6;
 double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = kMaxCommonStages);
 
 // The scene set up for a fresh history covering the surveys up to `reach` x the last

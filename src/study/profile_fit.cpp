@@ -69,7 +69,7 @@ Polyline interpolate_profile(const Polyline& a, const Polyline& b, double f) {
 
 Polyline ProfileHistory::profile_at(double h) const {
   for (std::size_t k = 0; k < hours.size(); ++k)
-    if (std::fabs(hours[k] - h) <= 1e-6) return surfaces[k];
+    if (std::fabs(hours[k] - h) <= kSameHoursTolerance) return surfaces[k];
   if (hours.size() < 2) return surfaces.front();
   std::size_t k = 1;
   while (k + 1 < hours.size() && hours[k] < h) ++k;

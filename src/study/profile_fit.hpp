@@ -35,7 +35,7 @@ struct ProfileHistory {
   std::vector<double> hours;
   std::vector<Polyline> surfaces;   // whole liner unit surfaces, m
   double last_hours() const { return hours.empty() ? 0.0 : hours.back(); }
-  bool covers(double h) const { return !hours.empty() && h >= hours.front() - 1e-6 && h <= last_hours() + 1e-6; }
+  bool covers(double h) const { return !hours.empty() && h >= hours.front() - kSameHoursTolerance && h <= last_hours() + kSameHoursTolerance; }
   // Exact stage geometry within 1e-6 h of a stage, otherwise the normal interpolation
   // above. Precondition: covers(h), or h up to extrapolation_limit() (the calibration
   // only): beyond the last stage the last interval's motion is continued.

@@ -14,6 +14,7 @@
 #include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
+#include "study/calibration.hpp"
 #include "study/command_manifest.hpp"
 #include "study/plan.hpp"
 #include "study/run_outputs.hpp"
@@ -58,7 +59,7 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateReques
     const std::vector<double> hours = measured.hours();
     const std::vector<std::size_t> lines = measured.lines();
     for (std::size_t i = 0; i < hours.size(); ++i)
-      if (hours[i] > src.reached_hours + 1e-6)
+      if (hours[i] > src.reached_hours + kSameHoursTolerance)
         throw InputError(a.measured_file, "line " + std::to_string(lines[i]),
                          "a survey within the " + io::format_number(src.reached_hours) + " h the run in " + a.from +
                              " reached, found " + io::format_number(hours[i]) + " h");

@@ -21,6 +21,7 @@
 #include "study/charge_run.hpp"
 #include "study/stage_files.hpp"
 #include "view/charge_edit.hpp"
+#include "wear/history.hpp"
 #include "wear/reshape.hpp"
 #include "wear/window.hpp"
 
@@ -353,7 +354,7 @@ std::string LiveMill::start_wear(double hours) {
   if (wear_thread_.joinable()) wear_thread_.join();
   Scene ws = scene_;
   if (!(hours > 0.0)) return "wear hours: expected a positive number of operating hours";
-  ws.wear.stages = std::max(1, static_cast<int>(std::ceil(hours / ws.wear.stage_hours - 1e-9)));
+  ws.wear.stages = stages_to_reach(hours, ws.wear.stage_hours);
   try {
     check_scene(ws, scene_file_);
   } catch (const InputError& x) {

@@ -446,6 +446,10 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
   return history;
 }
 
+int stages_to_reach(double hours, double stage_hours) {
+  return std::max(1, static_cast<int>(std::ceil(hours / stage_hours - 1e-9)));
+}
+
 std::vector<LifterMetrics> kind_metrics(const std::vector<LinerUnit>& units, int kinds, double radius_m) {
   // One unit per kind, or one per row (row r of kind r % kinds): the mean over its rows.
   const std::size_t n = static_cast<std::size_t>(std::max(kinds, 1));

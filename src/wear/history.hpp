@@ -121,6 +121,10 @@ struct WearCallbacks {
   std::function<bool()> should_stop;
 };
 
+// The stages of stage_hours a history needs to reach `hours`: at least one, and a boundary
+// within a billionth of a stage of `hours` reaches it (sums of stage lengths round).
+int stages_to_reach(double hours, double stage_hours);
+
 // Run a scene's wear history (scene.wear.mode: staged or continuous). `resume_from` holds
 // the stages already finished by an earlier run (stage 0..K, exact geometry); the loop
 // continues from K and gives the same results as an uninterrupted run.
