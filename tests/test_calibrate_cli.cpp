@@ -191,5 +191,61 @@ TEST_F(CalibrateCli, CalibrateOnAreasAloneWritesTheSceneWithTheFittedRate) {
               static_cast<int>(res.number(0, "runs")));
 }
 
+// A scene that starts worn (scenarios/lab-worn-start.toml: a measured lifter at 2000 h, C =
+// 1e-10) counts the calibration's time from its start: areas made from its own run at 2100
+// and 2200 h give back its C from a first guess of 1.5e-10 (a clock from 0 h read those
+// surveys 2100 h into the history and fitted 1.42e-10), validate runs the two stages to the
+// last survey and finds zero error, and a survey before 2000 h is refused as input.
+TEST(WornStart, CalibrationAndValidationCountFromTheStart) {
+  TempDir dir("millwear-worn-start-cli");
+  const fs::path worn = fs::path(MILLWEAR_SOURCE_DIR) / "scenarios/lab-worn-start.toml";
+  const Result truth = run("run " + q(worn) + " -o " + q(dir.path() / "run") + " --quiet");
+  ASSERT_EQ(truth.exit_code, 0) << truth.output;
+  const io::CsvData summary = io::read_csv((dir.path() / "run/summary.csv").string());
+  std::string text = "hours,area_mm2\n";
+  for (std::size_t i = 1; i < summary.row_count(); ++i)  // 2100 and 2200 h
+    text += summary.text(i, summary.column("hours")) + "," + summary.text(i, summary.column("area_mm2")) + "\n";
+  const std::string areas = dir.write("areas.csv", text);
+
+  const Result val = run("validate " + q(worn) + " --measured " + q(areas) + " -o " + q(dir.path() / "val"));
+  ASSERT_EQ(val.exit_code, 0) << val.output;
+  EXPECT_NE(val.output.find("running 2 stage(s) of 100 h"), std::string::npos) << val.output;
+  const io::CsvData v = io::read_csv((dir.path() / "val/validation.csv").string());
+  ASSERT_EQ(v.row_count(), 2u);
+  for (std::size_t i = 0; i < v.row_count(); ++i)
+    EXPECT_LT(std::fabs(v.number(i, "area_error_mm2")), 1e-6) << "row " << i;  // 10 digits of ~300 mm^2
+
+  std::string guess = slurp(worn);
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"name = \"lab-worn-start\"", "name = \"worn-guess\""},
+           {"wear_rate = 1e-10", "wear_rate = 1.5e-10"},
+           {"\"../profiles/lab-survey-2000h.csv\"",
+            "\"" + (fs::path(MILLWEAR_SOURCE_DIR) / "profiles/lab-survey-2000h.csv").string() + "\""}}) {
+    const auto at = guess.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    guess.replace(at, from.size(), to);
+  }
+  const std::string guess_scene = dir.write("worn-guess.toml", guess);
+  // Each history's own noise moves its estimate by a few percent here: converged within 5%.
+  const Result cal = run("calibrate " + q(guess_scene) + " --measured " + q(areas) + " -o " + q(dir.path() / "cal") +
+                         " --tolerance 5");
+  ASSERT_EQ(cal.exit_code, 0) << cal.output;
+  const io::CsvData res = io::read_csv((dir.path() / "cal/calibration_result.csv").string());
+  const double c = res.number(0, "c_m3_per_J"), sigma = res.number(0, "sigma_m3_per_J");
+  EXPECT_EQ(res.number(0, "converged"), 1.0);
+  // Within three of its own standard errors of the C the surveys were made with.
+  EXPECT_LT(std::fabs(c - 1e-10), 3.0 * sigma) << "C = " << c << " +- " << sigma;
+
+  const std::string early = dir.write("early.csv", "hours,area_mm2\n1500,431\n" + text.substr(text.find('\n') + 1));
+  for (const std::string cmd : {"validate " + q(worn), "calibrate " + q(guess_scene)}) {
+    const fs::path out = dir.path() / "refused";
+    const Result r = run(cmd + " --measured " + q(early) + " -o " + q(out));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("line 2: surveys at or after the history's start, the scene's wear.start_hours (2000 h)"),
+              std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << cmd;
+  }
+}
+
 }  // namespace
 }  // namespace millwear

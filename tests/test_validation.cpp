@@ -366,18 +366,24 @@ TEST(ValidationAreaSurveys, SpreadsheetSavedFilesReadLikePlainOnes) {
 TEST(ValidationAreaSurveys, LossIsFromTheMeasuredNewAreaElseTheScenes) {
   // With 0 h rows their mean is the reference; without, the scene's new lifter area.
   const auto with0 = validation::measured_areas(
-      validation::parse_area_surveys("hours,area_mm2\n0,400\n0,404\n100,380\n", "a.csv"), 410e-6);
+      validation::parse_area_surveys("hours,area_mm2\n0,400\n0,404\n100,380\n", "a.csv"), 410e-6, 0.0);
   EXPECT_TRUE(with0.reference_measured);
   EXPECT_NEAR(with0.reference_m2, 402e-6, 1e-15);
   EXPECT_NEAR(with0.loss_m2[2], 22e-6, 1e-15);
   const auto without0 =
-      validation::measured_areas(validation::parse_area_surveys("hours,area_mm2\n100,380\n", "a.csv"), 410e-6);
+      validation::measured_areas(validation::parse_area_surveys("hours,area_mm2\n100,380\n", "a.csv"), 410e-6, 0.0);
   EXPECT_FALSE(without0.reference_measured);
   EXPECT_NEAR(without0.loss_m2[0], 30e-6, 1e-15);
   const auto loss =
-      validation::measured_areas(validation::parse_area_surveys("hours,area_loss_mm2\n100,25\n", "l.csv"), 410e-6);
+      validation::measured_areas(validation::parse_area_surveys("hours,area_loss_mm2\n100,25\n", "l.csv"), 410e-6, 0.0);
   EXPECT_NEAR(loss.loss_m2[0], 25e-6, 1e-15);
   EXPECT_NEAR(loss.area_m2[0], 385e-6, 1e-15);
+  // A history that starts worn at 2000 h: its rows at 2000 h are the reference, a 0 h row is not.
+  const auto worn = validation::measured_areas(
+      validation::parse_area_surveys("hours,area_mm2\n2000,300\n2100,280\n", "w.csv"), 310e-6, 2000.0);
+  EXPECT_TRUE(worn.reference_measured);
+  EXPECT_NEAR(worn.reference_m2, 300e-6, 1e-15);
+  EXPECT_NEAR(worn.loss_m2[1], 20e-6, 1e-15);
 }
 
 TEST(ValidationAreaSurveys, ShippedExampleIsALabelledSyntheticAreaSurvey) {
@@ -390,7 +396,7 @@ TEST(ValidationAreaSurveys, ShippedExampleIsALabelledSyntheticAreaSurvey) {
   EXPECT_EQ(m.hours(), (std::vector<double>{0, 100, 100, 100, 200, 200, 200}));
   // The new lab lifter (lab-2x30) is 419.1 mm^2: the 0 h row is within its 2 mm^2 noise (3 sd).
   EXPECT_NEAR(m.areas.surveys[0].value_m2, 419.1e-6, 6e-6);
-  const auto loss = validation::measured_areas(m.areas, 419.1e-6);
+  const auto loss = validation::measured_areas(m.areas, 419.1e-6, 0.0);
   EXPECT_TRUE(loss.reference_measured);
   for (std::size_t i = 1; i < 7; ++i) EXPECT_GT(loss.loss_m2[i], 0.0);
 }
@@ -437,7 +443,7 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
   std::ofstream(unworn) << "hours,area_mm2\n0,419\n";
   const CliResult u = run_cli("calibrate \"" + scene + "\" --measured \"" + unworn + "\" -o \"" + (d / "out").string() + "\"");
   EXPECT_EQ(u.exit_code, 2) << u.output;
-  EXPECT_NE(u.output.find(unworn + ": hours: at least one survey after 0 h"), std::string::npos) << u.output;
+  EXPECT_NE(u.output.find(unworn + ": hours: at least one survey after the history's start (0 h"), std::string::npos) << u.output;
   EXPECT_FALSE(fs::exists(d / "out"));  // nothing written before the input is valid
 }
 

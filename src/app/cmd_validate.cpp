@@ -53,16 +53,16 @@ void print_areas(const validation::ValidateOutcome& o) {
               "err_mm2", "err_%", "meas_loss", "sim_loss", "loss_%");
   for (std::size_t i = 0; i < o.areas.size(); ++i) {
     const auto& c = o.areas[i];
-    char loss_pct[32] = "-";  // no measured loss (the 0 h survey): no percentage of it
+    char loss_pct[32] = "-";  // no measured loss (the survey at the start): no percentage of it
     if (!std::isnan(c.loss_error_pct)) std::snprintf(loss_pct, sizeof loss_pct, "%.2f", c.loss_error_pct);
     std::printf("%7zu %6zu %8.0f %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8s\n", i + 1, c.line, c.hours,
                 in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2), in_mm2(c.area_error_m2), c.area_error_pct,
                 in_mm2(c.measured_loss_m2), in_mm2(c.simulated_loss_m2), loss_pct);
   }
-  std::printf("(errors: simulated - measured; area %% of the new lifter area %.1f mm^2; loss %% of the measured loss; "
-              "losses from %s %.1f mm^2)\n",
+  std::printf("(errors: simulated - measured; area %% of the lifter's area at the history's start, %.1f mm^2; "
+              "loss %% of the measured loss; losses from %s %.1f mm^2)\n",
               in_mm2(o.new_area_m2),
-              o.measured_areas.reference_measured ? "the file's 0 h area" : "the scene's new lifter area",
+              o.measured_areas.reference_measured ? "the file's area at the start" : "the scene's lifter area at the start",
               in_mm2(o.measured_areas.reference_m2));
 }
 

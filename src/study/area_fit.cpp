@@ -32,7 +32,7 @@ AreaHistory area_history(const std::vector<StageRecord>& stages) {
 
 std::vector<AreaComparison> compare_areas(const AreaSurveys& surveys, const AreaHistory& history) {
   const double a0 = history.new_area_m2();
-  const MeasuredAreas m = measured_areas(surveys, a0);
+  const MeasuredAreas m = measured_areas(surveys, a0, history.start_hours());
   std::vector<AreaComparison> out;
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
     AreaComparison c;
@@ -52,17 +52,20 @@ std::vector<AreaComparison> compare_areas(const AreaSurveys& surveys, const Area
 }
 
 ScaleFit fit_time_scale(const AreaHistory& history, const AreaSurveys& surveys) {
-  const MeasuredAreas m = measured_areas(surveys, history.new_area_m2());
-  std::vector<double> worn_hours, worn_loss;
+  const double t0 = history.start_hours();
+  const MeasuredAreas m = measured_areas(surveys, history.new_area_m2(), t0);
+  std::vector<double> worn_hours, worn_loss;  // hours since the start
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
-    if (surveys.surveys[i].hours > 0.0) {
-      worn_hours.push_back(surveys.surveys[i].hours);
+    if (surveys.surveys[i].hours > t0) {
+      worn_hours.push_back(surveys.surveys[i].hours - t0);
       worn_loss.push_back(m.loss_m2[i]);
     }
-  const double limit = history.extrapolation_limit(), a0 = history.new_area_m2();
-  return fit_time_scale(worn_hours, limit, [&](std::size_t j, double s, std::vector<double>& r) {
-    r.push_back(a0 - history.area_at(std::min(worn_hours[j] * s, limit)) - worn_loss[j]);
+  const double limit = history.extrapolation_limit() - t0, a0 = history.new_area_m2();
+  ScaleFit fit = fit_time_scale(worn_hours, limit, [&](std::size_t j, double s, std::vector<double>& r) {
+    r.push_back(a0 - history.area_at(t0 + std::min(worn_hours[j] * s, limit)) - worn_loss[j]);
   });
+  for (double& h : fit.survey_hours) h += t0;
+  return fit;
 }
 
 CalibrationResult calibrate_wear_rate(const Scene& scene, const AreaSurveys& surveys,

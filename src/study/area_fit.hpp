@@ -32,7 +32,8 @@ struct AreaHistory {
   std::vector<double> area_m2;
   double last_hours() const { return hours.empty() ? 0.0 : hours.back(); }
   bool covers(double h) const { return !hours.empty() && h >= hours.front() - kSameHoursTolerance && h <= last_hours() + kSameHoursTolerance; }
-  double new_area_m2() const { return area_m2.empty() ? 0.0 : area_m2.front(); }
+  double new_area_m2() const { return area_m2.empty() ? 0.0 : area_m2.front(); }  // at the start
+  double start_hours() const { return hours.empty() ? 0.0 : hours.front(); }
   // Exact at a stage, linear between stages. Precondition: covers(h), or h up to
   // extrapolation_limit() (the calibration only): beyond the last stage the last
   // interval's slope is continued (and clamped at the limit).

@@ -8,6 +8,7 @@
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "scene/limits.hpp"
+#include "study/calibration.hpp"
 
 namespace millwear::validation {
 
@@ -63,14 +64,14 @@ std::vector<double> survey_hours(const AreaSurveys& surveys) {
   return h;
 }
 
-MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2) {
+MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, double start_hours) {
   MeasuredAreas m;
   m.reference_m2 = new_area_m2;
   if (!surveys.losses) {
     double sum = 0.0;
     int n = 0;
     for (const AreaSurvey& s : surveys.surveys)
-      if (s.hours == 0.0) { sum += s.value_m2; ++n; }
+      if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) { sum += s.value_m2; ++n; }
     if (n > 0) {
       m.reference_m2 = sum / n;
       m.reference_measured = true;
@@ -83,24 +84,37 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2) {
   return m;
 }
 
-void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file) {
-  const MeasuredAreas m = measured_areas(surveys, new_area_m2);
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file) {
+  const MeasuredAreas m = measured_areas(surveys, new_area_m2, start_hours);
+  const char* reference = m.reference_measured ? "the survey at the start" : "the scene's lifter at the start";
   // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     if (!(m.loss_m2[i] < m.reference_m2))
       throw InputError(file, "line " + std::to_string(surveys.surveys[i].line),
                        "an area loss smaller than the lifter's area (" + std::to_string(m.reference_m2 / kMm2) +
-                           " mm^2, " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") + "); this survey's is " +
+                           " mm^2, " + reference + "); this survey's is " +
                            std::to_string(m.loss_m2[i] / kMm2) + " mm^2");
   double moment = 0.0;
-  for (std::size_t i = 0; i < surveys.surveys.size(); ++i) moment += surveys.surveys[i].hours * m.loss_m2[i];
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
+    moment += (surveys.surveys[i].hours - start_hours) * m.loss_m2[i];
   if (moment > 0.0 || surveys.surveys.empty()) return;
   throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
                    std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
                                "lost); these ") +
                        (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
-                       " (the reference area is " + (m.reference_measured ? "the 0 h survey" : "the scene's new lifter") +
+                       " (the reference area is " + reference +
                        ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
+}
+
+void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
+                              const std::string& file) {
+  const std::vector<double> hours = measured.hours();
+  const std::vector<std::size_t> lines = measured.lines();
+  for (std::size_t i = 0; i < hours.size(); ++i)
+    if (hours[i] < start_hours - kSameHoursTolerance)
+      throw InputError(file, "line " + std::to_string(lines[i]),
+                       "surveys at or after the history's start, " + from + " (" + io::format_number(start_hours) +
+                           " h): the wear before it is not simulated; this survey is at " + io::format_number(hours[i]) + " h");
 }
 
 void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file) {

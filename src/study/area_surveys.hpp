@@ -6,7 +6,8 @@
 // Area survey file format (CSV, the same dialect and '#' comments as the profile surveys):
 //   # liner survey, feed end, lifters 3 and 9
 //   hours,area_mm2
-//   0,43100             <- the new lifter (optional: the reference of the area loss)
+//   0,43100             <- the new lifter (optional: the reference of the area loss; for a
+//                          scene that starts worn, the row at its wear.start_hours)
 //   1500,37250          <- one row per lifter surveyed
 //   1500,36900          <- several lifters at one inspection: one row each, same hours
 //   3000,30100
@@ -15,9 +16,10 @@
 //   the area `millwear profile` and OUT/summary.csv (area_mm2) report. Or, instead of
 //   area_mm2, area_loss_mm2: the area lost since the lifter was new, mm^2 (finite).
 // - Extra columns are ignored; at least one row.
-// Area loss (what the calibration fits): for area_loss_mm2 the value itself; for area_mm2,
-// A_ref - area, with A_ref the mean of the file's 0 h rows, or the scene's new lifter area
-// when the file has no 0 h row (then fitting the loss is fitting the area itself).
+// Area loss (what the calibration fits): for area_loss_mm2 the value itself (since the
+// history's start); for area_mm2, A_ref - area, with A_ref the mean of the file's rows at the
+// history's start (0 h, or a worn start's start_hours), or the scene's lifter area at that
+// start when the file has none (then fitting the loss is fitting the area itself).
 // Every problem throws InputError naming the file and the line.
 #include <string>
 #include <vector>
@@ -45,19 +47,20 @@ std::string format_area_surveys(const AreaSurveys& surveys, const std::string& c
 std::vector<double> survey_hours(const AreaSurveys& surveys);
 
 // The measured areas and area losses of every row (file order), with the reference area
-// of the losses (rules above); new_area_m2 is the scene's new lifter area.
+// of the losses (rules above); new_area_m2 is the scene's lifter area at the history's
+// start, start_hours that start's operating hours.
 struct MeasuredAreas {
   double reference_m2 = 0.0;
-  bool reference_measured = false;   // from the file's 0 h rows (not the scene)
+  bool reference_measured = false;   // from the file's rows at the start (not the scene)
   std::vector<double> area_m2, loss_m2;
 };
-MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2);
+MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, double start_hours);
 
 // A wear rate can be fitted only to areas that shrink with operating time, and by less than
 // the whole lifter: throws InputError(file, line of a survey, ...) if a survey's loss is not
 // under the reference area, or (line of the last survey) unless the area loss, fitted through
-// 0 h, grows with the hours (sum of hours x loss > 0).
-void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, const std::string& file);
+// the start, grows with the hours (sum of hours since the start x loss > 0).
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
 // or area surveys (area_mm2 or area_loss_mm2, no x_mm/y_mm), told apart by the header.
@@ -77,5 +80,11 @@ Measurements read_measurements(const std::string& path);
 // the pitch at the shell, 1% allowed) or outside the mill (|y| at or over the radius): a
 // survey in other units or of another mill, which no fit could use.
 void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file);
+
+// Every survey at or after the history's start (start_hours: `from`, e.g. the scene's
+// wear.start_hours): the wear before it is not simulated, so such a survey could be compared
+// with nothing. Throws InputError(file, line of the first survey before it, ...).
+void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
+                              const std::string& file);
 
 }  // namespace millwear::validation

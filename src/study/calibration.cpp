@@ -67,9 +67,12 @@ double common_stage_hours(const std::vector<double>& survey_hours, int max_stage
 
 Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& survey_hours, double c, double reach) {
   Scene s = scene;
+  // Hours since the history's start: a worn start's stages begin at its start_hours.
+  std::vector<double> since;
+  for (double h : survey_hours) since.push_back(h - scene.wear.start_hours);
   double hmax = 0.0;
-  for (double h : survey_hours) hmax = std::max(hmax, h);
-  const double h0 = common_stage_hours(survey_hours);
+  for (double h : since) hmax = std::max(hmax, h);
+  const double h0 = common_stage_hours(since);
   if (h0 > 0.0) s.wear.stage_hours = h0;
   s.wear.stages = stages_to_reach(reach * hmax, s.wear.stage_hours);
   if (c > 0.0) {
@@ -81,7 +84,7 @@ Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& surv
 
 ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hours, const ScaledResiduals& residuals) {
   if (worn_hours.empty())
-    throw InputError("", "surveys", "at least one survey after 0 h (a worn lifter) to calibrate on");
+    throw InputError("", "surveys", "at least one survey after the history's start (a worn lifter) to calibrate on");
   if (!(reach_hours > 0.0)) throw RunError("the wear history has no worn stage to compare with");
 
   std::vector<std::size_t> all(worn_hours.size());

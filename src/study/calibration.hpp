@@ -43,24 +43,26 @@ namespace millwear::validation {
 // needing one more stage.
 double extrapolation_limit(const std::vector<double>& stage_hours);
 
-// Stage hours for a fresh run that puts stage boundaries on the survey hours: the largest
-// step h0 with every survey's hours a whole multiple of it (1e-6 relative), if that needs
-// at most max_stages stages to the last survey; otherwise 0 (use the scene's stage_hours).
-constexpr int kMaxCommonStages = 50;
-
 // A survey's hours and a stage's this close (h) are the same time: a stage's hours are sums
 // of stage lengths, a survey's the decimals of a file.
 constexpr double kSameHoursTolerance = 1e-6;
+
+// Stage hours for a fresh run that puts stage boundaries on the survey hours (hours since
+// the history's start): the largest step h0 with every survey's hours a whole multiple of it
+// (1e-6 relative), if that needs at most max_stages stages to the last survey; otherwise 0
+// (use the scene's stage_hours).
+constexpr int kMaxCommonStages = 50;
 double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = kMaxCommonStages);
 
 // The scene set up for a fresh history covering the surveys up to `reach` x the last
-// survey's hours: stage_hours from common_stage_hours (or the scene's), enough stages,
-// wear rate C given (when c_m3_per_J > 0).
+// survey's hours, both counted from the history's start (wear.start_hours; 0 for a new
+// liner): stage_hours from common_stage_hours (or the scene's), enough stages, wear rate C
+// given (when c_m3_per_J > 0).
 Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& survey_hours, double c_m3_per_J,
                              double reach = 1.0);
 
-// Least-squares time scale s of one history against the worn surveys (hours > 0).
-// C = s * C_run.
+// Least-squares time scale s of one history against the worn surveys (after the history's
+// start). C = s * C_run.
 struct ScaleFit {
   double scale = 1.0;
   double sigma_curvature = 0.0;       // (a) Gauss-Newton standard error of s
@@ -75,12 +77,13 @@ struct ScaleFit {
 };
 
 // Residuals of worn survey j (index into worn_hours) when the history is read at time scale
-// s (survey hours h -> history hours s h), appended to r. The function clamps s h to what
-// the history can give (its extrapolation_limit).
+// s, appended to r. Hours count from the history's start t0: the survey t0 + h is read at
+// t0 + s h, clamped to what the history can give (its extrapolation_limit).
 using ScaledResiduals = std::function<void(std::size_t j, double s, std::vector<double>& r)>;
 
 // The least-squares s of the residuals over every worn survey, its errors (a) and (b), and
-// the per-survey s. reach_hours: the furthest hours the history can be read at. Throws
+// the per-survey s. worn_hours and reach_hours (the furthest the history can be read at)
+// count from the history's start. Throws
 // InputError("", "surveys", ...) if worn_hours is empty (nothing to fit).
 ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hours, const ScaledResiduals& residuals);
 

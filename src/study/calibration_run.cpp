@@ -38,16 +38,19 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
+  const double start_h = scene.wear.start_hours;
+  check_surveys_from_start(measured, start_h, "the scene's wear.start_hours", a.measured_file);
   bool worn = false;
-  for (double h : measured.hours()) worn |= h > 0.0;
+  for (double h : measured.hours()) worn |= h > start_h + kSameHoursTolerance;
   if (!worn)
-    throw InputError(a.measured_file, "hours", std::string("at least one survey after 0 h (a worn ") +
+    throw InputError(a.measured_file, "hours", "at least one survey after the history's start (" +
+                                                   io::format_number(start_h) + " h; a worn " +
                                                    (measured.areas_only ? "lifter area" : "profile") +
                                                    ") to calibrate on");
   CalibrateOutcome o;
   o.areas = measured.areas_only;
   if (o.areas)
-    check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
+    check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2, start_h,
                        a.measured_file);
   const std::string stem = fs::path(a.scene_file).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;

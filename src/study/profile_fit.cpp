@@ -169,18 +169,21 @@ double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {
 }
 
 ScaleFit fit_time_scale(const ProfileHistory& history, const std::vector<Survey>& surveys) {
+  const double t0 = history.hours.empty() ? 0.0 : history.hours.front();
   std::vector<const Survey*> worn;
-  std::vector<double> worn_hours;
+  std::vector<double> worn_hours;  // since the start
   for (const Survey& s : surveys)
-    if (s.hours > 0.0) {
+    if (s.hours > t0) {
       worn.push_back(&s);
-      worn_hours.push_back(s.hours);
+      worn_hours.push_back(s.hours - t0);
     }
-  const double limit = history.extrapolation_limit();
-  return fit_time_scale(worn_hours, limit, [&](std::size_t j, double s, std::vector<double>& r) {
-    const Polyline sim = history.profile_at(std::min(worn[j]->hours * s, limit));
+  const double limit = history.extrapolation_limit() - t0;
+  ScaleFit fit = fit_time_scale(worn_hours, limit, [&](std::size_t j, double s, std::vector<double>& r) {
+    const Polyline sim = history.profile_at(t0 + std::min(worn_hours[j] * s, limit));
     for (const Vec2& p : worn[j]->profile_m) r.push_back(signed_distance(p, sim));
   });
+  for (double& h : fit.survey_hours) h += t0;
+  return fit;
 }
 
 CalibrationResult calibrate_wear_rate(const Scene& scene, const std::vector<Survey>& surveys,

@@ -40,6 +40,7 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
     study::check_run_of_scene(a.from, scene, "--from");
     return src;
   }
+  check_surveys_from_start(measured, scene.wear.start_hours, "the scene's wear.start_hours", a.measured_file);
   const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
   src.scene = scene_for_survey_hours(scene, hours, c, 1.0);
   return src;
@@ -56,6 +57,7 @@ std::vector<StageRecord> history_stages(const Scene& scene, const ValidateReques
       study::check_stage_of_scene(stages.back(), scene, a.from, "--from");
     }
     src.reached_hours = stages.back().hours;
+    check_surveys_from_start(measured, stages.front().hours, "the run's first stage in " + a.from, a.measured_file);
     const std::vector<double> hours = measured.hours();
     const std::vector<std::size_t> lines = measured.lines();
     for (std::size_t i = 0; i < hours.size(); ++i)
@@ -148,7 +150,7 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
   for (const auto& v : surveys.surveys) check_covers(history.covers(v.hours), history.last_hours(), v.hours);
   o.areas = compare_areas(surveys, history);
   o.new_area_m2 = history.new_area_m2();
-  o.measured_areas = measured_areas(surveys, history.new_area_m2());
+  o.measured_areas = measured_areas(surveys, history.new_area_m2(), history.start_hours());
 
   io::ensure_dir(a.out);
   io::ensure_dir(io::join_path(a.out, "plots"));
@@ -159,7 +161,7 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
   AreaSurveys simulated;
   for (std::size_t i = 0; i < o.areas.size(); ++i) {
     const auto& c = o.areas[i];
-    // No measured loss (the 0 h survey): no percentage of it, an empty cell rather than NaN.
+    // No measured loss (the survey at the start): no percentage of it, an empty cell rather than NaN.
     const io::CsvCell loss_pct = std::isnan(c.loss_error_pct) ? io::CsvCell("") : io::CsvCell(c.loss_error_pct);
     table.add_row({static_cast<int>(i + 1), c.line, c.hours, in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2),
                    in_mm2(c.area_error_m2), c.area_error_pct, in_mm2(c.measured_loss_m2), in_mm2(c.simulated_loss_m2),
