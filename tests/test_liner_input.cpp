@@ -682,6 +682,16 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   EXPECT_NE(r.output.find("wear.stages: more stages than the one the run continues from (4)"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("--set wear.stages=8"), std::string::npos) << r.output;
+  // A profile of the same name with other points is another lifter: refused, nothing written.
+  std::string taller = slurp(lab);
+  taller.replace(taller.find("height = 20.0"), 13, "height = 22.0");
+  const std::string taller_profile = dir.write("lab-2x30.toml", taller);
+  const std::string other = dir.write("lab4other.toml", lab_scene_text("rows = 12\nprofile = \"" + taller_profile + "\"", "", 8));
+  r = run_millwear("run " + quoted(other) + " -o " + quoted(dir.path() / "z") + " --continue " + quoted(first) + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("lifters.profile: the mill of the run it continues"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a profile of other points, under the same name"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() / "z"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "engine/accounting.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/charge_summary.hpp"
 
@@ -33,6 +34,23 @@ const char* direction_name(Direction d) {
   return "?";
 }
 
+// The lifter's points (and a measured surface's), every kind of a pattern: what a profile of
+// the same name but other points changes.
+std::string lifter_shape_hash(const Scene& s) {
+  std::string bytes;
+  const auto add = [&bytes](const Polyline& line) {
+    for (const Vec2& p : line) bytes += io::format_exact(p.x) + "," + io::format_exact(p.y) + "\n";
+    bytes += "--\n";
+  };
+  add(s.mill.lifter.points);
+  add(s.mill.lifter.measured);
+  for (const LifterProfile& p : s.mill.pattern) {
+    add(p.points);
+    add(p.measured);
+  }
+  return io::stable_hash_hex(bytes);
+}
+
 Json scene_settings(const Scene& s) {
   Json j;
   j["mill"] = Json{
@@ -45,6 +63,7 @@ Json scene_settings(const Scene& s) {
       {"reverse_every_hours", s.mill.reverse_every_hours},
       {"rows", s.mill.rows},
       {"lifter_profile", s.mill.lifter.name},
+      {"lifter_shape", lifter_shape_hash(s)},
       {"lifter_pattern", [&s] {
          Json names = Json::array();
          for (const auto& p : s.mill.pattern) names.push_back(p.name);
@@ -337,6 +356,8 @@ std::vector<std::string> settings_changes(const std::string& run, const std::str
   for (const auto& [section, keys] : now.items())
     for (const auto& [key, value] : keys.items()) {
       const bool had = old_settings.contains(section) && old_settings[section].contains(key);
+      // A run that did not record the lifter's shape (an older manifest) is judged by the name.
+      if (!had && section == "mill" && key == "lifter_shape") continue;
       const Json before = had ? old_settings[section][key] : Json();
       // Numbers compared as numbers (a JSON integer and a float of one value are the same).
       const bool same = had && (before == value || (before.is_number() && value.is_number() &&
