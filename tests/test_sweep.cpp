@@ -55,6 +55,17 @@ TEST(SweepVary, AListKeepsItsValuesAsWritten) {
   EXPECT_DOUBLE_EQ(a.values[2], 16.0);
 }
 
+// The same value twice would run the same charge twice: refused, naming both as written.
+TEST(SweepVary, AValueListedTwiceIsRefused) {
+  try {
+    study::parse_vary("mill.speed=0.6, 0.7,0.60");
+    FAIL() << "a repeated value was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--vary mill.speed");
+    EXPECT_NE(std::string(e.what()).find("each value once, got 0.6 and 0.60"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SweepVary, MalformedVariesAreRefused) {
   for (const char* bad : {"mill.speed", "=0.5:1:0.1", "mill.speed=0.5:1", "mill.speed=1:0.5:0.1",
                           "mill.speed=0.5:1:0", "mill.speed=0.5,fast", "mill.speed=0:1000:0.001"})

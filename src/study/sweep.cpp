@@ -286,6 +286,12 @@ SweepAxis parse_vary(const std::string& text) {
       double v = 0;
       if (!parse_number(item, v))
         throw InputError("", "--vary " + a.key, "expected a number, got '" + item + "' (" + usage + ")");
+      // A value twice would run the same charge twice (same scene, same seed).
+      for (std::size_t k = 0; k < a.values.size(); ++k)
+        if (a.values[k] == v)
+          throw InputError("", "--vary " + a.key,
+                           "expected each value once, got " + a.texts[k] + " and " + item + " (--replicates N runs more "
+                           "seeds of a value)");
       a.values.push_back(v);
       a.texts.push_back(item);
     }
