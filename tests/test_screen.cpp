@@ -671,6 +671,13 @@ TEST(ScreenSet, OverridesReachEveryCandidateAndTheTasks) {
   }
   const std::string key = slurp(out / "screen.key");
   EXPECT_NE(key.find("set=mill.speed=0.6\nset=charge.species[0].density=7000\n"), std::string::npos) << key;
+  // Emitting again with other overrides before any task ran is refused as well: the first
+  // list may be queued, and its tasks would run the new scenes.
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel --set mill.speed=0.7");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("(--set overrides changed)"), std::string::npos) << r.output;
+  EXPECT_EQ(load_scene((out / "candidates/d000.toml").string()).mill.speed_fraction_critical, 0.6);  // untouched
+  EXPECT_EQ(slurp(out / "screen.key"), key);
   // The task GNU parallel would run: the design's run folder records the overridden speed.
   r = millwear_cmd("screen-task " + q(out) + " 0");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -59,6 +59,21 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   return in;
 }
 
+// What of a screen's inputs differs from those its key recorded: the --set overrides,
+// --replicates or the screen file; otherwise the contents of its files.
+std::string key_changes(const io::KeyValues& have, const ScreenRequest& a, const ScreenDef& def) {
+  std::vector<std::string> sets;
+  for (const auto& [k, v] : have)
+    if (k == "set") sets.push_back(v);
+  std::vector<std::string> changed;
+  if (sets != def.overrides) changed.push_back("--set overrides");
+  if (io::find_value(have, "replicates") != std::to_string(a.replicates)) changed.push_back("--replicates");
+  if (io::find_value(have, "screen_file") != abs_path(a.screen_file)) changed.push_back("the screen file's path");
+  std::string text;
+  for (const auto& c : changed) text += (text.empty() ? "" : ", ") + c;
+  return text.empty() ? "the contents of the screen file, base scene or profiles changed" : text + " changed";
+}
+
 ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
   const std::string& out = a.out;
   const ScreenDef& def = in.def;
@@ -68,12 +83,14 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
   const std::string key_file = screen_key_path(out);
   bool same = false;
   if (io::file_exists(key_file)) {
-    same = io::find_value(io::read_key_values(key_file), "fingerprint") == fingerprint;
-    if (!same && (a.resume || !a.emit.empty()) && fs::exists(io::join_path(out, "designs"), ec))
+    const io::KeyValues have = io::read_key_values(key_file);
+    same = io::find_value(have, "fingerprint") == fingerprint;
+    // Its candidates may be queued already (an emitted job list): a screen of other inputs
+    // would have them run other scenes.
+    if (!same && (a.resume || !a.emit.empty()))
       throw InputError(key_file, "fingerprint",
                        "the same screen file, base scene, profiles, --set overrides and --replicates as the screen in "
-                       "this folder "
-                       "(they changed); "
+                       "this folder (" + key_changes(have, a, def) + "); "
                        "use a new output folder or run without --resume/--emit to start over");
   }
   const bool keep = same && (a.resume || !a.emit.empty());
