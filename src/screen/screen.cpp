@@ -262,9 +262,9 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
     else if (plain == "fidelity" && !d.fidelity.empty()) setter = "screen.fidelity sets it";
     else if (plain == "wear.stages" && d.stages > 0) setter = "screen.stages sets it";
     else if (plain == "wear.stage_hours" && d.stage_hours > 0.0) setter = "screen.stage_hours sets it";
-    if (o.find_first_of("\r\n") != std::string::npos) setter = "a value on one line";
+    if (o.find_first_of("\r\n") != std::string::npos) throw InputError(path, "--set " + key, "a value on one line");
     if (!setter.empty())
-      throw InputError(path, "--set " + key, "a key the screen does not set for every candidate itself: " + setter);
+      throw InputError(path, "--set " + key, "a key the screen does not set for every candidate itself, but " + setter);
   }
   d.overrides = overrides;
 
