@@ -198,7 +198,9 @@ std::vector<std::string> write_hardness_outputs(const std::string& out, const Ha
                p.corrected_rate});
   io::CsvTable ft({"a", "a_se", "b", "b_se", "reference_hardness", "cv_before", "cv_after", "mean_rate",
                    "mean_corrected_rate", "r_squared", "periods", "time_unit", "wear_column"});
-  ft.add_row({fit.a, fit.a_se, fit.b, fit.b_se, fit.reference_hardness, fit.cv_before, fit.cv_after, fit.mean_rate,
+  // No --reference-hardness: an empty cell, not a hardness of 0.
+  const io::CsvCell reference = fit.reference_hardness > 0.0 ? io::CsvCell(fit.reference_hardness) : io::CsvCell("");
+  ft.add_row({fit.a, fit.a_se, fit.b, fit.b_se, reference, fit.cv_before, fit.cv_after, fit.mean_rate,
               fit.mean_corrected_rate, fit.r_squared, static_cast<int>(data.periods.size()), data.time_unit,
               data.wear_column});
   const std::vector<std::string> files = {io::join_path(out, "hardness_periods.csv"),

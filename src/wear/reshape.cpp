@@ -250,9 +250,10 @@ void check_measured_features(const Scene& scene, const std::string& file, int ki
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "a measured lifter the particles can see: re-smoothing the scan at %.3g mm (wear.smoothing_radius) "
-                  "takes %.0f%% of its lifter's area (%.4g of %.4g mm^2; gauge noise takes a few per cent), so most "
-                  "of it is thinner than the particles",
-                  r * 1e3, 100.0 * (1.0 - start_m2 / scan_m2), in_mm2(start_m2), in_mm2(scan_m2));
+                  "takes %.0f%% of its lifter's area (%.4g of %.4g mm^2, leaving %.4g; gauge noise takes a few per "
+                  "cent), so most of it is thinner than the particles",
+                  in_mm(r), 100.0 * (1.0 - start_m2 / scan_m2), in_mm2(scan_m2 - start_m2), in_mm2(scan_m2),
+                  in_mm2(start_m2));
     throw InputError(p.source_file, "x_mm,y_mm", buf);
   }
   const double thinnest = thinnest_part(lifter_of_surface(unit.surface, p.source_file, "x_mm,y_mm"), 0.25 * needed);
