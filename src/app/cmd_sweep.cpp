@@ -27,7 +27,7 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
   };
   cb.on_point = [&](const study::SweepPoint& p, int done, int total) {
     if (!quiet)
-      std::fprintf(stderr, "  [%d/%d] %s = %s: %.0f kW in %.1f s wall%s%s\n", done, total, q.vary.substr(0, q.vary.find('=')).c_str(),
+      std::fprintf(stderr, "  [%d/%d] %s = %s: %.4g kW in %.1f s wall%s%s\n", done, total, q.vary.substr(0, q.vary.find('=')).c_str(),
                    p.text.c_str(), p.power_kW, p.wall_s, p.error.empty() ? "" : " FAILED: ", p.error.c_str());
   };
   const study::SweepResult r = study::run_sweep(q, cb);
@@ -39,8 +39,8 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
               "shear_kW", "toe_deg", "shoulder_deg");
   for (const study::SweepPoint& p : r.points) {
     char toe[32], shoulder[32];
-    std::snprintf(toe, sizeof toe, "%5.0f +- %-4.0f", p.toe_deg, p.toe_deg_sem);
-    std::snprintf(shoulder, sizeof shoulder, "%5.0f +- %-4.0f", p.shoulder_deg, p.shoulder_deg_sem);
+    std::snprintf(toe, sizeof toe, "%5.1f +- %-4.1f", p.toe_deg, p.toe_deg_sem);
+    std::snprintf(shoulder, sizeof shoulder, "%5.1f +- %-4.1f", p.shoulder_deg, p.shoulder_deg_sem);
     std::printf("%10s %6.3f %9.4g +- %-8.2g %7.4g +- %-7.2g %9.4g +- %-8.2g %9.4g +- %-8.2g %13s %13s%s\n", p.text.c_str(),
                 p.speed_fraction_critical, p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem,
                 p.collision_kW, p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, p.centrifuged ? "centrifuged" : toe,
