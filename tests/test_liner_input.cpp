@@ -611,6 +611,47 @@ TEST(Pattern, KindColumnsFoldTheReplicatesWithTheirErrors) {
 
 // ---- run --continue --------------------------------------------------------------------
 
+// A finished stage written again over itself (the stage a run continues from, worn through
+// anew: its record then holds the new wear's errors) and stopped while its files were
+// replaced: each file, old or new, matches the marker and the stage reads; a file that is
+// neither is refused as before.
+TEST(StageFiles, AStageWrittenAgainReadsWhetherEachFileIsOldOrNew) {
+  TempDir dir("millwear-stage-rewrite");
+  const fs::path run = dir.path() / "run";
+  const auto r = millwear::testing::run_millwear("run " + millwear::testing::quoted(source_path("tests/data/lab-quick.toml")) +
+                                                 " -o " + millwear::testing::quoted(run) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string out = (dir.path() / "copy").string();
+  StageRecord rec = study::read_stage_state(run.string(), "lab-quick", 0);
+  study::write_stage_state(out, "lab-quick", rec);
+  const std::string marker = io::stage_done_marker(out, "lab-quick", 0);
+  const fs::path record = fs::path(out) / "stages/lab-quick_stage0.record";
+  const io::KeyValues old_marker = io::read_key_values(marker);
+  const std::string old_record = slurp(record);
+  StageRecord again = rec;
+  again.worn_se.area_m2 = 2.0 * rec.worn_se.area_m2;
+  study::write_stage_state(out, "lab-quick", again);
+  const std::string new_record = slurp(record);
+  ASSERT_NE(old_record, new_record);
+  EXPECT_EQ(io::find_value(io::read_key_values(marker), "next.hash.record"), "");  // finished: no pending hashes
+  // The state a stop leaves once the marker took the new hashes: the record old, or new.
+  io::KeyValues pending;
+  for (const auto& kv : old_marker)
+    if (kv.first != "design" && kv.first != "stage") pending.push_back(kv);
+  for (const auto& [key, hash] : io::read_key_values(marker))
+    if (key.rfind("hash.", 0) == 0) pending.emplace_back("next." + key, hash);
+  io::write_stage_done(out, "lab-quick", 0, pending);
+  for (const std::string& text : {old_record, new_record}) {
+    std::ofstream(record, std::ios::binary) << text;
+    const StageRecord read = study::read_stage_state(out, "lab-quick", 0);
+    EXPECT_EQ(read.worn_se.area_m2, text == old_record ? rec.worn_se.area_m2 : again.worn_se.area_m2);
+  }
+  std::string other = old_record;
+  other.insert(other.find('\n') + 1, "# neither\n");
+  std::ofstream(record, std::ios::binary) << other;
+  EXPECT_THROW(study::read_stage_state(out, "lab-quick", 0), InputError);
+}
+
 TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   TempDir dir("millwear-liner-input-cont");
   const std::string lab = source_path("profiles/lab-2x30.toml");

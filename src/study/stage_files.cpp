@@ -166,12 +166,11 @@ void read_charge_table(const io::CsvData& ch, ChargeState& st) {
 // The key of a stage marker that holds a state file's content hash: "hash.units.csv".
 std::string hash_key(const std::string& ext) { return "hash" + ext; }
 
-// Writes one state file of a stage and notes its content hash for the marker.
-void write_state_file(const std::string& base, const std::string& ext, const std::string& content,
-                      io::KeyValues& hashes) {
-  io::write_file_atomic(base + ext, content);
-  hashes.emplace_back(hash_key(ext), io::stable_hash_hex(content));
-}
+// The state files of a stage, by extension, as they will be written.
+using StateFiles = std::vector<std::pair<std::string, std::string>>;
+
+// The marker key of a content hash a stage is being rewritten to: "next.hash.record".
+std::string next_hash_key(const std::string& ext) { return "next." + hash_key(ext); }
 
 // The content hashes a stage marker holds (hash.EXT=); none in a marker written without them.
 struct StageHashes {
@@ -199,7 +198,9 @@ std::string read_state_file(const std::string& base, const std::string& ext, con
   const std::string recorded = io::find_value(hashes.marker, hash_key(ext));
   if (recorded.empty())
     throw InputError(hashes.path, hash_key(ext), "the content hash of " + base + ext + " (the marker was edited)");
-  if (recorded != io::stable_hash_hex(content))
+  // A stop while a finished stage was written again leaves each file old or new.
+  const std::string actual = io::stable_hash_hex(content);
+  if (recorded != actual && io::find_value(hashes.marker, next_hash_key(ext)) != actual)
     throw InputError(base + ext, "",
                      "the content recorded in " + hashes.path + " (the file was changed or cut after its stage finished)");
   return content;
@@ -211,28 +212,28 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   StageRecord rec = rec_in;  // the field table wants a mutable record; copies are cheap enough
   const std::string base = stage_base(out, design, rec.stage);
   io::ensure_dir(io::stages_dir(out));
-  io::KeyValues hashes;
+  StateFiles files;
 
   io::CsvTable units({"unit", "x_m", "y_m"}, kExact);
   for (std::size_t u = 0; u < rec.units.size(); ++u)
     for (const Vec2& p : rec.units[u].surface) units.add_row({u, p.x, p.y});
-  write_state_file(base, ".units.csv", units.str(), hashes);
+  files.emplace_back(".units.csv", units.str());
 
   io::CsvTable spec({"bin", "count_per_s", "energy_W"}, kExact);
   const std::size_t nbins = std::max(rec.spectrum_count_per_s.size(), rec.spectrum_energy_W.size());
   for (std::size_t k = 0; k < nbins; ++k)
     spec.add_row({k, k < rec.spectrum_count_per_s.size() ? rec.spectrum_count_per_s[k] : 0.0,
                   k < rec.spectrum_energy_W.size() ? rec.spectrum_energy_W[k] : 0.0});
-  write_state_file(base, ".spectrum.csv", spec.str(), hashes);
+  files.emplace_back(".spectrum.csv", spec.str());
 
   io::CsvTable edges({"edge", "wear_rate_m_per_s"}, kExact);
   for (std::size_t e = 0; e < rec.edge_wear_rate_m_per_s.size(); ++e)
     edges.add_row({e, rec.edge_wear_rate_m_per_s[e]});
-  write_state_file(base, ".edges.csv", edges.str(), hashes);
+  files.emplace_back(".edges.csv", edges.str());
 
-  write_state_file(base, ".charge.csv", charge_table(rec.snapshot).str(), hashes);
+  files.emplace_back(".charge.csv", charge_table(rec.snapshot).str());
   const bool carried = rec.start_charge.size() > 0;
-  if (carried) write_state_file(base, ".start.csv", charge_table(rec.start_charge).str(), hashes);
+  if (carried) files.emplace_back(".start.csv", charge_table(rec.start_charge).str());
 
   io::KeyValues kv;
   kv.emplace_back("stage", std::to_string(rec.stage));
@@ -267,7 +268,23 @@ void write_stage_state(const std::string& out, const std::string& design, const 
     kv.emplace_back("start.mill_speed_rad_s", io::format_exact(rec.start_charge.mill_speed_rad_s));
     kv.emplace_back("start.time_s", io::format_exact(rec.start_charge.time_s));
   }
-  write_state_file(base, ".record", io::format_key_values(kv, "millwear stage record (exact)"), hashes);
+  files.emplace_back(".record", io::format_key_values(kv, "millwear stage record (exact)"));
+
+  // A finished stage written again (a resumed stage worn through anew, its record holding the
+  // new wear's errors): its marker first takes the new contents' hashes beside the old, so a
+  // stop while the files are replaced leaves each one matching the marker.
+  io::KeyValues hashes;
+  for (const auto& [ext, content] : files) hashes.emplace_back(hash_key(ext), io::stable_hash_hex(content));
+  const std::string marker_path = io::stage_done_marker(out, design, rec.stage);
+  if (io::file_exists(marker_path)) {
+    io::KeyValues pending;
+    for (const auto& kv_old : io::read_key_values(marker_path))  // design= and stage= come anew
+      if (kv_old.first.rfind("next.", 0) != 0 && kv_old.first != "design" && kv_old.first != "stage")
+        pending.push_back(kv_old);
+    for (const auto& [key, hash] : hashes) pending.emplace_back("next." + key, hash);
+    io::write_stage_done(out, design, rec.stage, pending);
+  }
+  for (const auto& [ext, content] : files) io::write_file_atomic(base + ext, content);
 
   // Last: the marker says every file above is complete, and holds their content hashes.
   io::KeyValues marker{{"hours", io::format_number(rec.hours)},
