@@ -73,7 +73,7 @@ int run_calibrate(CalibrateArgs a) {
                 "when it is the larger\n", res.histories_averaged);
   if (!res.fit_error_known)
     std::printf("  one worn area survey: the fit's own error is unknown, U counts the simulation statistics only "
-                "(two or more areas after 0 h give it)\n");
+                "(two or more areas after the history's start give it)\n");
   for (std::size_t j = 0; j < res.survey_c.size(); ++j)
     std::printf("  survey at %.0f h alone: C = %.4g m^3/J\n", res.survey_hours[j], res.survey_c[j]);
   std::printf("calibrated scene: %s\n", o.scene_out.c_str());
@@ -116,8 +116,8 @@ void register_calibrate(CLI::App& app, Action* action) {
       ->check(finite_in(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
-              "squares on the area loss of every row after 0 h (two or more such rows give the fit's own\n"
-              "error). C is printed with U = 2 sigma (about 95%).");
+              "squares on the area loss of every row after the history's start (0 h, or wear.start_hours;\n"
+              "two or more such rows give the fit's own error). C is printed with U = 2 sigma (about 95%).");
   cmd->callback([args, action, min_runs] {
     args->min_runs_given = min_runs->count() > 0;
     *action = [args] { return run_calibrate(*args); };

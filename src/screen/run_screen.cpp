@@ -59,8 +59,8 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   return in;
 }
 
-// What of a screen's inputs differs from those its key recorded: the --set overrides,
-// --replicates or the screen file; otherwise the contents of its files.
+// What of a screen's inputs differs from those its key recorded: the --set overrides or
+// --replicates; otherwise the contents of its files (or the program's version).
 std::string key_changes(const io::KeyValues& have, const ScreenRequest& a, const ScreenDef& def) {
   std::vector<std::string> sets;
   for (const auto& [k, v] : have)
@@ -68,10 +68,10 @@ std::string key_changes(const io::KeyValues& have, const ScreenRequest& a, const
   std::vector<std::string> changed;
   if (sets != def.overrides) changed.push_back("--set overrides");
   if (io::find_value(have, "replicates") != std::to_string(a.replicates)) changed.push_back("--replicates");
-  if (io::find_value(have, "screen_file") != abs_path(a.screen_file)) changed.push_back("the screen file's path");
   std::string text;
   for (const auto& c : changed) text += (text.empty() ? "" : ", ") + c;
-  return text.empty() ? "the contents of the screen file, base scene or profiles changed" : text + " changed";
+  return text.empty() ? "the contents of the screen file, base scene or profiles, or the millwear version, changed"
+                      : text + " changed";
 }
 
 ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {

@@ -56,7 +56,7 @@ ScaleFit fit_time_scale(const AreaHistory& history, const AreaSurveys& surveys) 
   const MeasuredAreas m = measured_areas(surveys, history.new_area_m2(), t0);
   std::vector<double> worn_hours, worn_loss;  // hours since the start
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
-    if (surveys.surveys[i].hours > t0) {
+    if (surveys.surveys[i].hours > t0 + kSameHoursTolerance) {  // a row at the start is the reference
       worn_hours.push_back(surveys.surveys[i].hours - t0);
       worn_loss.push_back(m.loss_m2[i]);
     }

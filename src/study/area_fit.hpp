@@ -57,9 +57,9 @@ struct AreaComparison {
 // One comparison per survey row (file order). Precondition: history.covers(every hours).
 std::vector<AreaComparison> compare_areas(const AreaSurveys& surveys, const AreaHistory& history);
 
-// Least-squares time scale s of one history against the worn area surveys (hours > 0;
-// residuals: area losses, m^2). C = s * C_run. Throws InputError("", "surveys", ...) if no
-// survey has hours > 0.
+// Least-squares time scale s of one history against the worn area surveys (after the
+// history's start; residuals: area losses, m^2). C = s * C_run. Throws
+// InputError("", "surveys", ...) if no survey is after the start.
 ScaleFit fit_time_scale(const AreaHistory& history, const AreaSurveys& surveys);
 
 // Runs wear histories of `scene` (its C as the first guess) until the C fitted on the area

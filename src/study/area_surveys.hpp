@@ -14,7 +14,8 @@
 // - hours: operating hours of the survey (>= 0); rows in any order, hours may repeat.
 // - area_mm2: the lifter's metal cross-section above the original shell line, mm^2 (> 0),
 //   the area `millwear profile` and OUT/summary.csv (area_mm2) report. Or, instead of
-//   area_mm2, area_loss_mm2: the area lost since the lifter was new, mm^2 (finite).
+//   area_mm2, area_loss_mm2: the area lost since the history's start (the lifter new, or a
+//   worn start's wear.start_hours), mm^2 (finite).
 // - Extra columns are ignored; at least one row.
 // Area loss (what the calibration fits): for area_loss_mm2 the value itself (since the
 // history's start); for area_mm2, A_ref - area, with A_ref the mean of the file's rows at the

@@ -191,15 +191,11 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                                                          {"mill.lifter_pattern: ", "lifters.pattern"}};
     for (const std::string& change : d.changes)
       for (const auto& [setting, key] : fixed)
-        if (change.rfind(setting, 0) == 0) {
-          const bool shape = std::strcmp(setting, "mill.lifter_shape: ") == 0;
+        if (change.rfind(setting, 0) == 0)
           throw InputError(d.files.front(), key,
-                           "the mill of the run it continues (" + run + ": " +
-                               (shape ? std::string("a profile of other points, under the same name")
-                                      : change.substr(std::strlen(setting))) +
+                           "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(setting)) +
                                "): --continue goes on with that liner under new conditions (speed, filling, wear "
                                "rate); another mill or lifter is a new run");
-        }
     d.fingerprint = io::stable_hash_hex(d.fingerprint + "\n--continue " + run + " --stage " + std::to_string(k));
   }
 }

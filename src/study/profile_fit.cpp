@@ -173,7 +173,7 @@ ScaleFit fit_time_scale(const ProfileHistory& history, const std::vector<Survey>
   std::vector<const Survey*> worn;
   std::vector<double> worn_hours;  // since the start
   for (const Survey& s : surveys)
-    if (s.hours > t0) {
+    if (s.hours > t0 + kSameHoursTolerance) {
       worn.push_back(&s);
       worn_hours.push_back(s.hours - t0);
     }

@@ -84,9 +84,9 @@ double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = k
 
 // ---- calibration ----
 
-// Least-squares time scale s of one history against the surveys (worn surveys only:
-// hours > 0; residuals: signed normal distances, m). C = s * C_run. Throws
-// InputError("", "surveys", ...) if no survey has hours > 0 (nothing to fit).
+// Least-squares time scale s of one history against the surveys (worn surveys only: after
+// the history's start; residuals: signed normal distances, m). C = s * C_run. Throws
+// InputError("", "surveys", ...) if no survey is after the start (nothing to fit).
 ScaleFit fit_time_scale(const ProfileHistory& history, const std::vector<Survey>& surveys);
 
 // Runs wear histories of `scene` (its C as the first guess) until the C fitted on the
