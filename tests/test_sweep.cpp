@@ -198,8 +198,12 @@ TEST(SweepReplicates, EachValueRunsItsReplicatesAndTheTableSaysWhereItsErrorsCom
   std::vector<double> power;
   for (const char* dir : {"00", "00.r2", "00.r3"}) {
     const io::CsvData s = io::read_csv((out / "points" / dir / "charge_summary.csv").string());
-    for (std::size_t i = 0; i < s.rows.size(); ++i)
+    bool value_recorded = false;  // a point's folder says which point it is
+    for (std::size_t i = 0; i < s.rows.size(); ++i) {
       if (s.text(i, 0) == "power_per_mill") power.push_back(s.number(i, 1));
+      value_recorded = value_recorded || (s.text(i, 0) == "set" && s.text(i, 1) == "mill.speed=0.7");
+    }
+    EXPECT_TRUE(value_recorded) << dir;
   }
   ASSERT_EQ(power.size(), 3u);
   EXPECT_NE(power[0], power[1]);  // another seed, another charge

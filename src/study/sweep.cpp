@@ -317,7 +317,8 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
       if (e.where.compare(0, set.size(), set) != 0) throw;
       throw InputError(e.file, "--vary " + vary + e.where.substr(set.size()), e.expected);
     }
-    s.overrides = q.overrides;  // the varied key is the sweep's, recorded apart
+    // The point's charge_summary.csv records its value with the --set overrides, as `charge
+    // --set` would: a point's folder says which point it is.
     if (!q.fidelity.empty()) apply_fidelity(s, q.fidelity);
     if (q.revolutions > 0.0) s.run.revolutions = q.revolutions;
     try {
