@@ -567,3 +567,22 @@ TEST_F(SceneFidelity, PresetsChangeTheSameSceneDifferently) {
   EXPECT_LT(draft.wear.window_revolutions, s.wear.window_revolutions);
   EXPECT_GT(draft.mill.mesh.lifter_edge_m, s.mill.mesh.lifter_edge_m);
 }
+
+// Seeds a command derives (s .. s + count - 1 for replicates) stay within what a scene file's
+// solver.seed holds, 2^63 - 1, so that each seed a manifest records can be given back; past
+// it the scene's seed is refused, naming the key and what asked for the seeds.
+TEST(SceneSeeds, DerivedSeedsStayWithinWhatASceneHolds) {
+  Scene s = load_scene(shipped("scenarios/lab-mill.toml"));
+  const std::uint64_t max = 9223372036854775807ull;
+  s.solver.seed = max - 2;
+  EXPECT_NO_THROW(check_derived_seeds(s, 3, "--replicates 3"));
+  try {
+    check_derived_seeds(s, 4, "--replicates 4");
+    FAIL() << "seed " << s.solver.seed << " + 3 was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "solver.seed");
+    EXPECT_NE(std::string(e.what()).find("--replicates 4 uses seeds s .. s + 3"), std::string::npos) << e.what();
+  }
+  s.solver.seed = 0;
+  EXPECT_NO_THROW(check_derived_seeds(s, max, "a count up to the largest seed"));
+}

@@ -821,6 +821,14 @@ std::string overridden_scene_toml(const std::string& path, const std::vector<std
   return os.str();
 }
 
+void check_derived_seeds(const Scene& scene, std::uint64_t count, const std::string& what) {
+  constexpr auto kMaxSeed = static_cast<std::uint64_t>(std::numeric_limits<long long>::max());
+  if (count == 0 || (scene.solver.seed <= kMaxSeed && count - 1 <= kMaxSeed - scene.solver.seed)) return;
+  throw InputError(scene.source_file, "solver.seed",
+                   "a seed s with s + " + std::to_string(count - 1) + " at most 2^63 - 1 (" + what + " uses seeds s .. s + " +
+                       std::to_string(count - 1) + "), found " + std::to_string(scene.solver.seed));
+}
+
 Scene load_scene_text(const std::string& text, const std::string& path) {
   toml::table root;
   try {

@@ -206,6 +206,11 @@ struct Scene {
 // solver.time_step / steps_per_second, the three wear-rate keys, a species' sizes /
 // size_range).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// The seeds s .. s + count - 1 a command derives from the scene's solver.seed s (replicates,
+// rule 1's factors, a reseeded run) within what a scene file's seed holds (0 to 2^63 - 1), so
+// that every seed a manifest records can be given back in a scene: throws
+// InputError(source_file, "solver.seed", ...) naming `what` asked for them.
+void check_derived_seeds(const Scene& scene, std::uint64_t count, const std::string& what);
 // The scene file's TOML with `overrides` put in exactly as load_scene puts them (same errors),
 // written back as TOML text (comments and layout not kept): where a command that writes
 // scenes of its own from a scene (the screen's candidates) starts from. It does not check

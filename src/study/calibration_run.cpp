@@ -34,6 +34,8 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
     s.solver.threads = a.threads;
     s.solver.threads_fit_size = a.threads_fit_size;
   });
+  check_derived_seeds(scene, static_cast<std::uint64_t>(std::max(1, a.options.replicates)),
+                      "--replicates " + std::to_string(a.options.replicates));
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
   if (!measured.areas_only)

@@ -131,6 +131,7 @@ void add_replicates(Plan& plan, int n) {
   std::set<std::string> names;
   for (const auto& d : plan.designs) names.insert(d.name);
   for (auto& d : plan.designs) {
+    check_derived_seeds(d.scene, static_cast<std::uint64_t>(n), "--replicates " + std::to_string(n));
     const DesignInput first = d;
     all.push_back(std::move(d));
     for (int k = 2; k <= n; ++k) {

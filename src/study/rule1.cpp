@@ -157,6 +157,7 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
     throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) + " histories per factor, got " +
                                              std::to_string(options.replicates));
   const auto nrep = static_cast<std::uint64_t>(options.replicates);
+  check_derived_seeds(scene, factors.size() * nrep, "rule 1 (one seed per factor and replicate)");
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
   for (double f : factors) {
     char given[32];

@@ -99,6 +99,7 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
     std::vector<Scene> scenes = base;
     for (Scene& s : scenes) {
       apply_fidelity(s, name);
+      check_derived_seeds(s, 2, "the ladder's reseeded rows");
       s.solver.seed += 1;
     }
     const std::string seed = std::to_string(scenes.front().solver.seed);
