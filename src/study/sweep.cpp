@@ -337,8 +337,9 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   SweepResult r;
   r.axis = parse_vary(q.vary);
   const std::vector<Scene> scenes = sweep_scenes(q, r.axis);  // every point checked; nothing written
-  check_derived_seeds(scenes.front(), static_cast<std::uint64_t>(std::max(1, q.replicates)),
-                      "--replicates " + std::to_string(q.replicates));
+  for (const Scene& s : scenes)  // a sweep may vary solver.seed itself
+    check_derived_seeds(s, static_cast<std::uint64_t>(std::max(1, q.replicates)),
+                        "--replicates " + std::to_string(q.replicates));
   r.scene_name = scenes.front().name;
   const int n = static_cast<int>(scenes.size());
   const int reps = std::max(1, q.replicates);
