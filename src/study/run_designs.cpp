@@ -411,9 +411,10 @@ std::string unrecorded_output(const Plan& plan, const std::string& out) {
 // What OUT holds, once the run may write there: throws InputError(OUT, "-o", ...) for a
 // folder of another command's results, of another run's (unless force), or holding a file
 // no run recorded under a name the run writes.
-Holds check_folder(const Plan& plan, const std::string& out, bool force) {
+Holds check_folder(const Plan& plan, const std::string& out, bool force, std::string* found = nullptr) {
   std::string holds_what;
   const Holds holds = folder_holds(plan, out, holds_what);
+  if (found) *found = holds_what;
   if (holds == Holds::Foreign)
     throw InputError(out, "-o",
                      "a folder that is new or holds the results of these same scenes and settings, but it "
@@ -483,13 +484,12 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
   io::check_output_folder(out);
   std::error_code ec;
   if (!fs::is_directory(out, ec)) return "";
-  const Holds holds = check_folder(plan, out, force);
+  std::string what;
+  const Holds holds = check_folder(plan, out, force, &what);
   if (holds == Holds::Same)
     return out + " holds a run of these same inputs: " +
            (resume ? "the run continues after its finished stages" : "the run replaces its files (--resume continues it)");
   if (holds == Holds::Other) {
-    std::string what;
-    folder_holds(plan, out, what);
     return "--force: " + out + " holds " + what +
            "; the run first deletes that run's files (those its manifest.json lists; no other file)";
   }
