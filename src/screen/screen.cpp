@@ -117,9 +117,8 @@ std::string listed_profile(const std::string& path, const toml::node& e, const s
   return p;
 }
 
-}  // namespace
-
-ScreenDef load_screen(const std::string& path, const std::vector<std::string>& overrides) {
+// The screen file as a TOML table; a file that is not TOML named with its line.
+toml::table parse_screen_file(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "", "screen file not found or not a regular file");
   toml::table root;
@@ -130,14 +129,12 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
     throw InputError(path, "line " + std::to_string(b.line),
                      "not valid TOML: " + std::string(e.description()) + " (column " + std::to_string(b.column) + ")");
   }
-  ScreenDef d;
-  d.name = fs::path(path).stem().string();
-  tr::TableReader top(root, "", path, nullptr, {"screen", "family"});
-  const toml::table* st = top.table("screen");
-  if (!st) top.missing("screen", "a [screen] table with base = \"scene.toml\"");
-  tr::TableReader s(*st, "screen", path, nullptr,
-                    {"name", "base", "fidelity", "stages", "stage_hours", "sampling", "samples", "seed",
-                     "equal_area", "power"});
+  return root;
+}
+
+// The [screen] table: the base scene, the history, the sampling, equal area and the power's sense.
+void read_screen_table(const std::string& path, const tr::TableReader& s, ScreenDef& d) {
+  std::error_code ec;
   if (auto v = s.string("name")) {
     if (!io::is_valid_design_name(*v)) s.fail("name", safe_name_rule());
     d.name = *v;
@@ -178,13 +175,54 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
     }
   }
   if (auto v = s.choice("power", {"min", "max"})) d.power_higher_is_better = *v == 1;
+}
 
-  const toml::table* ft = top.table("family");
-  static const toml::table kEmpty;
-  tr::TableReader f(ft ? *ft : kEmpty, "family", path, nullptr,
-                    {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric", "rows",
-                     "direction", "profiles"});
-  // The bounds of a profile file's height and top width (profiles/profile.cpp).
+// family.direction: "uni", "bi" or a list of them, each once.
+void read_directions(const std::string& path, const tr::TableReader& f, ScreenDef& d) {
+  const toml::node* n = f.raw().get("direction");
+  auto word = [&](const toml::node& e, const std::string& k) {
+    if (!e.is_string() || (e.as_string()->get() != "uni" && e.as_string()->get() != "bi"))
+      throw InputError(path, k, "expected \"uni\" or \"bi\", " + tr::got_text(e) + tr::line_text(e));
+    return e.as_string()->get();
+  };
+  if (n->is_array() && !n->as_array()->empty()) {
+    for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
+      const std::string k = "family.direction[" + std::to_string(i) + "]";
+      const std::string w = word((*n->as_array())[i], k);
+      if (std::find(d.directions.begin(), d.directions.end(), w) != d.directions.end())
+        throw InputError(path, k, "expected each direction once, got \"" + w + "\" again" +
+                                      tr::line_text((*n->as_array())[i]));
+      d.directions.push_back(w);
+    }
+  } else {
+    d.directions.push_back(word(*n, "family.direction"));
+  }
+}
+
+// family.profiles: the candidates are these files (no trapezoid keys, no equal area).
+void read_family_profiles(const std::string& path, const tr::TableReader& f, const tr::TableReader& s,
+                          ScreenDef& d) {
+  for (const char* k : {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric"})
+    if (f.has(k)) f.fail(k, "no trapezoid parameters with family.profiles (the profiles are the candidates)");
+  if (!d.equal_area.empty())
+    s.fail("equal_area", "no equal_area with family.profiles (it scales trapezoids only)");
+  const toml::node* n = f.raw().get("profiles");
+  if (!n->is_array() || n->as_array()->empty()) f.fail("profiles", "a list of profile files");
+  for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
+    const std::string k = "family.profiles[" + std::to_string(i) + "]";
+    const std::string p = listed_profile(path, (*n->as_array())[i], k);
+    std::error_code ec;
+    for (std::size_t j = 0; j < d.profiles.size(); ++j)
+      if (fs::equivalent(d.profiles[j], p, ec))
+        throw InputError(path, k, "expected each profile file once, got " + p + " again (as family.profiles[" +
+                                      std::to_string(j) + "])" + tr::line_text((*n->as_array())[i]));
+    d.profiles.push_back(p);
+  }
+}
+
+// The [family] table: an axis per trapezoid parameter, rows and direction, or profile files.
+void read_family_table(const std::string& path, const tr::TableReader& f, const tr::TableReader& s,
+                       ScreenDef& d) {
   d.height_mm = read_axis(f, "height", tr::open_closed(0.0, 5000.0), "mm", path, d.sampling, false);
   d.top_width_mm = read_axis(f, "top_width", tr::open_closed(0.0, 5000.0), "mm", path, d.sampling, false);
   d.leading_deg = read_axis(f, "leading_face_angle", {0.0, 90.0, false, true}, "deg from radial", path, d.sampling, false);
@@ -193,62 +231,28 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
   if (auto v = f.boolean("symmetric")) d.symmetric = *v;
   if (d.symmetric && d.trailing_deg.given)
     f.fail("trailing_face_angle", "no trailing_face_angle with symmetric = true (it equals the leading one)");
-  if (f.has("direction")) {
-    const toml::node* n = f.raw().get("direction");
-    auto word = [&](const toml::node& e, const std::string& k) {
-      if (!e.is_string() || (e.as_string()->get() != "uni" && e.as_string()->get() != "bi"))
-        throw InputError(path, k, "expected \"uni\" or \"bi\", " + tr::got_text(e) + tr::line_text(e));
-      return e.as_string()->get();
-    };
-    if (n->is_array() && !n->as_array()->empty()) {
-      for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
-        const std::string k = "family.direction[" + std::to_string(i) + "]";
-        const std::string w = word((*n->as_array())[i], k);
-        if (std::find(d.directions.begin(), d.directions.end(), w) != d.directions.end())
-          throw InputError(path, k, "expected each direction once, got \"" + w + "\" again" +
-                                        tr::line_text((*n->as_array())[i]));
-        d.directions.push_back(w);
-      }
-    } else {
-      d.directions.push_back(word(*n, "family.direction"));
-    }
-  }
-  if (f.has("profiles")) {
-    for (const char* k : {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric"})
-      if (f.has(k)) f.fail(k, "no trapezoid parameters with family.profiles (the profiles are the candidates)");
-    if (!d.equal_area.empty())
-      s.fail("equal_area", "no equal_area with family.profiles (it scales trapezoids only)");
-    const toml::node* n = f.raw().get("profiles");
-    if (!n->is_array() || n->as_array()->empty()) f.fail("profiles", "a list of profile files");
-    for (std::size_t i = 0; i < n->as_array()->size(); ++i) {
-      const std::string k = "family.profiles[" + std::to_string(i) + "]";
-      const std::string p = listed_profile(path, (*n->as_array())[i], k);
-      std::error_code ec;
-      for (std::size_t j = 0; j < d.profiles.size(); ++j)
-        if (fs::equivalent(d.profiles[j], p, ec))
-          throw InputError(path, k, "expected each profile file once, got " + p + " again (as family.profiles[" +
-                                        std::to_string(j) + "])" + tr::line_text((*n->as_array())[i]));
-      d.profiles.push_back(p);
-    }
-  }
+  if (f.has("direction")) read_directions(path, f, d);
+  if (f.has("profiles")) read_family_profiles(path, f, s, d);
   if (!d.equal_area.empty() && d.top_width_mm.given)
     f.fail("top_width", "no top_width with screen.equal_area (the area sets the top width)");
+}
 
-  // A grid takes every combination: bound their count before any is made (each axis is
-  // bounded alone; their product is not). The same bound as screen.samples.
-  if (d.sampling == Sampling::Grid) {
-    double combinations = std::max<double>(1.0, double(d.profiles.size())) * std::max<double>(1.0, double(d.directions.size()));
-    for (const Axis* a : {&d.height_mm, &d.top_width_mm, &d.leading_deg, &d.trailing_deg, &d.rows})
-      if (a->given) combinations *= double(std::max<std::size_t>(1, a->values.size()));
-    if (combinations > double(kMaxCandidates))
-      throw InputError(path, "family",
-                       "expected a grid of at most " + std::to_string(kMaxCandidates) +
-                           " candidates (the product of the values of every family parameter), got " +
-                           tr::num_text(combinations) + "; use fewer steps or sampling = \"latin_hypercube\"" +
-                           (ft ? tr::line_text(*ft) : std::string()));
-  }
+// A grid takes every combination: bound their count before any is made (each axis is bounded
+// alone; their product is not). The same bound as screen.samples.
+void check_grid_size(const std::string& path, const toml::table* ft, const ScreenDef& d) {
+  double combinations = std::max<double>(1.0, double(d.profiles.size())) * std::max<double>(1.0, double(d.directions.size()));
+  for (const Axis* a : {&d.height_mm, &d.top_width_mm, &d.leading_deg, &d.trailing_deg, &d.rows})
+    if (a->given) combinations *= double(std::max<std::size_t>(1, a->values.size()));
+  if (combinations > double(kMaxCandidates))
+    throw InputError(path, "family",
+                     "expected a grid of at most " + std::to_string(kMaxCandidates) +
+                         " candidates (the product of the values of every family parameter), got " +
+                         tr::num_text(combinations) + "; use fewer steps or sampling = \"latin_hypercube\"" +
+                         (ft ? tr::line_text(*ft) : std::string()));
+}
 
-  // --set overrides: keys the screen sets for every candidate itself are not the user's.
+// --set overrides: keys the screen sets for every candidate itself are not the user's.
+void check_overrides(const std::string& path, const std::vector<std::string>& overrides, const ScreenDef& d) {
   for (const std::string& o : overrides) {
     std::string key = o.substr(0, o.find('='));
     while (!key.empty() && key.back() == ' ') key.pop_back();
@@ -266,14 +270,17 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
     if (!setter.empty())
       throw InputError(path, "--set " + key, "a key the screen does not set for every candidate itself, but " + setter);
   }
-  d.overrides = overrides;
+}
 
-  // The base scene, with the overrides: its own errors name it (and the --set they come from),
-  // and say which screen file's screen.base it is (a comparison or screen file given there
-  // reads as a scene with unknown tables).
+// The base scene, with the overrides: its own errors name it (and the --set they come from),
+// and say which screen file's screen.base it is (a comparison or screen file given there
+// reads as a scene with unknown tables). Then what the family asks of it: its kinds of lifter
+// against the profiles and areas listed, and, where a kind is not a trapezoid, every
+// trapezoid parameter given.
+void check_base_scene(const std::string& path, const tr::TableReader& s, const tr::TableReader& f, ScreenDef& d) {
   const Scene b = [&] {
     try {
-      return load_scene(d.base_scene, overrides);
+      return load_scene(d.base_scene, d.overrides);
     } catch (const InputError& e) {
       throw InputError(e.file, e.where, e.expected + " (read as the scene file that " + path + "'s screen.base names)");
     }
@@ -302,6 +309,31 @@ ScreenDef load_screen(const std::string& path, const std::vector<std::string>& o
     if (!d.top_width_mm.given && d.equal_area.empty())
       f.missing("top_width", "a value, or screen.equal_area: " + whose + " is not a trapezoid");
   }
+}
+
+}  // namespace
+
+ScreenDef load_screen(const std::string& path, const std::vector<std::string>& overrides) {
+  const toml::table root = parse_screen_file(path);
+  ScreenDef d;
+  d.name = fs::path(path).stem().string();
+  tr::TableReader top(root, "", path, nullptr, {"screen", "family"});
+  const toml::table* st = top.table("screen");
+  if (!st) top.missing("screen", "a [screen] table with base = \"scene.toml\"");
+  tr::TableReader s(*st, "screen", path, nullptr,
+                    {"name", "base", "fidelity", "stages", "stage_hours", "sampling", "samples", "seed",
+                     "equal_area", "power"});
+  read_screen_table(path, s, d);
+  const toml::table* ft = top.table("family");
+  static const toml::table kEmpty;
+  tr::TableReader f(ft ? *ft : kEmpty, "family", path, nullptr,
+                    {"height", "top_width", "leading_face_angle", "trailing_face_angle", "symmetric", "rows",
+                     "direction", "profiles"});
+  read_family_table(path, f, s, d);
+  if (d.sampling == Sampling::Grid) check_grid_size(path, ft, d);
+  check_overrides(path, overrides, d);
+  d.overrides = overrides;
+  check_base_scene(path, s, f, d);
   return d;
 }
 
@@ -317,82 +349,158 @@ std::vector<std::string> varying_parameters(const ScreenDef& d) {
   return v;
 }
 
-std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
-  // Axis values with the base scene's defaults filled in.
+namespace {
+
+// The family's axes, in the order profile, height, top width, leading and trailing angle,
+// rows, direction, with the base scene's values where the family gives none. The profile
+// and direction axes hold indices into d.profiles and dirs.
+std::vector<Axis> family_axes(const ScreenDef& d, const Scene& base, std::size_t dirs) {
   const TrapezoidDef& bt = base.mill.lifter.trapezoid;
   const bool base_trap = base.mill.lifter.form == ProfileForm::Trapezoid;
   auto filled = [](Axis a, double fallback) {
     if (!a.given) a.values = {fallback};
     return a;
   };
-  std::vector<Axis> axes;  // order: profile, height, top, leading, trailing, rows, direction
-  Axis profile_axis;
-  for (std::size_t i = 0; i < std::max<std::size_t>(1, d.profiles.size()); ++i) profile_axis.values.push_back(double(i));
-  axes.push_back(profile_axis);
-  axes.push_back(filled(d.height_mm, base_trap ? in_mm(bt.height_m) : 0.0));
-  axes.push_back(filled(d.top_width_mm, base_trap ? in_mm(bt.top_width_m) : 0.0));
-  axes.push_back(filled(d.leading_deg, base_trap ? deg_from_rad(bt.leading_face_angle_rad) : 0.0));
-  axes.push_back(filled(d.trailing_deg, base_trap ? deg_from_rad(bt.trailing_face_angle_rad) : 0.0));
-  axes.push_back(filled(d.rows, base.mill.rows));
-  Axis dir_axis;
-  const std::string base_dir = base.mill.direction == Direction::Bidirectional ? "bi" : "uni";
-  const std::vector<std::string> dirs = d.directions.empty() ? std::vector<std::string>{base_dir} : d.directions;
-  for (std::size_t i = 0; i < dirs.size(); ++i) dir_axis.values.push_back(double(i));
-  axes.push_back(dir_axis);
+  auto indices = [](std::size_t n) {
+    Axis a;
+    for (std::size_t i = 0; i < n; ++i) a.values.push_back(double(i));
+    return a;
+  };
+  return {indices(std::max<std::size_t>(1, d.profiles.size())),
+          filled(d.height_mm, base_trap ? in_mm(bt.height_m) : 0.0),
+          filled(d.top_width_mm, base_trap ? in_mm(bt.top_width_m) : 0.0),
+          filled(d.leading_deg, base_trap ? deg_from_rad(bt.leading_face_angle_rad) : 0.0),
+          filled(d.trailing_deg, base_trap ? deg_from_rad(bt.trailing_face_angle_rad) : 0.0),
+          filled(d.rows, base.mill.rows),
+          indices(dirs)};
+}
 
-  std::vector<std::vector<double>> points;  // one value per axis
-  if (d.sampling == Sampling::Grid) {
-    std::vector<std::size_t> idx(axes.size(), 0);
-    for (;;) {
-      std::vector<double> p;
-      for (std::size_t a = 0; a < axes.size(); ++a) p.push_back(axes[a].values[idx[a]]);
-      points.push_back(p);
-      std::size_t a = axes.size();
-      while (a > 0) {
-        --a;
-        if (++idx[a] < axes[a].values.size()) break;
-        idx[a] = 0;
-        if (a == 0) { a = axes.size() + 1; break; }
-      }
-      if (a == axes.size() + 1) break;
+// Every combination of the axes' values, the last axis varying fastest.
+std::vector<std::vector<double>> grid_points(const std::vector<Axis>& axes) {
+  std::vector<std::vector<double>> points;
+  std::vector<std::size_t> idx(axes.size(), 0);
+  for (;;) {
+    std::vector<double> p;
+    for (std::size_t a = 0; a < axes.size(); ++a) p.push_back(axes[a].values[idx[a]]);
+    points.push_back(p);
+    std::size_t a = axes.size();
+    while (a > 0) {
+      --a;
+      if (++idx[a] < axes[a].values.size()) break;
+      idx[a] = 0;
+      if (a == 0) return points;
     }
-  } else {
-    // Latin hypercube: every varying axis is cut into n strata and each stratum used once,
-    // in an order shuffled by the seed. Uniforms from the top 53 bits of mt19937_64, so the
-    // sample is the same on every platform (std::uniform_real_distribution is not).
-    const std::size_t n = static_cast<std::size_t>(d.samples);
-    std::mt19937_64 rng(d.seed);
-    auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
-    points.assign(n, std::vector<double>(axes.size(), 0.0));
-    for (std::size_t a = 0; a < axes.size(); ++a) {
-      std::vector<std::size_t> perm(n);
-      for (std::size_t i = 0; i < n; ++i) perm[i] = i;
-      for (std::size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[rng() % i]);
-      for (std::size_t i = 0; i < n; ++i) {
-        const double u = (static_cast<double>(perm[i]) + uniform()) / static_cast<double>(n);
-        const Axis& ax = axes[a];
-        if (ax.is_range) {
-          points[i][a] = ax.min + u * (ax.max - ax.min);
-        } else {
-          const std::size_t k = std::min(ax.values.size() - 1, static_cast<std::size_t>(u * ax.values.size()));
-          points[i][a] = ax.values[k];
-        }
+  }
+}
+
+// Latin hypercube: every axis is cut into n strata and each stratum used once, in an order
+// shuffled by the seed. Uniforms from the top 53 bits of mt19937_64, so the sample is the
+// same on every platform (std::uniform_real_distribution is not).
+std::vector<std::vector<double>> latin_hypercube_points(const std::vector<Axis>& axes, std::size_t n,
+                                                        std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto uniform = [&rng] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+  std::vector<std::vector<double>> points(n, std::vector<double>(axes.size(), 0.0));
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    std::vector<std::size_t> perm(n);
+    for (std::size_t i = 0; i < n; ++i) perm[i] = i;
+    for (std::size_t i = n; i > 1; --i) std::swap(perm[i - 1], perm[rng() % i]);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double u = (static_cast<double>(perm[i]) + uniform()) / static_cast<double>(n);
+      const Axis& ax = axes[a];
+      if (ax.is_range) {
+        points[i][a] = ax.min + u * (ax.max - ax.min);
+      } else {
+        const std::size_t k = std::min(ax.values.size() - 1, static_cast<std::size_t>(u * ax.values.size()));
+        points[i][a] = ax.values[k];
       }
     }
   }
+  return points;
+}
 
-  // The area each kind is matched to (0: none): the base kind's own, the listed file of its
-  // kind, or the one file's (a plain liner).
+// The area each kind is matched to (0: none): the base kind's own, the listed file of its
+// kind, or the one file's (a plain liner).
+std::vector<double> matched_areas_m2(const ScreenDef& d, const Scene& base) {
   const int kinds = base.mill.kind_count();
-  std::vector<double> ref_area_m2(static_cast<std::size_t>(kinds), 0.0);
+  std::vector<double> area(static_cast<std::size_t>(kinds), 0.0);
   for (int k = 0; k < kinds; ++k) {
-    double& a = ref_area_m2[static_cast<std::size_t>(k)];
+    double& a = area[static_cast<std::size_t>(k)];
     if (d.equal_area == "base") a = measure_profile(base.mill.kind(k).points).area_m2;
     else if (!d.equal_area_kinds.empty())
       a = measure_profile(load_profile(d.equal_area_kinds[static_cast<std::size_t>(k)]).points).area_m2;
     else if (!d.equal_area.empty()) a = measure_profile(load_profile(d.equal_area).points).area_m2;
   }
+  return area;
+}
 
+// A candidate of a listed profile file: its measures.
+void measure_listed_profile(Candidate& c) {
+  const ProfileMetrics m = measure_profile(load_profile(c.profile_source).points);
+  c.height_mm = in_mm(m.height_m);
+  c.top_width_mm = in_mm(m.top_width_m);
+  c.leading_deg = deg_from_rad(m.leading_face_angle_rad);
+  c.trailing_deg = deg_from_rad(m.trailing_face_angle_rad);
+  c.area_mm2 = in_mm2(m.area_m2);
+}
+
+// A trapezoid candidate at point p, each kind of the base scene's pattern: the family's value
+// where it gives one, else the base kind's own (kind 0's is already in the point), the top
+// width from the matched area where there is one. A kind that makes no valid lifter gives
+// the candidate its reason for rejection.
+void shape_trapezoid_kinds(const ScreenDef& d, const Scene& base, const std::vector<double>& ref_area_m2,
+                           const std::vector<double>& p, Candidate& c) {
+  const int kinds = base.mill.kind_count();
+  for (int k = 0; k < kinds && c.reason.empty(); ++k) {
+    const LifterProfile& kp = base.mill.kind(k);
+    const bool own = k > 0 && kp.form == ProfileForm::Trapezoid;
+    const TrapezoidDef& kt = kp.trapezoid;
+    KindShape ks;
+    ks.height_mm = own && !d.height_mm.given ? in_mm(kt.height_m) : p[1];
+    ks.top_width_mm = own && !d.top_width_mm.given ? in_mm(kt.top_width_m) : p[2];
+    ks.leading_deg = own && !d.leading_deg.given ? deg_from_rad(kt.leading_face_angle_rad) : p[3];
+    ks.trailing_deg = d.symmetric ? ks.leading_deg
+                      : own && !d.trailing_deg.given ? deg_from_rad(kt.trailing_face_angle_rad) : p[4];
+    TrapezoidDef t;
+    t.height_m = ks.height_mm * 1e-3;
+    t.top_width_m = ks.top_width_mm * 1e-3;
+    t.leading_face_angle_rad = rad_from_deg(ks.leading_deg);
+    t.trailing_face_angle_rad = rad_from_deg(ks.trailing_deg);
+    const std::string of_kind = kinds > 1 ? "kind " + std::to_string(k) + " ('" + kp.name + "'): " : "";
+    try {
+      const double target = ref_area_m2[static_cast<std::size_t>(k)];
+      if (target > 0.0) {
+        t.top_width_m = top_width_for_area(t, target, d.equal_area);
+        ks.top_width_mm = in_mm(t.top_width_m);
+      }
+      const Polyline pts = trapezoid_points(t);
+      validate_lifter_polyline(pts, "", "");
+      ks.area_mm2 = in_mm2(measure_profile(pts).area_m2);
+      if (!(ks.area_mm2 > 0.0)) c.reason = of_kind + "zero metal area";
+    } catch (const InputError& e) {
+      c.reason = of_kind + e.expected;
+    }
+    if (k == 0) {
+      c.height_mm = ks.height_mm;
+      c.top_width_mm = ks.top_width_mm;
+      c.leading_deg = ks.leading_deg;
+      c.trailing_deg = ks.trailing_deg;
+      c.area_mm2 = ks.area_mm2;
+    }
+    if (kinds > 1) c.kinds.push_back(ks);
+  }
+}
+
+}  // namespace
+
+std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
+  const std::string base_dir = base.mill.direction == Direction::Bidirectional ? "bi" : "uni";
+  const std::vector<std::string> dirs = d.directions.empty() ? std::vector<std::string>{base_dir} : d.directions;
+  const std::vector<Axis> axes = family_axes(d, base, dirs.size());
+  const std::vector<std::vector<double>> points =
+      d.sampling == Sampling::Grid ? grid_points(axes)
+                                   : latin_hypercube_points(axes, static_cast<std::size_t>(d.samples), d.seed);
+  const std::vector<double> ref_area_m2 = matched_areas_m2(d, base);
   std::vector<Candidate> out;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
@@ -405,55 +513,9 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
     c.direction = dirs[static_cast<std::size_t>(p[6])];
     if (!d.profiles.empty()) {
       c.profile_source = d.profiles[static_cast<std::size_t>(p[0])];
-      const LifterProfile prof = load_profile(c.profile_source);
-      const ProfileMetrics m = measure_profile(prof.points);
-      c.height_mm = in_mm(m.height_m);
-      c.top_width_mm = in_mm(m.top_width_m);
-      c.leading_deg = deg_from_rad(m.leading_face_angle_rad);
-      c.trailing_deg = deg_from_rad(m.trailing_face_angle_rad);
-      c.area_mm2 = in_mm2(m.area_m2);
-      out.push_back(c);
-      continue;
-    }
-    // Each kind: the family's value where it gives one, else the base kind's own (kind 0's
-    // is already in the point).
-    for (int k = 0; k < kinds && c.reason.empty(); ++k) {
-      const LifterProfile& kp = base.mill.kind(k);
-      const bool own = k > 0 && kp.form == ProfileForm::Trapezoid;
-      const TrapezoidDef& kt = kp.trapezoid;
-      KindShape ks;
-      ks.height_mm = own && !d.height_mm.given ? in_mm(kt.height_m) : p[1];
-      ks.top_width_mm = own && !d.top_width_mm.given ? in_mm(kt.top_width_m) : p[2];
-      ks.leading_deg = own && !d.leading_deg.given ? deg_from_rad(kt.leading_face_angle_rad) : p[3];
-      ks.trailing_deg = d.symmetric ? ks.leading_deg
-                        : own && !d.trailing_deg.given ? deg_from_rad(kt.trailing_face_angle_rad) : p[4];
-      TrapezoidDef t;
-      t.height_m = ks.height_mm * 1e-3;
-      t.top_width_m = ks.top_width_mm * 1e-3;
-      t.leading_face_angle_rad = rad_from_deg(ks.leading_deg);
-      t.trailing_face_angle_rad = rad_from_deg(ks.trailing_deg);
-      const std::string of_kind = kinds > 1 ? "kind " + std::to_string(k) + " ('" + kp.name + "'): " : "";
-      try {
-        const double target = ref_area_m2[static_cast<std::size_t>(k)];
-        if (target > 0.0) {
-          t.top_width_m = top_width_for_area(t, target, d.equal_area);
-          ks.top_width_mm = in_mm(t.top_width_m);
-        }
-        const Polyline pts = trapezoid_points(t);
-        validate_lifter_polyline(pts, "", "");
-        ks.area_mm2 = measure_profile(pts).area_m2 * 1e6;
-        if (!(ks.area_mm2 > 0.0)) c.reason = of_kind + "zero metal area";
-      } catch (const InputError& e) {
-        c.reason = of_kind + e.expected;
-      }
-      if (k == 0) {
-        c.height_mm = ks.height_mm;
-        c.top_width_mm = ks.top_width_mm;
-        c.leading_deg = ks.leading_deg;
-        c.trailing_deg = ks.trailing_deg;
-        c.area_mm2 = ks.area_mm2;
-      }
-      if (kinds > 1) c.kinds.push_back(ks);
+      measure_listed_profile(c);
+    } else {
+      shape_trapezoid_kinds(d, base, ref_area_m2, p, c);
     }
     out.push_back(c);
   }

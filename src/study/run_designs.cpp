@@ -496,16 +496,113 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
   return "";
 }
 
+namespace {
+
+// The local time as ISO 8601, for the manifest.
+std::string local_time_text() {
+  std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  char buf[64];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S%z", &tm);
+  return buf;
+}
+
+// The stages each design goes on from: --resume reads this same run's finished stages from
+// OUT; --continue those of the run it continues, up to the stage it goes on from (a resumed
+// continuation reads them from OUT).
+std::vector<std::vector<StageRecord>> earlier_stages(RunState& ctx, const std::string& out, bool resuming) {
+  const Plan& plan = ctx.plan;
+  std::vector<std::vector<StageRecord>> earlier(plan.designs.size());
+  for (std::size_t i = 0; i < plan.designs.size(); ++i) {
+    const DesignInput& d = plan.designs[i];
+    if (resuming) {
+      const int k = std::min(io::last_finished_stage(out, d.name), d.scene.wear.stages);
+      for (int s = 0; s <= k; ++s) earlier[i].push_back(study::read_stage_state(out, d.name, s));
+      ctx.designs[i]->resumed_up_to = k;
+    } else if (!d.continue_run.empty()) {
+      for (int s = 0; s <= d.continue_stage; ++s) earlier[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
+      ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
+    }
+  }
+  return earlier;
+}
+
+// The run folder made ready: stale temporaries gone; unless resuming, the files of an
+// earlier run of these inputs removed; the run key and the inputs' copies written.
+void prepare_folder(RunState& ctx, const std::string& out, bool resuming) {
+  const Plan& plan = ctx.plan;
+  io::create_run_folder(out);
+  for (const std::string& dir : {out, io::stages_dir(out), io::profiles_dir(out), io::plots_out_dir(out),
+                                 io::plots_data_dir(out), io::join_path(out, "inputs")})
+    io::remove_stale_temps(dir);
+  if (!resuming) {
+    std::error_code ec;
+    for (const auto& d : plan.designs) {
+      study::remove_stage_state(out, d.name);
+      fs::remove(io::snapshot_path(out, d.name), ec);
+      fs::remove(io::liner_path(out, d.name), ec);
+    }
+    for (const std::string& f : {io::summary_path(out), io::spectrum_path(out), study::kinds_path(out),
+                                 study::replicates_path(out), study::verdicts_path(out)})
+      fs::remove(f, ec);
+  }
+  io::write_file_atomic(io::run_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
+  ctx.written.insert(io::relative_to(out, io::run_key_path(out)));
+  copy_inputs(ctx, out);
+}
+
+// Every design to its end (or to a stop), ctx.jobs at once; the progress ticks meanwhile.
+void run_all(RunState& ctx, const RunOptions& opt, const std::vector<std::vector<StageRecord>>& earlier) {
+  const std::size_t n = ctx.plan.designs.size();
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> running{ctx.jobs};
+  std::vector<std::thread> workers;
+  for (int j = 0; j < ctx.jobs; ++j)
+    workers.emplace_back([&] {
+      for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+        if (stop_requested(opt)) {
+          std::lock_guard<std::mutex> lock(ctx.mutex);
+          ctx.designs[i]->status = DesignStatus::Interrupted;
+          continue;
+        }
+        run_design(ctx, opt, i, earlier[i]);
+      }
+      running.fetch_sub(1);
+    });
+  while (running.load() > 0) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    tick(opt);
+  }
+  for (auto& w : workers) w.join();
+  std::lock_guard<std::mutex> lock(ctx.mutex);
+  tick(opt);
+}
+
+// The figures from whatever finished, then the manifest again listing them and their data.
+void draw_figures(RunState& ctx, const RunOptions& opt, RunOutcome& outcome) {
+  const std::string& out = opt.out;
+  const std::vector<std::string> names = design_names(ctx.plan);
+  std::vector<std::string> figures;
+  try {
+    figures = plots::render_all_figures(out, names, ctx.plan.reference);
+  } catch (const std::exception& e) {
+    outcome.figures_failed = plots::gnuplot_available();
+    outcome.figure_error = e.what();
+  }
+  std::lock_guard<std::mutex> lock(ctx.mutex);
+  outcome.figures_written = figures.size();
+  for (const auto& f : figures) note(ctx, out, f);
+  for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
+  study::write_manifest(report_of(ctx, opt, true));
+}
+
+}  // namespace
+
 RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   const Plan& plan = ctx.plan;
-  {
-    std::time_t t = std::time(nullptr);
-    std::tm tm{};
-    localtime_r(&t, &tm);
-    char buf[64];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S%z", &tm);
-    ctx.started_text = buf;
-  }
+  ctx.started_text = local_time_text();
   for (std::size_t i = 0; i < plan.designs.size(); ++i) ctx.designs.push_back(std::make_unique<DesignState>());
   ctx.jobs = jobs_for(opt.jobs, plan.designs.size());
   // The cores the designs at once leave go to their steps.
@@ -526,57 +623,18 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   io::mark_folder(out, "run");
   ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));
 
-  // --resume: continues the stages of this same run (the check above).
-  std::vector<std::vector<StageRecord>> resume(plan.designs.size());
+  // --resume continues the stages of this same run (the check above). Files an earlier run
+  // of these same inputs wrote stay listed while they are on disk.
   const bool resuming = opt.resume && holds == Holds::Same;
-  // Files an earlier run of these same inputs wrote stay listed while they are on disk.
   if (holds == Holds::Same)
     for (const auto& f : io::manifest_files(out)) ctx.written.insert(f);
-  if (resuming) {
-    for (std::size_t i = 0; i < plan.designs.size(); ++i) {
-      const int k = std::min(io::last_finished_stage(out, plan.designs[i].name), plan.designs[i].scene.wear.stages);
-      for (int s = 0; s <= k; ++s) resume[i].push_back(study::read_stage_state(out, plan.designs[i].name, s));
-      ctx.designs[i]->resumed_up_to = k;
-    }
-  }
-
-  // --continue: the stages of the run it continues, up to the one it goes on from (a resumed
-  // continuation reads them from OUT, above).
-  if (!resuming)
-    for (std::size_t i = 0; i < plan.designs.size(); ++i) {
-      const DesignInput& d = plan.designs[i];
-      if (d.continue_run.empty()) continue;
-      for (int s = 0; s <= d.continue_stage; ++s) resume[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
-      ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
-    }
-
-  // The folder.
-  io::create_run_folder(out);
-  for (const std::string& dir : {out, io::stages_dir(out), io::profiles_dir(out), io::plots_out_dir(out),
-                                 io::plots_data_dir(out), io::join_path(out, "inputs")})
-    io::remove_stale_temps(dir);
-  if (!resuming) {
-    for (const auto& d : plan.designs) {
-      study::remove_stage_state(out, d.name);
-      std::error_code ec;
-      fs::remove(io::snapshot_path(out, d.name), ec);
-      fs::remove(io::liner_path(out, d.name), ec);
-    }
-    std::error_code ec;
-    fs::remove(io::summary_path(out), ec);
-    fs::remove(io::spectrum_path(out), ec);
-    fs::remove(study::kinds_path(out), ec);
-    fs::remove(study::replicates_path(out), ec);
-    fs::remove(study::verdicts_path(out), ec);
-  }
-  io::write_file_atomic(io::run_key_path(out), io::format_key_values(resume_key(plan), "millwear run inputs (for --resume)"));
-  ctx.written.insert(io::relative_to(out, io::run_key_path(out)));
-  copy_inputs(ctx, out);
+  const std::vector<std::vector<StageRecord>> earlier = earlier_stages(ctx, out, resuming);
+  prepare_folder(ctx, out, resuming);
 
   // Stages read back: the same bookkeeping as freshly finished ones (files rewritten from
   // the exact state, so they match an uninterrupted run).
   for (std::size_t i = 0; i < plan.designs.size(); ++i)
-    for (const auto& r : resume[i]) on_stage_done(ctx, opt, i, r);
+    for (const auto& r : earlier[i]) on_stage_done(ctx, opt, i, r);
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
     ctx.resumed = resuming;
@@ -584,63 +642,20 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     tick(opt);
   }
 
-  std::atomic<std::size_t> next{0};
-  std::atomic<int> running{ctx.jobs};
-  std::vector<std::thread> workers;
-  for (int j = 0; j < ctx.jobs; ++j)
-    workers.emplace_back([&] {
-      for (std::size_t i; (i = next.fetch_add(1)) < plan.designs.size();) {
-        if (stop_requested(opt)) {
-          std::lock_guard<std::mutex> lock(ctx.mutex);
-          ctx.designs[i]->status = DesignStatus::Interrupted;
-          continue;
-        }
-        run_design(ctx, opt, i, resume[i]);
-      }
-      running.fetch_sub(1);
-    });
-  while (running.load() > 0) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(250));
-    std::lock_guard<std::mutex> lock(ctx.mutex);
-    tick(opt);
-  }
-  for (auto& w : workers) w.join();
-  {
-    std::lock_guard<std::mutex> lock(ctx.mutex);
-    tick(opt);
-  }
+  run_all(ctx, opt, earlier);
 
-  bool failed = false, interrupted = false;
-  for (const auto& st : ctx.designs) {
-    failed = failed || st->status == DesignStatus::Failed;
-    interrupted = interrupted || st->status == DesignStatus::Interrupted;
-  }
   RunOutcome outcome;
-  outcome.failed = failed;
-  outcome.interrupted = interrupted;
+  for (const auto& st : ctx.designs) {
+    outcome.failed = outcome.failed || st->status == DesignStatus::Failed;
+    outcome.interrupted = outcome.interrupted || st->status == DesignStatus::Interrupted;
+  }
   outcome.signal = opt.stop_signal ? opt.stop_signal->load() : 0;
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
-    write_tables(ctx, opt, !interrupted);
+    write_tables(ctx, opt, !outcome.interrupted);
   }
-  if (!interrupted && opt.figures) {
-    // Figures from whatever finished.
-    const std::vector<std::string> names = design_names(plan);
-    std::vector<std::string> figures;
-    try {
-      figures = plots::render_all_figures(out, names, plan.reference);
-    } catch (const std::exception& e) {
-      outcome.figures_failed = plots::gnuplot_available();
-      outcome.figure_error = e.what();
-    }
-    // The manifest again, now listing the figures and their data files too.
-    std::lock_guard<std::mutex> lock(ctx.mutex);
-    outcome.figures_written = figures.size();
-    for (const auto& f : figures) note(ctx, out, f);
-    for (const auto& f : plots::figure_data_files(out, names)) note(ctx, out, f);
-    study::write_manifest(report_of(ctx, opt, true));
-  }
-  if (!interrupted && opt.stop_signal && opt.stop_signal->load() != 0) {
+  if (!outcome.interrupted && opt.figures) draw_figures(ctx, opt, outcome);
+  if (!outcome.interrupted && opt.stop_signal && opt.stop_signal->load() != 0) {
     // Stopped while the figures were drawn (Ctrl-C reaches gnuplot too): an interruption, not
     // a figure that failed. Every stage is on disk; --resume draws the figures again.
     outcome.interrupted = true;
@@ -650,7 +665,6 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   }
   outcome.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
   return outcome;
-
 }
 
 }  // namespace millwear::study

@@ -389,6 +389,110 @@ void write_spectrum(const RunReport& report) {
   t.write(io::spectrum_path(report.out));
 }
 
+namespace {
+
+// A design's (or replicate's) entry: its inputs, seed and settings, status, lives, where it
+// continued from, and each stage's time.
+Json design_json(const DesignReport& d) {
+  Json j;
+  j["name"] = d.name;
+  j["design"] = d.design;
+  j["replicate"] = d.replicate;
+  j["scene_file"] = d.input_files.front();
+  j["input_files"] = d.input_files;
+  Json copies = Json::array();
+  for (const auto& f : d.input_copies) copies.push_back("inputs/" + f);
+  j["input_copies"] = copies;
+  j["seed"] = static_cast<unsigned long long>(d.scene->solver.seed);
+  j["fidelity"] = d.scene->fidelity;
+  j["set"] = d.scene->overrides;  // --set KEY=VALUE over the scene file, in order
+  j["status"] = d.status;
+  if (!d.error.empty()) j["error"] = d.error;
+  j["resumed_stages"] = d.resumed_stages;
+  j["life_h"] = number(d.life_h);
+  j["life_extrapolated"] = d.life_extrapolated;
+  // Life on the stages' clock, and what is left of it from where this history started.
+  j["life_from_hours"] = d.life_from_hours;
+  j["remaining_life_h"] = number(d.life_h - d.life_from_hours);
+  if (d.scene->mill.kind_count() > 1) {
+    Json kinds = Json::array();
+    for (int k = 0; k < d.scene->mill.kind_count(); ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      const double life = i < d.kind_life_h.size() ? d.kind_life_h[i] : std::nan("");
+      kinds.push_back(Json{{"kind", k},
+                           {"profile", d.scene->mill.kind(k).name},
+                           {"life_h", number(life)},
+                           {"remaining_life_h", number(life - d.life_from_hours)},
+                           {"life_extrapolated", i < d.kind_life_extrapolated.size() ? bool(d.kind_life_extrapolated[i]) : true}});
+    }
+    j["kinds"] = kinds;
+  }
+  if (!d.continue_run.empty())
+    j["continued_from"] = Json{{"run", d.continue_run},
+                               {"stage", d.continue_stage},
+                               {"hours", d.continue_hours},
+                               {"changes", d.changes}};
+  j["wear_rate_m3_per_J"] = number(d.wear_rate_m3_per_J);
+  j["settings"] = scene_settings(*d.scene);
+  Json stages = Json::array();
+  for (const auto& [k, rec] : d.stages)
+    stages.push_back(Json{{"stage", k},
+                          {"hours", rec.hours},
+                          {"wall_s", rec.wall_s},
+                          {"simulated_s", rec.simulated_s},
+                          {"disk_steps", static_cast<long long>(rec.disk_steps)},
+                          {"resumed", k < d.resumed_stages}});
+  j["stages"] = stages;
+  j["events"] = d.events;
+  return j;
+}
+
+// A design's estimate over its replicates, with the error's source, per stage.
+Json estimate_json(const DesignEstimate& d) {
+  Json j;
+  j["name"] = d.name;
+  j["replicates"] = d.replicates;
+  j["error_source"] = error_source_name(d.source);
+  j["life_h"] = number(d.life_h.mean);
+  j["life_h_se"] = number(d.life_h.se);
+  j["life_extrapolated"] = d.life_extrapolated;
+  Json stages = Json::array();
+  for (const StageEstimate& s : d.stages) {
+    Json st{{"stage", s.stage}, {"hours", s.hours}};
+    for (const Column& c : kColumns) {
+      st[c.name] = number((s.*c.field).mean * c.scale);
+      st[std::string(c.name) + "_se"] = number((s.*c.field).se * c.scale);
+    }
+    st["centrifuged"] = s.centrifuged;
+    stages.push_back(st);
+  }
+  j["stages"] = stages;
+  return j;
+}
+
+Json verdict_json(const Verdict& v) {
+  return Json{{"figure", v.figure},
+              {"unit", v.unit},
+              {"stage", v.stage},
+              {"hours", v.stage >= 0 ? Json(v.hours) : Json(nullptr)},
+              {"design", v.design},
+              {"reference", v.reference},
+              {"value", number(v.value.mean)},
+              {"value_se", number(v.value.se)},
+              {"reference_value", number(v.reference_value.mean)},
+              {"reference_value_se", number(v.reference_value.se)},
+              {"difference", number(v.difference.value)},
+              {"difference_se", number(v.difference.se)},
+              {"threshold_se", number(v.difference.threshold)},
+              {"resolved", v.difference.resolved},
+              {"replicates_needed", v.difference.replicates_needed},
+              {"replicates", v.replicates},
+              {"error_source", error_source_name(v.source)},
+              {"text", v.text}};
+}
+
+}  // namespace
+
 void write_manifest(const RunReport& r) {
   Json m;
   m["program"] = "millwear";
@@ -403,104 +507,14 @@ void write_manifest(const RunReport& r) {
   m["jobs"] = r.jobs;
   m["comparison_files"] = r.comparison_files;
   Json designs = Json::array();
-  for (const DesignReport& d : r.designs) {
-    Json j;
-    j["name"] = d.name;
-    j["design"] = d.design;
-    j["replicate"] = d.replicate;
-    j["scene_file"] = d.input_files.front();
-    j["input_files"] = d.input_files;
-    Json copies = Json::array();
-    for (const auto& f : d.input_copies) copies.push_back("inputs/" + f);
-    j["input_copies"] = copies;
-    j["seed"] = static_cast<unsigned long long>(d.scene->solver.seed);
-    j["fidelity"] = d.scene->fidelity;
-    j["set"] = d.scene->overrides;  // --set KEY=VALUE over the scene file, in order
-    j["status"] = d.status;
-    if (!d.error.empty()) j["error"] = d.error;
-    j["resumed_stages"] = d.resumed_stages;
-    j["life_h"] = number(d.life_h);
-    j["life_extrapolated"] = d.life_extrapolated;
-    // Life on the stages' clock, and what is left of it from where this history started.
-    j["life_from_hours"] = d.life_from_hours;
-    j["remaining_life_h"] = number(d.life_h - d.life_from_hours);
-    if (d.scene->mill.kind_count() > 1) {
-      Json kinds = Json::array();
-      for (int k = 0; k < d.scene->mill.kind_count(); ++k) {
-        const auto i = static_cast<std::size_t>(k);
-        const double life = i < d.kind_life_h.size() ? d.kind_life_h[i] : std::nan("");
-        kinds.push_back(Json{{"kind", k},
-                             {"profile", d.scene->mill.kind(k).name},
-                             {"life_h", number(life)},
-                             {"remaining_life_h", number(life - d.life_from_hours)},
-                             {"life_extrapolated", i < d.kind_life_extrapolated.size() ? bool(d.kind_life_extrapolated[i]) : true}});
-      }
-      j["kinds"] = kinds;
-    }
-    if (!d.continue_run.empty())
-      j["continued_from"] = Json{{"run", d.continue_run},
-                                 {"stage", d.continue_stage},
-                                 {"hours", d.continue_hours},
-                                 {"changes", d.changes}};
-    j["wear_rate_m3_per_J"] = number(d.wear_rate_m3_per_J);
-    j["settings"] = scene_settings(*d.scene);
-    Json stages = Json::array();
-    for (const auto& [k, rec] : d.stages)
-      stages.push_back(Json{{"stage", k},
-                            {"hours", rec.hours},
-                            {"wall_s", rec.wall_s},
-                            {"simulated_s", rec.simulated_s},
-                            {"disk_steps", static_cast<long long>(rec.disk_steps)},
-                            {"resumed", k < d.resumed_stages}});
-    j["stages"] = stages;
-    j["events"] = d.events;
-    designs.push_back(j);
-  }
+  for (const DesignReport& d : r.designs) designs.push_back(design_json(d));
   m["designs"] = designs;
   m["replicates"] = r.replicates;
   Json estimates = Json::array();
-  for (const DesignEstimate& d : r.estimates) {
-    Json j;
-    j["name"] = d.name;
-    j["replicates"] = d.replicates;
-    j["error_source"] = error_source_name(d.source);
-    j["life_h"] = number(d.life_h.mean);
-    j["life_h_se"] = number(d.life_h.se);
-    j["life_extrapolated"] = d.life_extrapolated;
-    Json stages = Json::array();
-    for (const StageEstimate& s : d.stages) {
-      Json st{{"stage", s.stage}, {"hours", s.hours}};
-      for (const Column& c : kColumns) {
-        st[c.name] = number((s.*c.field).mean * c.scale);
-        st[std::string(c.name) + "_se"] = number((s.*c.field).se * c.scale);
-      }
-      st["centrifuged"] = s.centrifuged;
-      stages.push_back(st);
-    }
-    j["stages"] = stages;
-    estimates.push_back(j);
-  }
+  for (const DesignEstimate& d : r.estimates) estimates.push_back(estimate_json(d));
   m["estimates"] = estimates;
   Json verdicts = Json::array();
-  for (const Verdict& v : r.verdicts)
-    verdicts.push_back(Json{{"figure", v.figure},
-                            {"unit", v.unit},
-                            {"stage", v.stage},
-                            {"hours", v.stage >= 0 ? Json(v.hours) : Json(nullptr)},
-                            {"design", v.design},
-                            {"reference", v.reference},
-                            {"value", number(v.value.mean)},
-                            {"value_se", number(v.value.se)},
-                            {"reference_value", number(v.reference_value.mean)},
-                            {"reference_value_se", number(v.reference_value.se)},
-                            {"difference", number(v.difference.value)},
-                            {"difference_se", number(v.difference.se)},
-                            {"threshold_se", number(v.difference.threshold)},
-                            {"resolved", v.difference.resolved},
-                            {"replicates_needed", v.difference.replicates_needed},
-                            {"replicates", v.replicates},
-                            {"error_source", error_source_name(v.source)},
-                            {"text", v.text}});
+  for (const Verdict& v : r.verdicts) verdicts.push_back(verdict_json(v));
   m["verdicts"] = verdicts;
   m["files"] = r.files;
   // Invalid UTF-8 (a file name in a message) is replaced, never a failure to write.

@@ -63,13 +63,17 @@ void check_ladder(const TradeoffLadder& ladder) {
 
 }  // namespace
 
-TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const TradeoffOptions& o) {
-  if (designs.empty()) throw InputError("", "SCENE", "at least one design");
+namespace {
+
+using Setter = std::function<void(Scene&)>;
+using KnobValues = std::vector<std::pair<std::string, Setter>>;
+
+// The designs with the command line's history length; a limit it breaks is named as its.
+std::vector<Scene> ladder_base(const std::vector<Scene>& designs, const TradeoffOptions& o) {
   std::vector<Scene> base = designs;
   for (Scene& s : base) {
     if (o.stages > 0) s.wear.stages = o.stages;
     if (o.stage_hours > 0.0) s.wear.stage_hours = o.stage_hours;
-    // The history's length comes from the command line: a limit it breaks is named as its.
     if (o.stages > 0 || o.stage_hours > 0.0) try {
         check_run_limits(s, s.source_file);
       } catch (const InputError& e) {
@@ -79,23 +83,21 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
                              e.expected);
       }
   }
-  const FidelityDef& draft = fidelity_preset("draft");
-  const FidelityDef& standard = fidelity_preset("standard");
-  const FidelityDef& reference = fidelity_preset("reference");
+  return base;
+}
 
-  TradeoffLadder ladder;
-  auto preset = [&](const std::string& name) {
+// The three presets, then another seed at reference and at standard: the same numerics with
+// the charge's noise drawn again. The first is the ladder's noise floor (no setting can be
+// shown closer to the reference than the reference is to itself); the second is standard's
+// own scatter.
+void add_presets(const std::vector<Scene>& base, bool reseed, TradeoffLadder& ladder) {
+  for (const char* name : {"reference", "standard", "draft"}) {
     std::vector<Scene> scenes = base;
     for (Scene& s : scenes) apply_fidelity(s, name);
     ladder.settings.push_back({name, "preset", name, std::move(scenes)});
-  };
-  preset("reference");
-  preset("standard");
-  preset("draft");
-  // Another seed at reference and at standard: the same numerics with the charge's noise
-  // drawn again. The first is the ladder's noise floor (no setting can be shown closer to
-  // the reference than the reference is to itself); the second is standard's own scatter.
-  auto reseeded = [&](const std::string& name) {
+  }
+  if (!reseed) return;
+  for (const char* name : {"reference", "standard"}) {
     std::vector<Scene> scenes = base;
     for (Scene& s : scenes) {
       apply_fidelity(s, name);
@@ -103,181 +105,213 @@ TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const Tradeoff
       s.solver.seed += 1;
     }
     const std::string seed = std::to_string(scenes.front().solver.seed);
-    ladder.settings.push_back({name + " seed=" + seed, "seed", seed, std::move(scenes)});
-  };
-  if (!o.quick) {
-    reseeded("reference");
-    reseeded("standard");
+    ladder.settings.push_back({std::string(name) + " seed=" + seed, "seed", seed, std::move(scenes)});
   }
-  auto keep_only = [&o](TradeoffLadder& l) {
-    if (o.only.empty()) return;
-    for (const std::string& want : o.only) {
-      const bool known = std::any_of(l.settings.begin(), l.settings.end(),
-                                     [&want](const TradeoffSetting& t) { return t.label == want; });
-      if (!known) {
-        std::string labels;
-        for (const auto& t : l.settings) labels += (labels.empty() ? "" : ", ") + t.label;
-        throw InputError("", "--only", "labels of this ladder (\"" + want + "\" is not one): " + labels);
-      }
-    }
-    std::vector<TradeoffSetting> kept{l.settings.front()};  // the reference always runs
-    for (std::size_t k = 1; k < l.settings.size(); ++k)
-      if (std::find(o.only.begin(), o.only.end(), l.settings[k].label) != o.only.end())
-        kept.push_back(std::move(l.settings[k]));
-    l.settings = std::move(kept);
-  };
-  if (o.quick) {
-    keep_only(ladder);
-    check_ladder(ladder);
-    return ladder;
-  }
+}
 
-  std::vector<Scene> std_scenes = base;
-  for (Scene& s : std_scenes) apply_fidelity(s, "standard");
-  const Scene& std_scene = std_scenes.front();
-  auto any_file_sets = [&](const std::string& key) {
-    for (const Scene& s : designs)
-      if (s.file_sets(key)) return true;
-    return false;
-  };
-  using Setter = std::function<void(Scene&)>;
-  // One knob of the standard scenes; held (listed, not laddered) when a file sets a key.
-  auto knob = [&](const std::string& name, std::vector<std::string> keys,
-                  const std::vector<std::pair<std::string, Setter>>& values) {
-    for (const auto& k : keys)
-      if (any_file_sets(k)) {
+// The settings --only names, and the reference, which always runs.
+void keep_only(const std::vector<std::string>& only, TradeoffLadder& ladder) {
+  if (only.empty()) return;
+  for (const std::string& want : only) {
+    const bool known = std::any_of(ladder.settings.begin(), ladder.settings.end(),
+                                   [&want](const TradeoffSetting& t) { return t.label == want; });
+    if (!known) {
+      std::string labels;
+      for (const auto& t : ladder.settings) labels += (labels.empty() ? "" : ", ") + t.label;
+      throw InputError("", "--only", "labels of this ladder (\"" + want + "\" is not one): " + labels);
+    }
+  }
+  std::vector<TradeoffSetting> kept{ladder.settings.front()};
+  for (std::size_t k = 1; k < ladder.settings.size(); ++k)
+    if (std::find(only.begin(), only.end(), ladder.settings[k].label) != only.end())
+      kept.push_back(std::move(ladder.settings[k]));
+  ladder.settings = std::move(kept);
+}
+
+// One knob of the standard scenes, a setting per value; held (listed, not laddered) when a
+// design's file sets one of its keys.
+void add_knob(const std::vector<Scene>& designs, const std::vector<Scene>& standard_scenes,
+              const std::string& name, const std::vector<std::string>& keys, const KnobValues& values,
+              TradeoffLadder& ladder) {
+  for (const auto& k : keys)
+    for (const Scene& d : designs)
+      if (d.file_sets(k)) {
         ladder.held_knobs.push_back(name + " (a scene sets " + k + ")");
         return;
       }
-    for (const auto& [text, set] : values) {
-      std::vector<Scene> scenes = std_scenes;
-      for (Scene& s : scenes) {
-        set(s);
-        s.fidelity = "standard+" + name;
+  for (const auto& [text, set] : values) {
+    std::vector<Scene> scenes = standard_scenes;
+    for (Scene& s : scenes) {
+      set(s);
+      s.fidelity = "standard+" + name;
+    }
+    ladder.settings.push_back({name + "=" + text, name, text, std::move(scenes)});
+  }
+}
+
+// The other backend at its own standard step (the library has no substeps), unless a file
+// sets the step.
+KnobValues backend_values(bool soft, const FidelityDef& standard) {
+  return {{soft ? "box2d" : "soft", [soft, &standard](Scene& s) {
+             s.solver.backend = soft ? Backend::Box2D : Backend::Soft;
+             if (!s.file_sets("solver.time_step") && !s.file_sets("solver.steps_per_second"))
+               s.solver.time_step_s = soft ? standard.box2d_time_step_s : standard.time_step_s;
+           }}};
+}
+
+// Draft's, reference's and half standard's step, leaving out any that is standard's own.
+KnobValues time_step_values(const FidelityDef& draft, const FidelityDef& standard,
+                            const FidelityDef& reference) {
+  KnobValues values;
+  for (double dt : {0.5 * standard.time_step_s, draft.time_step_s, reference.time_step_s})
+    if (std::fabs(dt - standard.time_step_s) > 1e-9 * standard.time_step_s)
+      values.push_back({time_step_text(dt), [dt](Scene& s) { s.solver.time_step_s = dt; }});
+  return values;
+}
+
+KnobValues substep_values(const FidelityDef& standard) {
+  KnobValues values;
+  for (int n : {std::max(1, standard.substeps / 2), 2 * standard.substeps})
+    values.push_back({std::to_string(n), [n](Scene& s) { s.solver.substeps = n; }});
+  return values;
+}
+
+KnobValues iteration_values(const FidelityDef& draft, const FidelityDef& reference) {
+  KnobValues values;
+  for (const FidelityDef* p : {&draft, &reference}) {
+    const int v = p->velocity_iterations, q = p->position_iterations;
+    values.push_back({std::to_string(v) + "/" + std::to_string(q), [v, q](Scene& s) {
+                        s.solver.velocity_iterations = v;
+                        s.solver.position_iterations = q;
+                      }});
+  }
+  return values;
+}
+
+KnobValues window_values(const FidelityDef& draft, const FidelityDef& reference) {
+  KnobValues values;
+  for (double w : {draft.window_revolutions, reference.window_revolutions})
+    values.push_back({num(w), [w](Scene& s) { s.wear.window_revolutions = w; }});
+  return values;
+}
+
+KnobValues depth_step_values(const FidelityDef& draft, const FidelityDef& reference) {
+  KnobValues values;
+  for (double d : {draft.max_depth_step_m, reference.max_depth_step_m})
+    values.push_back({num(in_mm(d)) + "mm", [d](Scene& s) { s.wear.max_depth_step_m = d; }});
+  return values;
+}
+
+KnobValues factor_values(const FidelityDef& draft, const FidelityDef& reference) {
+  KnobValues values;
+  for (double f : {draft.factor, reference.factor})
+    values.push_back({num(f), [f](Scene& s) { s.wear.factor = f; }});
+  return values;
+}
+
+// Size cut-offs relative to the smallest rock, as an absolute size means nothing across
+// scenes; and, for a fine charge (rocks finer than 50 mm, e.g. a size distribution down to
+// 25 mm), the cut-offs 25 and 50 mm that SAG scenes use. Only values that cut something and
+// keep part of every rock species of every design, and of values that leave the same charge
+// (size classes: 31.25 and 37.5 mm both drop only a 25 mm class) the first.
+KnobValues size_cutoff_values(const std::vector<Scene>& standard_scenes) {
+  double smallest_rock = INFINITY, largest_rock_min = INFINITY;
+  for (const Scene& d : standard_scenes)
+    for (const auto& sp : d.charge.species)
+      if (!sp.is_ball && d.species_in_use(sp)) {
+        smallest_rock = std::min(smallest_rock, sp.smallest_diameter_m());
+        largest_rock_min = std::min(largest_rock_min, sp.largest_diameter_m());
       }
-      ladder.settings.push_back({name + "=" + text, name, text, std::move(scenes)});
+  KnobValues values;
+  if (!std::isfinite(smallest_rock)) return values;
+  std::vector<double> cuts;
+  for (double mm : {25.0, 50.0})
+    if (mm * 1e-3 > smallest_rock) cuts.push_back(mm * 1e-3);
+  for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
+  std::sort(cuts.begin(), cuts.end());
+  // The charge a cut-off leaves: every design's rock species' smallest size kept.
+  auto charge_left = [&standard_scenes](double cut) {
+    std::vector<double> smallest;
+    for (Scene d : standard_scenes) {
+      d.solver.size_cutoff_m = cut;
+      for (const auto& sp : d.species_as_placed())
+        if (!sp.is_ball) smallest.push_back(sp.smallest_diameter_m());
     }
+    return smallest;
   };
-  const bool soft = std_scene.solver.backend == Backend::Soft;
-  // The other backend at its own standard step (the library has no substeps), unless a file
-  // sets the step.
-  knob("backend", {"solver.backend"},
-       {{soft ? "box2d" : "soft", [soft, &standard](Scene& s) {
-           s.solver.backend = soft ? Backend::Box2D : Backend::Soft;
-           if (!s.file_sets("solver.time_step") && !s.file_sets("solver.steps_per_second"))
-             s.solver.time_step_s = soft ? standard.box2d_time_step_s : standard.time_step_s;
-         }}});
-  auto dt_value = [](double dt) {
-    return std::pair{time_step_text(dt), Setter([dt](Scene& s) { s.solver.time_step_s = dt; })};
+  std::vector<std::vector<double>> left;
+  for (double cut : cuts) {
+    if (cut >= largest_rock_min) continue;
+    std::vector<double> charge = charge_left(cut);
+    if (std::find(left.begin(), left.end(), charge) != left.end()) continue;
+    left.push_back(std::move(charge));
+    values.push_back({num(in_mm(cut)) + "mm", [cut](Scene& s) { s.solver.size_cutoff_m = cut; }});
+  }
+  return values;
+}
+
+// Draft's mesh, and half standard's (standard already shares the reference's).
+KnobValues mesh_values(const FidelityDef& draft, const FidelityDef& standard) {
+  KnobValues values;
+  for (auto [shell_m, lifter_m] : {std::pair{draft.shell_edge_m, draft.lifter_edge_m},
+                                   std::pair{0.5 * standard.shell_edge_m, 0.5 * standard.lifter_edge_m}})
+    values.push_back({num(in_mm(shell_m)) + "/" + num(in_mm(lifter_m)) + "mm", [shell_m, lifter_m](Scene& s) {
+                        s.mill.mesh.shell_edge_m = shell_m;
+                        s.mill.mesh.lifter_edge_m = lifter_m;
+                      }});
+  return values;
+}
+
+// Half and twice the smoothing radius; the default radius is each design's smallest particle
+// radius, so the factor applies per design (the label gives the first design's).
+KnobValues smoothing_values(const Scene& standard_scene) {
+  auto radius = [](const Scene& s) {
+    return s.wear.smoothing_radius_m > 0.0 ? s.wear.smoothing_radius_m : s.smallest_particle_radius_m();
   };
-  {
-    // Draft's, reference's and half standard's step, leaving out any that is standard's own.
-    std::vector<std::pair<std::string, Setter>> values;
-    for (double dt : {0.5 * standard.time_step_s, draft.time_step_s, reference.time_step_s})
-      if (std::fabs(dt - standard.time_step_s) > 1e-9 * standard.time_step_s) values.push_back(dt_value(dt));
-    knob("time_step", {"solver.time_step", "solver.steps_per_second"}, values);
-  }
-  if (soft) {
-    auto sub_value = [](int n) {
-      return std::pair{std::to_string(n), Setter([n](Scene& s) { s.solver.substeps = n; })};
+  KnobValues values;
+  for (double f : {0.5, 2.0})
+    values.push_back({num(in_mm(f * radius(standard_scene))) + "mm",
+                      [f, radius](Scene& s) { s.wear.smoothing_radius_m = f * radius(s); }});
+  return values;
+}
+
+}  // namespace
+
+TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const TradeoffOptions& o) {
+  if (designs.empty()) throw InputError("", "SCENE", "at least one design");
+  const std::vector<Scene> base = ladder_base(designs, o);
+  TradeoffLadder ladder;
+  add_presets(base, !o.quick, ladder);
+  if (!o.quick) {
+    const FidelityDef& draft = fidelity_preset("draft");
+    const FidelityDef& standard = fidelity_preset("standard");
+    const FidelityDef& reference = fidelity_preset("reference");
+    std::vector<Scene> std_scenes = base;
+    for (Scene& s : std_scenes) apply_fidelity(s, "standard");
+    const Scene& first = std_scenes.front();
+    auto knob = [&](const std::string& name, const std::vector<std::string>& keys, const KnobValues& values) {
+      add_knob(designs, std_scenes, name, keys, values, ladder);
     };
-    knob("substeps", {"solver.substeps"},
-         {sub_value(std::max(1, standard.substeps / 2)), sub_value(2 * standard.substeps)});
-  } else {
-    auto iter_value = [](const FidelityDef& p) {
-      return std::pair{std::to_string(p.velocity_iterations) + "/" + std::to_string(p.position_iterations),
-                       Setter([v = p.velocity_iterations, q = p.position_iterations](Scene& s) {
-                         s.solver.velocity_iterations = v;
-                         s.solver.position_iterations = q;
-                       })};
-    };
-    knob("iterations", {"solver.velocity_iterations", "solver.position_iterations"},
-         {iter_value(draft), iter_value(reference)});
+    const bool soft = first.solver.backend == Backend::Soft;
+    knob("backend", {"solver.backend"}, backend_values(soft, standard));
+    knob("time_step", {"solver.time_step", "solver.steps_per_second"},
+         time_step_values(draft, standard, reference));
+    if (soft)
+      knob("substeps", {"solver.substeps"}, substep_values(standard));
+    else
+      knob("iterations", {"solver.velocity_iterations", "solver.position_iterations"},
+           iteration_values(draft, reference));
+    knob("window", {"wear.window_revolutions"}, window_values(draft, reference));
+    if (first.wear.mode == WearMode::Staged)
+      knob("depth_step", {"wear.max_depth_step"}, depth_step_values(draft, reference));
+    else
+      knob("factor", {"wear.factor"}, factor_values(draft, reference));
+    const KnobValues cutoffs = size_cutoff_values(std_scenes);
+    if (!cutoffs.empty()) knob("size_cutoff", {"solver.size_cutoff"}, cutoffs);
+    knob("mesh", {"lifters.shell_edge", "lifters.lifter_edge"}, mesh_values(draft, standard));
+    knob("smoothing", {"wear.smoothing_radius"}, smoothing_values(first));
   }
-  auto window_value = [](double w) {
-    return std::pair{num(w), Setter([w](Scene& s) { s.wear.window_revolutions = w; })};
-  };
-  knob("window", {"wear.window_revolutions"}, {window_value(draft.window_revolutions),
-                                              window_value(reference.window_revolutions)});
-  if (std_scene.wear.mode == WearMode::Staged) {
-    auto depth_value = [](double d) {
-      return std::pair{num(d * 1e3) + "mm", Setter([d](Scene& s) { s.wear.max_depth_step_m = d; })};
-    };
-    knob("depth_step", {"wear.max_depth_step"},
-         {depth_value(draft.max_depth_step_m), depth_value(reference.max_depth_step_m)});
-  } else {
-    auto factor_value = [](double f) {
-      return std::pair{num(f), Setter([f](Scene& s) { s.wear.factor = f; })};
-    };
-    knob("factor", {"wear.factor"}, {factor_value(draft.factor), factor_value(reference.factor)});
-  }
-  // Size cut-off: relative to the smallest rock, as an absolute size means nothing across
-  // scenes; and, for a fine charge (rocks finer than 50 mm, e.g. a size distribution down to
-  // 25 mm), the cut-offs 25 and 50 mm that SAG scenes use. Only values that cut something and
-  // keep part of every rock species of every design are laddered, and of values that leave
-  // the same charge (size classes: 31.25 and 37.5 mm both drop only a 25 mm class) the first.
-  {
-    double smallest_rock = INFINITY, largest_rock_min = INFINITY;
-    for (const Scene& d : std_scenes)
-      for (const auto& sp : d.charge.species)
-        if (!sp.is_ball && d.species_in_use(sp)) {
-          smallest_rock = std::min(smallest_rock, sp.smallest_diameter_m());
-          largest_rock_min = std::min(largest_rock_min, sp.largest_diameter_m());
-        }
-    std::vector<std::pair<std::string, Setter>> values;
-    if (std::isfinite(smallest_rock)) {
-      std::vector<double> cuts;
-      for (double mm : {25.0, 50.0})
-        if (mm * 1e-3 > smallest_rock) cuts.push_back(mm * 1e-3);
-      for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
-      std::sort(cuts.begin(), cuts.end());
-      // The charge a cut-off leaves: every design's rock species' smallest size kept.
-      auto charge_left = [&](double cut) {
-        std::vector<double> smallest;
-        for (Scene d : std_scenes) {
-          d.solver.size_cutoff_m = cut;
-          for (const auto& sp : d.species_as_placed())
-            if (!sp.is_ball) smallest.push_back(sp.smallest_diameter_m());
-        }
-        return smallest;
-      };
-      std::vector<std::vector<double>> left;
-      for (std::size_t i = 0; i < cuts.size(); ++i) {
-        const double cut = cuts[i];
-        if (cut >= largest_rock_min) continue;
-        std::vector<double> charge = charge_left(cut);
-        if (std::find(left.begin(), left.end(), charge) != left.end()) continue;
-        left.push_back(std::move(charge));
-        values.push_back({num(cut * 1e3) + "mm", [cut](Scene& s) { s.solver.size_cutoff_m = cut; }});
-      }
-    }
-    if (!values.empty()) knob("size_cutoff", {"solver.size_cutoff"}, values);
-  }
-  auto mesh_value = [](double shell_m, double lifter_m) {
-    return std::pair{num(in_mm(shell_m)) + "/" + num(in_mm(lifter_m)) + "mm", Setter([shell_m, lifter_m](Scene& s) {
-                       s.mill.mesh.shell_edge_m = shell_m;
-                       s.mill.mesh.lifter_edge_m = lifter_m;
-                     })};
-  };
-  // Draft's mesh, and half standard's (standard already shares the reference's).
-  knob("mesh", {"lifters.shell_edge", "lifters.lifter_edge"},
-       {mesh_value(draft.shell_edge_m, draft.lifter_edge_m),
-        mesh_value(0.5 * standard.shell_edge_m, 0.5 * standard.lifter_edge_m)});
-  {
-    // The default radius is each design's smallest particle radius: scale it per design.
-    std::vector<std::pair<std::string, Setter>> values;
-    for (double f : {0.5, 2.0}) {
-      const double r0 = std_scene.wear.smoothing_radius_m > 0.0 ? std_scene.wear.smoothing_radius_m
-                                                                : std_scene.smallest_particle_radius_m();
-      values.push_back({num(f * r0 * 1e3) + "mm", [f](Scene& s) {
-                          const double r = s.wear.smoothing_radius_m > 0.0 ? s.wear.smoothing_radius_m
-                                                                           : s.smallest_particle_radius_m();
-                          s.wear.smoothing_radius_m = f * r;
-                        }});
-    }
-    knob("smoothing", {"wear.smoothing_radius"}, values);
-  }
-  keep_only(ladder);
+  keep_only(o.only, ladder);
   check_ladder(ladder);
   return ladder;
 }

@@ -355,6 +355,130 @@ std::string report_line(const LiveMill& s) {
   return line;
 }
 
+// GLFW and Dear ImGui for one run: a window of the asked size with an OpenGL 3.3 context,
+// all closed again when this goes.
+class ViewWindow {
+ public:
+  ViewWindow(int width, int height, const std::string& title, bool headless) {
+    if (!glfwInit()) throw RunError("cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+    if (!window_) {
+      glfwTerminate();
+      throw RunError("cannot open an OpenGL 3.3 window (no display, or no OpenGL 3.3 driver)");
+    }
+    glfwMakeContextCurrent(window_);
+    glfwSwapInterval(headless ? 0 : 1);
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // nothing written beside the working folder
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window_, true);
+    ImGui_ImplOpenGL3_Init("#version 330");
+  }
+  ~ViewWindow() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+    glfwDestroyWindow(window_);
+    glfwTerminate();
+  }
+  ViewWindow(const ViewWindow&) = delete;
+  ViewWindow& operator=(const ViewWindow&) = delete;
+  GLFWwindow* get() const { return window_; }
+
+ private:
+  GLFWwindow* window_ = nullptr;
+};
+
+// What a script command asks of the live mill or the window; returns why the mill refused it
+// ("" when it did not). A screenshot is taken with this frame (shot), a `quit` ends the run
+// after it. Errors name the script's line.
+std::string run_script_command(const ScriptCommand& c, LiveMill& live, UiState& ui, const ViewHooks& hooks,
+                               std::string& shot, bool& quit) {
+  auto num = [&c](int k) { return std::strtod(c.args[static_cast<std::size_t>(k)].c_str(), nullptr); };
+  std::string refused;
+  try {
+    if (c.name == "speed") refused = live.set_speed(num(0));
+    else if (c.name == "filling") refused = live.set_filling(num(0), c.args.size() > 1 ? num(1) : live.scene().charge.ball_filling);
+    else if (c.name == "direction") refused = live.set_direction(c.args[0] == "reverse");
+    else if (c.name == "profile") refused = live.set_profile(c.args[0]);
+    else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
+    else if (c.name == "pause") live.set_paused(true);
+    else if (c.name == "resume") live.set_paused(false);
+    else if (c.name == "reset") live.reset();
+    else if (c.name == "time_scale") live.set_time_scale(num(0));
+    else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
+    else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
+    else if (c.name == "wear") refused = live.start_wear(num(0));
+    else if (c.name == "wait_wear") live.wait_wear();
+    else if (c.name == "save_scene") {
+      for (const auto& f : live.save_scene(c.args[0]))
+        if (hooks.notice) hooks.notice("wrote " + f);
+    } else if (c.name == "save_profiles") {
+      live.write_wear_profiles(c.args[0]);
+      if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
+    } else if (c.name == "screenshot") shot = c.args[0];
+    else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
+    else if (c.name == "stop_record") ui.recording = false;
+    else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
+    else if (c.name == "quit") quit = true;
+  } catch (const InputError& e) {
+    throw InputError(e.file, e.where, e.expected + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
+  } catch (const RunError& e) {
+    throw RunError(std::string(e.what()) + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
+  }
+  return refused;
+}
+
+// The frame just drawn into the files asked for: this frame's screenshot (shot), the run's
+// last one (--screenshot), the recording's next frame. Headless, a screenshot that cannot be
+// written ends the run; with a person watching, the mill keeps running and the panel says why.
+void capture_frame(const ViewRequest& req, const ViewHooks& hooks, bool headless, bool last_frame,
+                   const std::string& shot, int fw, int fh, UiState& ui) {
+  if (shot.empty() && !(last_frame && !req.screenshot.empty()) && !ui.recording) return;
+  const std::vector<std::uint8_t> px = read_window(fw, fh);
+  if (!shot.empty()) {
+    try {
+      write_png(shot, fw, fh, px);
+      ui.message = "wrote " + shot;
+    } catch (const std::exception& x) {
+      if (headless) throw;
+      ui.message = x.what();
+    }
+    if (hooks.notice) hooks.notice(ui.message);
+  }
+  if (last_frame && !req.screenshot.empty()) write_png(req.screenshot, fw, fh, px);
+  if (ui.recording) {
+    fs::create_directories(ui.record_to);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", ui.record_index++);
+    write_png((fs::path(ui.record_to) / name).string(), fw, fh, px);
+  }
+}
+
+// The mill and the panel drawn into a frame of fw x fh pixels; the panel's buttons leave
+// their actions, run after the frame is shown.
+void draw_frame(LiveMill& live, UiState& ui, int fw, int fh, double fps, double ratio,
+                std::vector<std::function<void()>>& actions) {
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  const float side = static_cast<float>(std::min(fh, fw));
+  const Pane pane{0.5f * side, 0.5f * side, static_cast<float>(0.45 * side / live.scene().radius_m())};
+  const WearView wear = live.wear_view();
+  draw_mill(live, wear, wear.running, pane, ui.colour_by_speed);
+  draw_panel(live, ui, side, static_cast<float>(fw) - side, static_cast<float>(fh), fps, ratio, wear, actions);
+  ImGui::Render();
+  glViewport(0, 0, fw, fh);
+  glClearColor(22 / 255.0f, 22 / 255.0f, 26 / 255.0f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
 }  // namespace
 
 ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
@@ -363,30 +487,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   if (!req.script.empty()) script = read_script(req.script);
   LiveMill live(req.scene_file, req.fidelity);
   const bool headless = req.frames > 0 || !req.script.empty();
-
-  if (!glfwInit()) throw RunError("cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
-  struct GlfwGuard { ~GlfwGuard() { glfwTerminate(); } } glfw_guard;
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
-  GLFWwindow* window = glfwCreateWindow(req.width, req.height, ("millwear view: " + live.scene().name).c_str(), nullptr, nullptr);
-  if (!window) throw RunError("cannot open an OpenGL 3.3 window (no display, or no OpenGL 3.3 driver)");
-  glfwMakeContextCurrent(window);
-  glfwSwapInterval(headless ? 0 : 1);
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGui::GetIO().IniFilename = nullptr;  // nothing written beside the working folder
-  ImGui::StyleColorsDark();
-  ImGui_ImplGlfw_InitForOpenGL(window, true);
-  ImGui_ImplOpenGL3_Init("#version 330");
-  struct ImGuiGuard {
-    ~ImGuiGuard() {
-      ImGui_ImplOpenGL3_Shutdown();
-      ImGui_ImplGlfw_Shutdown();
-      ImGui::DestroyContext();
-    }
-  } imgui_guard;
+  ViewWindow window(req.width, req.height, "millwear view: " + live.scene().name, headless);
 
   UiState ui;
   sync_ui(ui, live);
@@ -399,50 +500,19 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   double fps = 0.0, ratio = 0.0;
   const double clock0 = live.clock_s();
   bool quit = false;
-  while (!glfwWindowShouldClose(window)) {
+  while (!glfwWindowShouldClose(window.get())) {
     glfwPollEvents();
     int fw = 0, fh = 0;
-    glfwGetFramebufferSize(window, &fw, &fh);
-    // Script commands due at this time, before the frame advances.
-    std::string shot_now = ui.shot_pending;
+    glfwGetFramebufferSize(window.get(), &fw, &fh);
+    // Script commands due at this time, before the frame advances. Script time is the
+    // frames' time (1/60 s a frame), so a paused mill or a running wear history does not
+    // hold the script up.
+    std::string shot = ui.shot_pending;
     ui.shot_pending.clear();
-    // Script time is the frames' time (1/60 s a frame), so a paused mill or a running wear
-    // history does not hold the script up.
     const double script_clock = static_cast<double>(out.frames) * kFrameSimS;
     while (next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
       const ScriptCommand& c = script[next_command++];
-      auto num = [&c](int k) { return std::strtod(c.args[static_cast<std::size_t>(k)].c_str(), nullptr); };
-      std::string refused;
-      try {
-        if (c.name == "speed") refused = live.set_speed(num(0));
-        else if (c.name == "filling") refused = live.set_filling(num(0), c.args.size() > 1 ? num(1) : live.scene().charge.ball_filling);
-        else if (c.name == "direction") refused = live.set_direction(c.args[0] == "reverse");
-        else if (c.name == "profile") refused = live.set_profile(c.args[0]);
-        else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
-        else if (c.name == "pause") live.set_paused(true);
-        else if (c.name == "resume") live.set_paused(false);
-        else if (c.name == "reset") live.reset();
-        else if (c.name == "time_scale") live.set_time_scale(num(0));
-        else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
-        else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
-        else if (c.name == "wear") refused = live.start_wear(num(0));
-        else if (c.name == "wait_wear") live.wait_wear();
-        else if (c.name == "save_scene") {
-          for (const auto& f : live.save_scene(c.args[0]))
-            if (hooks.notice) hooks.notice("wrote " + f);
-        } else if (c.name == "save_profiles") {
-          live.write_wear_profiles(c.args[0]);
-          if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
-        } else if (c.name == "screenshot") shot_now = c.args[0];
-        else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
-        else if (c.name == "stop_record") ui.recording = false;
-        else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
-        else if (c.name == "quit") quit = true;
-      } catch (const InputError& e) {  // what the command could not do names the script's line
-        throw InputError(e.file, e.where, e.expected + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
-      } catch (const RunError& e) {
-        throw RunError(std::string(e.what()) + " (script line " + std::to_string(c.line) + ", " + c.name + ")");
-      }
+      const std::string refused = run_script_command(c, live, ui, hooks, shot, quit);
       if (!refused.empty()) {
         ++out.refused;
         ui.message = refused;
@@ -466,44 +536,13 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     }
     if (ui.trails != static_cast<int>(live.trails().size()) && live.trails().size() > 0) ui.trails = static_cast<int>(live.trails().size());
 
-    ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
-    const float side = static_cast<float>(std::min(fh, fw));
-    const Pane pane{0.5f * side, 0.5f * side, static_cast<float>(0.45 * side / live.scene().radius_m())};
-    const WearView wear = live.wear_view();
-    draw_mill(live, wear, wear.running, pane, ui.colour_by_speed);
     std::vector<std::function<void()>> actions;
-    draw_panel(live, ui, side, static_cast<float>(fw) - side, static_cast<float>(fh), fps, ratio, wear, actions);
-    ImGui::Render();
-    glViewport(0, 0, fw, fh);
-    glClearColor(22 / 255.0f, 22 / 255.0f, 26 / 255.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    draw_frame(live, ui, fw, fh, fps, ratio, actions);
     ++out.frames;
     // A `quit` ends the run after this frame (its screenshots and recording included).
     const bool last_frame = quit || (req.frames > 0 && out.frames >= req.frames);
-    if (!shot_now.empty() || (last_frame && !req.screenshot.empty()) || ui.recording) {
-      const std::vector<std::uint8_t> px = read_window(fw, fh);
-      if (!shot_now.empty()) {
-        try {
-          write_png(shot_now, fw, fh, px);
-          ui.message = "wrote " + shot_now;
-        } catch (const std::exception& x) {
-          if (headless) throw;
-          ui.message = x.what();  // the live mill keeps running
-        }
-        if (hooks.notice) hooks.notice(ui.message);
-      }
-      if (last_frame && !req.screenshot.empty()) write_png(req.screenshot, fw, fh, px);
-      if (ui.recording) {
-        fs::create_directories(ui.record_to);
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%05d.png", ui.record_index++);
-        write_png((fs::path(ui.record_to) / name).string(), fw, fh, px);
-      }
-    }
-    glfwSwapBuffers(window);
+    capture_frame(req, hooks, headless, last_frame, shot, fw, fh, ui);
+    glfwSwapBuffers(window.get());
     for (auto& a : actions) a();
     if (last_frame) break;
   }
@@ -512,7 +551,6 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   out.disks = live.active_disks();
   out.lost_disks = live.lost_disks();
   live.stop_wear();
-  glfwDestroyWindow(window);
   return out;
 }
 
