@@ -252,6 +252,34 @@ TEST_F(AppRun, InterruptAfterStage1ThenResumeGivesTheSameSummary) {
   EXPECT_EQ(slurp(out / "profiles/lab-mill_stage2.csv"), slurp(full_ / "profiles/lab-mill_stage2.csv"));
 }
 
+// The same run again without --resume starts over: the earlier run's files go first, so an
+// interrupted rerun leaves no figure or stage of the earlier run beside its own.
+TEST_F(AppRun, ARerunWithoutResumeRemovesTheEarlierRunsFilesFirst) {
+  const fs::path out = root_ / "rerun";
+  fs::copy(full_, out, fs::copy_options::recursive);
+  ASSERT_TRUE(fs::exists(out / "plots/fig6_profiles.png"));
+  ASSERT_TRUE(fs::exists(out / "profiles/lab-mill_stage2.csv"));
+  std::ofstream(out / "plots/my-notes.txt") << "the user's\n";
+  const Result stopped = run("run " + src("scenarios/lab-mill.toml") + " -o " + q(out) +
+                             " --fidelity draft --quiet --stop-after-stage 0");
+  EXPECT_EQ(stopped.exit_code, 130) << stopped.output;
+  EXPECT_FALSE(fs::exists(out / "plots/fig6_profiles.png"));
+  EXPECT_FALSE(fs::exists(out / "plots/data/lab-mill_summary.csv"));
+  EXPECT_FALSE(fs::exists(out / "profiles/lab-mill_stage1.csv"));
+  EXPECT_FALSE(fs::exists(out / "stages/lab-mill_stage1.done"));
+  EXPECT_TRUE(fs::exists(out / "profiles/lab-mill_stage0.csv"));
+  EXPECT_EQ(slurp(out / "plots/my-notes.txt"), "the user's\n");
+  // Every file is the new run's and listed in its manifest, but the user's.
+  const nlohmann::json m = nlohmann::json::parse(slurp(out / "manifest.json"));
+  std::set<std::string> listed;
+  for (const auto& f : m["files"]) listed.insert(f.get<std::string>());
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), out).string();
+    if (rel != "plots/my-notes.txt") EXPECT_EQ(listed.count(rel), 1u) << rel << " is not the new run's";
+  }
+}
+
 TEST_F(AppRun, ComparisonFileNormalisesToItsReference) {
   const fs::path out = root_ / "comparison";
   const Result r = run("run " + src("tests/data/lab-comparison.toml") + " -o " + q(out) + " --fidelity draft --quiet");
@@ -428,6 +456,35 @@ TEST_F(AppRunCli, ChargeCheckGivesTheDisksAndRunsNothing) {
   EXPECT_NE(taken.output.find("this folder holds notes.txt"), std::string::npos) << taken.output;
 }
 
+// `charge` again into its folder: the earlier charge's files (its manifest lists them) go
+// first, so a contact log or a design name of that charge does not stay beside the new one's;
+// a user's own file stays.
+TEST_F(AppRunCli, AChargeAgainRemovesTheEarlierChargesFiles) {
+  const std::string base = "charge " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") +
+                           " --fidelity draft --revolutions 0.5 --quiet";
+  Result r = run(base + " --set outputs.contact_log=true");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(dir_ / "out/contacts.csv"));
+  ASSERT_TRUE(fs::exists(dir_ / "out/snapshot_lab-mill.csv"));
+  std::ofstream(dir_ / "out/my-notes.txt") << "mine\n";
+  r = run(base + " --set name=other");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* gone : {"contacts.csv", "snapshot_lab-mill.csv", "liner_lab-mill.csv", "trajectories_lab-mill.csv",
+                           "plots/snapshot_lab-mill.png", "plots/data/lab-mill_spectrum.csv"})
+    EXPECT_FALSE(fs::exists(dir_ / "out" / gone)) << gone;
+  EXPECT_TRUE(fs::exists(dir_ / "out/snapshot_other.csv"));
+  EXPECT_EQ(slurp(dir_ / "out/my-notes.txt"), "mine\n");
+  const nlohmann::json m = nlohmann::json::parse(slurp(dir_ / "out/manifest.json"));
+  EXPECT_EQ(m["command"], "charge");
+  std::set<std::string> listed;
+  for (const auto& f : m["files"]) listed.insert(f.get<std::string>());
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "out")) {
+    const std::string rel = fs::relative(e.path(), dir_ / "out").string();
+    if (e.is_regular_file() && rel != "my-notes.txt" && rel != ".millwear-results")
+      EXPECT_EQ(listed.count(rel), 1u) << rel << " is not listed";
+  }
+}
+
 // ---- One run per output folder ----
 // The small lab-quick scene (two 50 h stages at draft fidelity, a few seconds a run). One
 // undisturbed run into a folder that already holds a user's files is shared by the tests.
@@ -599,11 +656,12 @@ TEST_F(FolderRuns, AnotherScenesFolderIsRefusedThenTakenOverWithForce) {
             std::string::npos) << check.output;
   EXPECT_NE(check.output.find("the run first deletes that run's files"), std::string::npos) << check.output;
   EXPECT_EQ(folder_contents(out), before) << "--check changes nothing";
-  // The run's own folder: --check says the run replaces it, or with --resume continues it.
+  // The run's own folder: --check says the run deletes its files and starts over, or with
+  // --resume continues it.
   const Result same = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check");
   EXPECT_EQ(same.exit_code, 0) << same.output;
-  EXPECT_NE(same.output.find("holds a run of these same inputs: the run replaces its files"), std::string::npos)
-      << same.output;
+  EXPECT_NE(same.output.find("holds a run of these same inputs: the run first deletes that run's files"),
+            std::string::npos) << same.output;
   const Result resume = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check --resume");
   EXPECT_NE(resume.output.find("the run continues after its finished stages"), std::string::npos) << resume.output;
 

@@ -438,6 +438,36 @@ TEST_F(ScreenRun, ResumeRunsOnlyTheUnfinishedDesignAndGivesTheSameRanking) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// A folder holding a screen of other inputs is refused, and with --force that screen's files
+// (only those) are deleted first: a user's own files in the folder and its subfolders stay.
+TEST_F(ScreenRun, AnotherScreensFolderIsReplacedOnlyWithForceAndTheUsersFilesStay) {
+  const fs::path out = root_ / "replaced";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  const std::map<std::string, std::string> mine = {{"designs/d000/my-notes.txt", "a"},
+                                                   {"designs/d000/mine/a.txt", "b"},
+                                                   {"designs/my-designs.txt", "c"},
+                                                   {"candidates/my-candidate.toml", "d"},
+                                                   {"logs/my.log", "e"},
+                                                   {"plots/my-figure.png", "f"}};
+  for (const auto& [f, text] : mine) {
+    fs::create_directories((out / f).parent_path());
+    std::ofstream(out / f) << text;
+  }
+  const auto before = file_times(out);
+  const std::string other = "screen " + q(src(kScreen)) + " -o " + q(out) + " --set mill.speed=0.7 --jobs 2 --quiet";
+  Result r = millwear_cmd(other);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--force"), std::string::npos) << r.output;
+  EXPECT_TRUE(file_times(out) == before) << "a refused screen changes nothing";
+
+  r = millwear_cmd(other + " --force");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const auto& [f, text] : mine) EXPECT_EQ(slurp(out / f), text) << f;
+  EXPECT_EQ(load_scene((out / "candidates/d000.toml").string()).mill.speed_fraction_critical, 0.7);
+  const auto m = nlohmann::json::parse(slurp(out / "designs/d000/manifest.json"));
+  EXPECT_EQ(m["designs"][0]["settings"]["mill"]["speed_fraction_critical"].get<double>(), 0.7);
+}
+
 TEST_F(ScreenRun, ProgressOnATerminalCountsDoneRunningFailedAndTimeLeft) {
   // Resume with two designs to run, one at a time: d000 cannot write its folder (a file has
   // its name) and fails at once, d003 runs. Without a terminal the pool draws no progress

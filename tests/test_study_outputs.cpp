@@ -3,7 +3,9 @@
 // tests/test_tradeoff.cpp.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -15,6 +17,8 @@
 #include "plots/plots.hpp"
 #include "study/animation.hpp"
 #include "study/calibration_run.hpp"
+#include "study/plan.hpp"
+#include "study/run_designs.hpp"
 #include "study/run_progress.hpp"
 #include "study/tradeoff_study.hpp"
 #include "study/validation_run.hpp"
@@ -158,6 +162,36 @@ TEST(Animation, TheFramesNameAndColourTheScenesSpecies) {
   EXPECT_NE(meta.find("sp_rgb[1] = " + std::to_string(0x4f6d8f)), std::string::npos) << meta;
   EXPECT_EQ(plots::species_colours({true, false, false, true}),
             (std::vector<std::string>{"#4f6d8f", "#a08c70", "#c2b59b", "#7d9bbd"}));
+}
+
+// A stop that comes once every design has finished (here at the last progress tick, before
+// the figures) finds the run finished: its figures are drawn, it is not an interruption and
+// its manifest says finished.
+TEST(RunDesigns, AStopAfterTheLastStageLeavesTheRunFinished) {
+  const testing::TempDir dir("millwear-study-late-stop");
+  study::PlanArgs args;
+  args.scenes = {std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml"};
+  args.fidelity = "draft";
+  args.overrides = {"wear.stages=1"};
+  args.out = (dir.path() / "out").string();
+  const study::Plan plan = study::make_plan(args);
+  study::RunState state(plan);
+  std::atomic<int> stop{0};
+  study::RunOptions opt;
+  opt.out = args.out;
+  opt.jobs = 1;
+  opt.stop_signal = &stop;
+  opt.on_tick = [&state, &stop] {
+    bool all_done = !state.designs.empty();
+    for (const auto& d : state.designs) all_done = all_done && d->status == study::DesignStatus::Done;
+    if (all_done) stop = SIGINT;
+  };
+  const study::RunOutcome o = study::run_designs(state, opt);
+  EXPECT_EQ(stop.load(), SIGINT) << "the stop came";
+  EXPECT_FALSE(o.interrupted);
+  EXPECT_FALSE(o.figures_failed) << o.figure_error;
+  EXPECT_GT(o.figures_written, 0u);
+  EXPECT_NE(io::read_file((dir.path() / "out/manifest.json").string()).find("\"finished\": true"), std::string::npos);
 }
 
 TEST(RunProgress, StageLinesCarryTheLossSinceNew) {

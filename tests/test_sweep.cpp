@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -216,4 +218,25 @@ TEST(SweepReplicates, EachValueRunsItsReplicatesAndTheTableSaysWhereItsErrorsCom
   // The point's figure is the replicates' mean, its error the standard error of that mean.
   EXPECT_NEAR(t.number(0, "power_kW"), mean, 1e-6 * std::abs(mean));
   EXPECT_NEAR(t.number(0, "power_kW_sem"), std::sqrt(var / 3.0), 1e-6 * std::abs(mean));
+}
+
+// A sweep again into its folder: the earlier sweep's points (a value it no longer has) and
+// files go first; a user's own file in a point's folder stays, and the manifest lists only
+// what this sweep wrote.
+TEST(SweepFolder, ASweepAgainRemovesTheEarlierSweepsPointsAndKeepsTheUsersFiles) {
+  const TempDir out("millwear-sweep-again");
+  const std::string base = "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+                           millwear::testing::quoted(out) + " --revolutions 0.5 --fidelity draft --no-plot -q";
+  auto r = millwear::testing::run_millwear(base + " --vary mill.speed=0.6,0.7,0.8");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(out / "points/02/charge_summary.csv"));
+  std::ofstream(out / "points/01/my-notes.txt") << "the user's\n";
+  r = millwear::testing::run_millwear(base + " --vary mill.speed=0.6,0.7");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(out / "points/02")) << "the earlier sweep's third point";
+  std::ifstream notes(out / "points/01/my-notes.txt");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(notes), {}), "the user's\n");
+  const std::string manifest = millwear::testing::read_text(out / "manifest.json");
+  EXPECT_EQ(manifest.find("my-notes.txt"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("points/01/charge_summary.csv"), std::string::npos) << manifest;
 }

@@ -16,15 +16,18 @@
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
+#include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/trajectories.hpp"
+#include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/filling.hpp"
 #include "scene/scene.hpp"
 #include "study/charge_outputs.hpp"
 #include "study/charge_run.hpp"
+#include "study/command_manifest.hpp"
 #include "study/plan.hpp"
 #include "wear/reshape.hpp"
 
@@ -66,6 +69,7 @@ int run_charge(const ChargeArgs& args) {
     return 0;
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
+  io::remove_listed_outputs(args.out);               // an earlier charge's files (its manifest's list)
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   const auto t0 = std::chrono::steady_clock::now();
   // A line every few seconds on a terminal, every minute in a log: a long charge is not silent.
@@ -81,7 +85,9 @@ int run_charge(const ChargeArgs& args) {
   ChargeRunResult result = args.quiet ? run_charge_only(scene) : run_charge_only(scene, progress);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const ChargeEstimates est = charge_estimates(scene, result);
-  write_charge_outputs(args.out, scene, result, est, wall);
+  study::CommandRecord record{"charge", MILLWEAR_COMMIT, args.scene, scene.overrides, scene.fidelity,
+                              scene.solver.seed, {{"revolutions", io::format_number(scene.run.revolutions)}}, {}};
+  record.files = write_charge_outputs(args.out, scene, result, est, wall);
   const ChargeFigures& f = result.figures;
   for (const auto& e : result.events) std::cerr << "millwear: warning: t=" << e.time_s << " s: " << e.what << "\n";
   std::printf("%s: %zu disks, %.1f revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
@@ -139,6 +145,7 @@ int run_charge(const ChargeArgs& args) {
   bool figures_failed = false;
   try {
     const auto figs = render_charge_figures(args.out, scene);
+    record.files.insert(record.files.end(), figs.begin(), figs.end());
     if (!figs.empty())
       std::printf("  figures in %s/plots (spectrum, snapshot_%s, impacts_%s, trajectories_%s)\n", args.out.c_str(),
                   scene.name.c_str(), scene.name.c_str(), scene.name.c_str());
@@ -146,6 +153,8 @@ int run_charge(const ChargeArgs& args) {
     std::cerr << "millwear: warning: figures: " << e.what() << "\n";
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
   }
+  for (const std::string& f : plots::figure_data_files(args.out, {scene.name})) record.files.push_back(f);
+  study::write_command_manifest(args.out, record);
   // A disk lost at any time (settling and spin-up included) makes every figure suspect.
   if (result.lost_disks > 0) {
     std::cerr << "millwear: run failed: " << result.lost_disks << " of " << result.disks

@@ -51,7 +51,10 @@ int run_rule1(const Rule1Args& a) {
     s.solver.threads_fit_size = a.threads == 0;
   });
   std::unique_ptr<io::FolderLock> lock;
-  if (!a.out.empty()) lock = std::make_unique<io::FolderLock>(a.out, "rule1");
+  if (!a.out.empty()) {
+    lock = std::make_unique<io::FolderLock>(a.out, "rule1");
+    io::remove_listed_outputs(a.out);  // an earlier check's files
+  }
   const Rule1Report r = rule1_check(scene, opt);
 
   std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode, %d seed(s) per factor\n", scene.name.c_str(),

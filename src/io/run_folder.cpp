@@ -84,7 +84,33 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
   for (const auto& d : dirs) removed += remove_stale_temps(d);
   for (const auto& d : dirs)
     if (fs::is_directory(d, ec) && fs::is_empty(d, ec)) fs::remove(d, ec);
+  // The folders the listed files leave empty (a sweep's points/NN, a vtk series), deepest
+  // first; OUT itself stays.
+  std::vector<fs::path> parents;
+  for (const auto& f : files) {
+    const fs::path rel(f);
+    if (f.empty() || rel.is_absolute()) continue;
+    bool up = false;
+    for (const auto& part : rel) up = up || part == "..";
+    if (up) continue;
+    for (fs::path p = rel.parent_path(); !p.empty(); p = p.parent_path()) parents.push_back(p);
+  }
+  std::sort(parents.begin(), parents.end(), [](const fs::path& a, const fs::path& b) {
+    const auto depth = [](const fs::path& p) { return std::distance(p.begin(), p.end()); };
+    return depth(a) != depth(b) ? depth(a) > depth(b) : a < b;
+  });
+  parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+  for (const auto& p : parents) {
+    const std::string d = join_path(out, p.string());
+    if (fs::is_directory(fs::symlink_status(d, ec)) && fs::is_empty(d, ec)) fs::remove(d, ec);
+  }
   return removed;
+}
+
+int remove_listed_outputs(const std::string& out) {
+  std::error_code ec;
+  if (!fs::is_directory(out, ec)) return 0;
+  return remove_run_files(out, manifest_files(out));
 }
 
 // ---- key=value ----

@@ -12,6 +12,7 @@
 #include "screen/jobs.hpp"
 #include "screen/task.hpp"
 #include "study/plan.hpp"
+#include "study/run_designs.hpp"
 
 namespace millwear::screen {
 
@@ -32,6 +33,72 @@ std::string screen_fingerprint(const std::string& screen_file, const ScreenDef& 
   for (const auto& o : def.overrides) all += "\n--set " + o;  // written into every candidate
   if (replicates > 1) all += "\n--replicates " + std::to_string(replicates);  // the tasks' histories
   return io::stable_hash_hex(all);
+}
+
+// A candidate's name as the screen gives it: d and three or five digits.
+bool is_candidate_name(const std::string& name) {
+  if ((name.size() != 4 && name.size() != 6) || name[0] != 'd') return false;
+  return std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// The candidate a file under candidates/ or logs/ belongs to ("" for none): NAME.toml,
+// NAME-profile.toml, NAME-kK-profile.toml, NAME.log.
+std::string candidate_of(const std::string& file) {
+  const std::size_t end = file.find_first_of(".-");
+  const std::string name = file.substr(0, end);
+  return end != std::string::npos && is_candidate_name(name) ? name : "";
+}
+
+// Removes the entries of DIR for which `ours` holds (regular files only), then DIR if that
+// leaves it empty.
+template <class Pred>
+void remove_ours(const std::string& dir, const Pred& ours) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return;
+  std::vector<fs::path> found;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec) && ours(it->path().filename().string())) found.push_back(it->path());
+  for (const auto& f : found) fs::remove(f, ec);
+  io::remove_stale_temps(dir);
+  if (fs::is_empty(dir, ec)) fs::remove(dir, ec);
+}
+
+// The files an earlier screen wrote in OUT, and the folders they leave empty: each design's
+// run (the files its manifest lists) and task status, the candidates' files and logs, the
+// Slurm task list and logs, the job lists, the tables, the ranking, the figures and the copy
+// of the screen file. A user's own files, in OUT or any of its folders, stay.
+void remove_screen_outputs(const std::string& out, const io::KeyValues& key) {
+  std::error_code ec;
+  const std::string designs = io::join_path(out, "designs");
+  if (fs::is_directory(designs, ec)) {
+    std::vector<std::string> dirs;
+    for (fs::directory_iterator it(designs, ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_directory(ec) && is_candidate_name(it->path().filename().string())) dirs.push_back(it->path().string());
+    for (const auto& dir : dirs) {
+      study::remove_run_outputs(dir);
+      remove_ours(dir, [](const std::string& f) { return f == "task.status"; });
+    }
+    if (fs::is_empty(designs, ec)) fs::remove(designs, ec);
+  }
+  remove_ours(io::join_path(out, "candidates"), [](const std::string& f) { return !candidate_of(f).empty(); });
+  remove_ours(io::join_path(out, "logs"), [](const std::string& f) { return !candidate_of(f).empty(); });
+  remove_ours(io::join_path(out, "slurm"), [](const std::string& f) {
+    return f == "tasks.txt" || (f.rfind("task-", 0) == 0 && f.size() > 4 && f.compare(f.size() - 4, 4, ".out") == 0);
+  });
+  const std::string plots = io::join_path(out, "plots");
+  remove_ours(io::join_path(plots, "data"), [](const std::string& f) { return f == "top_profiles.dat" || f == "heatmap.dat"; });
+  remove_ours(plots, [](const std::string& f) {
+    if (f == "gnuplot.log") return true;
+    for (const char* fig : {"screen_pareto", "screen_top_profiles", "screen_heatmap"})
+      for (const char* ext : {".png", ".svg"})
+        if (f == std::string(fig) + ext) return true;
+    return false;
+  });
+  const std::string copied = fs::path(io::find_value(key, "screen_file")).filename().string();
+  remove_ours(io::join_path(out, "inputs"), [&copied](const std::string& f) { return !copied.empty() && f == copied; });
+  for (const std::string& f : {io::join_path(out, "jobs.txt"), io::join_path(out, "screen.sbatch"), ranking_csv(out),
+                               designs_csv(out), rejected_csv(out), screen_key_path(out)})
+    fs::remove(f, ec);
 }
 
 }  // namespace
@@ -82,26 +149,25 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
   std::error_code ec;
   const std::string key_file = screen_key_path(out);
   bool same = false;
+  io::KeyValues have;
   if (io::file_exists(key_file)) {
-    const io::KeyValues have = io::read_key_values(key_file);
+    have = io::read_key_values(key_file);
     same = io::find_value(have, "fingerprint") == fingerprint;
+    const std::string what = "the same screen file, base scene, profiles, --set overrides and --replicates as the "
+                             "screen in this folder (" + key_changes(have, a, def) + "); ";
     // Its candidates may be queued already (an emitted job list): a screen of other inputs
     // would have them run other scenes.
     if (!same && (a.resume || !a.emit.empty()))
       throw InputError(key_file, "fingerprint",
-                       "the same screen file, base scene, profiles, --set overrides and --replicates as the screen in "
-                       "this folder (" + key_changes(have, a, def) + "); "
-                       "use a new output folder or run without --resume/--emit to start over");
+                       what + "use a new output folder, or run without --resume/--emit and with --force to start over");
+    // Another screen's results are not replaced unasked.
+    if (!same && !a.force)
+      throw InputError(key_file, "fingerprint",
+                       what + "use a new output folder, or --force to delete that screen's files (those it wrote; "
+                              "no other file) and start over");
   }
   const bool keep = same && (a.resume || !a.emit.empty());
-  if (!keep) {
-    fs::remove_all(io::join_path(out, "designs"), ec);
-    fs::remove_all(io::join_path(out, "candidates"), ec);
-    fs::remove_all(io::join_path(out, "logs"), ec);
-    fs::remove_all(io::join_path(out, "slurm"), ec);
-    fs::remove_all(io::join_path(out, "plots"), ec);
-    for (const char* f : {"jobs.txt", "screen.sbatch", "ranking.csv"}) fs::remove(io::join_path(out, f), ec);
-  }
+  if (!keep) remove_screen_outputs(out, have);
   const bool out_existed = fs::exists(out, ec);
   const bool inputs_existed = fs::exists(io::join_path(out, "inputs"), ec);
   io::ensure_dir(out);

@@ -31,6 +31,7 @@ struct ScreenRequest {
   std::string exe;         // the millwear executable the tasks run ("": self_executable())
   std::vector<std::string> overrides;  // --set KEY=VALUE over the base scene (screen.hpp)
   int replicates = 1;      // histories per design (seeds s .. s + N - 1): life's error from their spread
+  bool force = false;      // OUT holds a screen of other inputs: delete its files and start over
 };
 
 // The screen file read and checked, its family sampled: nothing written yet.

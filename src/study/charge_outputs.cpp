@@ -141,8 +141,13 @@ ChargeEstimates charge_estimates(const Scene& scene, const ChargeRunResult& r) {
 
 // Files of a charge run: summary, shear work along the liner, spectrum, snapshot.
 
-void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
-                          const ChargeEstimates& estimates, double wall_s) {
+std::vector<std::string> write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
+                                              const ChargeEstimates& estimates, double wall_s) {
+  std::vector<std::string> files;
+  const auto write = [&files](const std::string& path, const std::string& text) {
+    io::write_file_atomic(path, text);
+    files.push_back(path);
+  };
   const ChargeFigures& f = r.figures;
   const ChargeSummary& s = f.summary;
   const double t = scene.slice_thickness();
@@ -177,7 +182,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       << "time_solve," << fmt(r.timing.solve_s) << ",s\n"
       << "time_accounting," << fmt(r.timing.account_s) << ",s\n"
       << "wall_time," << fmt(wall_s) << ",s\n";
-  io::write_file_atomic(out + "/charge_summary.csv", sum.str());
+  write(out + "/charge_summary.csv", sum.str());
 
   std::ostringstream liner;
   liner << "edge,owner,owner_index,s_local_mm,x1_m,y1_m,x2_m,y2_m,shear_work_W_per_m2,"
@@ -194,7 +199,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
           << fmt(r.accounting.impact_energy_J[e] / s.time_s / area) << ','
           << fmt(r.accounting.contacts[e] / s.time_s) << '\n';
   }
-  io::write_file_atomic(out + "/liner_work.csv", liner.str());
+  write(out + "/liner_work.csv", liner.str());
 
   if (scene.outputs.collision_spectrum) {
     std::ostringstream spec;
@@ -203,7 +208,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       spec << scene.name << ',' << fmt(spectrum_bin_lower_J(k)) << ',' << fmt(spectrum_bin_lower_J(k + 1))
            << ',' << fmt(r.accounting.spectrum_count[k] / s.time_s) << ','
            << fmt(r.accounting.spectrum_energy_J[k] / s.time_s) << '\n';
-    io::write_file_atomic(out + "/spectrum.csv", spec.str());
+    write(out + "/spectrum.csv", spec.str());
   }
   if (scene.outputs.contact_log) {
     // Liner contacts of the window (step, edge, point, impulses, velocities), SI units.
@@ -214,7 +219,7 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
           << fmt(c.normal.x) << ',' << fmt(c.normal.y) << ',' << fmt(c.normal_impulse) << ','
           << fmt(c.tangent_impulse) << ',' << fmt(c.vn_before) << ',' << fmt(c.vn_after) << ','
           << fmt(c.vt_before) << ',' << fmt(c.vt_after) << '\n';
-    io::write_file_atomic(out + "/contacts.csv", log.str());
+    write(out + "/contacts.csv", log.str());
   }
   if (scene.outputs.vtk && !r.frames.empty()) {
     // Archard's rate at the scene's C; a C given as a loss rate is calibrated on this window
@@ -225,10 +230,14 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       for (std::size_t e = 0; e < power.size(); ++e) power[e] = r.accounting.shear_work_J[e] / s.time_s;
       c = real_wear_rate(scene, r.mill, power);
     }
-    write_vtk_series(out + "/vtk", scene.name, scene, r.mill, r.frames, liner_fields(scene, r.mill, r.accounting, c));
+    for (std::string& v : write_vtk_series(out + "/vtk", scene.name, scene, r.mill, r.frames,
+                                           liner_fields(scene, r.mill, r.accounting, c)))
+      files.push_back(std::move(v));
   }
-  write_impacts_csv(io::join_path(out, "impacts.csv"), scene, r);
-  write_trajectories_csv(io::join_path(out, "trajectories_" + scene.name + ".csv"), r);
+  files.push_back(io::join_path(out, "impacts.csv"));
+  write_impacts_csv(files.back(), scene, r);
+  files.push_back(io::join_path(out, "trajectories_" + scene.name + ".csv"));
+  write_trajectories_csv(files.back(), r);
   if (scene.outputs.snapshot) {
     // The charge and the liner at the window's end, in the world frame; the liner coloured by
     // the shear power it took over the window.
@@ -239,7 +248,10 @@ void write_charge_outputs(const std::string& out, const Scene& scene, const Char
       shear[e] = r.accounting.shear_work_J[e] / s.time_s / (r.mill.edge_length_m[e] * t);
     study::write_liner_table(io::liner_path(out, scene.name), r.mill, st.mill_angle_rad, "shear_power_W_per_m2", shear,
                           0, 0.0, study::snapshot_marks(s, st.mill_speed_rad_s));
+    files.push_back(io::snapshot_path(out, scene.name));
+    files.push_back(io::liner_path(out, scene.name));
   }
+  return files;
 }
 
 namespace {

@@ -24,9 +24,10 @@ struct ChargeEstimates {
 };
 ChargeEstimates charge_estimates(const Scene& scene, const ChargeRunResult& r);
 
-// Writes every file atomically into `out` (which exists). wall_s is the run's wall time.
-void write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
-                          const ChargeEstimates& estimates, double wall_s);
+// Writes every file atomically into `out` (which exists) and returns their paths. wall_s is
+// the run's wall time.
+std::vector<std::string> write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
+                                              const ChargeEstimates& estimates, double wall_s);
 
 // OUT/plots/spectrum, snapshot_NAME, impacts_NAME and trajectories_NAME (PNG and SVG) from
 // those files. Returns the

@@ -1,6 +1,6 @@
 #pragma once
-// OUT/manifest.json of the commands that write tables into a folder of their own (rule1,
-// tradeoff, validate): the program and its commit, the command and what it read (scene file,
+// OUT/manifest.json of the commands that write tables into a folder of their own (charge,
+// rule1, tradeoff, validate): the program and its commit, the command and what it read (scene file,
 // --set overrides in order, fidelity, seed, the command's own settings) and the files it
 // wrote, so that a folder says what made it without its command line.
 #include <cstdint>
@@ -12,7 +12,7 @@
 namespace millwear::study {
 
 struct CommandRecord {
-  std::string command;                 // "rule1", "tradeoff", "validate"
+  std::string command;                 // "charge", "rule1", "tradeoff", "validate"
   std::string commit;                  // the program's (MILLWEAR_COMMIT)
   std::string scene_file;              // a scene, or a comparison file
   std::vector<std::string> overrides;  // --set KEY=VALUE, in order

@@ -433,28 +433,6 @@ Holds check_folder(const Plan& plan, const std::string& out, bool force, std::st
   return holds;
 }
 
-// --force: the files the earlier run wrote, by its manifest's list and by the names millwear
-// gives the stage files, snapshot and liner of each design its run.key names. Nothing else.
-void clear_other_run(const std::string& out) {
-  std::vector<std::string> files = io::manifest_files(out);
-  const std::string key = io::run_key_path(out);
-  if (io::file_exists(key)) {
-    try {
-      for (const auto& [k, v] : io::read_key_values(key)) {
-        if (k.compare(0, 7, "design.") != 0 || !io::is_valid_design_name(k.substr(7))) continue;
-        const std::string n = k.substr(7);
-        study::remove_stage_state(out, n);
-        files.push_back(io::relative_to(out, io::snapshot_path(out, n)));
-        files.push_back(io::relative_to(out, io::liner_path(out, n)));
-      }
-    } catch (const InputError&) {
-    }
-  }
-  for (const std::string& f : {io::summary_path(out), io::spectrum_path(out), key, io::manifest_path(out)})
-    files.push_back(io::relative_to(out, f));
-  io::remove_run_files(out, files);
-}
-
 // Copies of every scene, profile and comparison file into OUT/inputs/ (file names kept;
 // a second, different file with a name already taken gets its design's name in front).
 void copy_inputs(RunState& ctx, const std::string& out) {
@@ -480,6 +458,26 @@ void copy_inputs(RunState& ctx, const std::string& out) {
 
 }  // namespace
 
+void remove_run_outputs(const std::string& out) {
+  std::vector<std::string> files = io::manifest_files(out);
+  const std::string key = io::run_key_path(out);
+  if (io::file_exists(key)) {
+    try {
+      for (const auto& [k, v] : io::read_key_values(key)) {
+        if (k.compare(0, 7, "design.") != 0 || !io::is_valid_design_name(k.substr(7))) continue;
+        const std::string n = k.substr(7);
+        study::remove_stage_state(out, n);
+        files.push_back(io::relative_to(out, io::snapshot_path(out, n)));
+        files.push_back(io::relative_to(out, io::liner_path(out, n)));
+      }
+    } catch (const InputError&) {
+    }
+  }
+  for (const std::string& f : {io::summary_path(out), io::spectrum_path(out), key, io::manifest_path(out)})
+    files.push_back(io::relative_to(out, f));
+  io::remove_run_files(out, files);
+}
+
 std::string check_run_folder(const Plan& plan, const std::string& out, bool force, bool resume) {
   io::check_output_folder(out);
   std::error_code ec;
@@ -488,7 +486,9 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
   const Holds holds = check_folder(plan, out, force, &what);
   if (holds == Holds::Same)
     return out + " holds a run of these same inputs: " +
-           (resume ? "the run continues after its finished stages" : "the run replaces its files (--resume continues it)");
+           (resume ? "the run continues after its finished stages"
+                   : "the run first deletes that run's files (those its manifest.json lists) and starts over "
+                     "(--resume continues it)");
   if (holds == Holds::Other) {
     return "--force: " + out + " holds " + what +
            "; the run first deletes that run's files (those its manifest.json lists; no other file)";
@@ -617,8 +617,10 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
 
   // A folder holding another run's results is not mixed with this one's: refused, or with
   // --force cleared of that run's files (and only those) first.
+  // The same run without --resume starts over: nothing of its earlier files (a figure an
+  // interrupted run would not draw again) stays beside the new ones.
   const Holds holds = check_folder(plan, out, opt.force);
-  if (holds == Holds::Other) clear_other_run(out);
+  if (holds == Holds::Other || (holds == Holds::Same && !opt.resume)) remove_run_outputs(out);
   io::ensure_dir(out);
   io::mark_folder(out, "run");
   ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));
@@ -655,13 +657,16 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
     write_tables(ctx, opt, !outcome.interrupted);
   }
   if (!outcome.interrupted && opt.figures) draw_figures(ctx, opt, outcome);
-  if (!outcome.interrupted && opt.stop_signal && opt.stop_signal->load() != 0) {
-    // Stopped while the figures were drawn (Ctrl-C reaches gnuplot too): an interruption, not
-    // a figure that failed. Every stage is on disk; --resume draws the figures again.
+  if (!outcome.interrupted && opt.stop_signal && opt.stop_signal->load() != 0 && !outcome.figure_error.empty()) {
+    // A figure that failed while a stop came (Ctrl-C reaches gnuplot too): an interruption,
+    // not a figure that failed. Every stage is on disk; --resume draws the figures again. A
+    // stop that came once every figure was drawn found the run finished, and it stays so.
     outcome.interrupted = true;
     outcome.signal = opt.stop_signal->load();
     outcome.figures_failed = false;
     outcome.figure_error.clear();
+    std::lock_guard<std::mutex> lock(ctx.mutex);
+    study::write_manifest(report_of(ctx, opt, false));
   }
   outcome.wall_s = std::chrono::duration<double>(Clock::now() - ctx.t0).count();
   return outcome;

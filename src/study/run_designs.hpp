@@ -100,6 +100,13 @@ struct RunOutcome {
 // do with what OUT holds ("" for a new folder or one of the user's own files alone).
 std::string check_run_folder(const Plan& plan, const std::string& out, bool force, bool resume);
 
+// The files an earlier run in OUT wrote, removed: those its manifest lists, and by the names
+// millwear gives them the stage files, snapshot and liner of each design its run.key names.
+// Nothing else (a user's own files stay). run_designs calls it for another run's folder with
+// --force and for this same run's without --resume (it starts over); a screen for each
+// design's folder when it starts over.
+void remove_run_outputs(const std::string& out);
+
 // Runs every design of the plan into options.out. Throws InputError before anything is
 // written when another process is writing into the folder, when the folder holds the
 // results of other inputs (unless force) or when --resume meets a damaged stage file.

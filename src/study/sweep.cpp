@@ -62,7 +62,9 @@ std::string point_dir(const std::string& out, int index, int k = 0) {
 }
 
 // One point: `millwear charge` of its scene, its figures per mill with batch-means errors.
-SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& axis, const std::string& out) {
+// One point's replicate K, run and written into its folder; `written` gets the files.
+SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& axis, const std::string& out,
+                         std::vector<std::string>& written) {
   SweepPoint p;
   p.index = index;
   p.text = axis.texts[static_cast<std::size_t>(index)];
@@ -115,7 +117,7 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
 
   const std::string dir = point_dir(out, index, k);
   io::ensure_dir(dir);
-  write_charge_outputs(dir, scene, r, est, p.wall_s);
+  written = write_charge_outputs(dir, scene, r, est, p.wall_s);
   return p;
 }
 
@@ -346,12 +348,14 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const int tasks = n * reps;
   r.jobs = jobs_for(q.jobs, static_cast<std::size_t>(tasks));
   const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
+  io::remove_listed_outputs(q.out);  // an earlier sweep's points and figures
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 
   // Threads take the next (point, replicate); each is independent (its own engine, its own
   // seed: replicate K of a point runs the point's scene with seed + K - 1).
   std::vector<std::vector<SweepPoint>> measured(static_cast<std::size_t>(n), std::vector<SweepPoint>(static_cast<std::size_t>(reps)));
   std::vector<int> left(static_cast<std::size_t>(n), reps);
+  std::vector<std::vector<std::string>> written(static_cast<std::size_t>(tasks));  // per task
   r.points.resize(static_cast<std::size_t>(n));
   std::mutex mutex;
   int done = 0;
@@ -363,7 +367,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
     try {
       Scene scene = scenes[iu];
       scene.solver.seed += static_cast<std::uint64_t>(k);
-      p = measure_point(scene, i, k, r.axis, q.out);
+      p = measure_point(scene, i, k, r.axis, q.out, written[t]);
     } catch (const NumericalError& e) {
       p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
       p.error = e.what();
@@ -378,15 +382,12 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
 
   write_sweep_csv(q.out, r);
   std::vector<std::string> files{"manifest.json", "sweep.csv"};
-  for (const SweepPoint& p : r.points)
-    for (int k = 0; k < reps; ++k) {
-      std::vector<std::string> in_point;
-      std::error_code ec;
-      for (const auto& e : std::filesystem::directory_iterator(point_dir(q.out, p.index, k), ec))
-        if (e.is_regular_file(ec)) in_point.push_back(io::relative_to(q.out, e.path().string()));
-      std::sort(in_point.begin(), in_point.end());
-      files.insert(files.end(), in_point.begin(), in_point.end());
-    }
+  for (const std::vector<std::string>& task_files : written) {
+    std::vector<std::string> in_point;
+    for (const std::string& f : task_files) in_point.push_back(io::relative_to(q.out, f));
+    std::sort(in_point.begin(), in_point.end());
+    files.insert(files.end(), in_point.begin(), in_point.end());
+  }
   if (q.figures) {
     try {
       r.figure_files = render_sweep_figures(q.out, r.axis.key);

@@ -104,6 +104,7 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   const std::vector<Scene> designs = study::load_designs(request.scene_file, request.overrides);
   const TradeoffLadder ladder = tradeoff_ladder(designs, request.options);
   const io::FolderLock lock(request.out, "tradeoff");  // one writer per folder, for the whole run
+  io::remove_listed_outputs(request.out);               // an earlier ladder's files
   if (cb.on_ladder) cb.on_ladder(ladder);
   TradeoffStudy study;
   study.report = run_tradeoff(ladder, request.jobs, cb.runs);
