@@ -1,21 +1,39 @@
 #pragma once
 // Ctrl-C and SIGTERM during a run: the first asks the run to stop, heard between pieces of a
 // phase's steps (engine/engine.hpp, step_checking_stop; its finished stages stay on disk for
-// --resume); a second Ctrl-C stops at once.
+// --resume); a second one, a quarter of a second or more later, stops at once. Within that
+// quarter second it is the same stop delivered twice: `timeout` signals the command and then
+// its process group, and a job controller may repeat a signal.
+#include <time.h>
+
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 
 namespace millwear::app {
 
 // The signal that asked the run to stop (0: none). Handed to study::RunOptions::stop_signal.
 inline std::atomic<int> g_signal{0};
+// When it came, ns on the monotonic clock.
+inline std::atomic<std::int64_t> g_signal_ns{0};
+inline constexpr std::int64_t kSameStopNs = 250'000'000;
+
+// The monotonic clock in ns (clock_gettime is async-signal-safe).
+inline std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
 
 inline void on_signal(int sig) {
-  if (g_signal.load() != 0) {  // second Ctrl-C: stop now
-    std::signal(sig, SIG_DFL);
+  const std::int64_t now = monotonic_ns();
+  if (g_signal.load() != 0) {
+    if (now - g_signal_ns.load() < kSameStopNs) return;  // the first one again
+    std::signal(sig, SIG_DFL);                             // a second Ctrl-C: stop now
     std::raise(sig);
     return;
   }
+  g_signal_ns.store(now);
   g_signal.store(sig);
 }
 
