@@ -156,6 +156,10 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
   EXPECT_NE(message("x_mm,y_mm\n-20,0\n0,abc\n20,0\n").find("line 3"), std::string::npos);
   EXPECT_NE(message("x,y\n-20,0\n0,10\n20,0\n").find("x_mm"), std::string::npos);
   EXPECT_NE(message("x_mm,y_mm\n-20,-1\n0,-0.5\n20,-1\n").find("above the shell line"), std::string::npos);
+  // A scan in metres (a 40 mm lifter written as 0.04) spans under a millimetre.
+  EXPECT_NE(message("x_mm,y_mm\n-0.02,0\n-0.01,0.01\n0.01,0.01\n0.02,0\n")
+                .find("x_mm,y_mm: millimetres, spanning at least 1 mm across as a lifter does; these points span 0.04 mm"),
+            std::string::npos);
   // A lifter drawn as a closed polygon (the base back to the first point) is all loop.
   EXPECT_NE(message("x_mm,y_mm\n-20,0\n-10,20\n10,20\n20,0\n20,0\n-20,0\n").find("close on themselves"),
             std::string::npos);

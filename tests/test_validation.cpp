@@ -438,6 +438,24 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
     EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
     EXPECT_NE(r.output.find(bad + ": line 4: a lifter area in (0, 1e10]"), std::string::npos) << r.output;
   }
+  // Areas in m^2 (the lab lifter's 431 mm^2 written as 0.000431) and profile surveys in
+  // metres: refused before any work, naming the line.
+  const std::string square_metres = (d / "m2.csv").string();
+  std::ofstream(square_metres) << "hours,area_mm2\n0,0.000431\n100,0.000400\n";
+  std::string metres_text = "hours,x_mm,y_mm\n";
+  for (const char* h : {"0", "100"}) metres_text += std::string(h) + ",-0.03,0\n" + h + ",-0.01,0.02\n" + h + ",0.01,0.02\n" + h + ",0.03,0\n";
+  const std::string metres = (d / "m.csv").string();
+  std::ofstream(metres) << metres_text;
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    CliResult r = run_cli(cmd + " \"" + scene + "\" --measured \"" + square_metres + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(square_metres + ": line 2: a lifter area in mm^2, at least a thousandth of the scene's lifter"),
+              std::string::npos) << r.output;
+    r = run_cli(cmd + " \"" + scene + "\" --measured \"" + metres + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(metres + ": line 2: millimetres, spanning at least 1 mm across"), std::string::npos)
+        << r.output;
+  }
   // Only the new lifter: nothing to calibrate on.
   const std::string unworn = (d / "unworn.csv").string();
   std::ofstream(unworn) << "hours,area_mm2\n0,419\n";

@@ -114,6 +114,24 @@ std::string key_list(const std::set<std::string_view>& keys) {
   return s;
 }
 
+}  // namespace
+
+void check_points_span(const Polyline& points_m, const std::string& file, const std::string& where) {
+  if (points_m.empty()) return;
+  double x0 = points_m[0].x, x1 = x0, y0 = points_m[0].y, y1 = y0;
+  for (const Vec2& p : points_m) {
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  const double span_mm = in_mm(std::max(x1 - x0, y1 - y0));
+  if (span_mm >= kMinSpanMm) return;
+  throw InputError(file, where,
+                   "millimetres, spanning at least " + fmt_num(kMinSpanMm) + " mm across as a lifter does; these points span " +
+                       fmt_num(span_mm) + " mm: are they in metres?");
+}
+
+namespace {
+
 Polyline read_points(const toml::table& t, const std::string& file) {
   const toml::node* n = t.get("points");
   const std::string expected = "an array of [x, y] pairs in mm, trailing foot to leading foot";
@@ -132,6 +150,7 @@ Polyline read_points(const toml::table& t, const std::string& file) {
       throw InputError(file, key, "expected numbers in mm within +-100000 (" + line_of(e) + ")");
     pts.push_back({x * kMm, y * kMm});
   }
+  check_points_span(pts, file, "points");
   return pts;
 }
 
@@ -467,6 +486,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   if (raw.size() < 3)
     throw InputError(name, "line " + std::to_string(d.header_line + 1),
                      "at least 3 points x_mm,y_mm after the header");
+  check_points_span(raw, name, "x_mm,y_mm");
   LifterProfile prof;
   prof.source_file = name;
   prof.form = ProfileForm::Measured;

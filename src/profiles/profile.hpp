@@ -56,6 +56,13 @@ constexpr double kMaxNoiseLoopShare = 0.01;
 // 100 m bounds any point of a polyline profile or measured surface, in mm (a whole liner
 // unit of the largest mill is under 2 m).
 constexpr double kMaxPointMm = 1e5;
+// The least a lifter's points (a profile, a scan, a survey) span across, in mm: a real
+// lifter, new or worn down, is tens of millimetres or more wide, and points spanning less are
+// metres written where millimetres belong.
+constexpr double kMinSpanMm = 1.0;
+// Throws InputError(file, where, ...) when the points span less than kMinSpanMm (in x and in
+// y alike), saying what they span and that the file's unit is millimetres.
+void check_points_span(const Polyline& points_m, const std::string& file, const std::string& where);
 
 // Measured shape of a lifter polyline against a flat shell line y = 0 (lifter-local).
 struct ProfileMetrics {

@@ -1,5 +1,6 @@
 #include "study/area_surveys.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -117,8 +118,24 @@ void check_surveys_from_start(const Measurements& measured, double start_hours, 
                            " h): the wear before it is not simulated; this survey is at " + io::format_number(hours[i]) + " h");
 }
 
-void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file) {
-  if (measured.areas_only || rows <= 0) return;
+void check_surveys_in_mill(const Measurements& measured, const Scene& scene, const std::string& file) {
+  if (measured.areas_only) {
+    if (measured.areas.losses) return;
+    double smallest_m2 = INFINITY;
+    for (int k = 0; k < scene.mill.kind_count(); ++k)
+      smallest_m2 = std::min(smallest_m2, measure_profile(scene.mill.kind(k).points).area_m2);
+    for (const AreaSurvey& s : measured.areas.surveys)
+      if (s.value_m2 < kMinAreaShare * smallest_m2)
+        throw InputError(file, "line " + std::to_string(s.line),
+                         "a lifter area in mm^2, at least a thousandth of the scene's lifter (" +
+                             io::format_number(in_mm2(smallest_m2)) + " mm^2); the survey at " +
+                             io::format_number(s.hours) + " h gives " + io::format_number(in_mm2(s.value_m2)) +
+                             " mm^2: is it in m^2?");
+    return;
+  }
+  const double radius_m = scene.radius_m();
+  const int rows = scene.mill.rows;
+  if (rows <= 0) return;
   const double half_pitch_m = kPi * radius_m / rows;
   for (const Survey& s : measured.profiles)
     for (const Vec2& p : s.profile_m) {

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/scene.hpp"
 #include "study/surveys.hpp"
 
 namespace millwear::validation {
@@ -76,11 +77,13 @@ struct Measurements {
 Measurements parse_measurements(const std::string& text, const std::string& name);
 Measurements read_measurements(const std::string& path);
 
-// Profile surveys of a lifter of a mill of radius radius_m with `rows` rows: throws
-// InputError(file, line of the survey, ...) for a point outside its liner unit (|x| over half
-// the pitch at the shell, 1% allowed) or outside the mill (|y| at or over the radius): a
-// survey in other units or of another mill, which no fit could use.
-void check_surveys_in_mill(const Measurements& measured, double radius_m, int rows, const std::string& file);
+// Surveys of the scene's lifter: throws InputError(file, line of the survey, ...) for a
+// profile survey's point outside its liner unit (|x| over half the pitch at the shell, 1%
+// allowed) or outside the mill (|y| at or over the radius), and for a surveyed area under a
+// thousandth of the scene's smallest lifter (kMinAreaShare): a survey in other units (m for
+// mm, m^2 for mm^2) or of another mill, which no fit could use.
+void check_surveys_in_mill(const Measurements& measured, const Scene& scene, const std::string& file);
+constexpr double kMinAreaShare = 1e-3;
 
 // Every survey at or after the history's start (start_hours: `from`, e.g. the scene's
 // wear.start_hours): the wear before it is not simulated, so such a survey could be compared

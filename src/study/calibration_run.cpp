@@ -37,7 +37,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   check_derived_seeds(scene, static_cast<std::uint64_t>(std::max(1, a.options.replicates)),
                       "--replicates " + std::to_string(a.options.replicates));
   const Measurements measured = read_measurements(a.measured_file);
-  check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
+  check_surveys_in_mill(measured, scene, a.measured_file);
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   const double start_h = scene.wear.start_hours;

@@ -148,6 +148,7 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
       std::reverse(s.profile_m.begin(), s.profile_m.end());
       std::reverse(lines[k].begin(), lines[k].end());
     }
+    check_points_span(s.profile_m, name, "line " + std::to_string(s.first_line));
     check_in_order(s, lines[k], name);
     // Its area and area error are over the span between its ends: a span of no width has none.
     if (!(s.profile_m.back().x - s.profile_m.front().x > 0.0))

@@ -202,7 +202,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
     s.solver.threads_fit_size = a.threads_fit_size;
   });
   const Measurements measured = read_measurements(a.measured_file);
-  check_surveys_in_mill(measured, scene.radius_m(), scene.mill.rows, a.measured_file);
+  check_surveys_in_mill(measured, scene, a.measured_file);
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
