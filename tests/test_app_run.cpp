@@ -664,6 +664,16 @@ TEST_F(FolderRuns, AnotherScenesFolderIsRefusedThenTakenOverWithForce) {
             std::string::npos) << same.output;
   const Result resume = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check --resume");
   EXPECT_NE(resume.output.find("the run continues after its finished stages"), std::string::npos) << resume.output;
+  // Other overrides or another fidelity make it another run's folder, and the refusal says
+  // which: the run's and this one's.
+  const Result other_set = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check --resume --set mill.speed=0.7");
+  EXPECT_EQ(other_set.exit_code, 2) << other_set.output;
+  EXPECT_NE(other_set.output.find("(--set overrides: none then, --set mill.speed=0.7 now, for lab-quick)"),
+            std::string::npos) << other_set.output;
+  const Result other_fidelity = run("run " + quick_scene() + " -o " + q(root_ / "ref") + " --check --resume --fidelity reference");
+  EXPECT_EQ(other_fidelity.exit_code, 2) << other_fidelity.output;
+  EXPECT_NE(other_fidelity.output.find("(fidelity: draft then, reference now, for lab-quick)"), std::string::npos)
+      << other_fidelity.output;
 
   const Result forced = run("run " + q(other) + " -o " + q(out) + " --quiet --force");
   ASSERT_EQ(forced.exit_code, 0) << forced.output;

@@ -168,6 +168,20 @@ TEST_F(Overrides, MalformedOverridesAreRefused) {
   EXPECT_NE(error_of({"mill..speed=1"}).expected.find("dotted scene key"), std::string::npos);
 }
 
+// A key the file sets that an override makes wrong (the file's ball filling above a filling
+// the command line lowered) is named as the file's, with the overrides that changed the scene.
+TEST_F(Overrides, AnotherKeysErrorNamesTheOverridesThatChangedTheScene) {
+  const InputError e = error_of({"charge.filling=0.05"});
+  EXPECT_EQ(e.where, "charge.ball_filling");
+  EXPECT_NE(e.expected.find("(the scene with --set charge.filling=0.05)"), std::string::npos) << e.expected;
+  // A sweep names the point whose value did it.
+  const auto r = run_millwear("sweep " + millwear::testing::quoted(fs::path(scene_)) + " -o " +
+                              millwear::testing::quoted(dir_ / "out") + " --vary charge.filling=0.2,0.05");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("charge.ball_filling (at --vary charge.filling=0.05)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
 TEST_F(Overrides, TheCommandLineExitsTwoNamingTheKeyBeforeWritingAnything) {
   const fs::path out = dir_ / "out";
   const auto r = run_millwear("charge " + millwear::testing::quoted(fs::path(scene_)) + " -o " + millwear::testing::quoted(out) + " --set charge.filing=0.3");

@@ -807,10 +807,15 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     s.overrides = overrides;
     return s;
   } catch (const InputError& e) {
+    if (e.file != path || overrides.empty()) throw;
     // A problem with an overridden key is the command line's: say so.
-    const std::string* from = override_of(overrides, e.where);
-    if (!from || e.file != path) throw;
-    throw InputError(path, "--set " + printable(*from, 80) + ": " + e.where, e.expected);
+    if (const std::string* from = override_of(overrides, e.where))
+      throw InputError(path, "--set " + printable(*from, 80) + ": " + e.where, e.expected);
+    // Another key's, which an override may have caused (a ball filling above the filling a
+    // --set lowered): the overrides are named with it.
+    std::string sets;
+    for (const std::string& o : overrides) sets += " --set " + printable(o, 80);
+    throw InputError(e.file, e.where, e.expected + " (the scene with" + sets + ")");
   }
 }
 

@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
@@ -346,6 +349,43 @@ io::KeyValues resume_key(const Plan& plan) {
   return kv;
 }
 
+// What differs between the plan's designs and those the run in OUT recorded in its manifest:
+// the --set overrides, the fidelity (each named with the run's and this one's), else the
+// scene or profile files' contents.
+std::string changed_inputs(const Plan& plan, const std::string& out) {
+  std::vector<std::string> sets_then, sets_now;
+  std::string fidelity_then, fidelity_now;
+  try {
+    const nlohmann::json m = nlohmann::json::parse(io::read_file(io::manifest_path(out)));
+    bool found = false;
+    for (const auto& d : m.at("designs")) {
+      for (const DesignInput& p : plan.designs)
+        if (!found && p.name == d.at("name").get<std::string>()) {
+          found = true;
+          sets_then = d.at("set").get<std::vector<std::string>>();
+          sets_now = p.scene.overrides;
+          fidelity_then = d.at("fidelity").get<std::string>();
+          fidelity_now = p.scene.fidelity;
+        }
+    }
+    if (!found) throw std::runtime_error("no design of this run in the manifest");
+  } catch (const std::exception&) {
+    return "other inputs: scene or profile files, --set overrides or fidelity";
+  }
+  auto joined = [](const std::vector<std::string>& v) {
+    std::string t;
+    for (const auto& x : v) t += (t.empty() ? "--set " : " --set ") + x;
+    return t.empty() ? std::string("none") : t;
+  };
+  std::vector<std::string> reasons;
+  if (sets_then != sets_now) reasons.push_back("--set overrides: " + joined(sets_then) + " then, " + joined(sets_now) + " now");
+  if (fidelity_then != fidelity_now) reasons.push_back("fidelity: " + fidelity_then + " then, " + fidelity_now + " now");
+  if (reasons.empty()) return "other scene or profile files";
+  std::string text;
+  for (const auto& r : reasons) text += (text.empty() ? "" : "; ") + r;
+  return text;
+}
+
 // What OUT holds. None: no run.key and no manifest (a new folder, or the user's own files).
 // Same: the same designs with the same fingerprints. Foreign: another command's results (a
 // sweep's, a charge's), which --force does not delete. Other: anything else.
@@ -387,7 +427,7 @@ Holds folder_holds(const Plan& plan, const std::string& out, std::string& what) 
   }
   what = "the results of design(s) " + names +
          (changed.empty() ? std::string(" (not the designs of this run)")
-                          : " (other scene or profile files, or fidelity, for " + changed + ")");
+                          : " (" + changed_inputs(plan, out) + ", for " + changed + ")");
   return Holds::Other;
 }
 

@@ -314,10 +314,13 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     try {
       s = load_scene(q.scene_file, overrides);
     } catch (const InputError& e) {
-      // The varied value's problem is the --vary's: say so.
+      // The varied value's problem is the --vary's: say so. A --set's own is its; another
+      // key's at this point (a limit the value moved) names the point.
       const std::string set = "--set " + vary;
-      if (e.where.compare(0, set.size(), set) != 0) throw;
-      throw InputError(e.file, "--vary " + vary + e.where.substr(set.size()), e.expected);
+      if (e.where.compare(0, set.size(), set) == 0)
+        throw InputError(e.file, "--vary " + vary + e.where.substr(set.size()), e.expected);
+      if (e.where.compare(0, 6, "--set ") == 0) throw;
+      throw InputError(e.file, e.where + " (at --vary " + vary + ")", e.expected);
     }
     // The point's charge_summary.csv records its value with the --set overrides, as `charge
     // --set` would: a point's folder says which point it is.
