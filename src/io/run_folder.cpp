@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -66,17 +67,28 @@ std::string relative_to(const std::string& out, const std::string& path) {
   return rel.generic_string();
 }
 
+namespace {
+
+// A manifest's entry that names a path inside its folder: relative, without a ".." part.
+bool inside_folder(const std::string& f) {
+  const fs::path rel(f);
+  if (f.empty() || rel.is_absolute()) return false;
+  for (const auto& part : rel)
+    if (part == "..") return false;
+  return true;
+}
+
+}  // namespace
+
 int remove_run_files(const std::string& out, const std::vector<std::string>& files) {
   int removed = 0;
   std::error_code ec;
+  std::vector<fs::path> parents;  // of the listed files, to remove where left empty
   for (const auto& f : files) {
-    const fs::path rel(f);
-    if (f.empty() || rel.is_absolute()) continue;
-    bool up = false;
-    for (const auto& part : rel) up = up || part == "..";
-    if (up) continue;
+    if (!inside_folder(f)) continue;
     const std::string path = join_path(out, f);
     if (fs::is_regular_file(fs::symlink_status(path, ec)) && fs::remove(path, ec)) ++removed;
+    for (fs::path p = fs::path(f).parent_path(); !p.empty(); p = p.parent_path()) parents.push_back(p);
   }
   const std::vector<std::string> dirs = {plots_data_dir(out), plots_out_dir(out), stages_dir(out),
                                          profiles_dir(out), join_path(out, "inputs")};
@@ -86,15 +98,6 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
     if (fs::is_directory(d, ec) && fs::is_empty(d, ec)) fs::remove(d, ec);
   // The folders the listed files leave empty (a sweep's points/NN, a vtk series), deepest
   // first; OUT itself stays.
-  std::vector<fs::path> parents;
-  for (const auto& f : files) {
-    const fs::path rel(f);
-    if (f.empty() || rel.is_absolute()) continue;
-    bool up = false;
-    for (const auto& part : rel) up = up || part == "..";
-    if (up) continue;
-    for (fs::path p = rel.parent_path(); !p.empty(); p = p.parent_path()) parents.push_back(p);
-  }
   std::sort(parents.begin(), parents.end(), [](const fs::path& a, const fs::path& b) {
     const auto depth = [](const fs::path& p) { return std::distance(p.begin(), p.end()); };
     return depth(a) != depth(b) ? depth(a) > depth(b) : a < b;
