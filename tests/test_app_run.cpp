@@ -456,6 +456,42 @@ TEST_F(AppRunCli, ChargeCheckGivesTheDisksAndRunsNothing) {
   EXPECT_NE(taken.output.find("this folder holds notes.txt"), std::string::npos) << taken.output;
 }
 
+// A run started again from the copies of its inputs in OUT/inputs/ (same inputs, no --resume):
+// the earlier run's files go, its inputs stay, and the run starts over from them.
+TEST_F(AppRunCli, ARunAgainFromItsOwnInputCopiesKeepsThem) {
+  // The copy in inputs/ must find its profile: the scene names it by its absolute path.
+  std::string text = slurp(std::string(MILLWEAR_SOURCE_DIR) + "/tests/data/lab-quick.toml");
+  const std::string relative = "profile = \"../../profiles/lab-2x30.toml\"";
+  const std::size_t at = text.find(relative);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, relative.size(), "profile = \"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml\"");
+  const std::string scene = write("self.toml", text);
+  const fs::path out = dir_ / "out";
+  Result r = run("run " + q(scene) + " -o " + q(out) + " --quiet --set wear.stages=1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(out / "inputs/self.toml"));
+  r = run("run " + q(out / "inputs/self.toml") + " -o " + q(out) + " --quiet --set wear.stages=1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(slurp(out / "inputs/self.toml"), text);
+  EXPECT_TRUE(fs::exists(out / "summary.csv"));
+}
+
+// A folder of the earlier charge's that is a link to one elsewhere: the charge again deletes
+// nothing there (the files listed under it are not OUT's).
+TEST_F(AppRunCli, AChargeAgainDeletesNothingThroughALinkedFolder) {
+  const std::string base = "charge " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") +
+                           " --fidelity draft --revolutions 0.5 --quiet";
+  ASSERT_EQ(run(base + " --set name=first").exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir_ / "out/plots/snapshot_first.png"));
+  fs::create_directories(dir_ / "elsewhere");
+  std::ofstream(dir_ / "elsewhere/snapshot_first.png") << "not the charge's\n";
+  fs::remove_all(dir_ / "out/plots");
+  fs::create_directory_symlink(dir_ / "elsewhere", dir_ / "out/plots");
+  ASSERT_EQ(run(base).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(dir_ / "out/plots"));
+  EXPECT_EQ(slurp(dir_ / "elsewhere/snapshot_first.png"), "not the charge's\n");
+}
+
 // `charge` again into its folder: the earlier charge's files (its manifest lists them) go
 // first, so a contact log or a design name of that charge does not stay beside the new one's;
 // a user's own file stays.

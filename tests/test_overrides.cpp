@@ -179,6 +179,7 @@ TEST_F(Overrides, AnotherKeysErrorNamesTheOverridesThatChangedTheScene) {
                               millwear::testing::quoted(dir_ / "out") + " --vary charge.filling=0.2,0.05");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("charge.ball_filling (at --vary charge.filling=0.05)"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("--set charge.filling"), std::string::npos) << "the point is its --vary: " << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 

@@ -448,7 +448,9 @@ TEST_F(ScreenRun, AnotherScreensFolderIsReplacedOnlyWithForceAndTheUsersFilesSta
                                                    {"designs/my-designs.txt", "c"},
                                                    {"candidates/my-candidate.toml", "d"},
                                                    {"logs/my.log", "e"},
-                                                   {"plots/my-figure.png", "f"}};
+                                                   {"plots/my-figure.png", "f"},
+                                                   {"candidates/d000-notes.txt", "g"},
+                                                   {"logs/d001-mine.log", "h"}};
   for (const auto& [f, text] : mine) {
     fs::create_directories((out / f).parent_path());
     std::ofstream(out / f) << text;

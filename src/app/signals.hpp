@@ -1,9 +1,10 @@
 #pragma once
 // Ctrl-C and SIGTERM during a run: the first asks the run to stop, heard between pieces of a
 // phase's steps (engine/engine.hpp, step_checking_stop; its finished stages stay on disk for
-// --resume); a second one, a quarter of a second or more later, stops at once. Within that
-// quarter second it is the same stop delivered twice: `timeout` signals the command and then
-// its process group, and a job controller may repeat a signal.
+// --resume); a second one stops at once, unless it is the same signal within a second of the
+// first: the same stop delivered twice (`timeout` signals the command and then its process
+// group; a job controller may repeat a signal, and the screen's pool passes SIGTERM on to
+// tasks that may have had it from the process group already).
 #include <time.h>
 
 #include <atomic>
@@ -16,7 +17,7 @@ namespace millwear::app {
 inline std::atomic<int> g_signal{0};
 // When it came, ns on the monotonic clock.
 inline std::atomic<std::int64_t> g_signal_ns{0};
-inline constexpr std::int64_t kSameStopNs = 250'000'000;
+inline constexpr std::int64_t kSameStopNs = 1'000'000'000;
 
 // The monotonic clock in ns (clock_gettime is async-signal-safe).
 inline std::int64_t monotonic_ns() {
@@ -28,7 +29,7 @@ inline std::int64_t monotonic_ns() {
 inline void on_signal(int sig) {
   const std::int64_t now = monotonic_ns();
   if (g_signal.load() != 0) {
-    if (now - g_signal_ns.load() < kSameStopNs) return;  // the first one again
+    if (sig == g_signal.load() && now - g_signal_ns.load() < kSameStopNs) return;  // the first one again
     std::signal(sig, SIG_DFL);                             // a second Ctrl-C: stop now
     std::raise(sig);
     return;

@@ -69,33 +69,54 @@ std::string relative_to(const std::string& out, const std::string& path) {
 
 namespace {
 
-// A manifest's entry that names a path inside its folder: relative, without a ".." part.
-bool inside_folder(const std::string& f) {
+// A manifest's entry that names a path inside its folder: relative, without a ".." part, and
+// through no symbolic link (a linked folder's files are elsewhere).
+bool inside_folder(const std::string& out, const std::string& f) {
   const fs::path rel(f);
   if (f.empty() || rel.is_absolute()) return false;
   for (const auto& part : rel)
     if (part == "..") return false;
+  std::error_code ec;
+  for (fs::path p = rel.parent_path(); !p.empty(); p = p.parent_path())
+    if (fs::is_symlink(fs::symlink_status(join_path(out, p.string()), ec))) return false;
   return true;
+}
+
+// One of `keep` (a command's own inputs), which a run may read from its folder.
+bool is_kept(const std::string& path, const std::vector<std::string>& keep) {
+  std::error_code ec;
+  for (const auto& k : keep)
+    if (fs::equivalent(path, k, ec)) return true;
+  return false;
+}
+
+// A folder of OUT itself (not a link to one elsewhere).
+bool is_own_dir(const std::string& d) {
+  std::error_code ec;
+  return fs::is_directory(fs::symlink_status(d, ec));
 }
 
 }  // namespace
 
-int remove_run_files(const std::string& out, const std::vector<std::string>& files) {
+int remove_run_files(const std::string& out, const std::vector<std::string>& files,
+                     const std::vector<std::string>& keep) {
   int removed = 0;
   std::error_code ec;
   std::vector<fs::path> parents;  // of the listed files, to remove where left empty
   for (const auto& f : files) {
-    if (!inside_folder(f)) continue;
+    if (!inside_folder(out, f)) continue;
     const std::string path = join_path(out, f);
-    if (fs::is_regular_file(fs::symlink_status(path, ec)) && fs::remove(path, ec)) ++removed;
+    if (fs::is_regular_file(fs::symlink_status(path, ec)) && !is_kept(path, keep) && fs::remove(path, ec)) ++removed;
     for (fs::path p = fs::path(f).parent_path(); !p.empty(); p = p.parent_path()) parents.push_back(p);
   }
-  const std::vector<std::string> dirs = {plots_data_dir(out), plots_out_dir(out), stages_dir(out),
-                                         profiles_dir(out), join_path(out, "inputs")};
+  std::vector<std::string> dirs;
+  for (const std::string& d : {plots_data_dir(out), plots_out_dir(out), stages_dir(out), profiles_dir(out),
+                               join_path(out, "inputs")})
+    if (is_own_dir(d)) dirs.push_back(d);
   removed += remove_stale_temps(out);
   for (const auto& d : dirs) removed += remove_stale_temps(d);
   for (const auto& d : dirs)
-    if (fs::is_directory(d, ec) && fs::is_empty(d, ec)) fs::remove(d, ec);
+    if (fs::is_empty(d, ec)) fs::remove(d, ec);
   // The folders the listed files leave empty (a sweep's points/NN, a vtk series), deepest
   // first; OUT itself stays.
   std::sort(parents.begin(), parents.end(), [](const fs::path& a, const fs::path& b) {
@@ -105,15 +126,15 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
   parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
   for (const auto& p : parents) {
     const std::string d = join_path(out, p.string());
-    if (fs::is_directory(fs::symlink_status(d, ec)) && fs::is_empty(d, ec)) fs::remove(d, ec);
+    if (is_own_dir(d) && fs::is_empty(d, ec)) fs::remove(d, ec);
   }
   return removed;
 }
 
-int remove_listed_outputs(const std::string& out) {
+int remove_listed_outputs(const std::string& out, const std::vector<std::string>& keep) {
   std::error_code ec;
   if (!fs::is_directory(out, ec)) return 0;
-  return remove_run_files(out, manifest_files(out));
+  return remove_run_files(out, manifest_files(out), keep);
 }
 
 // ---- key=value ----

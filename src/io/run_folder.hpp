@@ -61,16 +61,18 @@ std::string relative_to(const std::string& out, const std::string& path);
 // Deletes the files of an earlier run in OUT: each entry of `files` (relative to OUT, as a
 // manifest lists them) that is a regular file, then millwear's temporaries in the folders of
 // a run folder, then those folders (profiles, stages, plots/data, plots, inputs) if they
-// are left empty, and the folders the listed files leave empty. An entry that is absolute or
-// has a ".." part is skipped: nothing outside OUT is touched, and no file that is not listed.
-// Returns how many files were removed.
-int remove_run_files(const std::string& out, const std::vector<std::string>& files);
+// are left empty, and the folders the listed files leave empty. An entry that is absolute, has
+// a ".." part or lies in a linked folder is skipped: nothing outside OUT is touched, and no
+// file that is not listed. Nor is a file of `keep`, the command's own inputs (a run started
+// from the copies in OUT/inputs/). Returns how many files were removed.
+int remove_run_files(const std::string& out, const std::vector<std::string>& files,
+                     const std::vector<std::string>& keep = {});
 
 // Before a command that does not resume writes OUT again: the files its earlier run listed in
 // OUT/manifest.json removed (remove_run_files), so that no output of that run stands beside
 // the new one's (a sweep's points it no longer has, a figure an interrupted run did not draw
 // again). A user's own files in OUT are not listed and stay.
-int remove_listed_outputs(const std::string& out);
+int remove_listed_outputs(const std::string& out, const std::vector<std::string>& keep = {});
 
 // ---- key=value files ----
 using KeyValues = std::vector<std::pair<std::string, std::string>>;  // in file order

@@ -41,23 +41,39 @@ bool is_candidate_name(const std::string& name) {
   return std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// The candidate a file under candidates/ or logs/ belongs to ("" for none): NAME.toml,
-// NAME-profile.toml, NAME-kK-profile.toml, NAME.log.
-std::string candidate_of(const std::string& file) {
+// A file the screen writes for a candidate under candidates/ or logs/: NAME.toml,
+// NAME-profile.toml or .csv, NAME-kK-profile.toml, NAME.log.
+bool is_candidate_file(const std::string& file) {
   const std::size_t end = file.find_first_of(".-");
-  const std::string name = file.substr(0, end);
-  return end != std::string::npos && is_candidate_name(name) ? name : "";
+  if (end == std::string::npos || !is_candidate_name(file.substr(0, end))) return false;
+  const std::string rest = file.substr(end);
+  if (rest == ".toml" || rest == ".log" || rest == "-profile.toml" || rest == "-profile.csv") return true;
+  // -kK-profile.toml
+  const std::string tail = "-profile.toml";
+  if (rest.size() <= 2 + tail.size() || rest.compare(0, 2, "-k") != 0 ||
+      rest.compare(rest.size() - tail.size(), tail.size(), tail) != 0)
+    return false;
+  const std::string k = rest.substr(2, rest.size() - 2 - tail.size());
+  return std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// Removes the entries of DIR for which `ours` holds (regular files only), then DIR if that
-// leaves it empty.
-template <class Pred>
-void remove_ours(const std::string& dir, const Pred& ours) {
+// One of the files the screen reads (`keep`).
+bool is_input(const fs::path& p, const std::vector<std::string>& keep) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return;
+  return std::any_of(keep.begin(), keep.end(), [&](const std::string& k) { return fs::equivalent(p, k, ec); });
+}
+
+// Removes the entries of DIR for which `ours` holds (regular files only, none of `keep`), then
+// DIR if that leaves it empty.
+template <class Pred>
+void remove_ours(const std::string& dir, const std::vector<std::string>& keep, const Pred& ours) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(dir, ec))) return;  // a linked folder's files are elsewhere
   std::vector<fs::path> found;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->is_regular_file(ec) && ours(it->path().filename().string())) found.push_back(it->path());
+    if (it->is_regular_file(ec) && !it->is_symlink(ec) && ours(it->path().filename().string()) &&
+        !is_input(it->path(), keep))
+      found.push_back(it->path());
   for (const auto& f : found) fs::remove(f, ec);
   io::remove_stale_temps(dir);
   if (fs::is_empty(dir, ec)) fs::remove(dir, ec);
@@ -66,28 +82,29 @@ void remove_ours(const std::string& dir, const Pred& ours) {
 // The files an earlier screen wrote in OUT, and the folders they leave empty: each design's
 // run (the files its manifest lists) and task status, the candidates' files and logs, the
 // Slurm task list and logs, the job lists, the tables, the ranking, the figures and the copy
-// of the screen file. A user's own files, in OUT or any of its folders, stay.
-void remove_screen_outputs(const std::string& out, const io::KeyValues& key) {
+// of the screen file. A user's own files, in OUT or any of its folders, stay, and so do the
+// files of `keep` (the inputs this screen reads, which may be copies in OUT).
+void remove_screen_outputs(const std::string& out, const io::KeyValues& key, const std::vector<std::string>& keep) {
   std::error_code ec;
   const std::string designs = io::join_path(out, "designs");
-  if (fs::is_directory(designs, ec)) {
+  if (fs::is_directory(fs::symlink_status(designs, ec))) {
     std::vector<std::string> dirs;
     for (fs::directory_iterator it(designs, ec), end; !ec && it != end; it.increment(ec))
       if (it->is_directory(ec) && is_candidate_name(it->path().filename().string())) dirs.push_back(it->path().string());
     for (const auto& dir : dirs) {
-      study::remove_run_outputs(dir);
-      remove_ours(dir, [](const std::string& f) { return f == "task.status"; });
+      study::remove_run_outputs(dir, keep);
+      remove_ours(dir, keep, [](const std::string& f) { return f == "task.status"; });
     }
     if (fs::is_empty(designs, ec)) fs::remove(designs, ec);
   }
-  remove_ours(io::join_path(out, "candidates"), [](const std::string& f) { return !candidate_of(f).empty(); });
-  remove_ours(io::join_path(out, "logs"), [](const std::string& f) { return !candidate_of(f).empty(); });
-  remove_ours(io::join_path(out, "slurm"), [](const std::string& f) {
+  remove_ours(io::join_path(out, "candidates"), keep, is_candidate_file);
+  remove_ours(io::join_path(out, "logs"), keep, is_candidate_file);
+  remove_ours(io::join_path(out, "slurm"), keep, [](const std::string& f) {
     return f == "tasks.txt" || (f.rfind("task-", 0) == 0 && f.size() > 4 && f.compare(f.size() - 4, 4, ".out") == 0);
   });
   const std::string plots = io::join_path(out, "plots");
-  remove_ours(io::join_path(plots, "data"), [](const std::string& f) { return f == "top_profiles.dat" || f == "heatmap.dat"; });
-  remove_ours(plots, [](const std::string& f) {
+  remove_ours(io::join_path(plots, "data"), keep, [](const std::string& f) { return f == "top_profiles.dat" || f == "heatmap.dat"; });
+  remove_ours(plots, keep, [](const std::string& f) {
     if (f == "gnuplot.log") return true;
     for (const char* fig : {"screen_pareto", "screen_top_profiles", "screen_heatmap"})
       for (const char* ext : {".png", ".svg"})
@@ -95,10 +112,19 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key) {
     return false;
   });
   const std::string copied = fs::path(io::find_value(key, "screen_file")).filename().string();
-  remove_ours(io::join_path(out, "inputs"), [&copied](const std::string& f) { return !copied.empty() && f == copied; });
+  remove_ours(io::join_path(out, "inputs"), keep, [&copied](const std::string& f) { return !copied.empty() && f == copied; });
   for (const std::string& f : {io::join_path(out, "jobs.txt"), io::join_path(out, "screen.sbatch"), ranking_csv(out),
                                designs_csv(out), rejected_csv(out), screen_key_path(out)})
-    fs::remove(f, ec);
+    if (!is_input(f, keep)) fs::remove(f, ec);
+}
+
+// Every file a screen reads: its own, the base scene, the listed profiles and the areas' files.
+std::vector<std::string> screen_inputs(const std::string& screen_file, const ScreenDef& def) {
+  std::vector<std::string> files{screen_file, def.base_scene};
+  files.insert(files.end(), def.profiles.begin(), def.profiles.end());
+  if (!def.equal_area.empty() && def.equal_area != "base" && def.equal_area_kinds.empty()) files.push_back(def.equal_area);
+  files.insert(files.end(), def.equal_area_kinds.begin(), def.equal_area_kinds.end());
+  return files;
 }
 
 }  // namespace
@@ -167,7 +193,7 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                               "no other file) and start over");
   }
   const bool keep = same && (a.resume || !a.emit.empty());
-  if (!keep) remove_screen_outputs(out, have);
+  if (!keep) remove_screen_outputs(out, have, screen_inputs(a.screen_file, def));
   const bool out_existed = fs::exists(out, ec);
   const bool inputs_existed = fs::exists(io::join_path(out, "inputs"), ec);
   io::ensure_dir(out);

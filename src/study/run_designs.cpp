@@ -498,7 +498,7 @@ void copy_inputs(RunState& ctx, const std::string& out) {
 
 }  // namespace
 
-void remove_run_outputs(const std::string& out) {
+void remove_run_outputs(const std::string& out, const std::vector<std::string>& keep) {
   std::vector<std::string> files = io::manifest_files(out);
   const std::string key = io::run_key_path(out);
   if (io::file_exists(key)) {
@@ -515,7 +515,7 @@ void remove_run_outputs(const std::string& out) {
   }
   for (const std::string& f : {io::summary_path(out), io::spectrum_path(out), key, io::manifest_path(out)})
     files.push_back(io::relative_to(out, f));
-  io::remove_run_files(out, files);
+  io::remove_run_files(out, files, keep);
 }
 
 std::string check_run_folder(const Plan& plan, const std::string& out, bool force, bool resume) {
@@ -537,6 +537,13 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
 }
 
 namespace {
+
+// Every file the plan reads: a run started from the copies in OUT/inputs/ keeps them.
+std::vector<std::string> input_files(const Plan& plan) {
+  std::vector<std::string> files = plan.comparison_files;
+  for (const DesignInput& d : plan.designs) files.insert(files.end(), d.files.begin(), d.files.end());
+  return files;
+}
 
 // The local time as ISO 8601, for the manifest.
 std::string local_time_text() {
@@ -660,7 +667,7 @@ RunOutcome run_designs(RunState& ctx, const RunOptions& opt) {
   // The same run without --resume starts over: nothing of its earlier files (a figure an
   // interrupted run would not draw again) stays beside the new ones.
   const Holds holds = check_folder(plan, out, opt.force);
-  if (holds == Holds::Other || (holds == Holds::Same && !opt.resume)) remove_run_outputs(out);
+  if (holds == Holds::Other || (holds == Holds::Same && !opt.resume)) remove_run_outputs(out, input_files(plan));
   io::ensure_dir(out);
   io::mark_folder(out, "run");
   ctx.written.insert(io::relative_to(out, io::folder_mark_path(out)));

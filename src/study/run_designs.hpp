@@ -102,10 +102,11 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
 
 // The files an earlier run in OUT wrote, removed: those its manifest lists, and by the names
 // millwear gives them the stage files, snapshot and liner of each design its run.key names.
-// Nothing else (a user's own files stay). run_designs calls it for another run's folder with
+// Nothing else (a user's own files stay), and none of `keep` (the inputs a run reads, which
+// may be the copies in OUT/inputs/). run_designs calls it for another run's folder with
 // --force and for this same run's without --resume (it starts over); a screen for each
 // design's folder when it starts over.
-void remove_run_outputs(const std::string& out);
+void remove_run_outputs(const std::string& out, const std::vector<std::string>& keep = {});
 
 // Runs every design of the plan into options.out. Throws InputError before anything is
 // written when another process is writing into the folder, when the folder holds the

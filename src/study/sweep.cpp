@@ -303,6 +303,24 @@ SweepAxis parse_vary(const std::string& text) {
   return a;
 }
 
+namespace {
+
+// A scene's message without the point's value among the overrides it lists ("(the scene with
+// --set A --set KEY=VALUE)", load_scene): the point is named as its --vary.
+std::string without_vary_set(std::string expected, const std::string& vary) {
+  const std::string last = " --set " + vary + ")";
+  if (expected.size() < last.size() || expected.compare(expected.size() - last.size(), last.size(), last) != 0)
+    return expected;
+  expected.erase(expected.size() - last.size());
+  expected += ")";
+  const std::string none = " (the scene with)";
+  if (expected.size() >= none.size() && expected.compare(expected.size() - none.size(), none.size(), none) == 0)
+    expected.erase(expected.size() - none.size());
+  return expected;
+}
+
+}  // namespace
+
 std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
   if (!q.fidelity.empty()) fidelity_preset(q.fidelity);  // InputError for a bad name
   std::vector<Scene> scenes;
@@ -320,7 +338,7 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
       if (e.where.compare(0, set.size(), set) == 0)
         throw InputError(e.file, "--vary " + vary + e.where.substr(set.size()), e.expected);
       if (e.where.compare(0, 6, "--set ") == 0) throw;
-      throw InputError(e.file, e.where + " (at --vary " + vary + ")", e.expected);
+      throw InputError(e.file, e.where + " (at --vary " + vary + ")", without_vary_set(e.expected, vary));
     }
     // The point's charge_summary.csv records its value with the --set overrides, as `charge
     // --set` would: a point's folder says which point it is.

@@ -206,7 +206,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
-  io::remove_listed_outputs(a.out);               // an earlier validation's files
+  io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
   const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
   ValidateOutcome o;
   o.areas_only = measured.areas_only;
