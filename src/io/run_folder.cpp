@@ -82,14 +82,6 @@ bool inside_folder(const std::string& out, const std::string& f) {
   return true;
 }
 
-// One of `keep` (a command's own inputs), which a run may read from its folder.
-bool is_kept(const std::string& path, const std::vector<std::string>& keep) {
-  std::error_code ec;
-  for (const auto& k : keep)
-    if (fs::equivalent(path, k, ec)) return true;
-  return false;
-}
-
 // A folder of OUT itself (not a link to one elsewhere).
 bool is_own_dir(const std::string& d) {
   std::error_code ec;
@@ -97,6 +89,13 @@ bool is_own_dir(const std::string& d) {
 }
 
 }  // namespace
+
+bool is_one_of(const std::string& path, const std::vector<std::string>& files) {
+  std::error_code ec;
+  for (const auto& f : files)
+    if (fs::equivalent(path, f, ec)) return true;
+  return false;
+}
 
 int remove_run_files(const std::string& out, const std::vector<std::string>& files,
                      const std::vector<std::string>& keep) {
@@ -106,7 +105,7 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
   for (const auto& f : files) {
     if (!inside_folder(out, f)) continue;
     const std::string path = join_path(out, f);
-    if (fs::is_regular_file(fs::symlink_status(path, ec)) && !is_kept(path, keep) && fs::remove(path, ec)) ++removed;
+    if (fs::is_regular_file(fs::symlink_status(path, ec)) && !is_one_of(path, keep) && fs::remove(path, ec)) ++removed;
     for (fs::path p = fs::path(f).parent_path(); !p.empty(); p = p.parent_path()) parents.push_back(p);
   }
   std::vector<std::string> dirs;

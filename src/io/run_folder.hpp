@@ -58,6 +58,9 @@ void create_run_folder(const std::string& out);
 // normal paths: "out/" and "out//x.csv" give "x.csv").
 std::string relative_to(const std::string& out, const std::string& path);
 
+// `path` is the same file as one of `files` (fs::equivalent: links and spellings resolved).
+bool is_one_of(const std::string& path, const std::vector<std::string>& files);
+
 // Deletes the files of an earlier run in OUT: each entry of `files` (relative to OUT, as a
 // manifest lists them) that is a regular file, then millwear's temporaries in the folders of
 // a run folder, then those folders (profiles, stages, plots/data, plots, inputs) if they

@@ -57,12 +57,6 @@ bool is_candidate_file(const std::string& file) {
   return std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// One of the files the screen reads (`keep`).
-bool is_input(const fs::path& p, const std::vector<std::string>& keep) {
-  std::error_code ec;
-  return std::any_of(keep.begin(), keep.end(), [&](const std::string& k) { return fs::equivalent(p, k, ec); });
-}
-
 // Removes the entries of DIR for which `ours` holds (regular files only, none of `keep`), then
 // DIR if that leaves it empty.
 template <class Pred>
@@ -72,7 +66,7 @@ void remove_ours(const std::string& dir, const std::vector<std::string>& keep, c
   std::vector<fs::path> found;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
     if (it->is_regular_file(ec) && !it->is_symlink(ec) && ours(it->path().filename().string()) &&
-        !is_input(it->path(), keep))
+        !io::is_one_of(it->path().string(), keep))
       found.push_back(it->path());
   for (const auto& f : found) fs::remove(f, ec);
   io::remove_stale_temps(dir);
@@ -90,7 +84,8 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key, con
   if (fs::is_directory(fs::symlink_status(designs, ec))) {
     std::vector<std::string> dirs;
     for (fs::directory_iterator it(designs, ec), end; !ec && it != end; it.increment(ec))
-      if (it->is_directory(ec) && is_candidate_name(it->path().filename().string())) dirs.push_back(it->path().string());
+      if (it->is_directory(ec) && !it->is_symlink(ec) && is_candidate_name(it->path().filename().string()))
+        dirs.push_back(it->path().string());
     for (const auto& dir : dirs) {
       study::remove_run_outputs(dir, keep);
       remove_ours(dir, keep, [](const std::string& f) { return f == "task.status"; });
@@ -115,7 +110,7 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key, con
   remove_ours(io::join_path(out, "inputs"), keep, [&copied](const std::string& f) { return !copied.empty() && f == copied; });
   for (const std::string& f : {io::join_path(out, "jobs.txt"), io::join_path(out, "screen.sbatch"), ranking_csv(out),
                                designs_csv(out), rejected_csv(out), screen_key_path(out)})
-    if (!is_input(f, keep)) fs::remove(f, ec);
+    if (!io::is_one_of(f, keep)) fs::remove(f, ec);
 }
 
 // Every file a screen reads: its own, the base scene, the listed profiles and the areas' files.
