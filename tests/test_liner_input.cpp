@@ -739,5 +739,48 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   EXPECT_FALSE(fs::exists(dir.path() / "z"));
 }
 
+// A new filling is a charge of other disks: stage N goes on with the new filling's charge,
+// filled anew on its liner (not the run's disks under the new filling's name), the manifest
+// says so, and a resume of the continued run fills the same charge to the same bits.
+TEST(Continue, ANewFillingFillsTheChargeAnewAndResumesToTheSameBits) {
+  TempDir dir("millwear-liner-input-refill");
+  const std::string scene = source_path("scenarios/lab-mill.toml");
+  const fs::path first = dir.path() / "first", whole = dir.path() / "whole", part = dir.path() / "part";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  const std::string draft = " --fidelity draft -q";
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + draft + " --set wear.stages=1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string go_on = " --continue " + quoted(first) + " --stage 1 --set wear.stages=3 --set charge.filling=0.2" +
+                            " --set charge.ball_filling=0.2" + draft;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(whole) + go_on);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto lines = [](const fs::path& f) {
+    const std::string text = slurp(f);
+    return std::count(text.begin(), text.end(), '\n');
+  };
+  // Two thirds of the balls: the charge stage 2 ran on is the new filling's, not the run's.
+  const auto before = lines(first / "stages/lab-mill_stage1.charge.csv");
+  const auto after = lines(whole / "stages/lab-mill_stage2.charge.csv");
+  EXPECT_LT(after, before * 3 / 4) << before << " disks before, " << after << " after";
+  EXPECT_GT(after, before / 2) << before << " disks before, " << after << " after";
+  EXPECT_FALSE(fs::exists(whole / "stages/lab-mill_stage1.start.csv"));
+  bool said = false;
+  const auto m = nlohmann::json::parse(slurp(whole / "manifest.json"));
+  for (const auto& c : m["designs"][0]["continued_from"]["changes"])
+    said = said || c.get<std::string>().rfind("charge: other disks", 0) == 0;
+  EXPECT_TRUE(said) << m["designs"][0]["continued_from"].dump();
+
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(part) + go_on + " --stop-after-stage 2");
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(part / "stages/lab-mill_stage2.done"));
+  ASSERT_FALSE(fs::exists(part / "stages/lab-mill_stage3.done"));
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(part) + go_on + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const std::string f : {"profiles/lab-mill_stage3.csv", "stages/lab-mill_stage3.charge.csv",
+                              "stages/lab-mill_stage3.units.csv", "summary.csv"})
+    EXPECT_EQ(slurp(whole / f), slurp(part / f)) << f;
+}
+
 }  // namespace
 }  // namespace millwear

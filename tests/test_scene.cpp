@@ -447,6 +447,27 @@ TEST_F(SceneUnits, ADistributionNeedsItsScaleAndNoListedFractions) {
   expect_names(load_error(f), f, "charge.species[1].exponent");
 }
 
+// Classes that would hold none of a species' mass (every fraction 0 / 0 once normalised) are
+// refused naming the key that emptied them, not passed on as NaN disk counts.
+TEST_F(SceneUnits, ClassesLeftWithNoMassAreRefusedNamingTheKey) {
+  const std::string base = "sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]";
+  // One class at the top size: it reaches from there up, where no rock is.
+  std::string f =
+      scene_with(base, "sizes = [20.0]\ndistribution = \"gates-gaudin-schuhmann\"\ntop_size = 20.0\nexponent = 0.5");
+  expect_names(load_error(f), f, "charge.species[1].top_size");
+  // Everything finer than the smallest class.
+  f = scene_with(base, "sizes = [10.0, 20.0]\ndistribution = \"rosin-rammler\"\nsize_63 = 0.1\nexponent = 5.0");
+  expect_names(load_error(f), f, "charge.species[1].size_63");
+  // A cut-off that keeps only classes of no mass.
+  std::string text = kBaseScene;
+  text.replace(text.find(base), base.size(), "sizes = [10.0, 20.0]\nmass_fractions = [1.0, 0.0]");
+  text.replace(text.find("seed = 3"), 8, "seed = 3\nsize_cutoff = 15.0");
+  f = write("cut.toml", text);
+  const InputError e = load_error(f);
+  expect_names(e, f, "solver.size_cutoff");
+  EXPECT_NE(std::string(e.what()).find("none of its mass"), std::string::npos) << e.what();
+}
+
 // ---------------------------------------------------------------------------------------
 // Fidelity presets
 // ---------------------------------------------------------------------------------------

@@ -290,6 +290,14 @@ SpeciesDef read_species(const TableReader& r) {
           if ((*sizes)[i] == (*sizes)[j]) r.fail("sizes", "distinct sizes with 'distribution'");
       sp.mass_fractions = distribution_mass_fractions(
           ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent);
+      // All of the distribution's mass finer than the smallest class (or, for one class at the
+      // top size, none above it): the classes would hold none of it.
+      for (double f : sp.mass_fractions)
+        if (!std::isfinite(f))
+          r.fail(scale_key, std::string("a distribution that puts some mass into the classes of 'sizes' (") +
+                                num_text(largest) + " mm down to the smallest, each class reaching up to the next); " +
+                                "with " + scale_key + " = " + num_text(scale_mm) + " mm and exponent " +
+                                num_text(exponent) + " they hold none of it");
     } else if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
       if (f->size() != sizes->size())
         r.fail("mass_fractions", "one fraction per size (" + std::to_string(sizes->size()) + ")");
@@ -530,6 +538,16 @@ void check_across_sections(const Scene& s, const std::string& file) {
                        "expected a cut-off that keeps some of " + key + " ('" + sp.name +
                            "', largest " + num_text(sp.largest_diameter_m() / kMm) + " mm), got " +
                            num_text(s.solver.size_cutoff_m / kMm) + " mm");
+    // The classes kept must carry mass: their fractions are what the cut-off renormalises.
+    if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && !sp.diameters_m.empty()) {
+      double kept = 0.0;
+      for (double f : placed[i].mass_fractions) kept += f;
+      if (!(kept > 0.0))
+        throw InputError(file, "solver.size_cutoff",
+                         "expected a cut-off that keeps some of the mass of " + key + " ('" + sp.name +
+                             "'): its classes from " + num_text(s.solver.size_cutoff_m / kMm) +
+                             " mm up hold none of its mass fractions");
+    }
   }
 }
 

@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <optional>
 #include <set>
+#include <tuple>
 #include <utility>
 
 #include "common/errors.hpp"
+#include "engine/engine.hpp"
 #include "io/atomic_write.hpp"
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
@@ -25,6 +27,25 @@ namespace millwear::study {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Whether two charges hold the same disks (radius, mass and species, in any order).
+bool same_disks(const ChargeState& a, const ChargeState& b) {
+  if (a.size() != b.size()) return false;
+  using Disk = std::tuple<double, double, int>;
+  const auto disks = [](const ChargeState& c) {
+    std::vector<Disk> d;
+    d.reserve(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) d.emplace_back(c.radius_m[i], c.mass_kg[i], c.species[i]);
+    std::sort(d.begin(), d.end());
+    return d;
+  };
+  return disks(a) == disks(b);
+}
+
+// The mill of a stage's record: its liner units in the scene's mill.
+MillGeometry stage_mill(const Scene& scene, const StageRecord& rec) {
+  return build_mill(scene.radius_m(), scene.mill.rows, rec.units, scene.mill.kind_count());
+}
 
 // A profile's file and every profile file it read (match_area_of), in reading order, each
 // once in `files`.
@@ -178,7 +199,8 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                            "--set wear.stages=" + std::to_string(k + d.scene.wear.stages));
     d.continue_run = run;
     d.continue_stage = k;
-    d.continue_hours = study::read_stage_state(run, d.name, k).hours;
+    const StageRecord from = study::read_stage_state(run, d.name, k);
+    d.continue_hours = from.hours;
     // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
     d.changes = study::settings_changes(run, d.name, d.scene);
@@ -197,6 +219,12 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                            "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(setting)) +
                                "): --continue goes on with that liner under new conditions (speed, filling, wear "
                                "rate); another mill or lifter is a new run");
+    // A carried charge of other disks would run the old filling under the new one's name.
+    if (from.start_charge.size() > 0 && !same_disks(fill_charge(d.scene, stage_mill(d.scene, from)), from.start_charge)) {
+      d.refill = true;
+      d.changes.push_back("charge: other disks than stage " + std::to_string(k) +
+                          " started with; filled anew on its liner, settled and spun up");
+    }
     d.fingerprint = io::stable_hash_hex(d.fingerprint + "\n--continue " + run + " --stage " + std::to_string(k));
   }
 }

@@ -32,6 +32,10 @@ struct DesignInput {
   int continue_stage = -1;
   double continue_hours = 0.0;
   std::vector<std::string> changes;  // settings that differ from RUN's ("mill.speed...: a -> b")
+  // The scene's charge holds other disks than the one stage N started with (another filling,
+  // size cut-off or species): stage N goes on with a charge filled anew on its liner, settled
+  // and spun up, not the run's.
+  bool refill = false;
 };
 
 // With replicates, every design runs N histories: replicate 1 under the design's own name and

@@ -569,6 +569,8 @@ std::vector<std::vector<StageRecord>> earlier_stages(RunState& ctx, const std::s
       ctx.designs[i]->resumed_up_to = k;
     } else if (!d.continue_run.empty()) {
       for (int s = 0; s <= d.continue_stage; ++s) earlier[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
+      // Stage N's record then says so too: a resume of this run fills the same charge anew.
+      if (d.refill) earlier[i].back().start_charge = ChargeState{};
       ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
     }
   }
