@@ -187,6 +187,11 @@ TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
   EXPECT_EQ(solver.at("contact_hertz").get<double>(), 0.0);
   EXPECT_NEAR(solver.at("contact_hertz_used").get<double>(),
               solver.at("substeps").get<double>() / solver.at("time_step_s").get<double>() / 8.0, 1e-9);
+  // The smoothing radius as given and as used (the scene's 2 mm; without it, the smallest
+  // particle radius).
+  const auto& wear = d.at("settings").at("wear");
+  EXPECT_EQ(wear.at("smoothing_radius_m").get<double>(), 0.002);
+  EXPECT_EQ(wear.at("smoothing_radius_used_m").get<double>(), 0.002);
   // The library backend's settings are not the soft design's: left out.
   EXPECT_FALSE(solver.contains("velocity_iterations"));
   EXPECT_FALSE(solver.contains("position_iterations"));

@@ -14,6 +14,7 @@
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/charge_summary.hpp"
+#include "wear/reshape.hpp"
 
 namespace millwear::study {
 
@@ -108,7 +109,8 @@ Json scene_settings(const Scene& s) {
       {"window_revolutions", w.window_revolutions},
       {"max_depth_step_m", w.max_depth_step_m},
       {"update_interval_s", w.update_interval_s},
-      {"smoothing_radius_m", w.smoothing_radius_m},
+      {"smoothing_radius_m", w.smoothing_radius_m},  // as given (0: the default)
+      {"smoothing_radius_used_m", smoothing_radius(s)},
       {"average_rows", w.average_rows},
       {"shell_wear", w.shell_wear},
       {"shell_wear_rate_m3_per_J", w.shell_wear_rate_m3_per_J},
@@ -358,6 +360,8 @@ std::vector<std::string> settings_changes(const std::string& run, const std::str
       const bool had = old_settings.contains(section) && old_settings[section].contains(key);
       // A run that did not record the lifter's shape (an older manifest) is judged by the name.
       if (!had && section == "mill" && key == "lifter_shape") continue;
+      // Nor the smoothing radius it used: the given one (and the particles) still compare.
+      if (!had && section == "wear" && key == "smoothing_radius_used_m") continue;
       const Json before = had ? old_settings[section][key] : Json();
       // Numbers compared as numbers (a JSON integer and a float of one value are the same).
       const bool same = had && (before == value || (before.is_number() && value.is_number() &&
