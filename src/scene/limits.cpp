@@ -71,7 +71,7 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "a time step of at most %.3g s (1/%.0f s): at the impact speed %.2f m/s (shell speed + "
-                  "free fall across the mill) a disk would move %.2f smallest radii (%.1f mm) per %s, over the "
+                  "free fall across the mill) a disk would move %.2f smallest radii (of %.3g mm) per %s, over the "
                   "limit of %.1f radii where disks start to leak through the liner; got %.3g s (1/%.0f s)",
                   dt_max, std::ceil(1.0 / dt_max), impact_speed_m_s(scene), travel, r * 1e3,
                   substeps > 1 ? "substep" : "step", kMaxStepTravelRadii, scene.solver.time_step_s,
@@ -84,7 +84,7 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "a time step of at most %.3g s (1/%.0f s): the soft solver finds contacts once a step, and at the "
-                  "impact speed %.2f m/s a disk would move %.1f smallest radii (%.1f mm) per step, over the limit "
+                  "impact speed %.2f m/s a disk would move %.1f smallest radii (of %.3g mm) per step, over the limit "
                   "of %.0f radii where disks start to leak whatever the substeps; got %.3g s (1/%.0f s)",
                   dt_max, std::ceil(1.0 / dt_max), impact_speed_m_s(scene), step_travel,
                   scene.smallest_particle_radius_m() * 1e3, kMaxSoftStepTravelRadii, scene.solver.time_step_s,
