@@ -254,18 +254,35 @@ MW_INLINE void solve_lanes(Body* body, WideRows& c, WideSums* p, int l0, const W
   scatter(body, c.b + l0, B);
 }
 
+// The bodies of the chunk kAhead chunks on, asked for before they are needed: a colour's
+// chunks reach their bodies in key order but with gaps no stride prefetcher follows, and at
+// 30k disks and more the bodies no longer fit in one core's L2.
+constexpr std::size_t kAhead = 4;
+MW_INLINE void prefetch_bodies(const Body* body, const WideRows* rows, std::size_t k, std::size_t chunks) {
+  if (k + kAhead >= chunks) return;
+  const WideRows& c = rows[k + kAhead];
+  for (int l = 0; l < kLanes; ++l) {
+    __builtin_prefetch(body + c.a[l], 1);
+    __builtin_prefetch(body + c.b[l], 1);
+  }
+}
+
 // The three passes over all chunks, in order, for one lane width.
 template <class V>
 MW_INLINE void warm_start_all(Body* body, WideRows* rows, std::size_t chunks) {
-  for (std::size_t k = 0; k < chunks; ++k)
+  for (std::size_t k = 0; k < chunks; ++k) {
+    prefetch_bodies(body, rows, k, chunks);
     for (int l0 = 0; l0 < kLanes; l0 += width<V>()) warm_start_lanes<V>(body, rows[k], l0);
+  }
 }
 template <bool kBias, class V>
 MW_INLINE void solve_all(Body* body, WideRows* rows, WideSums* sums, std::size_t chunks,
                          const WideSoftness& sf) {
-  for (std::size_t k = 0; k < chunks; ++k)
+  for (std::size_t k = 0; k < chunks; ++k) {
+    prefetch_bodies(body, rows, k, chunks);
     for (int l0 = 0; l0 < kLanes; l0 += width<V>())
       solve_lanes<kBias, V>(body, rows[k], kBias ? nullptr : sums + k, l0, sf);
+  }
 }
 
 struct Kernels {
