@@ -152,6 +152,7 @@ TEST_F(Overrides, BadlyTypedValuesAreRefusedNamingTheKeyAndTheExpectation) {
       {"charge.species[1].sizes=[12.0, -1]", "charge.species[1].sizes[1]", "a number in [0.1, 20000]"},  // array
       {"mill.direction=sideways", "mill.direction", "\"forward\", \"reverse\" or \"bidirectional\""},     // enum
       {"outputs.vtk_frames=0", "outputs.vtk_frames", "an integer in [1, 1000]"},
+      {"mill.speed=1e400", "mill.speed", "a number within a double's range"},  // not a string
   };
   for (const Case& c : cases) {
     const InputError e = error_of({c.set});

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <cctype>
 #include <limits>
@@ -626,7 +627,7 @@ void copy_value(const toml::node& n, toml::table* t, const std::string& key, tom
 
 // The value as TOML ("0.8", "true", "[1, 2]", "\"text\""), or the text itself as a string
 // when it is not a TOML value (a bare word: "reverse", "draft"), under the key "v".
-toml::table value_holder(const std::string& value) {
+toml::table value_holder(const std::string& value, const std::string& where) {
   toml::table out;
   try {
     const toml::table t = toml::parse("v = " + value);
@@ -635,6 +636,13 @@ toml::table value_holder(const std::string& value) {
       return out;
     }
   } catch (const toml::parse_error&) {
+    // A number TOML cannot hold (1e400) is not a word: taken as a string, its key's error
+    // would say "got a string".
+    const char* begin = value.c_str();
+    char* end = nullptr;
+    std::strtod(begin, &end);
+    if (end != begin && *end == '\0')
+      throw InputError("", where, "expected a number within a double's range (about 1.8e308), got " + value);
   }
   out.insert("v", value);
   return out;
@@ -678,7 +686,7 @@ void apply_override(toml::table& root, const std::string& text) {
       // reverse_every belongs to a bidirectional mill only: a one-way direction drops it.
       if (plain == "mill" && p.name == "direction" && value != "bidirectional" && value != "\"bidirectional\"")
         table->erase("reverse_every");
-      toml::table holder = value_holder(value);
+      toml::table holder = value_holder(value, set_where(text) + ": " + here);
       table->insert_or_assign(p.name, std::move(*holder.get("v")));
       return;
     }
@@ -697,7 +705,7 @@ void apply_override(toml::table& root, const std::string& text) {
                                                   here + "' (it has " + std::to_string(arr->size()) + ")");
       child = arr->get(*p.index);
       if (last) {
-        toml::table holder = value_holder(value);
+        toml::table holder = value_holder(value, set_where(text) + ": " + here + "[" + std::to_string(*p.index) + "]");
         arr->replace(arr->cbegin() + static_cast<std::ptrdiff_t>(*p.index), std::move(*holder.get("v")));
         return;
       }
