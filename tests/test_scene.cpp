@@ -468,6 +468,16 @@ TEST_F(SceneUnits, ClassesLeftWithNoMassAreRefusedNamingTheKey) {
   EXPECT_NE(std::string(e.what()).find("none of its mass"), std::string::npos) << e.what();
 }
 
+// A cut-off a hair above the largest rock is refused, and the message tells the two apart.
+TEST_F(SceneUnits, ACutoffAboveTheLargestRockNamesBothSizesDistinctly) {
+  std::string text = kBaseScene;
+  text.replace(text.find("seed = 3"), 8, "seed = 3\nsize_cutoff = 20.00001");
+  const std::string f = write("cut.toml", text);
+  const InputError e = load_error(f);
+  expect_names(e, f, "solver.size_cutoff");
+  EXPECT_NE(e.expected.find("largest 20 mm), got 20.00001 mm"), std::string::npos) << e.what();
+}
+
 // ---------------------------------------------------------------------------------------
 // Fidelity presets
 // ---------------------------------------------------------------------------------------

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <cctype>
@@ -526,6 +527,12 @@ void check_across_sections(const Scene& s, const std::string& file) {
   }
   }
   const auto placed = s.species_as_placed();
+  // Nine digits: a cut-off a hair above the largest size must not print as equal to it.
+  const auto digits9 = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return std::string(buf);
+  };
   for (std::size_t i = 0; i < placed.size(); ++i) {
     const SpeciesDef& sp = s.charge.species[i];
     const std::string key = "charge.species[" + std::to_string(i) + "]";
@@ -537,8 +544,8 @@ void check_across_sections(const Scene& s, const std::string& file) {
     if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && sp.largest_diameter_m() < s.solver.size_cutoff_m)
       throw InputError(file, "solver.size_cutoff",
                        "expected a cut-off that keeps some of " + key + " ('" + sp.name +
-                           "', largest " + num_text(sp.largest_diameter_m() / kMm) + " mm), got " +
-                           num_text(s.solver.size_cutoff_m / kMm) + " mm");
+                           "', largest " + digits9(sp.largest_diameter_m() / kMm) + " mm), got " +
+                           digits9(s.solver.size_cutoff_m / kMm) + " mm");
     // The classes kept must carry mass: their fractions are what the cut-off renormalises.
     if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && !sp.diameters_m.empty()) {
       double kept = 0.0;
