@@ -739,6 +739,29 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   EXPECT_FALSE(fs::exists(dir.path() / "z"));
 }
 
+// The library backend hands the masses back in single precision: its charge is still the
+// same disks, carried on, and the continued stage is the uninterrupted run's to the byte.
+TEST(Continue, TheLibraryBackendsChargeIsCarriedOn) {
+  TempDir dir("millwear-liner-input-box2d");
+  const std::string scene = source_path("scenarios/lab-mill.toml");
+  const fs::path one = dir.path() / "one", two = dir.path() / "two", on = dir.path() / "on";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  const std::string box2d = " --fidelity draft -q --set solver.backend=box2d";
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(one) + box2d + " --set wear.stages=1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(two) + box2d + " --set wear.stages=2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(on) + box2d + " --set wear.stages=2 --continue " +
+                   quoted(one));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto m = nlohmann::json::parse(slurp(on / "manifest.json"));
+  for (const auto& c : m["designs"][0]["continued_from"]["changes"])
+    EXPECT_NE(c.get<std::string>().rfind("charge:", 0), 0u) << c;
+  for (const std::string f : {"profiles/lab-mill_stage2.csv", "stages/lab-mill_stage2.charge.csv"})
+    EXPECT_EQ(slurp(two / f), slurp(on / f)) << f;
+}
+
 // A new filling is a charge of other disks: stage N goes on with the new filling's charge,
 // filled anew on its liner (not the run's disks under the new filling's name), the manifest
 // says so, and a resume of the continued run fills the same charge to the same bits.
@@ -771,15 +794,31 @@ TEST(Continue, ANewFillingFillsTheChargeAnewAndResumesToTheSameBits) {
     said = said || c.get<std::string>().rfind("charge: other disks", 0) == 0;
   EXPECT_TRUE(said) << m["designs"][0]["continued_from"].dump();
 
+  // --check says so before anything runs.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "checked") + go_on + " --check");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("charge: other disks than stage 1"), std::string::npos) << r.output;
   r = run_millwear("run " + quoted(scene) + " -o " + quoted(part) + go_on + " --stop-after-stage 2");
   EXPECT_NE(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(part / "stages/lab-mill_stage2.done"));
   ASSERT_FALSE(fs::exists(part / "stages/lab-mill_stage3.done"));
+  // The same stop with the copies of stages 1 and 2 lost (a kill while they were written):
+  // the resume takes them from the run it continues.
+  const fs::path lost = dir.path() / "lost";
+  fs::copy(part, lost, fs::copy_options::recursive);
+  for (const auto& e : fs::directory_iterator(lost / "stages")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("lab-mill_stage1.", 0) == 0 || name.rfind("lab-mill_stage2.", 0) == 0) fs::remove(e.path());
+  }
   r = run_millwear("run " + quoted(scene) + " -o " + quoted(part) + go_on + " --resume");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(lost) + go_on + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const std::string f : {"profiles/lab-mill_stage3.csv", "stages/lab-mill_stage3.charge.csv",
-                              "stages/lab-mill_stage3.units.csv", "summary.csv"})
+                              "stages/lab-mill_stage3.units.csv", "summary.csv"}) {
     EXPECT_EQ(slurp(whole / f), slurp(part / f)) << f;
+    EXPECT_EQ(slurp(whole / f), slurp(lost / f)) << f;
+  }
 }
 
 }  // namespace

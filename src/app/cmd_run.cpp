@@ -121,11 +121,16 @@ int run_command(const RunArgs& args) {
   const study::Plan plan = study::make_plan(plan_args);
   if (args.check) {
     const std::string folder = study::check_run_folder(plan, args.plan.out, args.run.force, args.run.resume);
-    for (const auto& d : plan.designs)
+    for (const auto& d : plan.designs) {
       std::printf("%s: %s (fidelity %s, %d stage%s of %g h, about %.0f disks)%s\n", d.name.c_str(),
                   d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages,
                   d.scene.wear.stages == 1 ? "" : "s", d.scene.wear.stage_hours,
                   expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
+      if (d.continue_run.empty()) continue;
+      std::printf("%-*s continues %s stage %d (%.6g h); changed: %s\n", 16, "", d.continue_run.c_str(),
+                  d.continue_stage, d.continue_hours, d.changes.empty() ? "nothing" : "");
+      for (const auto& c : d.changes) std::printf("%-*s   %s\n", 16, "", c.c_str());
+    }
     if (!folder.empty()) std::printf("%s\n", folder.c_str());
     std::printf("inputs valid; nothing run\n");
     return 0;

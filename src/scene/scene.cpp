@@ -292,14 +292,16 @@ SpeciesDef read_species(const TableReader& r) {
           if ((*sizes)[i] == (*sizes)[j]) r.fail("sizes", "distinct sizes with 'distribution'");
       sp.mass_fractions = distribution_mass_fractions(
           ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent);
-      // All of the distribution's mass finer than the smallest class (or, for one class at the
-      // top size, none above it): the classes would hold none of it.
+      // The classes hold the mass from the smallest size up (filling.hpp); all of it finer (or,
+      // for one class at the top size, none above it) leaves them none.
+      double smallest = largest;
+      for (double d : *sizes) smallest = std::min(smallest, d);
       for (double f : sp.mass_fractions)
         if (!std::isfinite(f))
-          r.fail(scale_key, std::string("a distribution that puts some mass into the classes of 'sizes' (") +
-                                num_text(largest) + " mm down to the smallest, each class reaching up to the next); " +
-                                "with " + scale_key + " = " + num_text(scale_mm) + " mm and exponent " +
-                                num_text(exponent) + " they hold none of it");
+          r.fail(scale_key, std::string("a distribution with some of its mass from the smallest of 'sizes' (") +
+                                num_text(smallest) + " mm) up, which the classes hold; with " + scale_key + " = " +
+                                num_text(scale_mm) + " mm and exponent " + num_text(exponent) +
+                                " none lies there: list smaller sizes" + (ggs ? "" : " or give a larger size_63"));
     } else if (auto f = r.numbers("mass_fractions", closed(0.0, 1.0), "", 1)) {
       if (f->size() != sizes->size())
         r.fail("mass_fractions", "one fraction per size (" + std::to_string(sizes->size()) + ")");

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -28,18 +29,26 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Whether two charges hold the same disks (radius, mass and species, in any order).
+// Whether two charges hold the same disks (radius, species and mass, in any order). The
+// masses within a millionth: the library backend hands its bodies' masses back in single
+// precision.
 bool same_disks(const ChargeState& a, const ChargeState& b) {
   if (a.size() != b.size()) return false;
-  using Disk = std::tuple<double, double, int>;
+  using Disk = std::tuple<double, int, double>;
   const auto disks = [](const ChargeState& c) {
     std::vector<Disk> d;
     d.reserve(c.size());
-    for (std::size_t i = 0; i < c.size(); ++i) d.emplace_back(c.radius_m[i], c.mass_kg[i], c.species[i]);
+    for (std::size_t i = 0; i < c.size(); ++i) d.emplace_back(c.radius_m[i], c.species[i], c.mass_kg[i]);
     std::sort(d.begin(), d.end());
     return d;
   };
-  return disks(a) == disks(b);
+  const std::vector<Disk> da = disks(a), db = disks(b);
+  for (std::size_t i = 0; i < da.size(); ++i) {
+    const auto& [ra, sa, ma] = da[i];
+    const auto& [rb, sb, mb] = db[i];
+    if (ra != rb || sa != sb || !(std::abs(ma - mb) <= 1e-6 * std::max(std::abs(ma), std::abs(mb)))) return false;
+  }
+  return true;
 }
 
 // The mill of a stage's record: its liner units in the scene's mill.

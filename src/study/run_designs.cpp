@@ -567,6 +567,13 @@ std::vector<std::vector<StageRecord>> earlier_stages(RunState& ctx, const std::s
       const int k = std::min(io::last_finished_stage(out, d.name), d.scene.wear.stages);
       for (int s = 0; s <= k; ++s) earlier[i].push_back(study::read_stage_state(out, d.name, s));
       ctx.designs[i]->resumed_up_to = k;
+      // A continued run stopped before it had copied every stage up to N: the rest from RUN.
+      if (!d.continue_run.empty() && k < d.continue_stage) {
+        for (int s = k + 1; s <= d.continue_stage; ++s)
+          earlier[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
+        if (d.refill) earlier[i].back().start_charge = ChargeState{};
+        ctx.designs[i]->resumed_up_to = ctx.designs[i]->copied_up_to = d.continue_stage;
+      }
     } else if (!d.continue_run.empty()) {
       for (int s = 0; s <= d.continue_stage; ++s) earlier[i].push_back(study::read_stage_state(d.continue_run, d.name, s));
       // Stage N's record then says so too: a resume of this run fills the same charge anew.

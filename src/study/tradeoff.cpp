@@ -239,9 +239,22 @@ KnobValues size_cutoff_values(const std::vector<Scene>& standard_scenes) {
     }
     return smallest;
   };
+  // A cut-off whose kept classes hold none of a species' listed mass is no charge at all.
+  auto keeps_mass = [&standard_scenes](double cut) {
+    for (Scene d : standard_scenes) {
+      d.solver.size_cutoff_m = cut;
+      for (const auto& sp : d.species_as_placed()) {
+        if (sp.is_ball || sp.diameters_m.empty()) continue;
+        double kept = 0.0;
+        for (double f : sp.mass_fractions) kept += f;
+        if (!(kept > 0.0)) return false;
+      }
+    }
+    return true;
+  };
   std::vector<std::vector<double>> left;
   for (double cut : cuts) {
-    if (cut >= largest_rock_min) continue;
+    if (cut >= largest_rock_min || !keeps_mass(cut)) continue;
     std::vector<double> charge = charge_left(cut);
     if (std::find(left.begin(), left.end(), charge) != left.end()) continue;
     left.push_back(std::move(charge));
