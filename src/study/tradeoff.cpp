@@ -2,6 +2,7 @@
 #include "study/tradeoff.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -229,35 +230,28 @@ KnobValues size_cutoff_values(const std::vector<Scene>& standard_scenes) {
     if (mm * 1e-3 > smallest_rock) cuts.push_back(mm * 1e-3);
   for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
   std::sort(cuts.begin(), cuts.end());
-  // The charge a cut-off leaves: every design's rock species' smallest size kept.
-  auto charge_left = [&standard_scenes](double cut) {
+  // The charge a cut-off leaves: every design's rock species' smallest size kept; none where
+  // a species' kept classes hold none of its listed mass (no charge at all).
+  auto charge_left = [&standard_scenes](double cut) -> std::optional<std::vector<double>> {
     std::vector<double> smallest;
     for (Scene d : standard_scenes) {
       d.solver.size_cutoff_m = cut;
-      for (const auto& sp : d.species_as_placed())
-        if (!sp.is_ball) smallest.push_back(sp.smallest_diameter_m());
+      for (const auto& sp : d.species_as_placed()) {
+        if (sp.is_ball) continue;
+        double kept = 0.0;
+        for (double f : sp.mass_fractions) kept += f;
+        if (!sp.diameters_m.empty() && !(kept > 0.0)) return std::nullopt;
+        smallest.push_back(sp.smallest_diameter_m());
+      }
     }
     return smallest;
   };
-  // A cut-off whose kept classes hold none of a species' listed mass is no charge at all.
-  auto keeps_mass = [&standard_scenes](double cut) {
-    for (Scene d : standard_scenes) {
-      d.solver.size_cutoff_m = cut;
-      for (const auto& sp : d.species_as_placed()) {
-        if (sp.is_ball || sp.diameters_m.empty()) continue;
-        double kept = 0.0;
-        for (double f : sp.mass_fractions) kept += f;
-        if (!(kept > 0.0)) return false;
-      }
-    }
-    return true;
-  };
   std::vector<std::vector<double>> left;
   for (double cut : cuts) {
-    if (cut >= largest_rock_min || !keeps_mass(cut)) continue;
-    std::vector<double> charge = charge_left(cut);
-    if (std::find(left.begin(), left.end(), charge) != left.end()) continue;
-    left.push_back(std::move(charge));
+    if (cut >= largest_rock_min) continue;
+    std::optional<std::vector<double>> charge = charge_left(cut);
+    if (!charge || std::find(left.begin(), left.end(), *charge) != left.end()) continue;
+    left.push_back(std::move(*charge));
     values.push_back({num(in_mm(cut)) + "mm", [cut](Scene& s) { s.solver.size_cutoff_m = cut; }});
   }
   return values;
