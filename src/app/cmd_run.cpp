@@ -38,6 +38,12 @@ namespace millwear::app {
 
 namespace {
 
+// "continued from RUN stage N (H h); changed:" and the settings changed, one a line.
+void print_continuation(const char* verb, const std::string& from, const std::vector<std::string>& changes) {
+  std::printf("%-*s %s %s; changed: %s\n", 16, "", verb, from.c_str(), changes.empty() ? "nothing" : "");
+  for (const auto& c : changes) std::printf("%-*s   %s\n", 16, "", c.c_str());
+}
+
 // "mean +- se": the error to two significant digits and the mean to the same decimal place;
 // the mean alone (in `format`) where the error is not known; "-" where nothing was measured.
 std::string pm(double mean, double se, const char* format = "%.4g") {
@@ -77,11 +83,7 @@ void print_final_summary(const study::RunState& state, double wall) {
     if (d.status == study::DesignStatus::Done && d.stages.size() >= 2 && !std::isfinite(d.life_h))
       std::printf("%-*s no life: the lifter's height does not fall over the last stages, so none is extrapolated "
                   "(is there shear work on the liner?)\n", 16, "");
-    if (!d.continued_from.empty()) {
-      std::printf("%-*s continued from %s; changed: %s\n", 16, "", d.continued_from.c_str(),
-                  d.changes.empty() ? "nothing" : "");
-      for (const auto& c : d.changes) std::printf("%-*s   %s\n", 16, "", c.c_str());
-    }
+    if (!d.continued_from.empty()) print_continuation("continued from", d.continued_from, d.changes);
     if (d.life_from_hours != 0.0 && std::isfinite(d.life_h))
       std::printf("%-*s life %.0f h, %.0f h from %.6g h\n", 16, "", d.life_h, d.life_h - d.life_from_hours,
                   d.life_from_hours);
@@ -127,9 +129,9 @@ int run_command(const RunArgs& args) {
                   d.scene.wear.stages == 1 ? "" : "s", d.scene.wear.stage_hours,
                   expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
       if (d.continue_run.empty()) continue;
-      std::printf("%-*s continues %s stage %d (%.6g h); changed: %s\n", 16, "", d.continue_run.c_str(),
-                  d.continue_stage, d.continue_hours, d.changes.empty() ? "nothing" : "");
-      for (const auto& c : d.changes) std::printf("%-*s   %s\n", 16, "", c.c_str());
+      char stage[64];
+      std::snprintf(stage, sizeof stage, " stage %d (%.6g h)", d.continue_stage, d.continue_hours);
+      print_continuation("continues", d.continue_run + stage, d.changes);
     }
     if (!folder.empty()) std::printf("%s\n", folder.c_str());
     std::printf("inputs valid; nothing run\n");
