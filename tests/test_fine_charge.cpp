@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "common/units.hpp"
@@ -39,6 +41,14 @@ TEST(FineCharge, TwentyFiveMillimetreSagChargeFillsToItsFillingAndMassFractions)
   const double p_lo = std::pow(25.0 / 250.0, 0.8), p_hi = std::pow(std::sqrt(25.0 * 37.5) / 250.0, 0.8);
   const double p_min = p_lo;  // finer than the smallest class: left out, fractions renormalised
   EXPECT_NEAR(rock.mass_fractions[7], (p_hi - p_lo) / (1.0 - p_min), 1e-12);
+  // The classes hold 1 - P(25 mm) of the distribution, and --check says so.
+  EXPECT_NEAR(scene.charge.species[1].distribution_held, 1.0 - p_min, 1e-12);
+  const std::vector<std::string> notes = distribution_notes(scene);
+  ASSERT_EQ(notes.size(), 1u);
+  char held[64];
+  std::snprintf(held, sizeof held, "hold %.1f%%", 100.0 * (1.0 - p_min));
+  EXPECT_NE(notes[0].find(held), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("finer than 25 mm"), std::string::npos) << notes[0];
 
   const MillGeometry mill = build_scene_mill(scene);
   const ChargeState charge = fill_charge(scene, mill);

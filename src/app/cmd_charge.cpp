@@ -66,6 +66,7 @@ int run_charge(const ChargeArgs& args) {
     std::error_code ec;
     if (std::filesystem::is_directory(args.out, ec)) io::check_folder_not_taken(args.out, "charge");
     std::printf("%s\n", plan);
+    for (const std::string& note : distribution_notes(scene)) std::printf("  %s\n", note.c_str());
     return 0;
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run

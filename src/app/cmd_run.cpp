@@ -128,6 +128,7 @@ int run_command(const RunArgs& args) {
                   d.files.front().c_str(), d.scene.fidelity.c_str(), d.scene.wear.stages,
                   d.scene.wear.stages == 1 ? "" : "s", d.scene.wear.stage_hours,
                   expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
+      for (const std::string& note : distribution_notes(d.scene)) std::printf("%-*s %s\n", 16, "", note.c_str());
       if (d.continue_run.empty()) continue;
       char stage[64];
       std::snprintf(stage, sizeof stage, " stage %d (%.6g h)", d.continue_stage, d.continue_hours);

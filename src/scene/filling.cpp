@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "common/units.hpp"
@@ -10,7 +11,7 @@
 namespace millwear {
 
 std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
-                                                double scale_m, double exponent) {
+                                                double scale_m, double exponent, double* held) {
   auto passing = [&](double d) {
     if (form == SizeForm::GatesGaudinSchuhmann) return d >= scale_m ? 1.0 : std::pow(d / scale_m, exponent);
     return 1.0 - std::exp(-std::pow(d / scale_m, exponent));
@@ -26,6 +27,7 @@ std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector
     out[i] = upper_p - passing(lower);
     total += out[i];
   }
+  if (held) *held = total;
   for (double& f : out) f /= total;
   return out;
 }
@@ -91,6 +93,22 @@ double expected_charge_disks(const Scene& scene) {
   for (std::size_t k = 0; k < placed.size(); ++k)
     if (scene.species_in_use(placed[k])) total += expected_disks(scene, k);
   return total;
+}
+
+std::vector<std::string> distribution_notes(const Scene& scene) {
+  std::vector<std::string> notes;
+  for (std::size_t k = 0; k < scene.charge.species.size(); ++k) {
+    const SpeciesDef& sp = scene.charge.species[k];
+    if (!(sp.distribution_held > 0.0)) continue;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "charge.species[%zu] ('%s'): its classes hold %.1f%% of its distribution's mass; the %.1f%% "
+                  "finer than %.4g mm goes to them",
+                  k, sp.name.c_str(), 100.0 * sp.distribution_held, 100.0 * (1.0 - sp.distribution_held),
+                  in_mm(sp.smallest_diameter_m()));
+    notes.emplace_back(line);
+  }
+  return notes;
 }
 
 }  // namespace millwear

@@ -8,6 +8,7 @@
 // sizes it has. The filling (engine/fill.cpp) places exactly these counts; the limits
 // (scene/limits.hpp) bound them before anything is placed.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene/scene.hpp"
@@ -23,8 +24,10 @@ namespace millwear {
 // classes' masses, P(upper) - P(lower), normalised to sum to 1, are the mass fractions, in
 // the order the sizes are given.
 enum class SizeForm { GatesGaudinSchuhmann, RosinRammler };
+// `held` (when given): the share of the distribution's mass the classes hold, before the
+// normalising.
 std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
-                                                double scale_m, double exponent);
+                                                double scale_m, double exponent, double* held = nullptr);
 
 // Solid area (m^2 of the slice) species k of scene.species_as_placed() is to fill.
 double species_area_m2(const Scene& scene, std::size_t k);
@@ -38,5 +41,9 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
 double expected_disks(const Scene& scene, std::size_t k);
 // The disks of the whole charge: expected_disks summed over the species in use.
 double expected_charge_disks(const Scene& scene);
+// For each species with a size distribution, what its classes hold of the distribution's
+// mass: "charge.species[1] ('rock'): its classes hold 84.2% of its distribution's mass; the
+// 15.8% finer than 25 mm goes to them". For --check.
+std::vector<std::string> distribution_notes(const Scene& scene);
 
 }  // namespace millwear

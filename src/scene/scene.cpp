@@ -291,7 +291,8 @@ SpeciesDef read_species(const TableReader& r) {
         for (std::size_t j = 0; j < i; ++j)
           if ((*sizes)[i] == (*sizes)[j]) r.fail("sizes", "distinct sizes with 'distribution'");
       sp.mass_fractions = distribution_mass_fractions(
-          ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent);
+          ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent,
+          &sp.distribution_held);
       // The classes hold the mass from the smallest size up (filling.hpp); all of it finer (or,
       // for one class at the top size, none above it) leaves them none.
       double smallest = largest;

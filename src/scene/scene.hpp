@@ -25,6 +25,9 @@ struct SpeciesDef {
   std::vector<double> diameters_m;    // discrete sizes (empty when uniform)
   std::vector<double> mass_fractions; // same length, sums to 1
   double d_min_m = 0.0, d_max_m = 0.0;  // uniform range (used when diameters_m is empty)
+  // With a size distribution: the share of its mass the classes hold (the rest, finer than
+  // the smallest class, goes to them when the fractions are normalised); 0 without one.
+  double distribution_held = 0.0;
   double friction = 0.5;              // against other particles (pair: geometric mean)
   double restitution = 0.3;           // against other particles (pair: larger of the two)
   double friction_liner = 0.5;        // against the liner
