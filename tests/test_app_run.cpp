@@ -281,7 +281,9 @@ TEST_F(AppRun, ARerunWithoutResumeRemovesTheEarlierRunsFilesFirst) {
   for (const auto& e : fs::recursive_directory_iterator(out)) {
     if (!e.is_regular_file()) continue;
     const std::string rel = fs::relative(e.path(), out).string();
-    if (rel != "plots/my-notes.txt") EXPECT_EQ(listed.count(rel), 1u) << rel << " is not the new run's";
+    if (rel != "plots/my-notes.txt") {
+      EXPECT_EQ(listed.count(rel), 1u) << rel << " is not the new run's";
+    }
   }
 }
 
@@ -521,8 +523,9 @@ TEST_F(AppRunCli, AChargeAgainRemovesTheEarlierChargesFiles) {
   for (const auto& f : m["files"]) listed.insert(f.get<std::string>());
   for (const auto& e : fs::recursive_directory_iterator(dir_ / "out")) {
     const std::string rel = fs::relative(e.path(), dir_ / "out").string();
-    if (e.is_regular_file() && rel != "my-notes.txt" && rel != ".millwear-results")
+    if (e.is_regular_file() && rel != "my-notes.txt" && rel != ".millwear-results") {
       EXPECT_EQ(listed.count(rel), 1u) << rel << " is not listed";
+    }
   }
 }
 

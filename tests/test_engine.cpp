@@ -526,15 +526,20 @@ TEST(SoftEngine, TwoAndFourLaneSolvesGiveTheSameBits) {
 
 // The pair search finds exactly the pairs whose centres are nearer than the sum of their
 // radii and margins, each once and in key order, with the four-wide scan and the baseline
-// one; every pair tested directly. Two charges: the lab mill's, given random velocities
-// (so that the margins differ from disk to disk), and the same disks stacked two to a row
-// in a column narrower than a cell, where the search grid is one cell wide and the four-wide scan's last group of a
-// run reaches into the next row's disks, which it must leave to that row's run.
+// one, on one thread and on several; every pair tested directly. Three charges: the lab
+// mill's, given random velocities (so that the margins differ from disk to disk); the same
+// disks stacked two to a row in a column narrower than a cell, where the search grid is one
+// cell wide and the four-wide scan's last group of a run reaches into the next row's disks,
+// which it must leave to that row's run; and copies of the lab mill's charge side by side,
+// some disks escaped, enough disks for the threads to build the grid and bucket the pairs
+// by blocks.
 std::vector<std::uint64_t> pairs_within_reach(const soft::Disks& disks) {
   std::vector<std::uint64_t> keys;
   for (int i = 0; i < disks.n; ++i) {
+    if (!disks.active[static_cast<std::size_t>(i)]) continue;  // escaped: in no pair
     for (int j = i + 1; j < disks.n; ++j) {
       const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
+      if (!disks.active[b]) continue;
       const double dx = disks.x[a] - disks.x[b], dy = disks.y[a] - disks.y[b];
       const double reach = (disks.radius[a] + disks.margin[a]) + (disks.radius[b] + disks.margin[b]);
       if (dx * dx + dy * dy < reach * reach) keys.push_back(soft::pair_key(i, j));
@@ -556,32 +561,131 @@ TEST(SoftPairSearch, FindsExactlyThePairsWithinReachInKeyOrder) {
   for (std::size_t i = 0; i < column.size(); ++i)
     column.position_m[i] = {(static_cast<double>(i % 2) + jitter(rng)) * 0.8 * r_max,
                             (static_cast<double>(i / 2) + jitter(rng)) * 1.9 * r_max};
-  for (const ChargeState* charge : {&packed, &column}) {
-    const char* name = charge == &packed ? "packed charge" : "column";
+  // Copies side by side, a charge's width apart, until there are more than 6000 disks;
+  // every 97th disk escaped.
+  ChargeState copies;
+  const double width = 2.2 * mill.radius_m;
+  for (int copy = 0; copies.size() <= 6000; ++copy) {
+    for (std::size_t i = 0; i < packed.size(); ++i) {
+      copies.position_m.push_back(packed.position_m[i] + Vec2{width * (copy % 4), width * (copy / 4)});
+      copies.velocity_m_s.push_back(packed.velocity_m_s[i]);
+      copies.angle_rad.push_back(packed.angle_rad[i]);
+      copies.spin_rad_s.push_back(packed.spin_rad_s[i]);
+      copies.radius_m.push_back(packed.radius_m[i]);
+      copies.mass_kg.push_back(packed.mass_kg[i]);
+      copies.species.push_back(packed.species[i]);
+      copies.active.push_back(copies.size() % 97 == 0 ? 0 : 1);
+    }
+  }
+  for (const ChargeState* charge : {&packed, &column, &copies}) {
+    const char* name = charge == &packed ? "packed charge" : charge == &column ? "column" : "copies";
     const soft::Model model = soft::build_model(scene, mill, *charge);
-    soft::Disks disks = soft::load_disks(*charge);
-    soft::Workers workers(1);
-    soft::BroadPhase broad;
-    broad.reserve(disks.n);
-    const soft::StepBounds bounds = soft::update_margins(model, disks, broad, workers);
-    soft::build_pair_grid(model, bounds, disks, broad);
-    const std::vector<std::uint64_t> expected = pairs_within_reach(disks);
-    ASSERT_GT(expected.size(), static_cast<std::size_t>(disks.n)) << name << ": more pairs than disks";
-    if (charge == &column) {
-      ASSERT_EQ(broad.pair_grid.nx, 1) << "the column's search grid is one cell wide";
+    const soft::Disks loaded = soft::load_disks(*charge);
+    for (const int threads : {1, 2, 3}) {
+      soft::Disks disks = loaded;
+      soft::Workers workers(threads);
+      soft::BroadPhase broad;
+      broad.reserve(disks.n);
+      const soft::StepBounds bounds = soft::update_margins(model, disks, broad, workers);
+      soft::build_pair_grid(model, bounds, disks, broad, workers);
+      const std::vector<std::uint64_t> expected = pairs_within_reach(disks);
+      ASSERT_GT(expected.size(), static_cast<std::size_t>(disks.n)) << name << ": more pairs than disks";
+      if (charge == &column) {
+        ASSERT_EQ(broad.pair_grid.nx, 1) << "the column's search grid is one cell wide";
+      }
+      for (const bool baseline : {false, true}) {
+        struct Kernels {
+          explicit Kernels(bool b) { soft::force_baseline_lanes(b); }
+          ~Kernels() { soft::force_baseline_lanes(false); }
+        } kernels(baseline);
+        soft::PairSearch search;
+        soft::PairSet pairs;
+        soft::find_pairs(model, disks, broad.pair_grid, bounds, search, pairs, workers);
+        std::vector<std::uint64_t> found;
+        for (std::size_t q = 0; q < pairs.size(); ++q) found.push_back(pairs.key[q].key);
+        EXPECT_EQ(found, expected) << name << ", " << threads << " threads, "
+                                   << (baseline ? "baseline scan" : "scan of this CPU");
+      }
     }
-    for (const bool baseline : {false, true}) {
-      struct Kernels {
-        explicit Kernels(bool b) { soft::force_baseline_lanes(b); }
-        ~Kernels() { soft::force_baseline_lanes(false); }
-      } kernels(baseline);
-      soft::PairSearch search;
-      soft::PairSet pairs;
-      soft::find_pairs(model, disks, broad.pair_grid, bounds, search, pairs, workers);
-      std::vector<std::uint64_t> found;
-      for (std::size_t q = 0; q < pairs.size(); ++q) found.push_back(pairs.key[q].key);
-      EXPECT_EQ(found, expected) << name << ", " << (baseline ? "baseline scan" : "scan of this CPU");
-    }
+  }
+}
+
+// Sorting a contact set by key (after the disks are renumbered) puts the keys in ascending
+// order and carries every contact's arrays with its key: random distinct pairs of 500 disks,
+// some disks in many pairs and some in none, each contact's fields set from its key.
+TEST(SoftContacts, SortByKeyOrdersTheKeysAndCarriesTheirContacts) {
+  constexpr int kDisks = 500;
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> disk(0, kDisks - 1), crowded(0, 9);
+  std::vector<std::uint64_t> keys;
+  while (keys.size() < 2000) {
+    int a = rng() % 4 == 0 ? crowded(rng) : disk(rng), b = disk(rng);
+    if (a == b) continue;
+    if (a > b) std::swap(a, b);
+    const std::uint64_t key = soft::pair_key(a, b);
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
+  soft::PairSet set, spare;
+  set.resize(keys.size());
+  for (std::size_t q = 0; q < keys.size(); ++q) {
+    set.key[q].key = keys[q];
+    set.gap[q].a = static_cast<int>(keys[q] >> 32);
+    set.gap[q].b = static_cast<int>(keys[q] & 0xffffffffu);
+    set.impulse[q].ln = static_cast<double>(keys[q] % 1000);
+    set.info[q].e = static_cast<double>(q);
+  }
+  soft::SortScratch scratch;
+  soft::sort_by_key(set, spare, kDisks, scratch);
+  std::vector<std::uint64_t> sorted = keys;
+  std::sort(sorted.begin(), sorted.end());
+  ASSERT_EQ(set.size(), keys.size());
+  for (std::size_t q = 0; q < set.size(); ++q) {
+    ASSERT_EQ(set.key[q].key, sorted[q]) << "slot " << q;
+    EXPECT_EQ(set.gap[q].a, static_cast<int>(sorted[q] >> 32)) << "slot " << q;
+    EXPECT_EQ(set.gap[q].b, static_cast<int>(sorted[q] & 0xffffffffu)) << "slot " << q;
+    EXPECT_EQ(set.impulse[q].ln, static_cast<double>(sorted[q] % 1000)) << "slot " << q;
+    const auto from = static_cast<std::size_t>(set.info[q].e);
+    EXPECT_EQ(keys[from], sorted[q]) << "slot " << q;
+  }
+}
+
+// The grid built by the threads holds each disk in its cell, the cells in order and the
+// disks of a cell by index, exactly as the one-thread build does: random disks over more
+// cells than a range of the threaded build takes, some of them crowded into one cell, some
+// escaped.
+TEST(SoftGrid, TheThreadsBuildTheSameGridAsOneThread) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> across(-3.0, 3.0);
+  constexpr int kDisks = 20000;
+  std::vector<double> x(kDisks), y(kDisks);
+  std::vector<unsigned char> active(kDisks, 1);
+  for (int i = 0; i < kDisks; ++i) {
+    x[static_cast<std::size_t>(i)] = i % 5 == 0 ? 0.01 : across(rng);
+    y[static_cast<std::size_t>(i)] = i % 5 == 0 ? 0.01 : across(rng);
+    if (i % 89 == 0) active[static_cast<std::size_t>(i)] = 0;
+  }
+  soft::Grid serial;
+  serial.fit(-3.0, -3.0, 6.0, 6.0, 0.05);
+  ASSERT_GT(serial.cells(), 3 * 4096);
+  soft::Workers one(1);
+  serial.build(x.data(), y.data(), active.data(), kDisks, one);
+  // Every active disk placed, by cell and then index.
+  ASSERT_EQ(serial.placed(), kDisks - (kDisks + 88) / 89);
+  for (int k = 1; k < serial.placed(); ++k) {
+    const int a = serial.order[static_cast<std::size_t>(k) - 1], b = serial.order[static_cast<std::size_t>(k)];
+    const int ca = serial.cell_of[static_cast<std::size_t>(a)], cb = serial.cell_of[static_cast<std::size_t>(b)];
+    ASSERT_TRUE(ca < cb || (ca == cb && a < b)) << "slots " << k - 1 << " and " << k;
+  }
+  for (int threads = 2; threads <= 4; ++threads) {
+    soft::Grid grid;
+    grid.fit(-3.0, -3.0, 6.0, 6.0, 0.05);
+    soft::Workers workers(threads);
+    grid.build(x.data(), y.data(), active.data(), kDisks, workers);
+    EXPECT_EQ(grid.cell_of, serial.cell_of) << threads << " threads";
+    EXPECT_EQ(grid.order, serial.order) << threads << " threads";
+    EXPECT_EQ(std::vector<int>(grid.start.begin(), grid.start.begin() + grid.cells() + 1),
+              std::vector<int>(serial.start.begin(), serial.start.begin() + serial.cells() + 1))
+        << threads << " threads";
   }
 }
 

@@ -116,11 +116,19 @@ double spectrum_bin_lower_J(int bin) {
   return kSpectrumMinJ * std::pow(10.0, bin / kSpectrumBinsPerDecade);
 }
 
-void account_collision_event(Accounting& acc, double energy_J) {
-  if (!(energy_J > 0.0)) return;
-  const int bin = spectrum_bin(energy_J);
+CollisionEvent collision_event(double energy_J) {
+  return {energy_J, energy_J > 0.0 ? spectrum_bin(energy_J) : -1};
+}
+
+void account_collision_event(Accounting& acc, const CollisionEvent& event) {
+  if (event.bin < 0) return;
+  const auto bin = static_cast<std::size_t>(event.bin);
   acc.spectrum_count[bin] += 1.0;
-  acc.spectrum_energy_J[bin] += energy_J;
+  acc.spectrum_energy_J[bin] += event.energy_J;
+}
+
+void account_collision_event(Accounting& acc, double energy_J) {
+  account_collision_event(acc, collision_event(energy_J));
 }
 
 void shape_sample(const ChargeState& s, std::size_t i0, std::size_t i1, double dt_s, double radius_m, double band_m,

@@ -145,6 +145,14 @@ void account_contact(Accounting& acc, const ContactRecord& c, double mill_speed_
                      bool edge_is_shell);
 // A particle-particle collision event ended with energy_J dissipated in total.
 void account_collision_event(Accounting& acc, double energy_J);
+// The same in two halves: the event's spectrum bin where it ends (a threaded stage, by
+// ranges at once), the booking afterwards in a fixed order. Bin -1: nothing to book.
+struct CollisionEvent {
+  double energy_J = 0.0;
+  int bin = -1;
+};
+CollisionEvent collision_event(double energy_J);
+void account_collision_event(Accounting& acc, const CollisionEvent& event);
 // One step's charge-shape sample of disks [i0, i1): their mass, first moment and the shell
 // band's occupancy per angle bin (radius^2 x dt_s), for account_step to add.
 struct ShapeSample {

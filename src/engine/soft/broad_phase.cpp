@@ -129,15 +129,15 @@ void reorder_by_cell(const Model& model, const LinerModel& liner, const StepBoun
     liner_contacts.key[q].key = pair_key(c.a, liner_contacts.info[q].owner);
   }
   // This step's sets hold nothing yet: they serve as the sort buffers.
-  sort_by_key(contacts.pairs_old, contacts.pairs, contacts.sort_keys);
-  sort_by_key(contacts.liner_old, contacts.liner, contacts.sort_keys);
+  sort_by_key(contacts.pairs_old, contacts.pairs, disks.n, contacts.sort_scratch);
+  sort_by_key(contacts.liner_old, contacts.liner, disks.n, contacts.sort_scratch);
 }
 
 void build_pair_grid(const Model& model, const StepBounds& bounds, const Disks& disks,
-                     BroadPhase& broad) {
+                     BroadPhase& broad, Workers& workers) {
   broad.pair_grid.fit(bounds.x0, bounds.y0, bounds.x1 - bounds.x0, bounds.y1 - bounds.y0,
                       kPairCellReaches * (model.r_max_m + bounds.margin_max_m));
-  broad.pair_grid.build(disks.x.data(), disks.y.data(), disks.active.data(), disks.n);
+  broad.pair_grid.build(disks.x.data(), disks.y.data(), disks.active.data(), disks.n, workers);
 }
 
 }  // namespace millwear::soft

@@ -72,6 +72,6 @@ void reorder_by_cell(const Model& model, const LinerModel& liner, const StepBoun
 // Cells one largest reach wide over the disks' box: a disk's search box (its reach plus the
 // largest) spans at most 5 x 5 of them, of which it scans the half after it.
 void build_pair_grid(const Model& model, const StepBounds& bounds, const Disks& disks,
-                     BroadPhase& broad);
+                     BroadPhase& broad, Workers& workers);
 
 }  // namespace millwear::soft

@@ -147,12 +147,16 @@ struct ContactSet {
 using PairSet = ContactSet<PairGap, PairRow, PairInfo>;
 using LinerSet = ContactSet<LinerGap, LinerRow, LinerInfo>;
 
+// Scratch of sort_by_key, sized at warm-up.
+struct SortScratch {
+  std::vector<int> bucket_end, order;
+};
+
 // This step's contacts and last step's (for the warm start), each sorted by key.
 struct Contacts {
   PairSet pairs, pairs_old;
   LinerSet liner, liner_old;
-  // Scratch of sort_by_key, sized at warm-up.
-  std::vector<std::pair<std::uint64_t, int>> sort_keys;
+  SortScratch sort_scratch;
 
   void reserve(int disks) {
     const auto n = static_cast<std::size_t>(disks);
@@ -164,7 +168,8 @@ struct Contacts {
     pairs_old.reserve(expected_pairs);
     liner.reserve(n + 16);
     liner_old.reserve(n + 16);
-    sort_keys.reserve(expected_pairs);
+    sort_scratch.order.reserve(expected_pairs);
+    sort_scratch.bucket_end.reserve(n + 1);
   }
   // This step's contacts become last step's; the step before last's buffers are reused.
   void begin_step() {
@@ -173,17 +178,33 @@ struct Contacts {
   }
 };
 
-// Sort a contact set by key (keys are unique, so any sort gives the same order), through
-// the spare set (whose contents are dead at this point) and scratch sized at warm-up: no
-// allocation.
+// Sort a contact set by key through the spare set (whose contents are dead at this point):
+// a counting sort by the key's upper half (the lower disk, below `disks`), then each bucket
+// (a handful of contacts) by insertion sort on the whole key. Keys are unique, so this is
+// the one order by key. No allocation once the scratch reached its size.
 template <class Set>
-void sort_by_key(Set& set, Set& spare, std::vector<std::pair<std::uint64_t, int>>& keys) {
+void sort_by_key(Set& set, Set& spare, int disks, SortScratch& scratch) {
   const std::size_t m = set.size();
-  keys.clear();
-  for (std::size_t k = 0; k < m; ++k) keys.emplace_back(set.key[k].key, static_cast<int>(k));
-  std::sort(keys.begin(), keys.end());
+  std::vector<int>& bucket = scratch.bucket_end;
+  std::vector<int>& order = scratch.order;
+  bucket.assign(static_cast<std::size_t>(disks) + 1, 0);
+  order.resize(m);
+  for (std::size_t k = 0; k < m; ++k) bucket[(set.key[k].key >> 32) + 1] += 1;
+  for (int i = 0; i < disks; ++i) bucket[static_cast<std::size_t>(i) + 1] += bucket[static_cast<std::size_t>(i)];
+  for (std::size_t k = 0; k < m; ++k) order[static_cast<std::size_t>(bucket[set.key[k].key >> 32]++)] = static_cast<int>(k);
+  // bucket[i] is now the end of disk i's contacts.
+  int b0 = 0;
+  for (int i = 0; i < disks; ++i) {
+    const int b1 = bucket[static_cast<std::size_t>(i)];
+    for (int p = b0 + 1; p < b1; ++p)
+      for (int q = p; q > b0 && set.key[static_cast<std::size_t>(order[static_cast<std::size_t>(q) - 1])].key >
+                                    set.key[static_cast<std::size_t>(order[static_cast<std::size_t>(q)])].key;
+           --q)
+        std::swap(order[static_cast<std::size_t>(q) - 1], order[static_cast<std::size_t>(q)]);
+    b0 = b1;
+  }
   spare.resize(m);
-  for (std::size_t t = 0; t < m; ++t) spare.copy(t, set, static_cast<std::size_t>(keys[t].second));
+  for (std::size_t t = 0; t < m; ++t) spare.copy(t, set, static_cast<std::size_t>(order[t]));
   set.swap(spare);
 }
 

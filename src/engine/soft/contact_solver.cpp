@@ -302,7 +302,11 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     if (rows.list[p].size() < m) rows.list[p].resize(capacity);
     if (rows.warm[p].size() < m) rows.warm[p].resize(capacity);
   }
-  if (rows.live.size() < m) rows.live.resize(capacity);
+  if (rows.live.size() < m) {
+    rows.live.resize(capacity);
+    rows.live_disks.resize(capacity);
+    rows.in_lane.resize(capacity);
+  }
   // Blocks and where their rows start (the rows are in key order: by lower disk).
   rows.block_disks = std::max(1, block_disks);
   rows.blocks = std::max(1, (disks.n + rows.block_disks - 1) / rows.block_disks);
@@ -326,11 +330,15 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     const std::size_t q0 = rows.first[static_cast<std::size_t>(k)], q1 = rows.first[static_cast<std::size_t>(k) + 1];
     // Written whether live or not, counted only if live: no branch on the state (a third
     // of the rows are live, in no pattern a predictor learns).
+    // The live rows' disks go into a list of their own: the colouring, on one thread, then
+    // reads those alone and not the rows around them, which another thread wrote.
     int* live = rows.live.data() + q0;
+    SolverRows::Pair* live_disks = rows.live_disks.data() + q0;
     const std::uint8_t* state = pairs.state.data();
     int count = 0;
     for (std::size_t q = q0; q < q1; ++q) {
       live[count] = static_cast<int>(q);
+      live_disks[count] = {gap[q].a, gap[q].b};
       count += state[q] & kLive;
     }
     rows.live_count[static_cast<std::size_t>(k)] = count;
@@ -341,10 +349,10 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
   std::size_t live_n = 0;
   for (std::size_t k = 0; k < blocks; ++k) {
     const int* live = rows.live.data() + rows.first[k];
-    for (int t = 0; t < rows.live_count[k]; ++t) {
-      const auto q = static_cast<std::size_t>(live[t]);
-      if (coloured.add(live[t], gap[q].a, gap[q].b)) pairs.state[q] |= kInLane;
-    }
+    const SolverRows::Pair* live_disks = rows.live_disks.data() + rows.first[k];
+    std::uint8_t* in_lane = rows.in_lane.data() + rows.first[k];
+    for (int t = 0; t < rows.live_count[k]; ++t)
+      in_lane[t] = coloured.add(live[t], live_disks[t].a, live_disks[t].b);
     live_n += static_cast<std::size_t>(rows.live_count[k]);
   }
   rows.live_n = live_n;
@@ -353,12 +361,16 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     const std::size_t t0 = static_cast<std::size_t>(r) * kColouredPerRange;
     load_lanes(model, disks, start, pairs, coloured, t0, std::min(coloured.coloured(), t0 + kColouredPerRange));
   });
-  // The other rows into their block's phase lists; the live ones are built (the warm start
-  // applies them) and go into the warm lists too.
+  // The rows in lanes flagged; the other rows into their block's phase lists, the live ones
+  // among them built (the warm start applies them) and into the warm lists too.
   workers.run(rows.blocks, [&](int k) {
     const auto kk = static_cast<std::size_t>(k);
     const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
     const int end = (k + 1) * rows.block_disks;
+    const int* live = rows.live.data() + q0;
+    const std::uint8_t* in_lane = rows.in_lane.data() + q0;
+    for (int t = 0; t < rows.live_count[kk]; ++t)
+      if (in_lane[t]) pairs.state[static_cast<std::size_t>(live[t])] |= kInLane;
     int count[kPhases] = {}, warm_count[kPhases] = {};
     int* list[kPhases];
     for (int p = 0; p < kPhases; ++p) list[p] = rows.list[p].data() + q0;
@@ -516,51 +528,86 @@ void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers) {
   });
 }
 
-void apply_restitution(const Model& model, Contacts& contacts, Disks& disks) {
+void apply_restitution(const Model& model, Contacts& contacts, SolverRows& rows, Disks& disks,
+                       Workers& workers) {
   const double thr = -model.restitution_threshold_m_s;
   Body* body = disks.body.data();
   PairSet& pairs = contacts.pairs;
-  for (std::size_t q = 0; q < pairs.size(); ++q) {
-    // Only a row that closed fast enough with some restitution bounces: one byte tells
-    // (kBounce), and the cold info and sums of the others stay untouched.
-    if (!(pairs.state[q] & kBounce)) continue;
-    const PairInfo& info = pairs.info[q];
-    StepSum& sum = pairs.sum[q];
-    if (sum.pn == 0.0) continue;
-    const PairGap& g = pairs.gap[q];
-    Impulse& c = pairs.impulse[q];
-    Body& A = body[g.a];
-    Body& B = body[g.b];
-    const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
-    // The normal mass as build_pair_row computes it (a row in lanes stores none).
-    const double im = A.im + B.im;
-    const double mn = im > 0.0 ? 1.0 / im : 0.0;
-    const double next = std::max(c.ln - mn * (vn + info.e * info.vn0), 0.0);
-    const double d = next - c.ln;
-    c.ln = next;
-    pairs.state[q] = kBounce | kBuilt | has_impulse(c);
-    sum.pn += d;
-    A.vx += A.im * d * g.nx;
-    A.vy += A.im * d * g.ny;
-    B.vx -= B.im * d * g.nx;
-    B.vy -= B.im * d * g.ny;
-  }
   LinerSet& liner = contacts.liner;
-  for (std::size_t q = 0; q < liner.size(); ++q) {
-    const LinerInfo& info = liner.info[q];
-    StepSum& sum = liner.sum[q];
-    if (sum.pn == 0.0 || info.e == 0.0 || info.vn0 > thr) continue;  // sum.pn != 0: built
-    const LinerGap& g = liner.gap[q];
-    Impulse& c = liner.impulse[q];
-    Body& A = body[g.a];
-    const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
-    const double next = std::max(c.ln - liner.row[q].mn * (vn + info.e * info.vn0), 0.0);
-    const double d = next - c.ln;
-    c.ln = next;
-    liner.state[q] = kBuilt | has_impulse(c);
-    sum.pn += d;
-    A.vx += A.im * d * g.nx;
-    A.vy += A.im * d * g.ny;
+  // Which rows bounce, by ranges at once: a row bounces if it closed fast enough with some
+  // restitution (one byte tells: kBounce, so the cold info of the others stays untouched)
+  // and carried load, which no other row's bounce changes. Each range lists its own in its
+  // slice of the scratch: pair block k's at bounce[first[k] ..], liner range r's at
+  // liner_bounce[liner_at[r] ..].
+  const auto blocks = static_cast<std::size_t>(rows.blocks);
+  const auto liner_ranges = rows.liner_at.size() - 1;
+  if (rows.bounce.size() < pairs.size()) rows.bounce.resize(pairs.row.size());
+  if (rows.liner_bounce.size() < liner.size()) rows.liner_bounce.resize(liner.row.size());
+  rows.bounce_n.resize(blocks + liner_ranges);
+  workers.run(rows.blocks + static_cast<int>(liner_ranges), [&](int k) {
+    const auto kk = static_cast<std::size_t>(k);
+    int count = 0;
+    if (kk < blocks) {
+      const std::size_t q0 = rows.first[kk], q1 = rows.first[kk + 1];
+      int* out = rows.bounce.data() + q0;
+      for (std::size_t q = q0; q < q1; ++q)
+        if ((pairs.state[q] & kBounce) && pairs.sum[q].pn != 0.0) out[count++] = static_cast<int>(q);
+    } else {
+      const std::size_t r = kk - blocks, q0 = rows.liner_at[r], q1 = rows.liner_at[r + 1];
+      int* out = rows.liner_bounce.data() + q0;
+      for (std::size_t q = q0; q < q1; ++q) {
+        const LinerInfo& info = liner.info[q];
+        // sum.pn != 0: built.
+        if (liner.sum[q].pn != 0.0 && info.e != 0.0 && !(info.vn0 > thr)) out[count++] = static_cast<int>(q);
+      }
+    }
+    rows.bounce_n[kk] = count;
+  });
+  // The bounces themselves one after another, in key order: a disk may bounce off several
+  // partners, and each bounce starts from the velocities the earlier ones left.
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const int* list = rows.bounce.data() + rows.first[k];
+    for (int t = 0; t < rows.bounce_n[k]; ++t) {
+      const auto q = static_cast<std::size_t>(list[t]);
+      const PairInfo& info = pairs.info[q];
+      StepSum& sum = pairs.sum[q];
+      const PairGap& g = pairs.gap[q];
+      Impulse& c = pairs.impulse[q];
+      Body& A = body[g.a];
+      Body& B = body[g.b];
+      const double vn = g.nx * (A.vx - B.vx) + g.ny * (A.vy - B.vy);
+      // The normal mass as build_pair_row computes it (a row in lanes stores none).
+      const double im = A.im + B.im;
+      const double mn = im > 0.0 ? 1.0 / im : 0.0;
+      const double next = std::max(c.ln - mn * (vn + info.e * info.vn0), 0.0);
+      const double d = next - c.ln;
+      c.ln = next;
+      pairs.state[q] = kBounce | kBuilt | has_impulse(c);
+      sum.pn += d;
+      A.vx += A.im * d * g.nx;
+      A.vy += A.im * d * g.ny;
+      B.vx -= B.im * d * g.nx;
+      B.vy -= B.im * d * g.ny;
+    }
+  }
+  for (std::size_t r = 0; r < liner_ranges; ++r) {
+    const int* list = rows.liner_bounce.data() + rows.liner_at[r];
+    for (int t = 0; t < rows.bounce_n[blocks + r]; ++t) {
+      const auto q = static_cast<std::size_t>(list[t]);
+      const LinerInfo& info = liner.info[q];
+      StepSum& sum = liner.sum[q];
+      const LinerGap& g = liner.gap[q];
+      Impulse& c = liner.impulse[q];
+      Body& A = body[g.a];
+      const double vn = g.nx * (A.vx - g.vlx) + g.ny * (A.vy - g.vly);
+      const double next = std::max(c.ln - liner.row[q].mn * (vn + info.e * info.vn0), 0.0);
+      const double d = next - c.ln;
+      c.ln = next;
+      liner.state[q] = kBuilt | has_impulse(c);
+      sum.pn += d;
+      A.vx += A.im * d * g.nx;
+      A.vy += A.im * d * g.ny;
+    }
   }
 }
 

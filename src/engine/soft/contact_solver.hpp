@@ -33,6 +33,7 @@
 // therefore fixed by the contact list and the block size alone: the bits are the same for
 // any thread count, run to run, and with four (AVX2) or two (SSE2) lanes per register.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "engine/soft/colour_solve.hpp"
@@ -58,11 +59,21 @@ struct SolverRows {
   // substep and by each relax for the next), at warm[p][first[k] ..], warm_n[p][k].
   std::vector<int> list[kPhases], warm[kPhases];
   std::vector<int> n[kPhases], warm_n[kPhases];
-  // Scratch of the colouring: the live rows of each block, at live[first[k] ..].
+  // Scratch of the colouring: the live rows of each block, at live[first[k] ..], their
+  // disks at live_disks[first[k] ..] and whether each found a colour at in_lane[first[k] ..].
+  struct Pair {
+    int a, b;
+  };
   std::vector<int> live, live_count;
+  std::vector<Pair> live_disks;
+  std::vector<std::uint8_t> in_lane;
   // The liner rows of the disk stages' range r (Workers::kDiskGrain disks from r times
   // that): [liner_at[r], liner_at[r + 1]).
   std::vector<std::size_t> liner_at;
+  // Scratch of the restitution: the bouncing rows of pair block k at bounce[first[k] ..]
+  // and of liner range r at liner_bounce[liner_at[r] ..], bounce_n[k] and
+  // bounce_n[blocks + r] of them.
+  std::vector<int> bounce, liner_bounce, bounce_n;
   std::size_t live_n = 0;         // pair rows carrying an impulse into the step (timing)
 };
 
@@ -92,7 +103,8 @@ void relax(const Model& model, const StepStart& start, double elapsed_s,
 void store_lanes(SolverRows& rows, PairSet& pairs, Workers& workers);
 // Contacts that closed faster than the threshold and carried load get the impulse that
 // sends them apart at e times that speed.
-void apply_restitution(const Model& model, Contacts& contacts, Disks& disks);
+void apply_restitution(const Model& model, Contacts& contacts, SolverRows& rows, Disks& disks,
+                       Workers& workers);
 
 // Disks per range of the charge-shape sample, whose partial sums are added in range order.
 constexpr std::size_t kDisksPerRange = 1024;

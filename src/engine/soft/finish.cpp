@@ -109,8 +109,8 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     part.normal_J = part.tangent_J = 0.0;
     part.ended = 0;
     auto end_event = [&](double energy_J) {
-      if (part.ended == part.ended_J.size()) part.ended_J.resize(2 * part.ended + 16);
-      part.ended_J[part.ended++] = energy_J;
+      if (part.ended == part.ended_events.size()) part.ended_events.resize(2 * part.ended + 16);
+      part.ended_events[part.ended++] = collision_event(energy_J);
     };
     const std::size_t q0 = static_cast<std::size_t>(r) * kPerRange;
     const std::size_t q1 = std::min(pairs.size(), q0 + kPerRange);
@@ -174,7 +174,7 @@ void account_contacts(const LinerModel& liner, const Disks& disks, const StepSta
     const FinishScratch::PairSums& part = scratch.pairs[static_cast<std::size_t>(r)];
     accounting.pp_normal_J += part.normal_J;
     accounting.pp_tangent_J += part.tangent_J;
-    for (std::size_t e = 0; e < part.ended; ++e) account_collision_event(accounting, part.ended_J[e]);
+    for (std::size_t e = 0; e < part.ended; ++e) account_collision_event(accounting, part.ended_events[e]);
   }
   ContactRecord rec;
   const LinerSet& liner_contacts = contacts.liner;
@@ -215,18 +215,38 @@ void advance_clock(const Model& model, ChargeState& charge) {
 }
 
 void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disks,
-                        Report report) {
+                        Report report, FinishScratch& scratch, Workers& workers) {
+  constexpr std::size_t kPerRange = 1024;
   const double inner = model.mill_radius_m - liner.band_m;
   const double inner_sq = inner * inner;
-  for (int i = 0; i < disks.n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (!disks.active[k]) continue;
-    const Vec2 p{disks.x[k], disks.y[k]};
-    if (length_sq(p) < inner_sq) continue;
-    const Vec2 pm = rotated(p, -report.charge.mill_angle_rad);
-    if (deeper_than_liner_surface(liner.mill, pm, kLostDepthRadii * disks.radius[k])) {
+  const auto n = static_cast<std::size_t>(disks.n);
+  const int ranges = range_count(n, kPerRange);
+  scratch.flagged.resize(static_cast<std::size_t>(ranges));
+  scratch.verdict.resize(n);
+  // Which disks leaked, by ranges at once; then their removal in index order.
+  workers.run(ranges, [&](int r) {
+    const std::size_t i0 = static_cast<std::size_t>(r) * kPerRange, i1 = std::min(n, i0 + kPerRange);
+    std::uint8_t flagged = 0;
+    for (std::size_t k = i0; k < i1; ++k) {
+      scratch.verdict[k] = 0;
+      if (!disks.active[k]) continue;
+      const Vec2 p{disks.x[k], disks.y[k]};
+      if (length_sq(p) < inner_sq) continue;
+      const Vec2 pm = rotated(p, -report.charge.mill_angle_rad);
+      if (deeper_than_liner_surface(liner.mill, pm, kLostDepthRadii * disks.radius[k])) {
+        scratch.verdict[k] = 1;
+        flagged = 1;
+      }
+    }
+    scratch.flagged[static_cast<std::size_t>(r)] = flagged;
+  });
+  for (int r = 0; r < ranges; ++r) {
+    if (!scratch.flagged[static_cast<std::size_t>(r)]) continue;
+    const std::size_t i0 = static_cast<std::size_t>(r) * kPerRange, i1 = std::min(n, i0 + kPerRange);
+    for (std::size_t k = i0; k < i1; ++k) {
+      if (!scratch.verdict[k]) continue;
       report.accounting.escaped += 1;
-      remove_disk(disks, i, "leaked into the liner", report);
+      remove_disk(disks, static_cast<int>(k), "leaked into the liner", report);
     }
   }
 }

@@ -37,14 +37,15 @@ struct Report {
 struct FinishScratch {
   struct PairSums {
     double normal_J = 0, tangent_J = 0;
-    std::size_t ended = 0;           // events ended, at the front of ended_J
-    std::vector<double> ended_J;
+    std::size_t ended = 0;           // events ended, at the front of ended_events
+    std::vector<CollisionEvent> ended_events;
     std::vector<std::uint32_t> acted, idle;  // the range's rows that carried an impulse, and not
   };
   std::vector<PairSums> pairs;       // per range of disk-pair contacts
   std::vector<double> position_J;    // per range of disks: the solver's position correction
   std::vector<std::uint8_t> flagged; // per range of disks: some disk to remove
-  std::vector<std::uint8_t> verdict; // per disk: 0 kept, 1 non-finite, 2 escaped
+  std::vector<std::uint8_t> verdict; // per disk: 0 kept, 1 non-finite, 2 escaped (the write-back);
+                                     // 0 kept, 1 leaked (the liner check)
 };
 
 // Positions, velocities, angles and spins back to the charge by id; the solver's position
@@ -71,6 +72,6 @@ inline bool inside_liner_check_due(std::int64_t step) {
 // Disks whose centre got deeper into the lifter metal than the liner contacts reach are
 // removed as leaked.
 void check_inside_liner(const Model& model, const LinerModel& liner, Disks& disks,
-                        Report report);
+                        Report report, FinishScratch& scratch, Workers& workers);
 
 }  // namespace millwear::soft

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/soft/workers.hpp"
+
 namespace millwear::soft {
 
 struct Grid {
@@ -18,6 +20,9 @@ struct Grid {
   std::vector<int> cell_of;   // per disk (-1: not in the grid)
   std::vector<int> start;     // per cell + 1: first index into order
   std::vector<int> order;     // disks sorted by cell, stable (by index within a cell)
+  // Scratch of the threaded build: per block of disks, each cell's count and then cursor
+  // (block b's at counts[b * cells ..]); per range of cells, its disks.
+  std::vector<int> counts, range_disks;
 
   // Covers [x0, x0 + w] x [y0, y0 + h] with cells of side cell_m; a point outside falls
   // into the nearest edge cell.
@@ -55,6 +60,10 @@ struct Grid {
     for (std::size_t c = cells; c > 0; --c) start[c] = start[c - 1];
     start[0] = 0;
   }
+  // The same order, built by the threads at once (grid.cpp); runs build itself on one
+  // thread or few disks.
+  void build(const double* x, const double* y, const unsigned char* active, int n, Workers& workers);
+
   int cells() const { return nx * ny; }
   int placed() const { return start[static_cast<std::size_t>(cells())]; }
 };

@@ -172,6 +172,106 @@ MW_AVX2 std::size_t scan_range_avx2(const Grid& grid, const Candidate* cd, int k
 }
 #endif
 
+// Below this many disks the serial bucketing is as fast as handing out its four stages.
+constexpr int kThreadedBucketDisks = 4096;
+constexpr std::size_t kBucketDisksPerRange = 4096;
+
+// The found pairs' upper indices bucketed by their lower index a (counting sort): those of
+// a at upper[bucket_end[a - 1] .. bucket_end[a]) (from 0 for a = 0), in no particular
+// order (find_pairs sorts each bucket). Returns the count of pairs. With threads, by
+// blocks of the scan's ranges, one per thread: block b puts its pairs of each a after
+// those of the blocks before it. Either way a bucket holds the same pairs.
+std::size_t bucket_by_lower(PairSearch& search, int ranges, int disks, Workers& workers) {
+  const auto n = static_cast<std::size_t>(disks);
+  std::vector<int>& bucket = search.bucket_end;
+  const int blocks = std::min(workers.threads(), ranges);
+  if (blocks <= 1 || disks < kThreadedBucketDisks) {
+    bucket.assign(n + 1, 0);
+    std::size_t total = 0;
+    for (int rg = 0; rg < ranges; ++rg) {
+      const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+      const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+      for (std::size_t t = 0; t < found; ++t) bucket[(keys[t] >> 32) + 1] += 1;
+      total += found;
+    }
+    for (std::size_t i = 0; i < n; ++i) bucket[i + 1] += bucket[i];
+    if (search.upper.size() < total) search.upper.resize(2 * total);
+    for (int rg = 0; rg < ranges; ++rg) {
+      const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+      const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+      for (std::size_t t = 0; t < found; ++t) {
+        const std::uint64_t key = keys[t];
+        const auto slot = static_cast<std::size_t>(bucket[key >> 32]++);
+        search.upper[slot] = static_cast<int>(key & 0xffffffffu);
+      }
+    }
+    return total;
+  }
+  bucket.resize(n + 1);
+  search.counts.resize(static_cast<std::size_t>(blocks) * n);
+  const int disk_ranges = range_count(n, kBucketDisksPerRange);
+  search.range_pairs.resize(static_cast<std::size_t>(disk_ranges));
+  const auto block_begin = [&](int b) { return static_cast<int>(static_cast<std::int64_t>(ranges) * b / blocks); };
+  // The count of each disk's pairs in each block.
+  workers.run(blocks, [&](int b) {
+    int* count = search.counts.data() + static_cast<std::size_t>(b) * n;
+    std::fill(count, count + n, 0);
+    for (int rg = block_begin(b); rg < block_begin(b + 1); ++rg) {
+      const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+      const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+      for (std::size_t t = 0; t < found; ++t) count[keys[t] >> 32] += 1;
+    }
+  });
+  // Per disk, the blocks' offsets within its bucket (the counts become them); bucket[a]
+  // holds the bucket's size for now, range_pairs each range's.
+  workers.run(disk_ranges, [&](int r) {
+    const std::size_t a0 = static_cast<std::size_t>(r) * kBucketDisksPerRange, a1 = std::min(n, a0 + kBucketDisksPerRange);
+    int in_range = 0;
+    for (std::size_t a = a0; a < a1; ++a) {
+      int in_bucket = 0;
+      for (int b = 0; b < blocks; ++b) {
+        int& k = search.counts[static_cast<std::size_t>(b) * n + a];
+        const int t = k;
+        k = in_bucket;
+        in_bucket += t;
+      }
+      bucket[a] = in_bucket;
+      in_range += in_bucket;
+    }
+    search.range_pairs[static_cast<std::size_t>(r)] = in_range;
+  });
+  std::size_t total = 0;
+  for (int& k : search.range_pairs) {
+    const int t = k;
+    k = static_cast<int>(total);
+    total += static_cast<std::size_t>(t);
+  }
+  if (search.upper.size() < total) search.upper.resize(2 * total);
+  // Each bucket's end, and each block's cursor in it.
+  workers.run(disk_ranges, [&](int r) {
+    const std::size_t a0 = static_cast<std::size_t>(r) * kBucketDisksPerRange, a1 = std::min(n, a0 + kBucketDisksPerRange);
+    int first = search.range_pairs[static_cast<std::size_t>(r)];
+    for (std::size_t a = a0; a < a1; ++a) {
+      for (int b = 0; b < blocks; ++b) search.counts[static_cast<std::size_t>(b) * n + a] += first;
+      first += bucket[a];
+      bucket[a] = first;
+    }
+  });
+  bucket[n] = static_cast<int>(total);
+  // The scatter, each block into its own slots.
+  workers.run(blocks, [&](int b) {
+    int* cursor = search.counts.data() + static_cast<std::size_t>(b) * n;
+    int* upper = search.upper.data();
+    for (int rg = block_begin(b); rg < block_begin(b + 1); ++rg) {
+      const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
+      const std::size_t found = search.found[static_cast<std::size_t>(rg)];
+      for (std::size_t t = 0; t < found; ++t)
+        upper[cursor[keys[t] >> 32]++] = static_cast<int>(keys[t] & 0xffffffffu);
+    }
+  });
+  return total;
+}
+
 }  // namespace
 
 void build_liner_search(const Model& model, const LinerModel& liner, LinerSearch& search) {
@@ -236,29 +336,10 @@ void find_pairs(const Model& model, const Disks& disks, const Grid& grid,
                       search.found_keys[static_cast<std::size_t>(rg)]);
   });
   // Bucket by the lower index (counting sort), then sort each bucket by the upper one.
-  const auto n = static_cast<std::size_t>(disks.n);
-  std::vector<int>& bucket = search.bucket_end;
-  bucket.assign(n + 1, 0);
-  std::size_t total = 0;
-  for (int rg = 0; rg < ranges; ++rg) {
-    const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
-    const std::size_t found = search.found[static_cast<std::size_t>(rg)];
-    for (std::size_t t = 0; t < found; ++t) bucket[(keys[t] >> 32) + 1] += 1;
-    total += found;
-  }
-  for (std::size_t i = 0; i < n; ++i) bucket[i + 1] += bucket[i];
-  if (search.upper.size() < total) search.upper.resize(2 * total);
-  for (int rg = 0; rg < ranges; ++rg) {
-    const std::uint64_t* keys = search.found_keys[static_cast<std::size_t>(rg)].data();
-    const std::size_t found = search.found[static_cast<std::size_t>(rg)];
-    for (std::size_t t = 0; t < found; ++t) {
-      const std::uint64_t key = keys[t];
-      const auto slot = static_cast<std::size_t>(bucket[key >> 32]++);
-      search.upper[slot] = static_cast<int>(key & 0xffffffffu);
-    }
-  }
+  const std::size_t total = bucket_by_lower(search, ranges, disks.n, workers);
   // bucket[i] is now the end of bucket i, and the start of bucket i + 1; a pair's slot is
   // its index in the key-ordered list.
+  std::vector<int>& bucket = search.bucket_end;
   pairs.resize(total);
   int* upper = search.upper.data();
   // By disk, in the disk stages' ranges: the work per disk varies with its pair count, and
@@ -396,11 +477,11 @@ void match_warm_start(Contacts& contacts, Accounting& accounting, MatchScratch& 
       // above its last.
       std::size_t p = r == 0 ? 0 : old_from(q0);
       const std::size_t p_end = r == ranges - 1 ? m : old_from(q1);
-      std::vector<double>& ended = scratch.ended[static_cast<std::size_t>(r)];
+      std::vector<CollisionEvent>& ended = scratch.ended[static_cast<std::size_t>(r)];
       std::size_t ended_n = 0;
       auto end_event = [&](double energy_J) {
         if (ended_n == ended.size()) ended.resize(2 * ended_n + 16);
-        ended[ended_n++] = energy_J;
+        ended[ended_n++] = collision_event(energy_J);
       };
       for (std::size_t q = q0; q < q1; ++q) {
         ContactKey& c = now.key[q];

@@ -33,6 +33,9 @@ struct PairSearch {
   std::vector<std::vector<std::uint64_t>> found_keys;
   std::vector<std::size_t> found;
   std::vector<int> bucket_end, upper;      // the pairs bucketed by lower index
+  // Scratch of the threaded bucketing: per block of ranges, each disk's count and then
+  // cursor (block b's at counts[b * (disks + 1) ..]); per range of disks, its pairs.
+  std::vector<int> counts, range_pairs;
   void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
 };
 
@@ -70,10 +73,10 @@ void find_liner_contacts(const Model& model, const LinerModel& liner, LinerSearc
                          const Disks& disks, double mill_angle_rad, double mill_speed_rad_s,
                          LinerSet& contacts, Workers& workers);
 
-// Scratch of the matching: per range, the collision events that ended (energies, in key
-// order), booked after the ranges ran in range order.
+// Scratch of the matching: per range, the collision events that ended (in key order, with
+// their spectrum bins), booked after the ranges ran in range order.
 struct MatchScratch {
-  std::vector<std::vector<double>> ended;
+  std::vector<std::vector<CollisionEvent>> ended;
   std::vector<std::size_t> count;
 };
 

@@ -130,7 +130,7 @@ void SoftEngine::step_once() {
   if (reorder_due(accounting_.steps, disks_))
     reorder_by_cell(model_, liner_, bounds, broad_, disks_, contacts_);
   record_step_start(disks_, start_, workers_);
-  build_pair_grid(model_, bounds, disks_, broad_);
+  build_pair_grid(model_, bounds, disks_, broad_, workers_);
   timing_.broad_s += watch.lap();
 
   fit_liner_search(model_, liner_, bounds, omega, liner_search_);
@@ -150,7 +150,7 @@ void SoftEngine::step_once() {
     relax(model_, start_, (sub + 1) * h, omega, gravity_next, contacts_, rows_, disks_, workers_);
   }
   store_lanes(rows_, contacts_.pairs, workers_);
-  apply_restitution(model_, contacts_, disks_);
+  apply_restitution(model_, contacts_, rows_, disks_, workers_);
   timing_.solve_s += watch.lap();
   count_rows();
 
@@ -158,7 +158,7 @@ void SoftEngine::step_once() {
   account_contacts(liner_, disks_, start_, omega, contacts_, accounting_, finish_, workers_);
   advance_clock(model_, charge_);
   if (inside_liner_check_due(accounting_.steps))
-    check_inside_liner(model_, liner_, disks_, report());
+    check_inside_liner(model_, liner_, disks_, report(), finish_, workers_);
   account_shape();
   timing_.account_s += watch.lap();
 }
