@@ -11,15 +11,11 @@
 #include <cstdlib>
 #include <string>
 
+#include "common/text.hpp"
+
 namespace millwear::app {
 
 namespace number_checks_detail {
-
-inline std::string shown(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 // The option's text as a finite double; false if it is not one (trailing text, NaN, inf).
 inline bool finite_number(const std::string& text, double& v) {
@@ -36,7 +32,7 @@ inline bool finite_number(const std::string& text, double& v) {
 // A finite number in [lo, hi].
 inline CLI::Validator finite_in(double lo, double hi) {
   using namespace number_checks_detail;
-  const std::string range = "[" + shown(lo) + ", " + shown(hi) + "]";
+  const std::string range = "[" + short_number(lo) + ", " + short_number(hi) + "]";
   return CLI::Validator(
       [lo, hi, range](std::string& text) -> std::string {
         double v = 0.0;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "profiles/profile.hpp"
 
 namespace millwear {
@@ -21,13 +22,6 @@ constexpr double kOwnerTolM = 1e-9;
 // A measured scan's points are kept at least this fraction of the lifter's edge length apart
 // in the liner: finer than any mesh edge made from them, coarser than a gauge's step.
 constexpr double kScanSpacingPerEdge = 1.0 / 8.0;
-
-// Numbers in messages: as short as the user would write them (200, 0.5, 1e-05).
-std::string fmt_num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
 
 double row_angle(int row, int rows) { return 2.0 * kPi * row / rows; }
 
@@ -141,12 +135,12 @@ void check_lifter_fits(double half_extent, double height, double radius_m, int r
   if (!(2.0 * half_extent < pitch))
     throw InputError("", "lifters.rows",
                      "expected lifters that fit the pitch: " + std::to_string(rows) + " rows give a pitch of " +
-                         fmt_num(pitch * 1e3) + " mm along the shell, the lifter is " +
-                         fmt_num(2.0 * half_extent * 1e3) + " mm wide");
+                         short_number(pitch * 1e3) + " mm along the shell, the lifter is " +
+                         short_number(2.0 * half_extent * 1e3) + " mm wide");
   if (!(height < 0.5 * radius_m))
     throw InputError("", "lifters.profile",
-                     "expected a lifter lower than half the mill radius (" + fmt_num(0.5 * radius_m * 1e3) +
-                         " mm), got " + fmt_num(height * 1e3) + " mm");
+                     "expected a lifter lower than half the mill radius (" + short_number(0.5 * radius_m * 1e3) +
+                         " mm), got " + short_number(height * 1e3) + " mm");
 }
 
 void check_rows_and_radius(double radius_m, int rows) {
@@ -219,9 +213,9 @@ LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_loc
   if (!whole_unit && (s.front().x < -half_pitch - slack || s.back().x > half_pitch + slack))
     throw InputError("", "lifters.rows",
                      "expected a measured profile no wider than the pitch, centred on its lifter: " +
-                         std::to_string(rows) + " rows give a pitch of " + fmt_num(pitch * 1e3) +
-                         " mm, the profile reaches from " + fmt_num(s.front().x * 1e3) + " to " +
-                         fmt_num(s.back().x * 1e3) + " mm about its lifter's centre");
+                         std::to_string(rows) + " rows give a pitch of " + short_number(pitch * 1e3) +
+                         " mm, the profile reaches from " + short_number(s.front().x * 1e3) + " to " +
+                         short_number(s.back().x * 1e3) + " mm about its lifter's centre");
   check_lifter_fits(half_extent, height, radius_m, rows);
   // Within the pitch (a whole unit's scan may overrun it by the slack).
   s = clip_polyline_x(s, -half_pitch, half_pitch);

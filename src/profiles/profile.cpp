@@ -38,13 +38,6 @@ constexpr double kFootTolM = 1e-9;
 
 namespace fs = std::filesystem;
 
-// Numbers in messages: as short as the user would write them (200, 0.5, 1e-05).
-std::string fmt_num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 std::string line_of(const toml::node& n) {
   return "line " + std::to_string(n.source().begin.line);
 }
@@ -78,7 +71,7 @@ double face_angle_at(const toml::table& t, std::string_view key, const std::stri
   if (!(deg >= 0.0 && deg < 90.0))
     throw InputError(file, std::string(key),
                      "expected a face angle in degrees, 0 <= angle < 90 (got " +
-                         fmt_num(deg) + ")");
+                         short_number(deg) + ")");
   return rad_from_deg(deg);
 }
 
@@ -126,8 +119,8 @@ void check_points_span(const Polyline& points_m, const std::string& file, const 
   const double span_mm = in_mm(std::max(x1 - x0, y1 - y0));
   if (span_mm >= kMinSpanMm) return;
   throw InputError(file, where,
-                   "millimetres, spanning at least " + fmt_num(kMinSpanMm) + " mm across as a lifter does; these points span " +
-                       fmt_num(span_mm) + " mm: are they in metres?");
+                   "millimetres, spanning at least " + short_number(kMinSpanMm) + " mm across as a lifter does; these points span " +
+                       short_number(span_mm) + " mm: are they in metres?");
 }
 
 namespace {
@@ -225,7 +218,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
     const double h_mm = number_at(root, "height", path, "a height in mm in (0, 5000]");
     if (!(h_mm > 0.0 && h_mm <= kMaxLifterMm))
       throw InputError(path, "height",
-                       "expected a height in mm in (0, 5000] (got " + fmt_num(h_mm) + ")");
+                       "expected a height in mm in (0, 5000] (got " + short_number(h_mm) + ")");
     t.height_m = h_mm * kMm;
     t.leading_face_angle_rad = face_angle_at(root, "leading_face_angle", path);
     t.trailing_face_angle_rad = face_angle_at(root, "trailing_face_angle", path);
@@ -255,7 +248,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       const double w_mm = number_at(root, "top_width", path, "a top width in mm in (0, 5000]");
       if (!(w_mm > 0.0 && w_mm <= kMaxLifterMm))
         throw InputError(path, "top_width",
-                         "expected a top width in mm in (0, 5000] (got " + fmt_num(w_mm) + ")");
+                         "expected a top width in mm in (0, 5000] (got " + short_number(w_mm) + ")");
       t.top_width_m = w_mm * kMm;
     } else {
       throw InputError(path, "top_width", "missing; expected a top width in mm > 0 "
@@ -269,9 +262,9 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       if (!(std::abs(p.x) * 1e3 <= kMaxPointMm))
         throw InputError(path, t.leading_face_angle_rad >= t.trailing_face_angle_rad ? "leading_face_angle"
                                                                                       : "trailing_face_angle",
-                         "expected face angles that keep the base within +-" + fmt_num(kMaxPointMm) +
-                             " mm of the centre; at " + fmt_num(in_mm(t.height_m)) + " mm high they reach x = " +
-                             fmt_num(p.x * 1e3) + " mm");
+                         "expected face angles that keep the base within +-" + short_number(kMaxPointMm) +
+                             " mm of the centre; at " + short_number(in_mm(t.height_m)) + " mm high they reach x = " +
+                             short_number(p.x * 1e3) + " mm");
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
     prof.points = read_points(root, path);
@@ -383,8 +376,8 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
   if (s.front().y > kEndTolM || s.back().y > kEndTolM)
     throw InputError(file, key,
                      "expected both ends of the surface at or below the shell line, y <= 0 (a profile from "
-                     "shell to shell; the first point is at y = " + fmt_num(s.front().y * 1e3) +
-                         " mm, the last at y = " + fmt_num(s.back().y * 1e3) + " mm)");
+                     "shell to shell; the first point is at y = " + short_number(s.front().y * 1e3) +
+                         " mm, the last at y = " + short_number(s.back().y * 1e3) + " mm)");
   // From the top outwards to the first point on the shell line (within kEndTolM, as the ends)
   // or below it on either side: a point a rounding error above the line is a foot, not a
   // lifter point that validate_lifter_polyline would find on the line.
@@ -422,9 +415,9 @@ Polyline lifter_of_surface(const Polyline& s, const std::string& file, const std
   if (outside_m2 > 0.1 * lifter_m2)
     throw InputError(file, key,
                      "expected one lifter per surface, the rest at or below the shell line; outside the lifter (x = " +
-                         fmt_num(foot_l.x * 1e3) + " to " + fmt_num(foot_r.x * 1e3) + " mm) it holds " +
-                         fmt_num(in_mm2(outside_m2)) + " mm^2 above the line, rising to y = " +
-                         fmt_num(s[highest].y * 1e3) + " mm at x = " + fmt_num(s[highest].x * 1e3) +
+                         short_number(foot_l.x * 1e3) + " to " + short_number(foot_r.x * 1e3) + " mm) it holds " +
+                         short_number(in_mm2(outside_m2)) + " mm^2 above the line, rising to y = " +
+                         short_number(s[highest].y * 1e3) + " mm at x = " + short_number(s[highest].x * 1e3) +
                          " mm (a scan of one liner unit per file; a pattern of kinds for hi-lo liners)");
   const std::size_t first = left == 0 ? 1 : left;
   const std::size_t last = right + 1 == s.size() ? right - 1 : right;
@@ -505,7 +498,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   if (s.size() < 3 && !loop.empty())
     throw InputError(name, "x_mm,y_mm",
                      "an open surface from one foot to the other; the points close on themselves around a loop of " +
-                         fmt_num(std::abs(signed_area(loop)) * 1e6) + " mm^2 and leave " + std::to_string(s.size()) +
+                         short_number(std::abs(signed_area(loop)) * 1e6) + " mm^2 and leave " + std::to_string(s.size()) +
                          (s.size() == 1 ? " point" : " points") + " of surface (is the base written back to the first point?)");
   if (!is_simple_open(s))
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
@@ -517,31 +510,31 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
   const double lifter_m2 = std::abs(signed_area(prof.points));
   if (loop_m2 > kMaxNoiseLoopShare * lifter_m2)
     throw InputError(name, "x_mm,y_mm",
-                     "a surface that does not cross itself: it crosses itself at x = " + fmt_num(loop[0].x * 1e3) +
-                         ", y = " + fmt_num(loop[0].y * 1e3) + " mm around a loop of " + fmt_num(in_mm2(loop_m2)) +
-                         " mm^2, " + fmt_num(100.0 * loop_m2 / lifter_m2) +
+                     "a surface that does not cross itself: it crosses itself at x = " + short_number(loop[0].x * 1e3) +
+                         ", y = " + short_number(loop[0].y * 1e3) + " mm around a loop of " + short_number(in_mm2(loop_m2)) +
+                         " mm^2, " + short_number(100.0 * loop_m2 / lifter_m2) +
                          "% of the lifter (loops of gauge noise, cut out, hold under " +
-                         fmt_num(100.0 * kMaxNoiseLoopShare) + "%): are the points in order along the surface?");
+                         short_number(100.0 * kMaxNoiseLoopShare) + "%): are the points in order along the surface?");
   // A whole unit's scan: its ends one pitch apart.
   const auto [pitch_m, pitch_line] = pitch_comment(text, name);
   if (pitch_line != 0) {
     const double width = s.back().x - s.front().x;
     if (std::abs(width - pitch_m) > kPitchTolerance * pitch_m)
       throw InputError(name, "line " + std::to_string(pitch_line),
-                       "pitch_mm = " + fmt_num(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
-                       "points one pitch apart (within " + fmt_num(100.0 * kPitchTolerance) + "%); its points reach from x = " +
-                           fmt_num(s.front().x * 1e3) + " to " + fmt_num(s.back().x * 1e3) + " mm, " +
-                           fmt_num(width * 1e3) + " mm");
+                       "pitch_mm = " + short_number(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
+                       "points one pitch apart (within " + short_number(100.0 * kPitchTolerance) + "%); its points reach from x = " +
+                           short_number(s.front().x * 1e3) + " to " + short_number(s.back().x * 1e3) + " mm, " +
+                           short_number(width * 1e3) + " mm");
     // The unit repeats around the mill: its last point is the next copy's first, so the two
     // ends are one place up to the gauge's mismatch.
     const double step_m = s.back().y - s.front().y;
     if (std::abs(step_m) > kPitchTolerance * pitch_m)
       throw InputError(name, "line " + std::to_string(pitch_line),
-                       "pitch_mm = " + fmt_num(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
+                       "pitch_mm = " + short_number(in_mm(pitch_m)) + ": a scan of one whole liner unit, its first and last "
                        "points at one height (the unit repeats, and each end meets the next copy's other end; within " +
-                           fmt_num(kPitchTolerance * pitch_m * 1e3) + " mm, " + fmt_num(100.0 * kPitchTolerance) +
-                           "% of the pitch); its ends are at y = " + fmt_num(s.front().y * 1e3) + " and " +
-                           fmt_num(s.back().y * 1e3) + " mm");
+                           short_number(kPitchTolerance * pitch_m * 1e3) + " mm, " + short_number(100.0 * kPitchTolerance) +
+                           "% of the pitch); its ends are at y = " + short_number(s.front().y * 1e3) + " and " +
+                           short_number(s.back().y * 1e3) + " mm");
     prof.unit_pitch_m = pitch_m;
     prof.pitch_line = pitch_line;
   }

@@ -12,6 +12,7 @@
 
 #include "common/errors.hpp"
 #include "common/parallel.hpp"
+#include "common/text.hpp"
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
@@ -160,9 +161,7 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   check_derived_seeds(scene, factors.size() * nrep, "rule 1 (one seed per factor and replicate)");
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.
   for (double f : factors) {
-    char given[32];
-    std::snprintf(given, sizeof given, "%g", f);
-    if (!(f > 0.0 && f <= 1e12)) throw InputError("", "--factors", std::string("factors in (0, 1e12], got ") + given);
+    if (!(f > 0.0 && f <= 1e12)) throw InputError("", "--factors", "factors in (0, 1e12], got " + short_number(f));
     // The factors and the stage count come from the command line, not the scene: the limit is
     // named as theirs.
     try {
@@ -170,7 +169,7 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
     } catch (const InputError& e) {
       throw InputError("", "--factors, --stages",
                        "factors within the run's limits over " + std::to_string(scene.wear.stages) +
-                           (scene.wear.stages == 1 ? " stage" : " stages") + "; factor " + given + " gives " + e.where + ": " + e.expected);
+                           (scene.wear.stages == 1 ? " stage" : " stages") + "; factor " + short_number(f) + " gives " + e.where + ": " + e.expected);
     }
   }
 
