@@ -47,12 +47,12 @@ std::string backend_label(const ::testing::TestParamInfo<EngineCase>& info) {
   return info.param.threads == 1 ? "soft" : "soft_threads" + std::to_string(info.param.threads);
 }
 
-// A closed box whose floor is an incline from (-2, 1) to (2, -1), counter-clockwise.
-MillGeometry incline_box() {
+// A closed box of shell edges through the corners, counter-clockwise.
+MillGeometry closed_box(std::vector<Vec2> corners) {
   MillGeometry m;
   m.radius_m = 4.0;
   m.rows = 0;
-  m.boundary = {{-2.0, 1.0}, {2.0, -1.0}, {2.0, 3.0}, {-2.0, 3.0}};
+  m.boundary = std::move(corners);
   const std::size_t n = m.boundary.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 d = m.boundary[(i + 1) % n] - m.boundary[i];
@@ -65,6 +65,11 @@ MillGeometry incline_box() {
   }
   return m;
 }
+
+// A closed box whose floor is an incline from (-2, 1) to (2, -1).
+MillGeometry incline_box() { return closed_box({{-2.0, 1.0}, {2.0, -1.0}, {2.0, 3.0}, {-2.0, 3.0}}); }
+// A closed box with a level floor at y = 0.
+MillGeometry level_box() { return closed_box({{-2.0, 0.0}, {2.0, 0.0}, {2.0, 3.0}, {-2.0, 3.0}}); }
 
 Scene single_disk_scene(double friction) {
   Scene s;
@@ -122,6 +127,113 @@ TEST_P(EngineTest, SlidingDiskShearWorkIsFrictionTimesSlipDistance) {
   EXPECT_NEAR(measured / expected, 1.0, 0.02) << "measured " << measured << " J, expected " << expected;
   // No other edge saw work.
   EXPECT_EQ(engine->accounting().shear_work_J[1], 0.0);
+}
+
+// Two equal disks thrown head-on at each other in flight part at e times the speed they met
+// with (the restitution law; gravity pulls both alike and leaves their relative velocity
+// alone), and only after they touched: the centres come within a diameter of each other (less
+// the soft overlap), not a margin short of it. Tolerance 1%: the steps the soft contact takes
+// to turn the disks round, while the rows that bounced are set at e exactly.
+TEST_P(EngineTest, HeadOnDisksPartAtRestitutionTimesTheirClosingSpeed) {
+  for (const double e : {0.3, 0.7}) {
+    Scene scene = with_backend(single_disk_scene(0.5));
+    scene.charge.species[0].restitution = scene.charge.species[0].restitution_liner = e;
+    const MillGeometry box = incline_box();
+    const double r = 0.1, speed = 2.0;
+    const double mass = 1000.0 * kPi * r * r * scene.mill.slice_thickness_m;
+    // Two metres up the box, a metre apart: they fall 0.44 m in the 0.3 s, far above its floor.
+    ChargeState two = one_disk({-0.5, 2.0}, r, mass);
+    ChargeState other = one_disk({0.5, 2.0}, r, mass);
+    two.velocity_m_s[0] = {speed, 0.0};
+    two.position_m.push_back(other.position_m[0]);
+    two.velocity_m_s.push_back({-speed, 0.0});
+    two.angle_rad.push_back(0.0);
+    two.spin_rad_s.push_back(0.0);
+    two.radius_m.push_back(r);
+    two.mass_kg.push_back(mass);
+    two.species.push_back(0);
+    two.active.push_back(1);
+    auto engine = make_engine(scene, box, two, AccountingOptions{});
+    engine->set_mill_speed(0.0);
+    double nearest = 1.0;
+    // 0.3 s: they meet after 0.15 s and are a few tenths of a metre apart again at the end.
+    for (int k = 0; k < steps_for(0.3, engine->time_step_s()); ++k) {
+      engine->step(1);
+      const ChargeState& s = engine->state();
+      nearest = std::min(nearest, length(s.position_m[1] - s.position_m[0]));
+    }
+    const ChargeState& s = engine->state();
+    ASSERT_TRUE(s.active[0] && s.active[1]);
+    const double parting = s.velocity_m_s[1].x - s.velocity_m_s[0].x;
+    EXPECT_NEAR(parting / (2.0 * speed), e, 0.01 * e) << "e " << e;
+    EXPECT_NEAR(s.velocity_m_s[1].y - s.velocity_m_s[0].y, 0.0, 1e-9) << "e " << e;
+    // Touched: within a diameter, and not pressed through a tenth of it.
+    EXPECT_LT(nearest, 2.0 * r) << "e " << e << ": they turned before touching";
+    EXPECT_GT(nearest, 1.8 * r) << "e " << e;
+  }
+}
+
+// A disk dropped onto a level floor leaves it at e times the speed it hit it with (the
+// liner's restitution law), after touching it. Tolerance 1%, as for two disks.
+TEST_P(EngineTest, ADiskDroppedOnTheFloorReboundsAtRestitutionTimesItsSpeed) {
+  for (const double e : {0.3, 0.7}) {
+    Scene scene = with_backend(single_disk_scene(0.5));
+    scene.charge.species[0].restitution = scene.charge.species[0].restitution_liner = e;
+    const double r = 0.1, drop = 1.0;
+    const double mass = 1000.0 * kPi * r * r * scene.mill.slice_thickness_m;
+    auto engine = make_engine(scene, level_box(), one_disk({0.0, r + drop}, r, mass), AccountingOptions{});
+    engine->set_mill_speed(0.0);
+    // It hits after sqrt(2 drop / g) = 0.45 s at sqrt(2 g drop) = 4.43 m/s; the fastest speed
+    // upward after that is the rebound's.
+    const double impact = std::sqrt(2.0 * kGravity * drop);
+    double lowest = 1.0, rebound = 0.0;
+    for (int k = 0; k < steps_for(0.6, engine->time_step_s()); ++k) {
+      engine->step(1);
+      const ChargeState& s = engine->state();
+      lowest = std::min(lowest, s.position_m[0].y);
+      rebound = std::max(rebound, s.velocity_m_s[0].y);
+    }
+    ASSERT_TRUE(engine->state().active[0]);
+    EXPECT_NEAR(rebound / impact, e, 0.01 * e) << "e " << e;
+    // Touched: the soft backend's speculative liner row stops it on the floor exactly, the
+    // library's contact a little into it.
+    EXPECT_LE(lowest, r * (1.0 + 1e-9)) << "e " << e << ": it turned before touching, " << lowest - r << " m above";
+    EXPECT_GT(lowest, 0.9 * r) << "e " << e;
+  }
+}
+
+// A disk whose centre is deep in a lifter's metal (beyond the liner contacts' reach into it)
+// is removed as leaked at the next check, with an event that says so; a disk in the open
+// beside it stays. The lab mill at rest, a 4 mm disk half-way between a lifter's top and the
+// shell (10 mm into the metal, 2.5 radii).
+TEST_P(EngineTest, ADiskInsideALifterIsRemovedAsLeaked) {
+  const Scene scene = with_backend(testing::lab_mill());
+  const MillGeometry mill = build_scene_mill(scene);
+  Vec2 top = mill.boundary.front();
+  for (const Vec2& p : mill.boundary)
+    if (length(p) < length(top)) top = p;
+  const double depth = 0.5 * (mill.radius_m - length(top));
+  ASSERT_GT(depth, 0.008);
+  const double r = 0.004, mass = 2700.0 * kPi * r * r * scene.slice_thickness();
+  ChargeState two = one_disk(top * ((length(top) + depth) / length(top)), r, mass);
+  const ChargeState open = one_disk(top * ((length(top) - 0.05) / length(top)), r, mass);
+  two.position_m.push_back(open.position_m[0]);
+  two.velocity_m_s.push_back({});
+  two.angle_rad.push_back(0.0);
+  two.spin_rad_s.push_back(0.0);
+  two.radius_m.push_back(r);
+  two.mass_kg.push_back(mass);
+  two.species.push_back(0);
+  two.active.push_back(1);
+  auto engine = make_engine(scene, mill, two, accounting_options_for(scene));
+  engine->set_mill_speed(0.0);
+  engine->step(kInsideLinerCheckInterval + 1);
+  EXPECT_FALSE(engine->state().active[0]);
+  EXPECT_TRUE(engine->state().active[1]);
+  EXPECT_EQ(engine->accounting().escaped, 1u);
+  ASSERT_EQ(engine->events().size(), 1u);
+  EXPECT_NE(engine->events().front().what.find("disk 0 leaked into the liner"), std::string::npos)
+      << engine->events().front().what;
 }
 
 TEST_P(EngineTest, EmptyMillDrawsNoTorque) {
@@ -600,6 +712,8 @@ TEST(SoftPairSearch, FindsExactlyThePairsWithinReachInKeyOrder) {
         } kernels(baseline);
         soft::PairSearch search;
         soft::PairSet pairs;
+        // Twice on one search: what it keeps between steps must not leak into the next.
+        soft::find_pairs(model, disks, broad.pair_grid, bounds, search, pairs, workers);
         soft::find_pairs(model, disks, broad.pair_grid, bounds, search, pairs, workers);
         std::vector<std::uint64_t> found;
         for (std::size_t q = 0; q < pairs.size(); ++q) found.push_back(pairs.key[q].key);
@@ -652,7 +766,7 @@ TEST(SoftContacts, SortByKeyOrdersTheKeysAndCarriesTheirContacts) {
 // The grid built by the threads holds each disk in its cell, the cells in order and the
 // disks of a cell by index, exactly as the one-thread build does: random disks over more
 // cells than a range of the threaded build takes, some of them crowded into one cell, some
-// escaped.
+// escaped; the grid built before over other disks.
 TEST(SoftGrid, TheThreadsBuildTheSameGridAsOneThread) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> across(-3.0, 3.0);
@@ -678,8 +792,13 @@ TEST(SoftGrid, TheThreadsBuildTheSameGridAsOneThread) {
   }
   for (int threads = 2; threads <= 4; ++threads) {
     soft::Grid grid;
-    grid.fit(-3.0, -3.0, 6.0, 6.0, 0.05);
     soft::Workers workers(threads);
+    // Built once over other disks and a coarser grid first: what the build keeps between
+    // builds (its scratch) must not leak into the next.
+    grid.fit(-3.0, -3.0, 6.0, 6.0, 0.5);
+    std::vector<double> x_other(y.rbegin(), y.rend());
+    grid.build(x_other.data(), x.data(), active.data(), kDisks, workers);
+    grid.fit(-3.0, -3.0, 6.0, 6.0, 0.05);
     grid.build(x.data(), y.data(), active.data(), kDisks, workers);
     EXPECT_EQ(grid.cell_of, serial.cell_of) << threads << " threads";
     EXPECT_EQ(grid.order, serial.order) << threads << " threads";

@@ -179,8 +179,9 @@ struct Contacts {
 };
 
 // Sort a contact set by key through the spare set (whose contents are dead at this point):
-// a counting sort by the key's upper half (the lower disk, below `disks`), then each bucket
-// (a handful of contacts) by insertion sort on the whole key. Keys are unique, so this is
+// a counting sort by the key's upper half (a pair's lower disk, a liner contact's disk:
+// below `disks` either way), then each bucket (a handful of contacts) by insertion sort on
+// the whole key. Keys are unique, so this is
 // the one order by key. No allocation once the scratch reached its size.
 template <class Set>
 void sort_by_key(Set& set, Set& spare, int disks, SortScratch& scratch) {

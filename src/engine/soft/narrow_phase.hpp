@@ -34,7 +34,7 @@ struct PairSearch {
   std::vector<std::size_t> found;
   std::vector<int> bucket_end, upper;      // the pairs bucketed by lower index
   // Scratch of the threaded bucketing: per block of ranges, each disk's count and then
-  // cursor (block b's at counts[b * (disks + 1) ..]); per range of disks, its pairs.
+  // cursor (block b's at counts[b * disks ..]); per range of disks, its pairs.
   std::vector<int> counts, range_pairs;
   void reserve(int disks) { candidates.reserve(static_cast<std::size_t>(disks)); }
 };
