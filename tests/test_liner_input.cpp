@@ -737,6 +737,16 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
   EXPECT_NE(r.output.find("lifters.profile: the mill of the run it continues"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("a profile of other points, under the same name"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() / "z"));
+  // The copied stages' figures per mill and their g/kWh come from the mill's length, the
+  // slice's thickness and the liner's density: another of any is refused, nothing written.
+  for (const char* set : {"mill.length=1.0", "mill.slice_thickness=0.05", "wear.liner_density=4000"}) {
+    const std::string key = std::string(set).substr(0, std::string(set).find('='));
+    r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "w") + " --continue " + quoted(first) +
+                     " --stage 1 --set " + set + " -q");
+    EXPECT_EQ(r.exit_code, 2) << set << ": " << r.output;
+    EXPECT_NE(r.output.find(key + ": the mill of the run it continues"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir.path() / "w")) << set;
+  }
 }
 
 // The library backend hands the masses back in single precision: its charge is still the

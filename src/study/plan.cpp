@@ -214,20 +214,32 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
     d.changes = study::settings_changes(run, d.name, d.scene);
     // The liner goes on from the run's stage as it is: a mill of another size or other lifters
-    // would wear a liner that does not fit it.
-    // (The manifest's name of the setting, and the scene's key.)
-    const std::pair<const char*, const char*> fixed[] = {{"mill.diameter_m: ", "mill.diameter"},
-                                                         {"mill.rows: ", "lifters.rows"},
-                                                         {"mill.lifter_profile: ", "lifters.profile"},
-                                                         {"mill.lifter_shape: ", "lifters.profile"},
-                                                         {"mill.lifter_pattern: ", "lifters.pattern"}};
+    // would wear a liner that does not fit it. Nor may the mill's length, the slice's
+    // thickness or the liner's density change: the copied stages' figures per mill and their
+    // liner wear in g/kWh are worked out from them, and would change with them.
+    // (The manifest's name of the setting, the scene's key, and a hint.)
+    struct Fixed {
+      const char* setting;
+      const char* key;
+      const char* hint;
+    };
+    const Fixed fixed[] = {
+        {"mill.diameter_m: ", "mill.diameter", ""},
+        {"mill.length_m: ", "mill.length", ""},
+        {"mill.slice_thickness_m: ", "mill.slice_thickness",
+         " (without mill.slice_thickness the slice is the largest rock's diameter: give the run's)"},
+        {"mill.rows: ", "lifters.rows", ""},
+        {"mill.lifter_profile: ", "lifters.profile", ""},
+        {"mill.lifter_shape: ", "lifters.profile", ""},
+        {"mill.lifter_pattern: ", "lifters.pattern", ""},
+        {"wear.liner_density_kg_m3: ", "wear.liner_density", ""}};
     for (const std::string& change : d.changes)
-      for (const auto& [setting, key] : fixed)
-        if (change.rfind(setting, 0) == 0)
-          throw InputError(d.files.front(), key,
-                           "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(setting)) +
-                               "): --continue goes on with that liner under new conditions (speed, filling, wear "
-                               "rate); another mill or lifter is a new run");
+      for (const Fixed& f : fixed)
+        if (change.rfind(f.setting, 0) == 0)
+          throw InputError(d.files.front(), f.key,
+                           "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(f.setting)) +
+                               ")" + f.hint + ": --continue goes on with that liner under new conditions (speed, "
+                               "filling, wear rate); another mill, slice or liner is a new run");
     // A carried charge of other disks would run the old filling under the new one's name.
     if (from.start_charge.size() > 0 && !same_disks(fill_charge(d.scene, stage_mill(d.scene, from)), from.start_charge)) {
       d.refill = true;
