@@ -343,6 +343,39 @@ TEST(IoCsv, NonNumericFieldErrorNamesLineAndColumn) {
   }
 }
 
+// A NUL byte inside a number is no end of it: "2\0" "0" and "20.25\0junk" are refused,
+// naming the line and column, with the NUL shown as \x00 (a reader that stopped at the NUL
+// read 2 and 20.25).
+TEST(IoCsv, ANulByteInsideANumberIsRefusedAndShown) {
+  for (const std::string& cell : {std::string("2\0" "0", 3), std::string("20.25\0junk", 10)}) {
+    io::CsvData d = io::parse_csv("x_mm,y_mm\n1,2\n5," + cell + "\n", "p.csv");
+    try {
+      d.numbers("y_mm");
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "line 3");
+      EXPECT_NE(e.expected.find("y_mm"), std::string::npos);
+      EXPECT_NE(e.expected.find("\\x00"), std::string::npos) << e.expected;
+      EXPECT_EQ(e.expected.find('\0'), std::string::npos);
+    }
+  }
+}
+
+// A field of a million bytes is refused with its first bytes and its length, not echoed
+// whole.
+TEST(IoCsv, AHugeFieldIsShownCutShort) {
+  const std::string cell(1000000, '7');
+  io::CsvData d = io::parse_csv("x_mm,y_mm\n1,2\n5,x" + cell + "\n", "p.csv");
+  try {
+    d.numbers("y_mm");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "line 3");
+    EXPECT_LT(e.expected.size(), 200u);
+    EXPECT_NE(e.expected.find("(1000001 bytes)"), std::string::npos) << e.expected;
+  }
+}
+
 TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
   io::CsvData d = io::parse_csv("a,b\n1,2\n", "t.csv");
   EXPECT_THROW(d.column("c"), InputError);

@@ -1,5 +1,6 @@
 #pragma once
 // Text helpers of the file readers and the messages.
+#include <cstddef>
 #include <cstdio>
 #include <string>
 
@@ -19,6 +20,25 @@ inline std::string short_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// A field of a file as a message quotes it: a byte below 0x20 (or 0x7f) as \xNN, so that a
+// NUL or a control byte is seen; at most kShownBytes bytes of it, then how long it was.
+constexpr std::size_t kShownBytes = 40;
+inline std::string shown_text(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size() && i < kShownBytes; ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    } else {
+      out += s[i];
+    }
+  }
+  if (s.size() > kShownBytes) out += "... (" + std::to_string(s.size()) + " bytes)";
+  return out;
 }
 
 }  // namespace millwear

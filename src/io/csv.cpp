@@ -115,7 +115,7 @@ double CsvData::number(std::size_t row, std::size_t col) const {
       if (s.find(',', comma + 1) != std::string::npos || s.find('.') != std::string::npos)
         throw InputError(path, "line " + std::to_string(row_line.at(row)),
                          "a number in column " + header.at(col) +
-                             " (';'-separated: a decimal comma and no thousands separator), found '" + field + "'");
+                             " (';'-separated: a decimal comma and no thousands separator), found '" + shown_text(field) + "'");
       s[comma] = '.';
     }
   }
@@ -127,14 +127,16 @@ double CsvData::number(std::size_t row, std::size_t col) const {
   const char* digits = begin + std::strspn(begin, " \t+-");
   bool ok = end != begin && !(digits[0] == '0' && (digits[1] == 'x' || digits[1] == 'X'));
   if (ok) {
-    while (*end == ' ' || *end == '\t') ++end;
-    ok = *end == '\0';
+    // To the field's end, not the first NUL byte: "2\0" "0" is no number.
+    const char* stop = begin + s.size();
+    while (end < stop && (*end == ' ' || *end == '\t')) ++end;
+    ok = end == stop;
   }
   // ERANGE on underflow gives a denormal or zero, which is fine; on overflow, it is not.
   if (ok && errno == ERANGE && std::isinf(v)) ok = false;
   if (!ok)
     throw InputError(path, "line " + std::to_string(row_line.at(row)),
-                     "a number in column " + header.at(col) + ", found '" + field + "'");
+                     "a number in column " + header.at(col) + ", found '" + shown_text(field) + "'");
   return v;
 }
 
@@ -142,7 +144,7 @@ double CsvData::finite_number(std::size_t row, std::size_t col) const {
   const double v = number(row, col);
   if (!std::isfinite(v))
     throw InputError(path, "line " + std::to_string(row_line.at(row)),
-                     "a finite number in column " + header.at(col) + ", found '" + text(row, col) + "'");
+                     "a finite number in column " + header.at(col) + ", found '" + shown_text(text(row, col)) + "'");
   return v;
 }
 

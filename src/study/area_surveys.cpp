@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
@@ -42,11 +43,11 @@ AreaSurveys parse_area_surveys(const std::string& text, const std::string& name)
     const double h = d.number(r, ch), v = d.number(r, cv);
     // 1e10 mm^2 (100 m x 100 m) is past any lifter.
     if (!(h >= 0.0 && h <= kMaxHours))
-      throw InputError(name, line, "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
+      throw InputError(name, line, "operating hours in [0, 1e6] in column hours, found '" + shown_text(d.text(r, ch)) + "'");
     if (area && !(v > 0.0 && v <= 1e10))
-      throw InputError(name, line, "a lifter area in (0, 1e10] (mm^2) in column area_mm2, found '" + d.text(r, cv) + "'");
+      throw InputError(name, line, "a lifter area in (0, 1e10] (mm^2) in column area_mm2, found '" + shown_text(d.text(r, cv)) + "'");
     if (loss && !(std::abs(v) <= 1e10))
-      throw InputError(name, line, "an area loss within +-1e10 (mm^2) in column area_loss_mm2, found '" + d.text(r, cv) + "'");
+      throw InputError(name, line, "an area loss within +-1e10 (mm^2) in column area_loss_mm2, found '" + shown_text(d.text(r, cv)) + "'");
     out.surveys.push_back({h, v * kMm2, d.row_line[r]});
   }
   return out;

@@ -113,7 +113,7 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
   for (std::size_t r = 0; r < d.row_count(); ++r) {
     const double h = d.number(r, ch), x = d.number(r, cx), y = d.number(r, cy);
     if (!(h >= 0.0 && h <= kMaxHours))
-      throw InputError(name, line_of(d, r), "operating hours in [0, 1e6] in column hours, found '" + d.text(r, ch) + "'");
+      throw InputError(name, line_of(d, r), "operating hours in [0, 1e6] in column hours, found '" + shown_text(d.text(r, ch)) + "'");
     if (!(std::abs(x) <= kMaxPointMm && std::abs(y) <= kMaxPointMm))
       throw InputError(name, line_of(d, r), "x_mm and y_mm within +-100000 mm");
     if (surveys.empty() || surveys.back().hours != h) {
