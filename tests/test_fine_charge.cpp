@@ -76,6 +76,40 @@ TEST(FineCharge, TwentyFiveMillimetreSagChargeFillsToItsFillingAndMassFractions)
 // without a lost disk: 0.5 s at rest, then half a revolution at the scene's speed (the
 // charge lifts to its shoulder and cascades onto the toe; a whole revolution, 6,000 steps
 // of 1 ms, costs twice the test's time for the same events again).
+// With a size cut-off that leaves classes out, --check's note gives what the classes it
+// keeps hold (of the distribution, or of a list of sizes), down to shares far below 0.1%.
+TEST(FineCharge, TheNoteOnASpeciesMassCountsTheClassesTheCutOffKeeps) {
+  Scene scene = fine_sag();
+  scene.solver.size_cutoff_m = 0.1;
+  const SpeciesDef& rock = scene.charge.species[1];
+  double kept = 0.0, listed = 0.0;
+  for (std::size_t i = 0; i < rock.diameters_m.size(); ++i) {
+    listed += rock.mass_fractions[i];
+    if (rock.diameters_m[i] >= 0.1) kept += rock.mass_fractions[i];
+  }
+  ASSERT_LT(kept, listed);
+  std::vector<std::string> notes = distribution_notes(scene);
+  ASSERT_EQ(notes.size(), 1u);
+  char held[96];
+  std::snprintf(held, sizeof held, "from 112.5 mm (the size cut-off, 100 mm) hold %.1f%% of its distribution's mass",
+                100.0 * rock.distribution_held * kept / listed);
+  EXPECT_NE(notes[0].find(held), std::string::npos) << notes[0];
+  // Listed sizes: the cut-off keeps a class holding a billionth of the mass.
+  Scene listed_sizes = fine_sag();
+  SpeciesDef& listed_rock = listed_sizes.charge.species[1];
+  listed_rock.diameters_m = {0.022, 0.007};
+  listed_rock.mass_fractions = {1e-9, 1.0 - 1e-9};
+  listed_rock.distribution_held = 0.0;
+  listed_sizes.solver.size_cutoff_m = 0.01;
+  notes = distribution_notes(listed_sizes);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("from 22 mm (the size cut-off, 10 mm) hold 1e-07% of its listed mass"), std::string::npos)
+      << notes[0];
+  // Without a cut-off a list says nothing.
+  listed_sizes.solver.size_cutoff_m = 0.0;
+  EXPECT_TRUE(distribution_notes(listed_sizes).empty());
+}
+
 TEST(FineCharge, TwentyFiveMillimetreSagChargeTurnsWithoutLosingADisk) {
   Scene scene = fine_sag();
   scene.solver.threads = 2;

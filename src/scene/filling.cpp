@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numeric>
 
+#include "common/text.hpp"
 #include "common/units.hpp"
 
 namespace millwear {
@@ -95,18 +96,45 @@ double expected_charge_disks(const Scene& scene) {
   return total;
 }
 
+namespace {
+
+// A share as a per cent, to one decimal, or to three digits when it rounds to nothing there.
+std::string per_cent(double share) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, 100.0 * share >= 0.05 ? "%.1f%%" : "%.3g%%", 100.0 * share);
+  return buf;
+}
+
+}  // namespace
+
 std::vector<std::string> distribution_notes(const Scene& scene) {
   std::vector<std::string> notes;
+  const std::vector<SpeciesDef> placed = scene.species_as_placed();
   for (std::size_t k = 0; k < scene.charge.species.size(); ++k) {
     const SpeciesDef& sp = scene.charge.species[k];
-    if (!(sp.distribution_held > 0.0)) continue;
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "charge.species[%zu] ('%s'): its classes hold %.1f%% of its distribution's mass; the %.1f%% "
-                  "finer than %.4g mm goes to them",
-                  k, sp.name.c_str(), 100.0 * sp.distribution_held, 100.0 * (1.0 - sp.distribution_held),
-                  in_mm(sp.smallest_diameter_m()));
-    notes.emplace_back(line);
+    if (sp.is_ball || sp.diameters_m.empty()) continue;
+    // What the classes the cut-off keeps hold of the classes' mass (all of it without one).
+    double listed = 0.0, kept = 0.0;
+    const std::vector<double>& kept_sizes = placed[k].diameters_m;
+    for (std::size_t i = 0; i < sp.diameters_m.size(); ++i) {
+      listed += sp.mass_fractions[i];
+      if (std::find(kept_sizes.begin(), kept_sizes.end(), sp.diameters_m[i]) != kept_sizes.end())
+        kept += sp.mass_fractions[i];
+    }
+    const bool distribution = sp.distribution_held > 0.0;
+    const bool cut = kept < listed;
+    if (!distribution && !cut) continue;
+    const double held = (distribution ? sp.distribution_held : 1.0) * (listed > 0.0 ? kept / listed : 0.0);
+    char from[96];
+    if (cut)
+      std::snprintf(from, sizeof from, "its classes from %.4g mm (the size cut-off, %.4g mm)",
+                    in_mm(placed[k].smallest_diameter_m()), in_mm(scene.solver.size_cutoff_m));
+    else
+      std::snprintf(from, sizeof from, "its classes");
+    notes.push_back("charge.species[" + std::to_string(k) + "] ('" + sp.name + "'): " + from + " hold " +
+                    per_cent(held) + " of its " + (distribution ? "distribution's" : "listed") + " mass; the " +
+                    per_cent(1.0 - held) + " finer than " + short_number(in_mm(placed[k].smallest_diameter_m())) +
+                    " mm goes to them");
   }
   return notes;
 }

@@ -43,7 +43,9 @@ double expected_disks(const Scene& scene, std::size_t k);
 double expected_charge_disks(const Scene& scene);
 // For each species with a size distribution, what its classes hold of the distribution's
 // mass: "charge.species[1] ('rock'): its classes hold 84.2% of its distribution's mass; the
-// 15.8% finer than 25 mm goes to them". For --check.
+// 15.8% finer than 25 mm goes to them"; with a size cut-off that leaves classes out (of a
+// distribution or of listed sizes), what the classes it keeps hold: "its classes from 112.5
+// mm (the size cut-off, 100 mm) hold 52.0% of ...". For --check.
 std::vector<std::string> distribution_notes(const Scene& scene);
 
 }  // namespace millwear
