@@ -153,6 +153,9 @@ TEST_F(Overrides, BadlyTypedValuesAreRefusedNamingTheKeyAndTheExpectation) {
       {"mill.direction=sideways", "mill.direction", "\"forward\", \"reverse\" or \"bidirectional\""},     // enum
       {"outputs.vtk_frames=0", "outputs.vtk_frames", "an integer in [1, 1000]"},
       {"mill.speed=1e400", "mill.speed", "a number within a double's range"},  // not a string
+      // Numbers TOML does not write so: not a string either, and not out of a double's range.
+      {"mill.speed=.8", "mill.speed", "a number as TOML writes one (0.8 rather than .8"},
+      {"wear.stages=99999999999999999999", "wear.stages", "a whole number up to 9.2e18"},
   };
   for (const Case& c : cases) {
     const InputError e = error_of({c.set});

@@ -645,14 +645,20 @@ toml::table value_holder(const std::string& value, const std::string& where) {
       copy_value(*t.get("v"), &out, "v", nullptr);
       return out;
     }
-  } catch (const toml::parse_error&) {
-    // A number TOML cannot hold (1e400) is not a word: taken as a string, its key's error
-    // would say "got a string".
+  } catch (const toml::parse_error& e) {
+    // A number TOML cannot hold (1e400) or does not write so (.8, an integer past 64 bits) is
+    // not a word: taken as a string, its key's error would say "got a string".
     const char* begin = value.c_str();
     char* end = nullptr;
-    std::strtod(begin, &end);
-    if (end != begin && *end == '\0')
-      throw InputError("", where, "expected a number within a double's range (about 1.8e308), got " + value);
+    const double v = std::strtod(begin, &end);
+    if (end != begin && *end == '\0') {
+      if (!std::isfinite(v))
+        throw InputError("", where, "expected a number within a double's range (about 1.8e308), got " + value);
+      throw InputError("", where,
+                       "expected a number as TOML writes one (0.8 rather than .8; a whole number up to "
+                       "9.2e18, or with a decimal point beyond), got " + value + " (TOML: " +
+                           std::string(e.description()) + ")");
+    }
   }
   out.insert("v", value);
   return out;
