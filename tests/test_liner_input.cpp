@@ -747,6 +747,28 @@ TEST(Continue, SameConditionsReproduceTheLaterStagesByteForByte) {
     EXPECT_NE(r.output.find(key + ": the mill of the run it continues"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir.path() / "w")) << set;
   }
+  // Listed sizes: the seed places the disks of a fill only. Continued from stage 1, whose
+  // charge is carried on, a new seed changes nothing, and --check says so; from stage 0,
+  // which starts from a fill, it is a change like any other.
+  std::string listed_text = lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 4);
+  const std::string range_line = "size_range = [15.0, 25.0]";
+  ASSERT_NE(listed_text.find(range_line), std::string::npos);
+  listed_text.replace(listed_text.find(range_line), range_line.size(),
+                      "sizes = [15.0, 20.0, 25.0]\nmass_fractions = [0.3, 0.4, 0.3]");
+  const std::string listed = dir.write("lab4listed.toml", listed_text);
+  const fs::path listed_run = dir.path() / "listed";
+  r = run_millwear("run " + quoted(listed) + " -o " + quoted(listed_run) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const int stage : {1, 0}) {
+    r = run_millwear("run " + quoted(listed) + " -o " + quoted(dir.path() / "v") + " --continue " +
+                     quoted(listed_run) + " --stage " + std::to_string(stage) + " --set solver.seed=2 --check");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("solver.seed: 1 -> 2"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("solver.seed: 1 -> 2 (no effect: the charge is carried on from stage 1") != std::string::npos,
+              stage == 1)
+        << r.output;
+    EXPECT_EQ(r.output.find("charge: other disks"), std::string::npos) << r.output;
+  }
 }
 
 // The library backend hands the masses back in single precision: its charge is still the

@@ -245,6 +245,12 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
       d.refill = true;
       d.changes.push_back("charge: other disks than stage " + std::to_string(k) +
                           " started with; filled anew on its liner, settled and spun up");
+    } else if (from.start_charge.size() > 0) {
+      // The seed only places and draws the disks of a fill: a charge carried on does not see it.
+      for (std::string& change : d.changes)
+        if (change.rfind("solver.seed: ", 0) == 0)
+          change += " (no effect: the charge is carried on from stage " + std::to_string(k) +
+                    " as it was; only sizes drawn from a size_range would change with it)";
     }
     d.fingerprint = io::stable_hash_hex(d.fingerprint + "\n--continue " + run + " --stage " + std::to_string(k));
   }
