@@ -103,6 +103,18 @@ ChargeState one_disk(Vec2 p, double r, double mass) {
   return c;
 }
 
+// The charge with one more disk of species 0 at p, moving at v.
+void add_disk(ChargeState& c, Vec2 p, Vec2 v, double r, double mass) {
+  c.position_m.push_back(p);
+  c.velocity_m_s.push_back(v);
+  c.angle_rad.push_back(0.0);
+  c.spin_rad_s.push_back(0.0);
+  c.radius_m.push_back(r);
+  c.mass_kg.push_back(mass);
+  c.species.push_back(0);
+  c.active.push_back(1);
+}
+
 TEST_P(EngineTest, SlidingDiskShearWorkIsFrictionTimesSlipDistance) {
   const double mu = 0.1;  // below tan(theta)/3, so the disk slips while it rolls
   const Scene scene = with_backend(single_disk_scene(mu));
@@ -143,16 +155,8 @@ TEST_P(EngineTest, HeadOnDisksPartAtRestitutionTimesTheirClosingSpeed) {
     const double mass = 1000.0 * kPi * r * r * scene.mill.slice_thickness_m;
     // Two metres up the box, a metre apart: they fall 0.44 m in the 0.3 s, far above its floor.
     ChargeState two = one_disk({-0.5, 2.0}, r, mass);
-    ChargeState other = one_disk({0.5, 2.0}, r, mass);
     two.velocity_m_s[0] = {speed, 0.0};
-    two.position_m.push_back(other.position_m[0]);
-    two.velocity_m_s.push_back({-speed, 0.0});
-    two.angle_rad.push_back(0.0);
-    two.spin_rad_s.push_back(0.0);
-    two.radius_m.push_back(r);
-    two.mass_kg.push_back(mass);
-    two.species.push_back(0);
-    two.active.push_back(1);
+    add_disk(two, {0.5, 2.0}, {-speed, 0.0}, r, mass);
     auto engine = make_engine(scene, box, two, AccountingOptions{});
     engine->set_mill_speed(0.0);
     double nearest = 1.0;
@@ -216,15 +220,7 @@ TEST_P(EngineTest, ADiskInsideALifterIsRemovedAsLeaked) {
   ASSERT_GT(depth, 0.008);
   const double r = 0.004, mass = 2700.0 * kPi * r * r * scene.slice_thickness();
   ChargeState two = one_disk(top * ((length(top) + depth) / length(top)), r, mass);
-  const ChargeState open = one_disk(top * ((length(top) - 0.05) / length(top)), r, mass);
-  two.position_m.push_back(open.position_m[0]);
-  two.velocity_m_s.push_back({});
-  two.angle_rad.push_back(0.0);
-  two.spin_rad_s.push_back(0.0);
-  two.radius_m.push_back(r);
-  two.mass_kg.push_back(mass);
-  two.species.push_back(0);
-  two.active.push_back(1);
+  add_disk(two, top * ((length(top) - 0.05) / length(top)), {}, r, mass);
   auto engine = make_engine(scene, mill, two, accounting_options_for(scene));
   engine->set_mill_speed(0.0);
   engine->step(kInsideLinerCheckInterval + 1);

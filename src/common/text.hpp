@@ -22,23 +22,27 @@ inline std::string short_number(double v) {
   return buf;
 }
 
-// A field of a file as a message quotes it: a byte below 0x20 (or 0x7f) as \xNN, so that a
-// NUL or a control byte is seen; at most kShownBytes bytes of it, then how long it was.
-constexpr std::size_t kShownBytes = 40;
-inline std::string shown_text(const std::string& s) {
+// Text as shown in a message: control characters as \xNN escapes, cut after `max` characters.
+inline std::string printable(const std::string& text, std::size_t max) {
   std::string out;
-  for (std::size_t i = 0; i < s.size() && i < kShownBytes; ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
+  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
     if (c < 0x20 || c == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", c);
-      out += buf;
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\x%02x", c);
+      out += esc;
     } else {
-      out += s[i];
+      out += text[i];
     }
   }
-  if (s.size() > kShownBytes) out += "... (" + std::to_string(s.size()) + " bytes)";
-  return out;
+  return text.size() > max ? out + "..." : out;
+}
+
+// A field of a file as a message quotes it: printable, at most kShownBytes bytes of it, then
+// how long it was (a NUL, a control byte or a cell of megabytes is seen, not echoed).
+constexpr std::size_t kShownBytes = 40;
+inline std::string shown_text(const std::string& s) {
+  return printable(s, kShownBytes) + (s.size() > kShownBytes ? " (" + std::to_string(s.size()) + " bytes)" : "");
 }
 
 }  // namespace millwear

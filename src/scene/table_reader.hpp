@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 
 namespace millwear::toml_reader {
 
@@ -69,22 +70,6 @@ inline std::string type_name(toml::node_type t) {
     case toml::node_type::date_time: return "a date-time";
     default: return "nothing";
   }
-}
-
-// Text as shown in a message: control characters as \xNN escapes, cut after `max` characters.
-inline std::string printable(const std::string& text, std::size_t max) {
-  std::string out;
-  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 || c == 0x7f) {
-      char esc[8];
-      std::snprintf(esc, sizeof esc, "\\x%02x", c);
-      out += esc;
-    } else {
-      out += text[i];
-    }
-  }
-  return text.size() > max ? out + "..." : out;
 }
 
 // "got a string 'ten'" / "got -3" / "got an array [0.5, 0.4]"; long values are shortened.
