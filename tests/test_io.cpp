@@ -376,6 +376,21 @@ TEST(IoCsv, AHugeFieldIsShownCutShort) {
   }
 }
 
+// A column named twice is refused, naming it and both places; unnamed columns (a
+// spreadsheet's trailing commas) are not names.
+TEST(IoCsv, AColumnNamedTwiceIsRefused) {
+  try {
+    io::parse_csv("period,days,area_loss_mm2,hardness,days\n1,54,936.9,13.2,3\n", "d.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, "d.csv");
+    EXPECT_EQ(e.where, "line 1");
+    EXPECT_NE(e.expected.find("'days' as columns 2 and 5"), std::string::npos) << e.expected;
+  }
+  const io::CsvData d = io::parse_csv("x_mm,y_mm,,\n1,2,,\n", "p.csv");
+  EXPECT_DOUBLE_EQ(d.number(0, "y_mm"), 2.0);
+}
+
 TEST(IoCsv, MissingColumnAndMissingFileAreInputErrors) {
   io::CsvData d = io::parse_csv("a,b\n1,2\n", "t.csv");
   EXPECT_THROW(d.column("c"), InputError);

@@ -261,6 +261,14 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
   data.header = std::move(records[0].fields);
   for (std::string& h : data.header) h = trim(h);  // "x_mm, y_mm" as a spreadsheet may write it
   data.header_line = records[0].line;
+  // A name twice leaves which column is meant to chance. (Unnamed columns, as a spreadsheet
+  // may add at the end, are read by nobody.)
+  for (std::size_t i = 0; i < data.header.size(); ++i)
+    for (std::size_t j = i + 1; j < data.header.size(); ++j)
+      if (!data.header[i].empty() && data.header[i] == data.header[j])
+        throw InputError(name, "line " + std::to_string(data.header_line),
+                         "each column named once, found '" + shown_text(data.header[i]) + "' as columns " +
+                             std::to_string(i + 1) + " and " + std::to_string(j + 1));
   for (std::size_t r = 1; r < records.size(); ++r) {
     if (records[r].fields.size() != data.header.size())
       throw InputError(name, "line " + std::to_string(records[r].line),
