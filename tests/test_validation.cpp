@@ -456,6 +456,21 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
     EXPECT_NE(r.output.find(metres + ": line 2: millimetres, spanning at least 1 mm across"), std::string::npos)
         << r.output;
   }
+  // A loss beyond the whole lifter, or losses that do not grow with time: validate refuses
+  // them as calibrate does, before any work.
+  const std::string too_much = (d / "too-much.csv").string();
+  std::ofstream(too_much) << "hours,area_loss_mm2\n100,5000\n";
+  const std::string gained = (d / "gained.csv").string();
+  std::ofstream(gained) << "hours,area_loss_mm2\n100,-20\n";
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    CliResult r = run_cli(cmd + " \"" + scene + "\" --measured \"" + too_much + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(too_much + ": line 2: an area loss smaller than the lifter's area"), std::string::npos)
+        << cmd << ": " << r.output;
+    r = run_cli(cmd + " \"" + scene + "\" --measured \"" + gained + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find("these area losses are not positive"), std::string::npos) << cmd << ": " << r.output;
+  }
   // Only the new lifter: nothing to calibrate on.
   const std::string unworn = (d / "unworn.csv").string();
   std::ofstream(unworn) << "hours,area_mm2\n0,419\n";

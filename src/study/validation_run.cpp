@@ -205,6 +205,10 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   check_surveys_in_mill(measured, scene, a.measured_file);
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
+  // As calibrate: no survey lost more than the whole lifter, and the losses grow with time.
+  else
+    check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
+                       scene.wear.start_hours, a.measured_file);
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
   io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
   const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
