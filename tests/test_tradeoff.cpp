@@ -215,6 +215,26 @@ TEST(TradeoffCli, TheManifestRecordsTheOverridesSettingsAndFiles) {
   fs::remove_all(out);
 }
 
+// A ladder of one setting (--only reference) has nothing to trade off: no figure, and exit 0
+// (gnuplot crashed on its empty x range). Without gnuplot the tables stand alone: a warning
+// and exit 0, as for every command.
+TEST(TradeoffCli, OneSettingDrawsNoFigureAndNoGnuplotIsAWarning) {
+  namespace fs = std::filesystem;
+  const testing::TempDir dir("millwear-tradeoff-figure");
+  const std::string lab = testing::quoted(source_path("scenarios/lab-mill.toml"));
+  auto r = testing::run_millwear("tradeoff " + lab + " -o " + testing::quoted(dir / "one") +
+                                 " --only reference --stages 1 --stage-hours 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no figure: one setting, nothing to trade off"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir / "one" / "tradeoff.csv"));
+  r = testing::run_shell("env PATH=" + testing::quoted(dir.path()) + " \"" + MILLWEAR_BINARY + "\" tradeoff " + lab +
+                         " -o " + testing::quoted(dir / "bare") + " --only draft --stages 1 --stage-hours 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: figures: gnuplot not found"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_regular_file(dir / "bare" / "tradeoff.csv"));
+  EXPECT_FALSE(fs::exists(dir / "bare" / "tradeoff.png"));
+}
+
 TEST(TradeoffLadder, AFineChargeLaddersTheFiftyMillimetreCutOff) {
   const Scene fine = load_scene(source_path("scenarios/sag-2x30-fine.toml"));
   TradeoffOptions o;

@@ -2,7 +2,8 @@
 // the wear history of one design, or of every design of a comparison file, over the
 // fidelity ladder (study/tradeoff.hpp), each run measured against the reference run; the
 // files it writes in study/tradeoff_study.hpp.
-// Exit codes: 0 done; 1 the reference run failed or the figure failed; 2 bad input.
+// Exit codes: 0 done (without gnuplot: no figure, a warning); 1 the reference run failed or
+// gnuplot failed on the figure; 2 bad input.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -18,6 +19,7 @@
 #include "common/units.hpp"
 #include "io/csv.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
+#include "plots/plots.hpp"
 #include "study/tradeoff_study.hpp"
 
 namespace millwear::app {
@@ -73,7 +75,17 @@ int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
   std::printf("wrote %s/tradeoff.csv, tradeoff_designs.csv, tradeoff_front.csv, tradeoff_profiles.csv, tradeoff.md\n",
               out.c_str());
   if (!a.figure) return 0;
+  if (study.figure_skipped) {
+    std::printf("no figure: one setting, nothing to trade off\n");
+    return 0;
+  }
   if (!study.figure_error.empty()) {
+    // Without gnuplot the tables stand alone (as for every command); a gnuplot that failed
+    // is a failed figure.
+    if (!plots::gnuplot_available()) {
+      std::fprintf(stderr, "millwear: warning: figures: %s\n", study.figure_error.c_str());
+      return 0;
+    }
     std::fprintf(stderr, "millwear: figure failed: %s\n", study.figure_error.c_str());
     return 1;
   }

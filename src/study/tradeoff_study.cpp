@@ -109,7 +109,9 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   TradeoffStudy study;
   study.report = run_tradeoff(ladder, request.jobs, cb.runs);
   write_tradeoff_files(study.report, request.out);
-  if (request.figure) {
+  // One setting (--only reference) has nothing to trade off: a figure of one point is none.
+  study.figure_skipped = request.figure && study.report.rows.size() < 2;
+  if (request.figure && !study.figure_skipped) {
     try {
       study.figure_files = render_tradeoff_figure(request.out);
     } catch (const RunError& e) {

@@ -37,6 +37,7 @@ struct TradeoffStudy {
   TradeoffReport report;
   std::vector<std::string> figure_files;  // empty without the figure
   std::string figure_error;               // the figure failed (RunError text); the tables are written
+  bool figure_skipped = false;            // one setting: nothing to trade off, no figure drawn
 };
 
 // Loads and checks the designs (InputError before anything is written), builds the ladder,
