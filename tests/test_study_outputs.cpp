@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -128,6 +129,28 @@ TEST(Animation, AnOutputThatIsNotAGifIsAnInputErrorBeforeAnythingRuns) {
   }
   r.scene_file = "no-such-scene.toml";
   EXPECT_THROW(study::make_animation(r), InputError);
+}
+
+// Without gnuplot the GIF cannot be drawn: said at once, before any simulation, and
+// nothing written.
+TEST(Animation, WithoutGnuplotNothingRunsAndTheErrorSaysSo) {
+  study::AnimationRequest r;
+  r.scene_file = testing::source_path("tests/data/lab-quick.toml");
+  const testing::TempDir dir("millwear-study-animation-bare");
+  r.out = (dir / "charge.gif").string();
+  const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  ::setenv("PATH", dir.path().c_str(), 1);  // a folder without gnuplot
+  std::string msg;
+  try {
+    study::make_animation(r);
+  } catch (const RunError& e) {
+    msg = e.what();
+  }
+  ::setenv("PATH", old_path.c_str(), 1);
+  EXPECT_NE(msg.find("gnuplot not found on PATH"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("nothing was simulated or written"), std::string::npos) << msg;
+  EXPECT_FALSE(std::filesystem::exists(dir / "charge.gif"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "charge_frames"));
 }
 
 TEST(Animation, AHistoryWithoutTheDesignsStagesIsAnInputError) {

@@ -229,6 +229,10 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
   const std::string outbase = a.out.substr(0, a.out.size() - 4);
+  // The GIF is all this command makes: without gnuplot, say so before simulating anything.
+  if (!plots::gnuplot_available())
+    throw RunError("gnuplot not found on PATH: the animation is drawn by gnuplot's gif terminal (for example "
+                   "`apt-get install gnuplot-nox`); nothing was simulated or written");
 
   AnimationOutcome o;
   o.scene_name = scene.name;
