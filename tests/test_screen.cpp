@@ -622,6 +622,16 @@ TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
   }
+  // A Latin hypercube of five samples over two listed angles draws one design several times.
+  const fs::path lhs = write_screen(dir, "lhs.toml",
+                                    "[screen]\nbase = '" + lab_base() +
+                                        "'\nsampling = 'latin_hypercube'\nsamples = 5\n[family]\n"
+                                        "leading_face_angle = [20.0, 30.0]\n");
+  r = millwear_cmd("screen " + q(lhs) + " -o " + q(dir / "out") + " --emit parallel");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("screen.samples: samples that are each another design, but d00"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "jobs.txt"));
 }
 
 TEST(ScreenInput, FamilyWithNoValidCandidateExitsTwo) {

@@ -139,6 +139,7 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   in.def = load_screen(a.screen_file, a.overrides);
   const Scene base = load_scene(in.def.base_scene, a.overrides);
   in.candidates = sample_family(in.def, base);
+  check_distinct_candidates(in.candidates, a.screen_file);
   in.varying = varying_parameters(in.def);
   if (a.replicates < 1 || a.replicates > study::kMaxReplicates)
     throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) +

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -520,6 +521,29 @@ std::vector<Candidate> sample_family(const ScreenDef& d, const Scene& base) {
     out.push_back(c);
   }
   return out;
+}
+
+void check_distinct_candidates(const std::vector<Candidate>& candidates, const std::string& screen_file) {
+  // A design is its profile or shapes, its rows and its direction.
+  auto design = [](const Candidate& c) {
+    std::string key = c.profile_source + "|" + std::to_string(c.rows) + "|" + c.direction;
+    auto add = [&key](double height, double top, double leading, double trailing) {
+      for (double v : {height, top, leading, trailing}) key += "|" + io::format_exact(v);
+    };
+    add(c.height_mm, c.top_width_mm, c.leading_deg, c.trailing_deg);
+    for (const KindShape& k : c.kinds) add(k.height_mm, k.top_width_mm, k.leading_deg, k.trailing_deg);
+    return key;
+  };
+  std::map<std::string, const Candidate*> seen;
+  for (const Candidate& c : candidates) {
+    const auto [it, fresh] = seen.emplace(design(c), &c);
+    if (!fresh)
+      throw InputError(screen_file, "screen.samples",
+                       "samples that are each another design, but " + it->second->name + " and " + c.name +
+                           " drew the same value of every parameter (a Latin hypercube over listed values draws "
+                           "one of them per sample): give the parameters as ranges {min, max}, use sampling = "
+                           "\"grid\" for listed values, fewer samples or another seed");
+  }
 }
 
 std::string designs_csv(const std::string& out) { return io::join_path(out, "designs.csv"); }

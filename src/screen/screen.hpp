@@ -122,6 +122,10 @@ struct Candidate {
 // Candidates whose shape cannot be made (no top width gives the reference area) come back
 // with a reason.
 std::vector<Candidate> sample_family(const ScreenDef& def, const Scene& base);
+// InputError (naming the screen file's screen.samples) if two candidates are one design: a
+// Latin hypercube over listed values draws a value for every sample, and two samples can
+// draw the same values of every parameter.
+void check_distinct_candidates(const std::vector<Candidate>& candidates, const std::string& screen_file);
 
 // The parameters that vary in the family, by column name (height_mm, leading_face_angle_deg, ...).
 std::vector<std::string> varying_parameters(const ScreenDef& def);
