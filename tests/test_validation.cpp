@@ -719,6 +719,20 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
   // Values apart in their tenth digit fitted b = 3.6e10 and wrote NaN.
   expect("days,area_loss_mm2,hardness\n1,2,13.2\n2,2.1,13.2000000001\n3,2,13.2\n", "column hardness",
          "0.1% or more apart");
+  // Rates eighteen orders apart over hardness 0.1% apart: the exponent's correction factor
+  // overflowed (ct = inf, cv_after = nan, exit 0). Refused by the fit, with or without a
+  // reference hardness.
+  for (const double reference : {0.0, 100.0}) {
+    validation::HardnessData data = validation::parse_hardness(
+        "period,days,area_loss_mm2,hardness\n1,10,1e-9,100\n2,10,1e9,100.1\n3,10,1e9,100.1\n", "h.csv");
+    try {
+      validation::fit_hardness(data, reference);
+      ADD_FAILURE() << "fitted, reference " << reference;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "column hardness");
+      EXPECT_NE(std::string(e.what()).find("puts it past that"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

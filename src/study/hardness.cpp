@@ -184,6 +184,25 @@ HardnessFit fit_hardness(HardnessData& data, double reference_hardness) {
   }
   f.cv_before = coefficient_of_variation(before);
   f.cv_after = coefficient_of_variation(after);
+  // Wear rates orders of magnitude apart over hardness values a hair apart give an exponent
+  // whose correction factor no double holds: the fit says nothing of the ore then.
+  bool finite = std::isfinite(f.a) && f.a > 0.0 && std::isfinite(f.b) && std::isfinite(f.cv_after);
+  for (const auto& p : ps) finite = finite && std::isfinite(p.ct) && p.ct > 0.0 && std::isfinite(p.corrected_rate);
+  if (!finite) {
+    double lo = ps[0].hardness, hi = lo, rlo = ps[0].rate, rhi = rlo;
+    for (const auto& p : ps) {
+      lo = std::min(lo, p.hardness);
+      hi = std::max(hi, p.hardness);
+      rlo = std::min(rlo, p.rate);
+      rhi = std::max(rhi, p.rate);
+    }
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "wear rates that a power of the hardness fits with a correction a double holds; the fitted "
+                  "exponent b = %.3g (rates %.3g to %.3g over hardness %.6g to %.6g) puts it past that",
+                  f.b, rlo, rhi, lo, hi);
+    throw InputError(data.path, "column hardness", buf);
+  }
   f.mean_rate = std::accumulate(before.begin(), before.end(), 0.0) / n;
   f.mean_corrected_rate = std::accumulate(after.begin(), after.end(), 0.0) / n;
   return f;
