@@ -56,6 +56,15 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                        a.measured_file);
   const std::string stem = fs::path(a.scene_file).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;
+  // Without -o the copy goes next to the scene: that folder is checked now, as -o is, not
+  // once the histories have run.
+  if (a.out.empty()) {
+    try {
+      io::check_output_folder(out_dir);
+    } catch (const InputError& e) {
+      throw InputError(e.file, "-o", e.expected + " (without -o the calibrated copy goes next to the scene: give -o FOLDER)");
+    }
+  }
   o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
   // The calibrated copy replaces only an earlier calibrated copy, never a file of the user's.
   if (io::file_exists(o.scene_out) && io::read_file(o.scene_out).rfind(kCalibratedCopyHeader, 0) != 0)
