@@ -540,7 +540,16 @@ TEST(HostileScenes, APowerModelWithoutAnEstimateLeavesNoRowInTheChargeSummary) {
     EXPECT_EQ(morrell, std::string(speed) == "0.75") << speed;
     EXPECT_FALSE(austin) << speed;
     EXPECT_NE(r.output.find("Austin       none"), std::string::npos) << r.output;
+    if (std::string(speed) == "1.0") {
+      EXPECT_NE(r.output.find("Morrell      none at or above critical speed"), std::string::npos) << r.output;
+    }
   }
+  // Far below working speeds the C-model has no estimate either, and says why: not "at or
+  // above critical speed".
+  const auto slow = run_millwear("charge " + quoted(scene) + " --revolutions 0.01 --set mill.speed=0.03" +
+                                 " --set solver.spinup_revolutions=0.01 -o " + quoted(dir / "out-slow"));
+  ASSERT_EQ(slow.exit_code, 0) << slow.output;
+  EXPECT_NE(slow.output.find("Morrell      none at 3% of critical speed"), std::string::npos) << slow.output;
 }
 
 // A wear rate that wears the lifter to the shell within the first stage: the history ends

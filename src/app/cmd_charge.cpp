@@ -103,8 +103,12 @@ int run_charge(const ChargeArgs& args) {
   if (std::isfinite(morrell.net_power_kW))
     std::printf("  Morrell      %10.4g kW/m   toe %.0f deg, shoulder %.0f deg (C-model, dry, this bed's density)\n",
                 morrell.net_power_kW, morrell.toe_deg_from_bottom, morrell.shoulder_deg_from_bottom);
-  else
+  else if (!(scene.mill.speed_fraction_critical < 1.0))
     std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
+  else
+    std::printf("  Morrell      none at %.3g%% of critical speed (the C-model's fitted toe and shoulder hold no "
+                "charge of this filling there; its fits cover working speeds)\n",
+                100.0 * scene.mill.speed_fraction_critical);
   const double austin_W_per_m = est.austin_W_per_m;
   if (std::isfinite(austin_W_per_m))
     std::printf("  Austin       %10.4g kW/m   (SAG power equation; porosity %.2g, %.0f%% solids)\n",
