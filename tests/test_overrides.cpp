@@ -17,6 +17,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 #include "temp_dir.hpp"
+#include "tiny_scene.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
@@ -25,50 +26,19 @@ using millwear::testing::run_millwear;
 
 namespace {
 
-const char* kScene = R"(name = "tiny"
-[mill]
-diameter = 0.6
-length = 0.3
-speed = 0.75
-direction = "bidirectional"
-reverse_every = 100.0
-[lifters]
-rows = 12
-profile = "lifter.toml"
-[charge]
-filling = 0.3
-ball_filling = 0.1
-[[charge.species]]
-name = "ball"
-ball = true
-density = 7800.0
-sizes = [20.0]
-mass_fractions = [1.0]
-[[charge.species]]
-name = "rock"
-density = 2700.0
-sizes = [10.0, 20.0]
-mass_fractions = [0.4, 0.6]
-[solver]
-seed = 3
-[wear]
-wear_rate = 1e-11
-replacement_height = 5.0
-)";
-
-const char* kLifter = R"(name = "small"
-form = "trapezoid"
-height = 20.0
-top_width = 10.0
-leading_face_angle = 30.0
-trailing_face_angle = 30.0
-)";
+// The tiny scene turning both ways.
+std::string bidirectional_scene() {
+  std::string text = millwear::testing::kTinyScene;
+  const std::string from = "direction = \"forward\"\n";
+  text.replace(text.find(from), from.size(), "direction = \"bidirectional\"\nreverse_every = 100.0\n");
+  return text;
+}
 
 class Overrides : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::ofstream(dir_ / "lifter.toml") << kLifter;
-    std::ofstream(dir_ / "scene.toml") << kScene;
+    std::ofstream(dir_ / "lifter.toml") << millwear::testing::kTinyLifter;
+    std::ofstream(dir_ / "scene.toml") << bidirectional_scene();
     scene_ = (dir_ / "scene.toml").string();
   }
 

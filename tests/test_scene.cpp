@@ -15,6 +15,7 @@
 #include "scene/fidelity.hpp"
 #include "scene/scene.hpp"
 #include "temp_dir.hpp"
+#include "tiny_scene.hpp"
 
 namespace fs = std::filesystem;
 using namespace millwear;
@@ -25,44 +26,9 @@ namespace {
 
 std::string shipped(const std::string& rel) { return std::string(MILLWEAR_SOURCE_DIR) + "/" + rel; }
 
-// A small valid scene; each bad-input test changes one thing in it.
-const char* kBaseScene = R"(name = "tiny"
-[mill]
-diameter = 0.6
-length = 0.3
-speed = 0.75
-direction = "forward"
-[lifters]
-rows = 12
-profile = "lifter.toml"
-[charge]
-filling = 0.3
-ball_filling = 0.1
-[[charge.species]]
-name = "ball"
-ball = true
-density = 7800.0
-sizes = [20.0]
-mass_fractions = [1.0]
-[[charge.species]]
-name = "rock"
-density = 2700.0
-sizes = [10.0, 20.0]
-mass_fractions = [0.4, 0.6]
-[solver]
-seed = 3
-[wear]
-wear_rate = 1e-11
-replacement_height = 5.0
-)";
-
-const char* kLifter = R"(name = "small"
-form = "trapezoid"
-height = 20.0
-top_width = 10.0
-leading_face_angle = 30.0
-trailing_face_angle = 30.0
-)";
+// Each bad-input test changes one thing in the tiny scene.
+const char* const kBaseScene = millwear::testing::kTinyScene;
+const char* const kLifter = millwear::testing::kTinyLifter;
 
 // One temporary folder per test (ctest runs tests in parallel processes).
 class SceneTest : public ::testing::Test {
