@@ -33,17 +33,17 @@ double solve_normal(double mn, double& ln, double s, double vn, const Softness& 
 // reloads that possible aliasing would force. The tangent of a contact is left_perp(n);
 // r_a = -alpha n gives r_a x t = -alpha.
 
-// Serial disk-pair rows (one list: a block's phase, key order), built lazily. The relax
+// Serial disk-pair rows (one list: a block's phase, key order, rest_gap their gaps in the
+// list's order), built lazily. The relax
 // also lists the rows left live for the next warm start and adds the impulses to the step
 // sums.
 template <bool kBias>
 void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& start,
-                       PairSet& pairs, const int* rest, std::size_t nrest, int* warm,
-                       int& warm_count, Body* body) {
+                       PairSet& pairs, const int* rest, const PairGap* rest_gap, std::size_t nrest,
+                       int* warm, int& warm_count, Body* body) {
   const double inv_h = 1.0 / model.substep_s;
   const double push = model.push_out_m_s;
   const Softness& soft = model.pair_softness;
-  const PairGap* gaps = pairs.gap.data();
   const PairRow* row_of = pairs.row.data();
   Impulse* impulse = pairs.impulse.data();
   std::uint8_t* state = pairs.state.data();
@@ -51,7 +51,7 @@ void pass_serial_pairs(const Model& model, const Disks& disks, const StepStart& 
   std::size_t warm_n = 0;
   for (std::size_t t = 0; t < nrest; ++t) {
     const auto q = static_cast<std::size_t>(rest[t]);
-    const PairGap& g = gaps[q];
+    const PairGap& g = rest_gap[t];
     Body& A = body[g.a];
     Body& B = body[g.b];
     const double s = g.s0 + g.nx * (A.dpx - B.dpx) + g.ny * (A.dpy - B.dpy);
@@ -303,6 +303,7 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
     if (rows.warm[p].size() < m) rows.warm[p].resize(capacity);
   }
   if (rows.live.size() < m) {
+    rows.list_gap.resize(capacity);
     rows.live.resize(capacity);
     rows.live_disks.resize(capacity);
     rows.in_lane.resize(capacity);
@@ -384,9 +385,12 @@ void colour_live_rows(const Model& model, const Disks& disks, const StepStart& s
       build_pair_row(model, disks, start, pairs, q);
       rows.warm[p][q0 + static_cast<std::size_t>(warm_count[p]++)] = static_cast<int>(q);
     }
+    PairGap* list_gap = rows.list_gap.data() + q0;
     for (int p = 0; p < kPhases; ++p) {
       rows.n[p][kk] = count[p];
       rows.warm_n[p][kk] = warm_count[p];
+      // The block's gaps were read just above: from the cache.
+      for (int t = 0; t < count[p]; ++t) *list_gap++ = gap[list[p][t]];
     }
   });
   // The liner rows of each of the disk stages' ranges.
@@ -462,6 +466,7 @@ void pass(const Model& model, const StepStart& start, double elapsed_s, double o
     const std::size_t q0 = rows.first[kk];
     int unused = 0;
     pass_serial_pairs<kBias>(model, disks, start, contacts.pairs, rows.list[p].data() + q0,
+                             rows.list_gap.data() + rows.list_gap_at(p, kk),
                              static_cast<std::size_t>(rows.n[p][kk]), rows.warm[p].data() + q0,
                              kBias ? unused : rows.warm_n[p][kk], body);
   });

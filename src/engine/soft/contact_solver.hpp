@@ -59,6 +59,16 @@ struct SolverRows {
   // substep and by each relax for the next), at warm[p][first[k] ..], warm_n[p][k].
   std::vector<int> list[kPhases], warm[kPhases];
   std::vector<int> n[kPhases], warm_n[kPhases];
+  // The listed rows' gaps, copied in list order, block k's phases one after the other from
+  // first[k] (list_gap_at): the eight passes of a step read them in order, where the rows'
+  // own gaps lie apart, between the coloured rows (at 30k disks and more, each on its own
+  // cache line from memory).
+  std::vector<PairGap> list_gap;
+  std::size_t list_gap_at(int p, std::size_t k) const {
+    std::size_t at = first[k];
+    for (int e = 0; e < p; ++e) at += static_cast<std::size_t>(n[e][k]);
+    return at;
+  }
   // Scratch of the colouring: the live rows of each block, at live[first[k] ..], their
   // disks at live_disks[first[k] ..] and whether each found a colour at in_lane[first[k] ..].
   struct Pair {
