@@ -87,4 +87,25 @@ TEST(StabilityOperating, OverfilledMillStopsNamingTheFilling) {
   expect_sound_or_clear_stop(o, "charge.filling", "filling 0.9");
 }
 
+// Random placement fills at most about 55% of a circle with disks of one size, less than the
+// 60% the up-front check allows: a filling between the two stops in the fill, naming
+// charge.filling and a filling below the share it placed.
+TEST(StabilityOperating, AFillingRandomPlacementCannotReachStopsNamingTheFilling) {
+  Scene s = tiny_mill(20.0, 1.0, 0.59);
+  const MillGeometry mill = build_scene_mill(s);
+  EXPECT_NO_THROW(check_charge_fits(s, mill, s.source_file));
+  try {
+    fill_charge(s, mill);
+    ADD_FAILURE() << "placed disks of one size at filling 0.59";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, s.source_file);
+    EXPECT_EQ(e.where, "charge.filling");
+    const auto at = e.expected.find("a filling below ");
+    ASSERT_NE(at, std::string::npos) << e.expected;
+    const double below = std::stod(e.expected.substr(at + 16));
+    EXPECT_GT(below, 0.4) << e.expected;
+    EXPECT_LT(below, 0.59) << e.expected;
+  }
+}
+
 }  // namespace millwear::stability

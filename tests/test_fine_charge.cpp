@@ -94,6 +94,11 @@ TEST(FineCharge, TheNoteOnASpeciesMassCountsTheClassesTheCutOffKeeps) {
   std::snprintf(held, sizeof held, "from 112.5 mm (the size cut-off, 100 mm) hold %.1f%% of its distribution's mass",
                 100.0 * rock.distribution_held * kept / listed);
   EXPECT_NE(notes[0].find(held), std::string::npos) << notes[0];
+  // What is left out lies below the 112.5 mm class's lower edge, the geometric mean with the
+  // 87.5 mm class, 99.22 mm.
+  std::snprintf(held, sizeof held, "the %.1f%% finer than 99.22 mm (the 112.5 mm class's lower edge) goes to them",
+                100.0 * (1.0 - rock.distribution_held * kept / listed));
+  EXPECT_NE(notes[0].find(held), std::string::npos) << notes[0];
   // Listed sizes: the cut-off keeps a class holding a billionth of the mass.
   Scene listed_sizes = fine_sag();
   SpeciesDef& listed_rock = listed_sizes.charge.species[1];

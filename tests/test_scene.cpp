@@ -4,15 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/filling.hpp"
+#include "scene/limits.hpp"
 #include "scene/scene.hpp"
 #include "temp_dir.hpp"
 #include "tiny_scene.hpp"
@@ -431,7 +435,59 @@ TEST_F(SceneUnits, ClassesLeftWithNoMassAreRefusedNamingTheKey) {
   f = write("cut.toml", text);
   const InputError e = load_error(f);
   expect_names(e, f, "solver.size_cutoff");
-  EXPECT_NE(std::string(e.what()).find("none of its mass"), std::string::npos) << e.what();
+  EXPECT_NE(e.expected.find("keeps some of the mass of charge.species[1] ('rock', largest size with mass 10 mm), got 15 mm"),
+            std::string::npos)
+      << e.what();
+}
+
+// A listed size with no share of the mass gets no disk: it sets neither the smallest radius
+// (the time-step limit) nor the largest (the slice thickness).
+TEST_F(SceneUnits, ASizeWithNoMassSetsNoLimit) {
+  const Scene s = load_scene(scene_with("sizes = [10.0, 20.0]\nmass_fractions = [0.4, 0.6]",
+                                        "sizes = [0.5, 10.0, 20.0, 40.0]\nmass_fractions = [0.0, 0.4, 0.6, 0.0]"));
+  EXPECT_DOUBLE_EQ(s.smallest_particle_radius_m(), 0.005);
+  EXPECT_DOUBLE_EQ(s.largest_particle_radius_m(), 0.010);
+  EXPECT_DOUBLE_EQ(s.slice_thickness(), 0.020);
+}
+
+// A disk's species is one byte in the engines: 256 species are taken, a 257th is refused
+// naming charge.species (it would have become species 0: another density and name).
+TEST_F(SceneUnits, MoreSpeciesThanADiskCanNameAreRefused) {
+  std::string extra;
+  for (int k = 0; k < 254; ++k)
+    extra += "[[charge.species]]\nname = \"r" + std::to_string(k) + "\"\ndensity = 2700.0\nsizes = [10.0]\n";
+  const std::string at = "[solver]";
+  std::string text = kBaseScene;
+  text.insert(text.find(at), extra);
+  const Scene taken = load_scene(write("scene.toml", text));
+  ASSERT_EQ(taken.charge.species.size(), 256u);
+  EXPECT_NO_THROW(check_filling(taken, taken.source_file));
+  text.insert(text.find(at), "[[charge.species]]\nname = \"one-more\"\ndensity = 2700.0\nsizes = [10.0]\n");
+  const std::string f = write("scene.toml", text);
+  const Scene refused = load_scene(f);
+  try {
+    check_filling(refused, f);
+    ADD_FAILURE() << "257 species taken";
+  } catch (const InputError& e) {
+    expect_names(e, f, "charge.species");
+    EXPECT_NE(e.expected.find("at most 256 species"), std::string::npos) << e.expected;
+  }
+}
+
+// A ball species with a size distribution gets --check's note too; and where the scale of
+// the distribution lies far above the sizes (a mm / m slip), the note says how much of the
+// mass the largest class holds from above its size.
+TEST_F(SceneUnits, ANoteSaysWhatTheLargestClassHoldsFromAboveItsSize) {
+  const Scene s = load_scene(scene_with(
+      "sizes = [20.0]\nmass_fractions = [1.0]",
+      "sizes = [15.0, 20.0]\ndistribution = \"rosin-rammler\"\nsize_63 = 20000.0\nexponent = 1.0"));
+  const std::vector<std::string> notes = distribution_notes(s);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0].find("charge.species[0] ('ball')"), 0u) << notes[0];
+  char coarse[96];
+  std::snprintf(coarse, sizeof coarse, "the 20 mm class also holds the %.1f%% coarser than its size",
+                100.0 * std::exp(-20.0 / 20000.0));
+  EXPECT_NE(notes[0].find(coarse), std::string::npos) << notes[0];
 }
 
 // A cut-off a hair above the largest rock is refused, and the message tells the two apart.
@@ -441,7 +497,7 @@ TEST_F(SceneUnits, ACutoffAboveTheLargestRockNamesBothSizesDistinctly) {
   const std::string f = write("cut.toml", text);
   const InputError e = load_error(f);
   expect_names(e, f, "solver.size_cutoff");
-  EXPECT_NE(e.expected.find("largest 20 mm), got 20.00001 mm"), std::string::npos) << e.what();
+  EXPECT_NE(e.expected.find("largest size with mass 20 mm), got 20.00001 mm"), std::string::npos) << e.what();
 }
 
 // ---------------------------------------------------------------------------------------

@@ -65,6 +65,30 @@ double segment_area_below(double r, double h) {
   return r * r * std::acos(-h / r) + h * std::sqrt(r * r - h * h);
 }
 
+// The fill got stuck: random placement fills at most about 55% of a circle with disks of one
+// size (less near its edge; mixed sizes, placed largest first, fill more), below the share
+// check_charge_fits allows. Names the filling, and what the disks placed would take.
+InputError unplaceable(const Scene& scene, double r_place, const std::vector<double>& placed_r,
+                       const std::vector<DiskDraw>& draws) {
+  double placed_m2 = 0.0, all_m2 = 0.0;
+  for (double r : placed_r) placed_m2 += kPi * r * r;
+  for (const DiskDraw& d : draws) all_m2 += 0.25 * kPi * d.diameter_m * d.diameter_m;
+  const double scale = placed_m2 / all_m2;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "a filling whose disks can be placed without overlap inside the lifter tips: random placement "
+                "put %zu of the %zu disks (%.0f%% of the circle of radius %.4g mm) and found no room for the next; "
+                "a filling below %.3g",
+                placed_r.size(), draws.size(), 100.0 * placed_m2 / (kPi * r_place * r_place), r_place * 1e3,
+                scene.charge.filling * scale);
+  std::string expected = buf;
+  if (scene.charge.ball_filling > 0.0) {
+    std::snprintf(buf, sizeof buf, " with a ball_filling below %.3g", scene.charge.ball_filling * scale);
+    expected += buf;
+  }
+  return InputError(scene.source_file, "charge.filling", expected);
+}
+
 }  // namespace
 
 ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
@@ -108,8 +132,7 @@ ChargeState fill_charge(const Scene& scene, const MillGeometry& mill) {
     bool placed = false;
     for (int attempt = 0; !placed; ++attempt) {
       if (attempt > 0 && attempt % 4000 == 0) y_top = std::min(r_place, y_top + 0.05 * R);
-      if (attempt > 200000)
-        throw RunError("could not place the charge without overlap; lower the filling");
+      if (attempt > 200000) throw unplaceable(scene, r_place, s.radius_m, draws);
       const double y = -r_place + (y_top + r_place) * uniform01(rng);
       const double x = r_place * (2.0 * uniform01(rng) - 1.0);
       const Vec2 p{x, y};

@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <numeric>
 
-#include "common/text.hpp"
 #include "common/units.hpp"
 
 namespace millwear {
 
 std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
-                                                double scale_m, double exponent, double* held) {
+                                                double scale_m, double exponent, double* held,
+                                                double* coarse) {
   auto passing = [&](double d) {
     if (form == SizeForm::GatesGaudinSchuhmann) return d >= scale_m ? 1.0 : std::pow(d / scale_m, exponent);
     return 1.0 - std::exp(-std::pow(d / scale_m, exponent));
@@ -29,6 +29,7 @@ std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector
     total += out[i];
   }
   if (held) *held = total;
+  if (coarse) *coarse = 1.0 - passing(sorted.back());
   for (double& f : out) f /= total;
   return out;
 }
@@ -105,6 +106,13 @@ std::string per_cent(double share) {
   return buf;
 }
 
+// A size in mm to four digits: "48.41 mm".
+std::string mm_text(double m) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.4g mm", in_mm(m));
+  return buf;
+}
+
 }  // namespace
 
 std::vector<std::string> distribution_notes(const Scene& scene) {
@@ -112,7 +120,7 @@ std::vector<std::string> distribution_notes(const Scene& scene) {
   const std::vector<SpeciesDef> placed = scene.species_as_placed();
   for (std::size_t k = 0; k < scene.charge.species.size(); ++k) {
     const SpeciesDef& sp = scene.charge.species[k];
-    if (sp.is_ball || sp.diameters_m.empty()) continue;
+    if (sp.diameters_m.empty()) continue;
     // What the classes the cut-off keeps hold of the classes' mass (all of it without one).
     double listed = 0.0, kept = 0.0;
     const std::vector<double>& kept_sizes = placed[k].diameters_m;
@@ -131,10 +139,22 @@ std::vector<std::string> distribution_notes(const Scene& scene) {
                     in_mm(placed[k].smallest_diameter_m()), in_mm(scene.solver.size_cutoff_m));
     else
       std::snprintf(from, sizeof from, "its classes");
-    notes.push_back("charge.species[" + std::to_string(k) + "] ('" + sp.name + "'): " + from + " hold " +
-                    per_cent(held) + " of its " + (distribution ? "distribution's" : "listed") + " mass; the " +
-                    per_cent(1.0 - held) + " finer than " + short_number(in_mm(placed[k].smallest_diameter_m())) +
-                    " mm goes to them");
+    // What is finer than the kept classes: for a distribution, below the smallest kept class's
+    // lower edge (the geometric mean with the next listed size down, filling.hpp).
+    const double smallest_kept = placed[k].smallest_diameter_m();
+    double below = 0.0;
+    for (double d : sp.diameters_m)
+      if (d < smallest_kept) below = std::max(below, d);
+    std::string finer = mm_text(smallest_kept);
+    if (distribution && below > 0.0)
+      finer = mm_text(std::sqrt(below * smallest_kept)) + " (the " + finer + " class's lower edge)";
+    std::string note = "charge.species[" + std::to_string(k) + "] ('" + sp.name + "'): " + from + " hold " +
+                       per_cent(held) + " of its " + (distribution ? "distribution's" : "listed") + " mass; the " +
+                       per_cent(1.0 - held) + " finer than " + finer + " goes to them";
+    if (distribution && sp.distribution_coarse >= 0.0005)
+      note += "; the " + mm_text(sp.largest_diameter_m()) + " class also holds the " +
+              per_cent(sp.distribution_coarse) + " coarser than its size";
+    notes.push_back(note);
   }
   return notes;
 }

@@ -25,9 +25,11 @@ namespace millwear {
 // the order the sizes are given.
 enum class SizeForm { GatesGaudinSchuhmann, RosinRammler };
 // `held` (when given): the share of the distribution's mass the classes hold, before the
-// normalising.
+// normalising; `coarse` (when given): the share coarser than the largest size, which its
+// class holds.
 std::vector<double> distribution_mass_fractions(SizeForm form, const std::vector<double>& sizes_m,
-                                                double scale_m, double exponent, double* held = nullptr);
+                                                double scale_m, double exponent, double* held = nullptr,
+                                                double* coarse = nullptr);
 
 // Solid area (m^2 of the slice) species k of scene.species_as_placed() is to fill.
 double species_area_m2(const Scene& scene, std::size_t k);
@@ -41,11 +43,14 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
 double expected_disks(const Scene& scene, std::size_t k);
 // The disks of the whole charge: expected_disks summed over the species in use.
 double expected_charge_disks(const Scene& scene);
-// For each species with a size distribution, what its classes hold of the distribution's
-// mass: "charge.species[1] ('rock'): its classes hold 84.2% of its distribution's mass; the
-// 15.8% finer than 25 mm goes to them"; with a size cut-off that leaves classes out (of a
-// distribution or of listed sizes), what the classes it keeps hold: "its classes from 112.5
-// mm (the size cut-off, 100 mm) hold 52.0% of ...". For --check.
+// For each species (balls too) with a size distribution, what its classes hold of the
+// distribution's mass: "charge.species[1] ('rock'): its classes hold 84.2% of its
+// distribution's mass; the 15.8% finer than 25 mm goes to them"; with a size cut-off that
+// leaves classes out (of a distribution or of listed sizes), what the classes it keeps hold
+// and what is finer than them: "its classes from 112.5 mm (the size cut-off, 100 mm) hold
+// 52.3% of ...; the 47.7% finer than 99.22 mm (the 112.5 mm class's lower edge) goes to
+// them"; and the share coarser than the largest size, which its class holds, when there is
+// any (a scale far above the sizes gives the largest class nearly all the mass). For --check.
 std::vector<std::string> distribution_notes(const Scene& scene);
 
 }  // namespace millwear

@@ -176,6 +176,10 @@ void check_step_counts(const Scene& scene, const std::string& file) {
 }
 
 void check_filling(const Scene& scene, const std::string& file) {
+  if (scene.charge.species.size() > kMaxSpecies)
+    throw InputError(file, "charge.species",
+                     "at most " + std::to_string(kMaxSpecies) + " species (a disk's species is one byte), got " +
+                         std::to_string(scene.charge.species.size()));
   const auto placed = scene.species_as_placed();
   for (std::size_t k = 0; k < placed.size(); ++k) {
     if (!scene.species_in_use(placed[k])) continue;

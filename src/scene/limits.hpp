@@ -14,7 +14,7 @@
 //   particle radius lets a disk touch both of its faces at once, and disks leak through.
 // - counts, in 64 bits: steps of every phase (settling, spin-up, a measuring window or
 //   `charge`'s revolutions, a continuous stage), disks of the filling (none in a species
-//   that has a share of it is an error), liner edges.
+//   that has a share of it is an error), liner edges; at most kMaxSpecies species.
 // Reported as events during a run instead (they depend on the run, not the input):
 // escaped or non-finite disks (engine), a lifter worn to the shell and rule 1's one-update
 // bound on wear.factor (wear loop).
@@ -69,6 +69,8 @@ void check_profile_features(const Scene& scene, const std::string& file);
 [[noreturn]] void refuse_thin_lifter(const Scene& scene, const std::string& file, int kind, double needed_m,
                                      double thinnest_m, bool resmoothed);
 void check_step_counts(const Scene& scene, const std::string& file);
+// A disk's species is one byte in the engines (engine/charge.hpp).
+constexpr std::size_t kMaxSpecies = 256;
 void check_filling(const Scene& scene, const std::string& file);
 void check_liner_size(const Scene& scene, const std::string& file);
 // The charge's disks go inside the circle through the lifter tips of `mill`: their area (the

@@ -38,14 +38,29 @@ namespace fs = std::filesystem;
 // Derived quantities
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+// The listed sizes that get disks: those with a share of the species' mass (all of them if
+// none has one, which the reader refuses).
+std::vector<double> sizes_with_mass(const SpeciesDef& s) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < s.diameters_m.size(); ++i)
+    if (i >= s.mass_fractions.size() || s.mass_fractions[i] > 0.0) out.push_back(s.diameters_m[i]);
+  return out.empty() ? s.diameters_m : out;
+}
+
+}  // namespace
+
 double SpeciesDef::smallest_diameter_m() const {
   if (diameters_m.empty()) return d_min_m;
-  return *std::min_element(diameters_m.begin(), diameters_m.end());
+  const std::vector<double> d = sizes_with_mass(*this);
+  return *std::min_element(d.begin(), d.end());
 }
 
 double SpeciesDef::largest_diameter_m() const {
   if (diameters_m.empty()) return d_max_m;
-  return *std::max_element(diameters_m.begin(), diameters_m.end());
+  const std::vector<double> d = sizes_with_mass(*this);
+  return *std::max_element(d.begin(), d.end());
 }
 
 SpeciesDef SpeciesDef::without_sizes_below(double cutoff_m) const {
@@ -292,7 +307,7 @@ SpeciesDef read_species(const TableReader& r) {
           if ((*sizes)[i] == (*sizes)[j]) r.fail("sizes", "distinct sizes with 'distribution'");
       sp.mass_fractions = distribution_mass_fractions(
           ggs ? SizeForm::GatesGaudinSchuhmann : SizeForm::RosinRammler, sp.diameters_m, scale_mm * kMm, exponent,
-          &sp.distribution_held);
+          &sp.distribution_held, &sp.distribution_coarse);
       // The classes hold the mass from the smallest size up (filling.hpp); all of it finer (or,
       // for one class at the top size, none above it) leaves them none.
       double smallest = largest;
@@ -529,14 +544,13 @@ void check_across_sections(const Scene& s, const std::string& file) {
     if (!s.mill.kind(kind).measured.empty()) new_liner_unit(s, kind);
   }
   }
-  const auto placed = s.species_as_placed();
   // Nine digits: a cut-off a hair above the largest size must not print as equal to it.
   const auto digits9 = [](double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.9g", v);
     return std::string(buf);
   };
-  for (std::size_t i = 0; i < placed.size(); ++i) {
+  for (std::size_t i = 0; i < s.charge.species.size(); ++i) {
     const SpeciesDef& sp = s.charge.species[i];
     const std::string key = "charge.species[" + std::to_string(i) + "]";
     // A particle a quarter of the mill across cannot tumble; it is a typo (m for mm).
@@ -544,21 +558,13 @@ void check_across_sections(const Scene& s, const std::string& file) {
       throw InputError(file, key + (sp.diameters_m.empty() ? ".size_range" : ".sizes"),
                        "expected particles smaller than a quarter of the mill diameter (" +
                            num_text(0.25 * s.mill.diameter_m / kMm) + " mm)");
+    // The cut-off must keep a class with mass (largest_diameter_m: the largest that has some;
+    // the fractions of the classes kept are what the cut-off renormalises).
     if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && sp.largest_diameter_m() < s.solver.size_cutoff_m)
       throw InputError(file, "solver.size_cutoff",
-                       "expected a cut-off that keeps some of " + key + " ('" + sp.name +
-                           "', largest " + digits9(sp.largest_diameter_m() / kMm) + " mm), got " +
+                       "expected a cut-off that keeps some of the mass of " + key + " ('" + sp.name +
+                           "', largest size with mass " + digits9(sp.largest_diameter_m() / kMm) + " mm), got " +
                            digits9(s.solver.size_cutoff_m / kMm) + " mm");
-    // The classes kept must carry mass: their fractions are what the cut-off renormalises.
-    if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && !sp.diameters_m.empty()) {
-      double kept = 0.0;
-      for (double f : placed[i].mass_fractions) kept += f;
-      if (!(kept > 0.0))
-        throw InputError(file, "solver.size_cutoff",
-                         "expected a cut-off that keeps some of the mass of " + key + " ('" + sp.name +
-                             "'): its classes from " + num_text(s.solver.size_cutoff_m / kMm) +
-                             " mm up hold none of its mass fractions");
-    }
   }
 }
 

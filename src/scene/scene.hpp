@@ -28,11 +28,16 @@ struct SpeciesDef {
   // With a size distribution: the share of its mass the classes hold (the rest, finer than
   // the smallest class, goes to them when the fractions are normalised); 0 without one.
   double distribution_held = 0.0;
+  // With a size distribution: the share of its mass coarser than the largest class's size
+  // (which that class holds); 0 without one.
+  double distribution_coarse = 0.0;
   double friction = 0.5;              // against other particles (pair: geometric mean)
   double restitution = 0.3;           // against other particles (pair: larger of the two)
   double friction_liner = 0.5;        // against the liner
   double restitution_liner = 0.3;     // against the liner
   double rolling_resistance = 0.0;    // dimensionless, times radius gives the lever arm
+  // The smallest and largest sizes that get disks (a listed size with no share of the mass
+  // gets none, and sets no limit).
   double smallest_diameter_m() const;
   double largest_diameter_m() const;
   // The same species with every size below cutoff_m left out: discrete sizes are dropped
