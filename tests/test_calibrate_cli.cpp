@@ -237,11 +237,11 @@ TEST(WornStart, CalibrationAndValidationCountFromTheStart) {
   EXPECT_LT(std::fabs(c - 1e-10), 3.0 * sigma) << "C = " << c << " +- " << sigma;
 
   const std::string early = dir.write("early.csv", "hours,area_mm2\n1500,431\n" + text.substr(text.find('\n') + 1));
-  for (const std::string cmd : {"validate " + q(worn), "calibrate " + q(guess_scene)}) {
+  for (const std::string& cmd : {"validate " + q(worn), "calibrate " + q(guess_scene)}) {
     const fs::path out = dir.path() / "refused";
     const Result r = run(cmd + " --measured " + q(early) + " -o " + q(out));
     EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("line 2: surveys at or after the history's start, the scene's wear.start_hours (2000 h)"),
+    EXPECT_NE(r.output.find("line 2: surveys at or after the history's start, the scene's lifters.start_hours (2000 h)"),
               std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out)) << cmd;
   }

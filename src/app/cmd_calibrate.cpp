@@ -116,7 +116,7 @@ void register_calibrate(CLI::App& app, Action* action) {
       ->check(finite_in(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +
               "\nProfiles: least squares on the normal distances of every measured point. Areas only: least\n"
-              "squares on the area loss of every row after the history's start (0 h, or wear.start_hours;\n"
+              "squares on the area loss of every row after the history's start (0 h, or lifters.start_hours;\n"
               "two or more such rows give the fit's own error). C is printed with U = 2 sigma (about 95%).");
   cmd->callback([args, action, min_runs] {
     args->min_runs_given = min_runs->count() > 0;

@@ -17,7 +17,7 @@ inline constexpr const char* kMeasuredFileHelp =
     "                                  leading face; y up from the original shell line)\n"
     "  areas only  hours,area_mm2      one row per lifter surveyed (hours may repeat): the lifter's\n"
     "                                  cross-section above the original shell line, mm^2; a row at the\n"
-    "                                  history's start (0 h, or wear.start_hours) is the reference of\n"
+    "                                  history's start (0 h, or lifters.start_hours) is the reference of\n"
     "                                  the area loss (else the scene's lifter at that start)\n"
     "         or   hours,area_loss_mm2 one row per lifter: the area lost since the start, mm^2\n"
     "Examples: validation/lab-mill-surveys.csv, validation/lab-mill-areas.csv.";

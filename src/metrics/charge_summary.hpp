@@ -3,7 +3,7 @@
 // of mass, toe and shoulder (from the shell-band occupancy), the packing share; per slice in
 // SI (ChargeSummary) and per metre of mill (ChargeFigures). Pure functions of the window's sums.
 //
-// Toe and shoulder, defined: the shell band is the annulus from the shell inward to a few of
+// Toe and shoulder, defined: the shell band is the annulus from the shell inward to one of
 // the largest particle diameters inside the lifter tips (the engine's shape band). Each step
 // adds every disk's area inside the band to its 5 deg angle bin, so a bin's sum over the
 // window is its time-averaged solids area. The bed's value is the fullest bin. Walking from

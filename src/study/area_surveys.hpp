@@ -7,7 +7,7 @@
 //   # liner survey, feed end, lifters 3 and 9
 //   hours,area_mm2
 //   0,43100             <- the new lifter (optional: the reference of the area loss; for a
-//                          scene that starts worn, the row at its wear.start_hours)
+//                          scene that starts worn, the row at its lifters.start_hours)
 //   1500,37250          <- one row per lifter surveyed
 //   1500,36900          <- several lifters at one inspection: one row each, same hours
 //   3000,30100
@@ -15,7 +15,7 @@
 // - area_mm2: the lifter's metal cross-section above the original shell line, mm^2 (> 0),
 //   the area `millwear profile` and OUT/summary.csv (area_mm2) report. Or, instead of
 //   area_mm2, area_loss_mm2: the area lost since the history's start (the lifter new, or a
-//   worn start's wear.start_hours), mm^2 (finite).
+//   worn start's lifters.start_hours), mm^2 (finite).
 // - Extra columns are ignored; at least one row.
 // Area loss (what the calibration fits): for area_loss_mm2 the value itself (since the
 // history's start); for area_mm2, A_ref - area, with A_ref the mean of the file's rows at the
@@ -86,7 +86,7 @@ void check_surveys_in_mill(const Measurements& measured, const Scene& scene, con
 constexpr double kMinAreaShare = 1e-3;
 
 // Every survey at or after the history's start (start_hours: `from`, e.g. the scene's
-// wear.start_hours): the wear before it is not simulated, so such a survey could be compared
+// lifters.start_hours): the wear before it is not simulated, so such a survey could be compared
 // with nothing. Throws InputError(file, line of the first survey before it, ...).
 void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
                               const std::string& file);

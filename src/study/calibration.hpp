@@ -55,7 +55,7 @@ constexpr int kMaxCommonStages = 50;
 double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = kMaxCommonStages);
 
 // The scene set up for a fresh history covering the surveys up to `reach` x the last
-// survey's hours, both counted from the history's start (wear.start_hours; 0 for a new
+// survey's hours, both counted from the history's start (lifters.start_hours; 0 for a new
 // liner): stage_hours from common_stage_hours (or the scene's), enough stages, wear rate C
 // given (when c_m3_per_J > 0).
 Scene scene_for_survey_hours(const Scene& scene, const std::vector<double>& survey_hours, double c_m3_per_J,

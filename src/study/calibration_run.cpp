@@ -41,7 +41,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   const double start_h = scene.wear.start_hours;
-  check_surveys_from_start(measured, start_h, "the scene's wear.start_hours", a.measured_file);
+  check_surveys_from_start(measured, start_h, "the scene's lifters.start_hours", a.measured_file);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > start_h + kSameHoursTolerance;
   if (!worn)

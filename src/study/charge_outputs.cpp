@@ -29,8 +29,8 @@ std::string fmt(double v) { return io::format_number(v); }
 
 // The rows of charge_summary.csv with Morrell's C-model and Austin's SAG equation for this
 // mill and charge: analytic powers, toe and shoulder to set the window's against. A model
-// with no estimate for the scene (Morrell at or above critical speed, Austin there or for a
-// charge without rock) has no rows: every figure written is a real one.
+// with no estimate for the scene (Morrell at or above critical speed or far below working
+// speed, Austin at or above critical speed or for a charge without rock) has no rows: every figure written is a real one.
 std::string power_model_rows(const ChargeEstimates& e) {
   std::ostringstream rows;
   const MorrellResult& m = e.morrell;

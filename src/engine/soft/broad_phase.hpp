@@ -8,8 +8,8 @@
 // the liner's own travel |omega| R dt). A disk that keeps its speed within the step
 // therefore always has a constraint before it can reach anything. What this cannot see is
 // a disk sped up within the step by a collision to more than 1.5x its start speed and then
-// travelling more than its margin: that needs a collision speed above r / dt (a 10 mm disk
-// at 1/600 s: 6 m/s gained in one step), beyond the stability envelope of any scene we run.
+// travelling more than its margin: that needs a collision speed above r / dt (a disk of 10 mm
+// radius at 1/600 s: 6 m/s gained in one step), beyond the stability envelope of any scene we run.
 // Against the liner there is a second line of defence: the liner knows its inside, so a
 // disk that ended a step with its centre past a face (by up to half a radius) is pushed
 // back out the next step. A centre deeper than that is an escape, reported as an event

@@ -36,7 +36,7 @@ struct Materials {
 struct Model {
   double dt_s = 0.0;  // the scene's solver.time_step
   int substeps = 4;
-  double substep_s = 1.0 / 2400.0;
+  double substep_s = 0.0;  // dt_s / substeps
   Softness pair_softness, liner_softness;  // at the substep
   double push_out_m_s = 1.0;               // fastest the soft bias pushes an overlap apart
   double restitution_threshold_m_s = 0.1;  // slower impacts do not bounce

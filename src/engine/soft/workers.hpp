@@ -19,8 +19,8 @@
 // line. A thread runs its own block from the front, then takes what is left of the others'
 // from their back. Ranges follow the disks' cell order, so a thread keeps meeting the same
 // disks stage after stage (colour after colour, substep after substep) and finds them in its
-// own cache: with one shared counter the ranges fell to the threads at random, and a disk's
-// cache line moved between the cores at nearly every colour.
+// own cache (with one shared claim counter instead, the ranges fall to the threads at random
+// and a disk's cache line moves between the cores at nearly every colour).
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
