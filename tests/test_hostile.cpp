@@ -592,6 +592,19 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
 }
 
+// The same for a sweep: the table stands and the command exits 1 (it exited 0 with a warning).
+TEST(HostileScenes, SweepFiguresThatFailExitOneWithTheTableWritten) {
+  const TempDir dir("millwear-hostile-sweep-no-scripts");
+  fs::create_directories(dir / "scripts");
+  const auto r = millwear::testing::run_shell("MILLWEAR_PLOTS_DIR=" + quoted(dir / "scripts") + " \"" + MILLWEAR_BINARY +
+                                              "\" sweep " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) +
+                                              " --vary mill.speed=0.6,0.7 --revolutions 0.2 -j 1 -q -o " +
+                                              quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, millwear::plots::gnuplot_available() ? 1 : 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "sweep.csv"));
+  EXPECT_NE(r.output.find("figures"), std::string::npos) << r.output;
+}
+
 // No friction between charge and liner: no shear work, no wear, so no life. The run's table
 // says why the life column is empty.
 TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 
 #include <unistd.h>
 
@@ -231,6 +232,33 @@ TEST(IoFolderLock, AFolderThatCannotBeMadeIsAnInputErrorBeforeAnythingIsWritten)
     EXPECT_NE(std::string(e.what()).find("file"), std::string::npos) << e.what();
   }
   EXPECT_EQ(count_entries(dir.path()), 1);
+}
+
+// A symbolic link that leads nowhere, as the folder or on the way to it, is bad input naming
+// the link and why (it was "cannot create folder: File exists" or a file system error, after
+// the command had started).
+TEST(IoFolderLock, ASymbolicLinkThatLeadsNowhereIsAnInputErrorNamingIt) {
+  TempDir dir{"millwear-io"};
+  fs::create_symlink("missing-target", dir / "dangling");
+  fs::create_symlink(dir / "loop-b", dir / "loop-a");
+  fs::create_symlink(dir / "loop-a", dir / "loop-b");
+  const std::pair<std::string, std::string> cases[] = {{dir / "dangling", "does not exist"},
+                                                       {dir / "dangling/sub", "does not exist"},
+                                                       {dir / "loop-a", "cannot be followed"}};
+  for (const auto& [out, why] : cases) {
+    try {
+      io::check_output_folder(out);
+      ADD_FAILURE() << "no InputError for " << out;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "-o");
+      EXPECT_NE(e.expected.find("is a symbolic link to '"), std::string::npos) << e.what();
+      EXPECT_NE(e.expected.find(why), std::string::npos) << e.what();
+    }
+  }
+  // A link to a folder is a folder.
+  fs::create_directory(dir / "real");
+  fs::create_directory_symlink(dir / "real", dir / "to-real");
+  EXPECT_NO_THROW(io::check_output_folder(dir / "to-real"));
 }
 
 TEST(IoFolderLock, AFileGivenAsTheFolderIsAnInputErrorNamingIt) {

@@ -36,8 +36,11 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_support.hpp"
+#include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/folder_lock.hpp"
 #include "metrics/pareto.hpp"
+#include "plots/plots.hpp"
 #include "profiles/profile.hpp"
 #include "scene/scene.hpp"
 #include "screen/jobs.hpp"
@@ -160,6 +163,31 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughGnuParallel) {
   r = millwear_cmd("screen --collect " + q(out));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
+// Figure scripts that are not there: every history finishes and is ranked as with figures,
+// each task.status says finished with exit code 1 and why, and the screen exits 1 (0 on a
+// machine without gnuplot, where figures are not expected). Each design used to be marked
+// failed, and nothing ranked.
+TEST_F(ScreenRun, FiguresThatFailLeaveEveryDesignRankedAndExitOne) {
+  const fs::path out = root_ / "no-scripts", scripts = root_ / "no-scripts-plots";
+  fs::create_directories(scripts);
+  const Result r = shell("MILLWEAR_PLOTS_DIR=" + q(scripts) + " " + q(MILLWEAR_BINARY) + " screen " + q(src(kScreen)) +
+                         " -o " + q(out) + " --jobs 2 --quiet");
+  const bool gnuplot = plots::gnuplot_available();
+  EXPECT_EQ(r.exit_code, gnuplot ? 1 : 0) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv")) << r.output;
+  const io::CsvData rank = io::read_csv((out / "ranking.csv").string());
+  ASSERT_EQ(rank.row_count(), 4u);
+  for (std::size_t i = 0; i < rank.row_count(); ++i) {
+    const std::string name = rank.text(i, rank.column("design"));
+    const std::string status = slurp(out / "designs" / name / "task.status");
+    EXPECT_NE(status.find("status=finished"), std::string::npos) << name << ": " << status;
+    if (!gnuplot) continue;
+    EXPECT_NE(status.find("exit_code=1"), std::string::npos) << name << ": " << status;
+    EXPECT_NE(status.find("figures failed"), std::string::npos) << name << ": " << status;
+    EXPECT_NE(r.output.find("design " + name + ": figures failed"), std::string::npos) << r.output;
+  }
 }
 
 // --replicates N: every task runs N histories (seeds s .. s + N - 1) through `millwear run`'s
@@ -754,6 +782,39 @@ TEST(ScreenSet, BadOverrideExitsTwoNamingTheKeyBeforeAnythingIsWritten) {
     for (const std::string& e : c.expect) EXPECT_NE(r.output.find(e), std::string::npos) << c.set << "\n" << r.output;
     EXPECT_FALSE(fs::exists(out)) << c.set;  // nothing written
   }
+}
+
+// A screen started over a folder where a task still runs a design (a GNU parallel job, say)
+// is refused naming the holder, and removes nothing: it used to clear every design's files
+// for its fresh start, the running task's too.
+TEST(ScreenSet, AFreshScreenOverADesignATaskStillRunsIsRefusedAndRemovesNothing) {
+  const TempDir dir("millwear-screen-held");
+  const fs::path out = dir / "out";
+  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path design = out / "designs" / "d000";
+  const io::FolderLock task((design).string());
+  fs::create_directories(design / "profiles");
+  io::write_file_atomic((design / "profiles" / "d000_stage0.csv").string(), "x_mm,y_mm\n0,0\n");
+  r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 1 --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("process " + std::to_string(::getpid())), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("holds this design"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(design / "profiles" / "d000_stage0.csv"));
+  EXPECT_TRUE(fs::exists(out / "jobs.txt"));
+}
+
+// Replicates take the seeds s .. s + N - 1: a seed at the top of the range with --replicates 2
+// is refused before anything is written (it was a job list of tasks bound to fail).
+TEST(ScreenSet, ReplicatesPastTheLastSeedExitTwoBeforeAnythingIsWritten) {
+  const TempDir dir("millwear-screen-seed");
+  const fs::path out = dir / "out";
+  const Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) +
+                                " --emit parallel --replicates 2 --set solver.seed=9223372036854775807");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("solver.seed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--replicates 2"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // A base scene with a hi-lo pattern: each candidate keeps the pattern, each kind a trapezoid

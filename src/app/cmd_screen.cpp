@@ -75,16 +75,19 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
   else if (replicates == 1)
     std::printf("sigma: one history per design, from its batch means (--replicates N measures the spread "
                 "between histories)\n");
-  for (const auto& r : o.ranked)
+  for (const auto& r : o.ranked) {
     if (r.status == "failed" || r.status == "missing")
       std::fprintf(stderr, "millwear: design %s %s: %s\n", r.design.name.c_str(), r.status.c_str(), r.reason.c_str());
+    if (!r.figure_error.empty())
+      std::fprintf(stderr, "millwear: design %s: %s\n", r.design.name.c_str(), r.figure_error.c_str());
+  }
   if (!o.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", o.figure_error.c_str());
   std::printf("ranking: %s (%zu designs: %zu finished, %d failed, %d missing)\n", ranking_csv(out).c_str(),
               o.ranked.size(), o.ranked.size() - o.failed - o.missing, o.failed, o.missing);
   if (o.missing + o.failed > 0)
     std::printf("to finish: run the missing/failed tasks again (millwear screen-task %s I), or re-emit them "
                 "with --emit, then --collect\n", out.c_str());
-  return o.missing + o.failed > 0 ? 1 : 0;
+  return o.missing + o.failed > 0 || o.figures_failed ? 1 : 0;
 }
 
 void print_emitted(const ScreenArgs& a, const ScreenOutcome& o) {

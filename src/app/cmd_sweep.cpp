@@ -53,7 +53,7 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
   for (const study::SweepPoint& p : r.points)
     if (!p.error.empty())
       std::fprintf(stderr, "millwear: run failed: %s = %s: %s\n", r.axis.key.c_str(), p.text.c_str(), p.error.c_str());
-  return r.failed() ? 1 : 0;
+  return r.failed() || r.figures_failed ? 1 : 0;
 }
 
 }  // namespace

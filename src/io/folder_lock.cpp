@@ -97,8 +97,22 @@ void check_output_folder(const std::string& path) {
   // The nearest folder on the way that exists must be one this user can write into: a path
   // that cannot be made (a file on the way, no permission) is refused now, not once the work
   // is done. Nothing is made here (screen tasks make their folders side by side).
+  // A symbolic link on the way that leads nowhere (its target missing, or a loop) can be
+  // neither made nor written through.
   fs::path p = fs::path(path).lexically_normal();
-  while (!p.empty() && !fs::exists(p, ec)) p = p.parent_path();
+  while (!p.empty() && !fs::exists(p, ec)) {
+    std::error_code link_ec;
+    if (fs::is_symlink(fs::symlink_status(p, link_ec))) {
+      std::error_code target_ec;
+      const fs::path target = fs::read_symlink(p, target_ec);
+      throw InputError(path, "-o",
+                       "an output folder that can be made, but " + p.string() + " is a symbolic link to '" +
+                           target.string() + "', which " +
+                           (ec && ec != std::errc::no_such_file_or_directory ? "cannot be followed (" + ec.message() + ")"
+                                                                            : std::string("does not exist")));
+    }
+    p = p.parent_path();
+  }
   if (p.empty()) p = ".";
   if (!fs::is_directory(p, ec))
     throw InputError(path, "-o", "an output folder that can be made, but " + p.string() + " is a file");

@@ -1,6 +1,7 @@
 // Collecting a screen: ranking.csv and the figures (see collect.hpp).
 #include "screen/collect.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -65,15 +66,23 @@ std::string render_screen_figures(const std::string& out, const std::vector<Desi
   std::string blocks, names;
   for (std::size_t i = 0; i < done.size() && i < 3; ++i) {
     const std::string dir = design_dir(out, done[i]->design.name);
-    const std::vector<int> st = io::list_finished_stages(dir, done[i]->design.name);
-    if (st.empty()) continue;
-    for (int k : {0, st.back()}) {
-      const io::CsvData p = io::read_csv(io::profile_path(dir, done[i]->design.name, k));
-      for (std::size_t r = 0; r < p.row_count(); ++r)
-        blocks += io::format_number(p.number(r, "x_mm")) + "," + io::format_number(p.number(r, "y_mm")) + "\n";
-      blocks += "\n\n";
+    // A design's profiles that do not read (another process rewriting its folder) leave it
+    // out of this figure, which says so: the ranking stands.
+    try {
+      const std::vector<int> st = io::list_finished_stages(dir, done[i]->design.name);
+      if (st.empty()) continue;
+      std::string design_blocks;
+      for (int k : {0, st.back()}) {
+        const io::CsvData p = io::read_csv(io::profile_path(dir, done[i]->design.name, k));
+        for (std::size_t r = 0; r < p.row_count(); ++r)
+          design_blocks += io::format_number(p.number(r, "x_mm")) + "," + io::format_number(p.number(r, "y_mm")) + "\n";
+        design_blocks += "\n\n";
+      }
+      blocks += design_blocks;
+      names += (names.empty() ? "" : " ") + done[i]->design.name;
+    } catch (const std::exception& e) {
+      failures += (failures.empty() ? "" : "; ") + std::string("screen_top_profiles: ") + e.what();
     }
-    names += (names.empty() ? "" : " ") + done[i]->design.name;
   }
   io::write_file_atomic(io::join_path(data_dir, "top_profiles.dat"), blocks);
   draw("screen_top_profiles", {{"designs", names}});
@@ -112,6 +121,12 @@ CollectOutcome collect_screen(const std::string& out, bool take_lock) {
   o.ranked = rank_designs(results, io::find_value(key, "power") == "max");
   write_ranking(out, o.ranked);
   o.figure_error = render_screen_figures(out, o.ranked, key);
+  // Skipped (no gnuplot, or no design to draw) is not failed.
+  const bool any_drawn = std::any_of(o.ranked.begin(), o.ranked.end(), [](const DesignResult& r) {
+    return r.status == "finished" && std::isfinite(r.life_h);
+  });
+  o.figures_failed = !o.figure_error.empty() && plots::gnuplot_available() && any_drawn;
+  for (const auto& r : o.ranked) o.figures_failed = o.figures_failed || !r.figure_error.empty();
   for (const auto& r : o.ranked) {
     if (r.status == "failed") ++o.failed;
     else if (r.status == "missing") ++o.missing;

@@ -19,6 +19,7 @@ struct CollectOutcome {
   std::vector<DesignResult> ranked;   // ranking order (rank_designs)
   int failed = 0, missing = 0;
   std::string figure_error;           // "" when every figure was drawn
+  bool figures_failed = false;        // a figure failed with gnuplot installed (exit 1, as run's)
 };
 
 // Takes OUT's lock (io/folder_lock.hpp; one writer of the ranking and figures at a time)

@@ -114,7 +114,7 @@ PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& 
         }
         std::lock_guard<std::mutex> lock(pool.mutex);
         --pool.running;
-        if (rc == 0) ++pool.done;
+        if (rc == 0 || (rc == 1 && design_finished(out, c))) ++pool.done;  // 1: its figures failed
         else if (rc == 1 || rc == 2 || crashed) ++pool.failed;
       }
       workers_left.fetch_sub(1);

@@ -41,6 +41,7 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
       r.reason = "unknown task status '" + status + "' in task.status";
       return r;
     }
+    if (io::find_value(kv, "exit_code", "0") != "0") r.figure_error = io::find_value(kv, "reason", "figures failed");
     const io::CsvData s = io::read_csv(io::summary_path(dir));
     const std::size_t cd = s.column("design");
     std::map<int, std::size_t> rows;  // stage -> row

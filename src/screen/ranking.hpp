@@ -23,6 +23,7 @@ struct DesignResult {
   Candidate design;
   std::string status = "missing";  // finished, failed, missing
   std::string reason;              // failed: the error; missing: what was found
+  std::string figure_error;        // finished, but its run's figures failed (task.status's reason)
   double life_h = std::nan("");
   double life_sigma_h = std::nan("");
   int replicates = 1;                                    // histories behind the figures

@@ -86,6 +86,15 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key, con
     for (fs::directory_iterator it(designs, ec), end; !ec && it != end; it.increment(ec))
       if (it->is_directory(ec) && !it->is_symlink(ec) && is_candidate_name(it->path().filename().string()))
         dirs.push_back(it->path().string());
+    // A design a task is still running (a GNU parallel or Slurm job) is that task's: nothing
+    // of the screen is removed while one is.
+    for (const auto& dir : dirs) {
+      const std::string holder = io::folder_holder(dir);
+      if (!holder.empty())
+        throw InputError(dir, "-o",
+                         "a screen folder no task is writing into, but " + holder +
+                             " holds this design; wait for it to end, or use --resume to run the other designs");
+    }
     for (const auto& dir : dirs) {
       study::remove_run_outputs(dir, keep);
       remove_ours(dir, keep, [](const std::string& f) { return f == "task.status"; });
@@ -144,6 +153,8 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   if (a.replicates < 1 || a.replicates > study::kMaxReplicates)
     throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) +
                                              " histories per design, got " + std::to_string(a.replicates));
+  // Each design's replicates take the base scene's seeds s .. s + N - 1 (as `run`'s).
+  check_derived_seeds(base, static_cast<std::uint64_t>(a.replicates), "--replicates " + std::to_string(a.replicates));
   in.fingerprint = screen_fingerprint(a.screen_file, in.def, a.replicates);
   return in;
 }

@@ -65,6 +65,7 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
     opt.commit = options.commit;
     const study::RunOutcome r = study::run_designs(state, opt);
     o.exit_code = r.interrupted ? 128 + (r.signal == SIGTERM ? SIGTERM : SIGINT) : r.failed || r.figures_failed ? 1 : 0;
+    o.figures_only = !r.interrupted && !r.failed && r.figures_failed;
     const study::DesignState& st = *state.designs[0];
     if (o.exit_code == 1) {
       o.reason = st.error;
@@ -80,7 +81,8 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
     o.exit_code = dynamic_cast<const InputError*>(&e) ? 2 : 1;
     o.reason = e.what();
   }
-  if (o.exit_code == 0) write_task_status(out, c, "finished", 0, "");
+  // A finished history whose figures failed is ranked; its exit (1) and reason say so.
+  if (o.exit_code == 0 || o.figures_only) write_task_status(out, c, "finished", o.exit_code, o.reason);
   else if (o.exit_code == 1 || o.exit_code == 2) write_task_status(out, c, "failed", o.exit_code, o.reason);
   else
     write_task_status(out, c, "interrupted", o.exit_code,

@@ -32,6 +32,7 @@ struct TaskOutcome {
   std::vector<std::string> events;
   std::string figure_error;
   std::string reason;             // what task.status says (failed: why); when !ran, the exception's text
+  bool figures_only = false;      // the history finished, its figures failed: "finished", exit 1
 };
 
 // Runs design `index` of `designs` (read from OUT/designs.csv), holding the lock of its

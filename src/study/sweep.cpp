@@ -414,6 +414,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
       r.figure_files = render_sweep_figures(q.out, r.axis.key);
     } catch (const std::exception& e) {
       r.figure_error = e.what();
+      r.figures_failed = plots::gnuplot_available();
     }
     for (const auto& f : r.figure_files) files.push_back(io::relative_to(q.out, f));
   }

@@ -86,6 +86,7 @@ struct SweepResult {
   double wall_s = 0.0;
   std::vector<std::string> figure_files;
   std::string figure_error;                    // figures failed (the tables are written)
+  bool figures_failed = false;                 // ... with gnuplot installed (exit 1, as run's)
   bool failed() const;                         // a point has an error
 };
 
