@@ -93,17 +93,25 @@ TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
 }
 
 // A run's figures stand for the scene only as the run ran it: the scene with another speed
-// (--set) or fidelity is refused, the differences named, and nothing is written.
+// (--set) or fidelity is refused, the differences named, and nothing is written: no folder
+// made, and an earlier validation in the folder kept (it was deleted before the refusal).
 TEST_F(CalibrateCli, ValidateRefusesARunOfOtherSettings) {
   const fs::path areas = areas_from_run();
+  const fs::path earlier = dir_ / "earlier";
+  ASSERT_EQ(run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(earlier) + " --from " + q(run_dir_))
+                .exit_code,
+            0);
+  const std::string earlier_table = slurp(earlier / "validation.csv");
   for (const std::string& extra : {std::string(" --set mill.speed=0.9"), std::string(" --fidelity standard")}) {
-    const fs::path out = dir_ / "val";
-    const Result r =
-        run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out) + " --from " + q(run_dir_) + extra);
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("--from"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("settings differ"), std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(out)) << r.output;
+    for (const fs::path& out : {dir_ / "val", earlier}) {
+      const Result r =
+          run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out) + " --from " + q(run_dir_) + extra);
+      EXPECT_EQ(r.exit_code, 2) << r.output;
+      EXPECT_NE(r.output.find("--from"), std::string::npos) << r.output;
+      EXPECT_NE(r.output.find("settings differ"), std::string::npos) << r.output;
+    }
+    EXPECT_FALSE(fs::exists(dir_ / "val"));
+    EXPECT_EQ(slurp(earlier / "validation.csv"), earlier_table);
   }
 }
 
@@ -237,13 +245,18 @@ TEST(WornStart, CalibrationAndValidationCountFromTheStart) {
   EXPECT_LT(std::fabs(c - 1e-10), 3.0 * sigma) << "C = " << c << " +- " << sigma;
 
   const std::string early = dir.write("early.csv", "hours,area_mm2\n1500,431\n" + text.substr(text.find('\n') + 1));
+  // Hours counted from the worn start instead of from new, areas that shrink: the hours are
+  // what is wrong, and validate says so as calibrate does (it said the areas do not shrink).
+  const std::string relative = dir.write("relative.csv", "hours,area_mm2\n100,346\n200,286\n");
   for (const std::string& cmd : {"validate " + q(worn), "calibrate " + q(guess_scene)}) {
-    const fs::path out = dir.path() / "refused";
-    const Result r = run(cmd + " --measured " + q(early) + " -o " + q(out));
-    EXPECT_EQ(r.exit_code, 2) << r.output;
-    EXPECT_NE(r.output.find("line 2: surveys at or after the history's start, the scene's lifters.start_hours (2000 h)"),
-              std::string::npos) << r.output;
-    EXPECT_FALSE(fs::exists(out)) << cmd;
+    for (const std::string& surveys : {early, relative}) {
+      const fs::path out = dir.path() / "refused";
+      const Result r = run(cmd + " --measured " + q(surveys) + " -o " + q(out));
+      EXPECT_EQ(r.exit_code, 2) << r.output;
+      EXPECT_NE(r.output.find("line 2: surveys at or after the history's start, the scene's lifters.start_hours (2000 h)"),
+                std::string::npos) << r.output;
+      EXPECT_FALSE(fs::exists(out)) << cmd;
+    }
   }
 }
 

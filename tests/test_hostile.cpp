@@ -605,6 +605,28 @@ TEST(HostileScenes, SweepFiguresThatFailExitOneWithTheTableWritten) {
   EXPECT_NE(r.output.find("figures"), std::string::npos) << r.output;
 }
 
+// A point whose charge the fill cannot place (disks of one size at a filling under the 60%
+// limit, past what random placement reaches) is that point's error: the other points are
+// kept, sweep.csv written, exit 1. It stopped the sweep part-way, exit 2, no table.
+TEST(HostileScenes, ASweepPointTheFillCannotPlaceIsThatPointsError) {
+  const TempDir dir("millwear-hostile-sweep-unplaceable");
+  std::string s = lab_quick();
+  const std::string range = "size_range = [15.0, 25.0]";
+  s.replace(s.find(range), range.size(), "sizes = [20.0]");
+  s += "\n[[charge.species]]\nname = \"rock\"\ndensity = 2700.0\nsizes = [20.0]\n";
+  const fs::path scene = dir / "scene.toml";
+  write(scene, s);
+  const auto r = run_millwear("sweep " + quoted(scene) + " --vary charge.filling=0.3,0.59 --set charge.ball_filling=0.1 " +
+                              "--revolutions 0.2 -j 1 -q --no-plot -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("charge.filling = 0.59"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("random placement put"), std::string::npos) << r.output;
+  const millwear::io::CsvData t = millwear::io::read_csv((dir / "out" / "sweep.csv").string());
+  ASSERT_EQ(t.row_count(), 2u);
+  EXPECT_EQ(t.text(0, t.column("error")), "");
+  EXPECT_NE(t.text(1, t.column("error")).find("charge.filling"), std::string::npos);
+}
+
 // No friction between charge and liner: no shear work, no wear, so no life. The run's table
 // says why the life column is empty.
 TEST(HostileScenes, ALinerThatDoesNotWearSaysThereIsNoLife) {

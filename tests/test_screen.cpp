@@ -188,6 +188,15 @@ TEST_F(ScreenRun, FiguresThatFailLeaveEveryDesignRankedAndExitOne) {
     EXPECT_NE(status.find("figures failed"), std::string::npos) << name << ": " << status;
     EXPECT_NE(r.output.find("design " + name + ": figures failed"), std::string::npos) << r.output;
   }
+  if (!gnuplot) return;
+  // With the scripts back, --resume redraws them: each task runs again over its finished history.
+  const Result again = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --quiet --resume");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+  for (std::size_t i = 0; i < rank.row_count(); ++i) {
+    const std::string name = rank.text(i, rank.column("design"));
+    EXPECT_NE(slurp(out / "designs" / name / "task.status").find("exit_code=0"), std::string::npos) << name;
+  }
 }
 
 // --replicates N: every task runs N histories (seeds s .. s + N - 1) through `millwear run`'s

@@ -530,6 +530,28 @@ WearHistory synthetic_area_history(const Scene& s) {
   return h;
 }
 
+// A fit at either end of the search is flagged (and so never counts as converged): at the
+// history's end, and at a thousandth of it, where surveys that show next to no wear put it
+// (the lower end was not flagged, and calibrate took such fits as estimates of C).
+TEST(ValidationCalibration, AFitAtEitherEndOfTheSearchIsFlagged) {
+  const std::vector<double> worn = {100.0};
+  const double reach = 200.0;  // s from 0.002 to 2
+  const auto fit = [&](double (*residual)(double)) {
+    return validation::fit_time_scale(worn, reach, [residual](std::size_t, double s, std::vector<double>& r) {
+      r.push_back(residual(s));
+    });
+  };
+  const validation::ScaleFit low = fit([](double s) { return s; });
+  EXPECT_TRUE(low.at_bound);
+  EXPECT_NEAR(low.scale, 0.002, 1e-8);
+  const validation::ScaleFit high = fit([](double s) { return 1.0 / s; });
+  EXPECT_TRUE(high.at_bound);
+  EXPECT_NEAR(high.scale, 2.0, 1e-5);
+  const validation::ScaleFit inside = fit([](double s) { return s - 1.0; });
+  EXPECT_FALSE(inside.at_bound);
+  EXPECT_NEAR(inside.scale, 1.0, 1e-5);
+}
+
 TEST(ValidationCalibration, AreasOnAnExactlyScalingHistoryGiveCBackAndTheFitErrorWhenKnown) {
   Scene guess = quick_lab();
   const double c_true = 1e-10;

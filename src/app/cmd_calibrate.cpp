@@ -54,7 +54,7 @@ int run_calibrate(CalibrateArgs a) {
     std::printf("run %d: C = %.4g m^3/J to %.0f h: best fit C = %.4g (x %.4f), rms %.3f %s over %d %s%s (%.1f s)\n",
                 r.run, r.c_m3_per_J, r.reached_hours, r.c_estimate, r.fit.scale, r.fit.rms * (areas ? 1e6 : 1e3),
                 areas ? "mm^2" : "mm", r.fit.points, areas ? "worn area(s)" : "points",
-                r.fit.at_bound ? ", at the end of the history" : "", r.wall_s);
+                r.fit.at_bound ? ", at an end of the search (the history's end, or next to no wear)" : "", r.wall_s);
     for (const auto& e : r.events) std::printf("  event: %s\n", e.c_str());
     std::fflush(stdout);
   };

@@ -87,6 +87,9 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
   if (o.missing + o.failed > 0)
     std::printf("to finish: run the missing/failed tasks again (millwear screen-task %s I), or re-emit them "
                 "with --emit, then --collect\n", out.c_str());
+  if (o.figures_failed)
+    std::printf("to draw the figures: run the screen again with --resume (a finished design's task only redraws "
+                "them), then --collect\n");
   return o.missing + o.failed > 0 || o.figures_failed ? 1 : 0;
 }
 

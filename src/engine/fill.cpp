@@ -80,10 +80,10 @@ InputError unplaceable(const Scene& scene, double r_place, const std::vector<dou
                 "put %zu of the %zu disks (%.0f%% of the circle of radius %.4g mm) and found no room for the next; "
                 "a filling below %.3g",
                 placed_r.size(), draws.size(), 100.0 * placed_m2 / (kPi * r_place * r_place), r_place * 1e3,
-                scene.charge.filling * scale);
+                down_to_3_digits(scene.charge.filling * scale));
   std::string expected = buf;
   if (scene.charge.ball_filling > 0.0) {
-    std::snprintf(buf, sizeof buf, " with a ball_filling below %.3g", scene.charge.ball_filling * scale);
+    std::snprintf(buf, sizeof buf, " with a ball_filling below %.3g", down_to_3_digits(scene.charge.ball_filling * scale));
     expected += buf;
   }
   return InputError(scene.source_file, "charge.filling", expected);

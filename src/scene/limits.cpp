@@ -227,6 +227,12 @@ void check_liner_size(const Scene& scene, const std::string& file) {
                        count_text(lifters) + " on the lifters)");
 }
 
+double down_to_3_digits(double x) {
+  if (!(x > 0.0)) return 0.0;
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 2.0);
+  return std::floor(x / unit) * unit;
+}
+
 double charge_placement_radius_m(const MillGeometry& mill, double largest_diameter_m) {
   double tip_radius = mill.radius_m;
   for (const Vec2& p : mill.boundary) tip_radius = std::min(tip_radius, length(p));
@@ -244,21 +250,16 @@ void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::
   // The disks' area is proportional to the filling (balls to ball_filling): both scale alike.
   // The suggestion is rounded down to three digits, so that it is taken when given back.
   const double scale = r_place > 0.0 ? room_m2 / solid_m2 : 0.0;
-  const auto down3 = [](double x) {
-    if (!(x > 0.0)) return 0.0;
-    const double unit = std::pow(10.0, std::floor(std::log10(x)) - 2.0);
-    return std::floor(x / unit) * unit;
-  };
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "a charge that fits inside the lifter tips: its disks (%.4g m^2 at this filling) may take %.0f%% of "
                 "the circle the charge is placed in (radius %.4g mm, inside the tips), %.4g m^2; a filling of at "
                 "most %.3g",
                 solid_m2, 100.0 * kMaxTipCircleShare, r_place * 1e3, std::max(0.0, room_m2),
-                down3(scene.charge.filling * scale));
+                down_to_3_digits(scene.charge.filling * scale));
   std::string expected = buf;
   if (scene.charge.ball_filling > 0.0) {
-    std::snprintf(buf, sizeof buf, " with a ball_filling of at most %.3g", down3(scene.charge.ball_filling * scale));
+    std::snprintf(buf, sizeof buf, " with a ball_filling of at most %.3g", down_to_3_digits(scene.charge.ball_filling * scale));
     expected += buf;
   }
   throw InputError(file, "charge.filling", expected);

@@ -80,6 +80,9 @@ constexpr double kMaxTipCircleShare = 0.6;
 // The circle the fill places the charge in: through the lifter tips (the boundary's point
 // nearest the centre), less the clearance of a twentieth of the largest diameter.
 double charge_placement_radius_m(const MillGeometry& mill, double largest_diameter_m);
+// x rounded down to three significant digits (0 for x <= 0): a suggested limit that holds
+// when given back.
+double down_to_3_digits(double x);
 void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::string& file);
 
 // All of the above, in the order a user would fix them.

@@ -78,7 +78,8 @@ void remove_ours(const std::string& dir, const std::vector<std::string>& keep, c
 // Slurm task list and logs, the job lists, the tables, the ranking, the figures and the copy
 // of the screen file. A user's own files, in OUT or any of its folders, stay, and so do the
 // files of `keep` (the inputs this screen reads, which may be copies in OUT).
-void remove_screen_outputs(const std::string& out, const io::KeyValues& key, const std::vector<std::string>& keep) {
+void remove_screen_outputs(const std::string& out, const io::KeyValues& key, const std::vector<std::string>& keep,
+                           bool same_screen) {
   std::error_code ec;
   const std::string designs = io::join_path(out, "designs");
   if (fs::is_directory(fs::symlink_status(designs, ec))) {
@@ -92,8 +93,9 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key, con
       const std::string holder = io::folder_holder(dir);
       if (!holder.empty())
         throw InputError(dir, "-o",
-                         "a screen folder no task is writing into, but " + holder +
-                             " holds this design; wait for it to end, or use --resume to run the other designs");
+                         "a screen folder no task is writing into, but " + holder + " holds this design; wait for it " +
+                             (same_screen ? "to end, or use --resume to run the other designs"
+                                          : "to end, or use a new output folder"));
     }
     for (const auto& dir : dirs) {
       study::remove_run_outputs(dir, keep);
@@ -200,7 +202,7 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                               "no other file) and start over");
   }
   const bool keep = same && (a.resume || !a.emit.empty());
-  if (!keep) remove_screen_outputs(out, have, screen_inputs(a.screen_file, def));
+  if (!keep) remove_screen_outputs(out, have, screen_inputs(a.screen_file, def), same);
   const bool out_existed = fs::exists(out, ec);
   const bool inputs_existed = fs::exists(io::join_path(out, "inputs"), ec);
   io::ensure_dir(out);
@@ -239,7 +241,7 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                          first + ")");
   }
   for (std::size_t i = 0; i < s.designs.size(); ++i) {
-    if (keep && design_finished(out, s.designs[i])) ++s.already_done;
+    if (keep && design_finished(out, s.designs[i], true)) ++s.already_done;
     else s.todo.push_back(static_cast<int>(i));
   }
   return s;

@@ -24,10 +24,11 @@ void write_task_status(const std::string& out, const Candidate& c, const std::st
   io::write_file_atomic(task_status_path(out, c.name), io::format_key_values(kv, "millwear screen-task"));
 }
 
-bool design_finished(const std::string& out, const Candidate& c) {
+bool design_finished(const std::string& out, const Candidate& c, bool with_figures) {
   if (!io::file_exists(task_status_path(out, c.name))) return false;
   try {
-    return io::find_value(io::read_key_values(task_status_path(out, c.name)), "status") == "finished";
+    const io::KeyValues kv = io::read_key_values(task_status_path(out, c.name));
+    return io::find_value(kv, "status") == "finished" && (!with_figures || io::find_value(kv, "exit_code", "0") == "0");
   } catch (const std::exception&) {
     return false;
   }

@@ -50,7 +50,8 @@ int run_screen_tasks(const std::string& out, const std::vector<int>& indices, co
 void write_task_status(const std::string& out, const Candidate& c, const std::string& status, int exit_code,
                        const std::string& reason);
 
-// True when the design's task.status says finished.
-bool design_finished(const std::string& out, const Candidate& c);
+// True when the design's task.status says finished (with_figures: and its figures drawn, exit
+// code 0; a task run again over a finished history only redraws them).
+bool design_finished(const std::string& out, const Candidate& c, bool with_figures = false);
 
 }  // namespace millwear::screen

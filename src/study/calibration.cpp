@@ -34,9 +34,9 @@ double minimize_scale(const std::function<double(double)>& fn, double lo, double
   }
   const double m = 0.5 * (a + b);
   const double found = fn(m) <= v[best] ? m : s[best];
-  // At the bound only if the refined minimum is (within the search's resolution) hi itself:
-  // the last scan point being the best says little, the scan steps by about 9%.
-  at_bound = hi - found <= 1e-6 * hi;
+  // At a bound only if the refined minimum is (within the search's resolution) hi or lo
+  // itself: the last scan point being the best says little, the scan steps by about 9%.
+  at_bound = hi - found <= 1e-6 * hi || found - lo <= 1e-6 * lo;
   return found;
 }
 

@@ -69,7 +69,9 @@ struct ScaleFit {
   double sigma_spread = 0.0;          // (b) standard error of the mean of per-survey estimates
   double rms = 0.0;                   // residual rms at s (m for profiles, m^2 for areas)
   int points = 0;                     // residuals
-  bool at_bound = false;              // the best s is at the largest the history reaches
+  // The best s is at an end of the search: the largest the history reaches, or a thousandth
+  // of it (surveys that show next to no wear). Such a fit does not count as converged.
+  bool at_bound = false;
   std::vector<double> survey_hours;   // worn surveys
   std::vector<double> survey_scale;   // per-survey least-squares s
   // (a) needs two residuals or more (one worn area survey has one).

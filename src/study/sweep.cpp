@@ -380,7 +380,8 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   r.points.resize(static_cast<std::size_t>(n));
   std::mutex mutex;
   int done = 0;
-  // A numerical failure is the point's result; anything else (an I/O failure) stops the sweep.
+  // A numerical failure, or a charge the fill cannot place at this point's value (the up-front
+  // check cannot see it), is the point's result; anything else (an I/O failure) stops the sweep.
   for_each_index_parallel(static_cast<std::size_t>(tasks), r.jobs, [&](std::size_t t) {
     const int i = static_cast<int>(t) / reps, k = static_cast<int>(t) % reps;
     const auto iu = static_cast<std::size_t>(i);
@@ -390,6 +391,10 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
       scene.solver.seed += static_cast<std::uint64_t>(k);
       p = measure_point(scene, i, k, r.axis, q.out, written[t]);
     } catch (const NumericalError& e) {
+      p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
+      p.error = e.what();
+    } catch (const InputError& e) {
+      if (e.where != "charge.filling") throw;
       p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
       p.error = e.what();
     }

@@ -46,29 +46,29 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
   return src;
 }
 
-// The stages of the history to compare with: a finished run (--from) or a fresh one.
-std::vector<StageRecord> history_stages(const Scene& scene, const ValidateRequest& a, const Measurements& measured,
-                                        const ValidateCallbacks& cb) {
-  HistorySource src = history_source(scene, a, measured);
-  if (src.from_run) {
-    std::vector<StageRecord> stages;
-    for (int s = 0; s <= src.last_stage; ++s) {
-      stages.push_back(study::read_stage_state(a.from, scene.name, s));
-      study::check_stage_of_scene(stages.back(), scene, a.from, "--from");
-    }
-    src.reached_hours = stages.back().hours;
-    check_surveys_from_start(measured, stages.front().hours, "the run's first stage in " + a.from, a.measured_file);
-    const std::vector<double> hours = measured.hours();
-    const std::vector<std::size_t> lines = measured.lines();
-    for (std::size_t i = 0; i < hours.size(); ++i)
-      if (hours[i] > src.reached_hours + kSameHoursTolerance)
-        throw InputError(a.measured_file, "line " + std::to_string(lines[i]),
-                         "a survey within the " + io::format_number(src.reached_hours) + " h the run in " + a.from +
-                             " reached, found " + io::format_number(hours[i]) + " h");
-    if (cb.on_history) cb.on_history(scene, measured, src);
-    return stages;
+// The stages of a finished run (--from), read and checked against the scene and the surveys
+// before anything is written.
+std::vector<StageRecord> stages_from_run(const Scene& scene, const ValidateRequest& a, const Measurements& measured,
+                                         HistorySource& src) {
+  std::vector<StageRecord> stages;
+  for (int s = 0; s <= src.last_stage; ++s) {
+    stages.push_back(study::read_stage_state(a.from, scene.name, s));
+    study::check_stage_of_scene(stages.back(), scene, a.from, "--from");
   }
-  if (cb.on_history) cb.on_history(scene, measured, src);
+  src.reached_hours = stages.back().hours;
+  check_surveys_from_start(measured, stages.front().hours, "the run's first stage in " + a.from, a.measured_file);
+  const std::vector<double> hours = measured.hours();
+  const std::vector<std::size_t> lines = measured.lines();
+  for (std::size_t i = 0; i < hours.size(); ++i)
+    if (hours[i] > src.reached_hours + kSameHoursTolerance)
+      throw InputError(a.measured_file, "line " + std::to_string(lines[i]),
+                       "a survey within the " + io::format_number(src.reached_hours) + " h the run in " + a.from +
+                           " reached, found " + io::format_number(hours[i]) + " h");
+  return stages;
+}
+
+// A fresh history of the scene to the surveys' hours.
+std::vector<StageRecord> fresh_history(const HistorySource& src, const ValidateCallbacks& cb) {
   const WearHistory h = run_wear_history(src.scene, cb.wear);
   if (cb.on_event)
     for (const auto& e : h.events) cb.on_event(e);
@@ -203,6 +203,12 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   });
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene, a.measured_file);
+  // Every check before the folder is touched: the history to compare with (a --from run read
+  // and checked against the scene and the surveys' hours, or the surveys from the start of a
+  // fresh one), then the surveys against the lifter.
+  HistorySource src = history_source(scene, a, measured);
+  std::vector<StageRecord> stages;
+  if (src.from_run) stages = stages_from_run(scene, a, measured, src);
   if (!measured.areas_only)
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   // As calibrate: no survey lost more than the whole lifter, and the losses grow with time.
@@ -211,7 +217,8 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
                        scene.wear.start_hours, a.measured_file);
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
   io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
-  const std::vector<StageRecord> stages = history_stages(scene, a, measured, cb);
+  if (cb.on_history) cb.on_history(scene, measured, src);
+  if (!src.from_run) stages = fresh_history(src, cb);
   ValidateOutcome o;
   o.areas_only = measured.areas_only;
   if (o.areas_only) validate_areas(scene, a, measured.areas, stages, o);

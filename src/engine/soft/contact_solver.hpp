@@ -60,7 +60,7 @@ struct SolverRows {
   std::vector<int> list[kPhases], warm[kPhases];
   std::vector<int> n[kPhases], warm_n[kPhases];
   // The listed rows' gaps, copied in list order, block k's phases one after the other from
-  // first[k] (list_gap_at): the eight passes of a step read them in order, where the rows'
+  // first[k] (list_gap_at): the 2 x substeps passes of a step read them in order, where the rows'
   // own gaps lie apart, between the coloured rows (at 30k disks and more, each on its own
   // cache line from memory).
   std::vector<PairGap> list_gap;
