@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
@@ -87,20 +88,27 @@ void remove_screen_outputs(const std::string& out, const io::KeyValues& key, con
     for (fs::directory_iterator it(designs, ec), end; !ec && it != end; it.increment(ec))
       if (it->is_directory(ec) && !it->is_symlink(ec) && is_candidate_name(it->path().filename().string()))
         dirs.push_back(it->path().string());
-    // A design a task is still running (a GNU parallel or Slurm job) is that task's: nothing
-    // of the screen is removed while one is.
+    // A design a task still runs (a GNU parallel or Slurm job) is that task's: nothing of the
+    // screen is removed while one is. Each design's lock is held while its files go, so a
+    // task that starts meanwhile is refused instead of losing its files.
+    std::vector<std::unique_ptr<io::FolderLock>> locks;
     for (const auto& dir : dirs) {
-      const std::string holder = io::folder_holder(dir);
-      if (!holder.empty())
+      try {
+        locks.push_back(std::make_unique<io::FolderLock>(dir));
+      } catch (const InputError&) {
         throw InputError(dir, "-o",
-                         "a screen folder no task is writing into, but " + holder + " holds this design; wait for it " +
+                         "a screen folder no task is writing into, but " + io::folder_holder(dir) +
+                             " holds this design; wait for it " +
                              (same_screen ? "to end, or use --resume to run the other designs"
                                           : "to end, or use a new output folder"));
+      }
     }
     for (const auto& dir : dirs) {
       study::remove_run_outputs(dir, keep);
       remove_ours(dir, keep, [](const std::string& f) { return f == "task.status"; });
     }
+    locks.clear();
+    for (const auto& dir : dirs) fs::remove(dir, ec);  // only if the release left it empty
     if (fs::is_empty(designs, ec)) fs::remove(designs, ec);
   }
   remove_ours(io::join_path(out, "candidates"), keep, is_candidate_file);
