@@ -357,6 +357,21 @@ TEST(IoCsv, RaggedRowErrorNamesFileAndLine) {
   }
 }
 
+// Lines ended by a lone CR (a spreadsheet's "CSV (Macintosh)") are lines: counted in errors,
+// and a '#' line among them is a comment (it read as one line, every error "line 1").
+TEST(IoCsv, LinesEndedByALoneCarriageReturnAreLines) {
+  const io::CsvData d = io::parse_csv(io::strip_comment_lines("# a comment\rx_mm,y_mm\r1,2\r3,abc\r"), "mac.csv");
+  ASSERT_EQ(d.row_count(), 2u);
+  EXPECT_EQ(d.header, (std::vector<std::string>{"x_mm", "y_mm"}));
+  EXPECT_DOUBLE_EQ(d.number(0, "y_mm"), 2.0);
+  try {
+    d.numbers("y_mm");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "line 4");
+  }
+}
+
 TEST(IoCsv, NonNumericFieldErrorNamesLineAndColumn) {
   io::CsvData d = io::parse_csv("x_mm,y_mm\r\n1,2\r\n3,abc\r\n", "p.csv");
   EXPECT_DOUBLE_EQ(d.number(0, "y_mm"), 2.0);

@@ -128,12 +128,15 @@ TEST(MeasuredProfile, SpreadsheetDialectsReadTheSamePoints) {
   const std::string plain = "x_mm,y_mm\n-20,-1\n-10,10\n0,12.5\n10,10\n20,-1\n";
   std::string semicolon = "x_mm;y_mm\n-20;-1\n-10;10\n0;12,5\n10;10\n20;-1\n";
   std::string crlf_bom = std::string(io::kUtf8Bom) + "# gauge 3\r\nx_mm,y_mm\r\n-20,-1\r\n-10,10\r\n0,12.5\r\n10,10\r\n20,-1\r\n";
+  // Lines ended by a lone CR ("CSV (Macintosh)"), with a comment and the pitch line among them.
+  std::string cr = "# gauge 3\r# pitch_mm = 40\rx_mm,y_mm\r-20,-1\r-10,10\r0,12.5\r10,10\r20,-1\r";
   const LifterProfile a = parse_measured_profile(plain, "a.csv");
-  for (const std::string& text : {semicolon, crlf_bom}) {
+  for (const std::string& text : {semicolon, crlf_bom, cr}) {
     const LifterProfile b = parse_measured_profile(text, "b.csv");
     ASSERT_EQ(a.measured.size(), b.measured.size());
     for (std::size_t i = 0; i < a.measured.size(); ++i) EXPECT_TRUE(a.measured[i] == b.measured[i]) << i;
   }
+  EXPECT_DOUBLE_EQ(parse_measured_profile(cr, "cr.csv").unit_pitch_m, 0.04);
 }
 
 TEST(MeasuredProfile, ReversedScanIsTurnedRound) {

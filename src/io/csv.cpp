@@ -247,6 +247,17 @@ std::vector<Record> split_records(const std::string& text, const std::string& na
 
 }  // namespace
 
+std::string with_newline_ends(const std::string& text) {
+  if (text.find('\r') == std::string::npos) return text;
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '\r') out += text[i];
+    else if (i + 1 == text.size() || text[i + 1] != '\n') out += '\n';
+  }
+  return out;
+}
+
 CsvData parse_csv(const std::string& text_in, const std::string& name) {
   CsvData data;
   data.path = name;
@@ -254,7 +265,7 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
   const bool bom = text_in.compare(0, 3, kUtf8Bom) == 0;
   if (text_in.compare(0, 2, "\xFF\xFE") == 0 || text_in.compare(0, 2, "\xFE\xFF") == 0)
     throw InputError(name, "line 1", "UTF-8 or ASCII text, found UTF-16 (save it as \"CSV UTF-8\" or plain CSV)");
-  const std::string text = bom ? text_in.substr(3) : text_in;
+  const std::string text = with_newline_ends(bom ? text_in.substr(3) : text_in);
   data.separator = detect_separator(text);
   std::vector<Record> records = split_records(text, name, data.separator);
   if (records.empty()) throw InputError(name, "line 1", "a header row");
@@ -282,7 +293,8 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
 
 CsvData read_csv(const std::string& path) { return parse_csv(read_file(path), path); }
 
-std::string strip_comment_lines(const std::string& text) {
+std::string strip_comment_lines(const std::string& text_in) {
+  const std::string text = with_newline_ends(text_in);
   std::string out;
   out.reserve(text.size());
   // A byte-order mark (spreadsheets' "CSV UTF-8") would hide a first line's '#'.

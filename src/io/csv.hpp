@@ -115,6 +115,11 @@ CsvData parse_csv(const std::string& text, const std::string& name);
 // Reads and parses a CSV file. Throws InputError(path, "", "a readable file") if missing.
 CsvData read_csv(const std::string& path);
 
+// Every line end as '\n': CRLF (Windows) and a lone CR (spreadsheets' "CSV (Macintosh)")
+// alike, so that lines are counted and comment lines found in either (parse_csv and
+// strip_comment_lines do it themselves).
+std::string with_newline_ends(const std::string& text);
+
 // Blank out '#' comment lines (keeping the line count, so later errors name the right
 // line) for the CSV reader, which knows no comments. A leading byte-order mark is dropped.
 std::string strip_comment_lines(const std::string& text);

@@ -516,7 +516,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
                          "% of the lifter (loops of gauge noise, cut out, hold under " +
                          short_number(100.0 * kMaxNoiseLoopShare) + "%): are the points in order along the surface?");
   // A whole unit's scan: its ends one pitch apart.
-  const auto [pitch_m, pitch_line] = pitch_comment(text, name);
+  const auto [pitch_m, pitch_line] = pitch_comment(io::with_newline_ends(text), name);
   if (pitch_line != 0) {
     const double width = s.back().x - s.front().x;
     if (std::abs(width - pitch_m) > kPitchTolerance * pitch_m)
