@@ -824,6 +824,34 @@ TEST(SoftEngine, DensePileAtRestStaysAtRest) {
   EXPECT_LT(charge_kinetic_J(after), 1e-6 * mgh) << "jitter " << charge_kinetic_J(after) << " J";
 }
 
+// A steel ball 300 times a small rock's mass resting on the rock, the rock on the floor: each
+// soft contact settles where its spring carries its load, k s = F with k = m_e (2 pi f)^2
+// (m_e the row's effective mass, f its frequency: the pair's, and twice it for the floor).
+// The rock carries the ball (the pair row's m_e is about the rock's mass) and the floor both.
+// A push-out too slow for that load lets the ball sink on through the rock into the floor.
+TEST(SoftEngine, AHeavyBallOnALightRockRestsWhereTheSoftContactsCarryTheirLoads) {
+  Scene scene = single_disk_scene(0.5);
+  scene.solver.backend = Backend::Soft;
+  const double r = 0.002, big = 0.02;  // the rock's and the ball's radii
+  const double m = 1000.0 * kPi * r * r * scene.mill.slice_thickness_m, mass_ratio = 300.0;
+  ChargeState stack = one_disk({0.0, r}, r, m);
+  add_disk(stack, {0.0, 2.0 * r + big}, {0.0, 0.0}, big, mass_ratio * m);
+  auto engine = make_engine(scene, level_box(), stack, AccountingOptions{});
+  engine->set_mill_speed(0.0);
+  engine->step(steps_for(1.0, engine->time_step_s()));
+  const ChargeState& s = engine->state();
+  ASSERT_TRUE(s.active[0] && s.active[1]);
+  const double w = 2.0 * kPi * scene.solver.contact_hertz_used();
+  const double m_e = m * mass_ratio / (1.0 + mass_ratio);
+  const double pair_expected = mass_ratio * m * kGravity / (m_e * w * w);
+  const double floor_expected = (1.0 + mass_ratio) * m * kGravity / (m * 4.0 * w * w);
+  const double pair_overlap = r + big - (s.position_m[1].y - s.position_m[0].y);
+  const double floor_overlap = r - s.position_m[0].y;
+  EXPECT_NEAR(pair_overlap, pair_expected, 0.02 * pair_expected) << "rock-ball overlap, m";
+  EXPECT_NEAR(floor_overlap, floor_expected, 0.02 * floor_expected) << "rock-floor overlap, m";
+  EXPECT_LT(length(s.velocity_m_s[1]), 1e-6) << "the ball still moves";
+}
+
 // Batch means of one scene on one backend: power, toe, shoulder, lifter shear work and the
 // leading face's share of it.
 struct BatchFigures { std::vector<double> power, toe, shoulder, lifter_work, lead_share; };
