@@ -203,6 +203,40 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
   }
 }
 
+// A scan of one lifter is in lifter-local coordinates, as the surveys compared with its
+// history are: x_mm = 0 at the lifter's centre. The liner is centred on the lifter's base, so
+// a scan from a gauge zeroed 8 mm beside the lifter would be moved 8 mm while surveys from the
+// same gauge stay where they are (their mean distance from the history then 5 mm where it is
+// 0.2). It is refused, naming the scan, the offset and the shift that centres it; an offset
+// within a gauge's placement (1% of the pitch, 1.57 mm on the lab mill) is taken.
+TEST(MeasuredProfile, AScanOffCentreBeyondAGaugesPlacementIsRefused) {
+  TempDir dir("millwear-liner-input-off-centre");
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // the lab lifter's half base
+  const auto scan = [hb](double offset_mm) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "x_mm,y_mm\n%.4f,-2\n%.4f,0\n%.4f,20\n%.4f,20\n%.4f,0\n%.4f,-2\n",
+                  offset_mm - 25.0, offset_mm - hb, offset_mm - 5.0, offset_mm + 5.0, offset_mm + hb, offset_mm + 25.0);
+    return std::string(buf);
+  };
+  const auto load = [&](double offset_mm) {
+    dir.write("scan.csv", scan(offset_mm));
+    load_scene(dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"")));
+  };
+  try {
+    load(8.0);
+    ADD_FAILURE() << "a scan 8 mm off centre was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, (dir.path() / "scan.csv").string());
+    EXPECT_EQ(e.where, "x_mm");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the base's middle 8 mm off centre"), std::string::npos) << m;
+    EXPECT_NE(m.find("add -8 mm to the x_mm of the scan, and of the surveys"), std::string::npos) << m;
+    EXPECT_NE(m.find("lifters.profile"), std::string::npos) << m;
+  }
+  for (double taken : {0.0, 1.0, -1.5}) EXPECT_NO_THROW(load(taken)) << taken;
+  EXPECT_THROW(load(-1.6), InputError);
+}
+
 // A whole liner unit's scan with its pitch: the lab lifter (base +-16.55 mm) in the 157.08 mm
 // pitch of 12 rows in the 0.6 m mill, the shell plate between lifters worn into a dish 4 mm
 // deep, the scan starting 50 mm left of the lifter's centre and ending one pitch later.
@@ -455,6 +489,29 @@ TEST(Pattern, BadPatternsAreRefused) {
   const std::string tall = dir.write("tall.toml", "name = \"tall\"\nform = \"trapezoid\"\nheight = 160.0\ntop_width = 10.0\n"
                                                  "leading_face_angle = 10.0\ntrailing_face_angle = 10.0\n");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"" + tall + "\"]"), "lifters.pattern[1]");
+}
+
+// Kinds are told apart by their profiles' names in every output: two profiles of other
+// shapes under one name are refused, naming the later key and the name; the same profile
+// twice is one kind repeated (Pattern.TwoIdenticalKindsEqualThePlainLiner) and is taken.
+TEST(Pattern, KindsOfOtherShapesUnderOneNameAreRefused) {
+  TempDir dir("millwear-liner-input-same-name");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.write("low.toml", "name = \"lab-2x30\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                        "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  try {
+    load_scene(dir.write("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"low.toml\"]")));
+    ADD_FAILURE() << "two kinds named lab-2x30 were accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "lifters.pattern[1]");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the profile named 'lab-2x30' here is of other points than the one of that name in "
+                     "lifters.pattern[0]"),
+              std::string::npos)
+        << m;
+  }
+  const Scene twice = load_scene(dir.write("t.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]")));
+  EXPECT_EQ(twice.mill.kind_count(), 2);
 }
 
 TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {
