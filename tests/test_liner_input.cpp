@@ -854,6 +854,73 @@ TEST(Continue, TheLibraryBackendsChargeIsCarriedOn) {
     EXPECT_EQ(slurp(two / f), slurp(on / f)) << f;
 }
 
+// A lifter at or under the replacement height at the stage a run continues from was due for
+// relining before it: its life is behind it, and the remaining life would be negative. The
+// continued run is refused before anything is written (exit 2, naming the scene file,
+// wear.replacement_height, the stage, its height and the limit); a limit under the lifter runs.
+TEST(Continue, ALifterAlreadyPastTheReplacementHeightIsRefused) {
+  TempDir dir("millwear-liner-input-cont-past");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.write("lab.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1));
+  const fs::path first = dir.path() / "first", next = dir.path() / "next";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const double h_mm = in_mm(study::read_stage_state(first.string(), "lab-mill", 1).lifter.height_m);
+  ASSERT_LT(h_mm, 19.9);  // worn below the new 20 mm, so a limit between them is valid
+  char set[96];
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", h_mm + 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(scene + ": wear.replacement_height: a lifter above the replacement height"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("at stage 1 of " + first.string() + " (100 h) the lifter is"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("has no life left to run"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+  // From stage 0 (the new lifter) the same limit is ahead of it.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + " --stage 0" + set +
+                   " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", h_mm - 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the
+// run's kinds in the other order (which also changes the first kind, the manifest's
+// lifter_profile) is refused naming lifters.pattern, the key the scene has; and a kind under
+// the replacement height at that stage is named by its index and profile.
+TEST(Continue, APatternOfOtherKindsIsNamedAsThePatternAndEachKindIsChecked) {
+  TempDir dir("millwear-liner-input-cont-pattern");
+  const std::string hi = source_path("profiles/lab-2x30.toml"), lo = source_path("profiles/lab-lo.toml");
+  const std::string scene = dir.write("hilo.toml", lab_scene_text("rows = 12\npattern = [\"" + hi + "\", \"" + lo + "\"]", "", 1));
+  const std::string swapped =
+      dir.write("lohi.toml", lab_scene_text("rows = 12\npattern = [\"" + lo + "\", \"" + hi + "\"]", "", 2));
+  const fs::path first = dir.path() / "first", next = dir.path() / "next";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(swapped) + " -o " + quoted(next) + " --continue " + quoted(first) + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(swapped + ": lifters.pattern: the mill of the run it continues"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("lifters.profile"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+  // The low kind (12 mm new) under a limit just above its stage-1 height; the high kind is far
+  // above it.
+  const StageRecord from = study::read_stage_state(first.string(), "lab-mill", 1);
+  ASSERT_EQ(from.kinds.size(), 2u);
+  const double lo_mm = in_mm(from.kinds[1].height_m);
+  ASSERT_LT(lo_mm, 11.9);
+  char set[96];
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", lo_mm + 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("kind 1 ('lab-lo') is"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+}
+
 // A new filling is a charge of other disks: stage N goes on with the new filling's charge,
 // filled anew on its liner (not the run's disks under the new filling's name), the manifest
 // says so, and a resume of the continued run fills the same charge to the same bits.
