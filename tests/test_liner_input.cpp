@@ -206,8 +206,8 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
 // A scan of one lifter is in lifter-local coordinates, as the surveys compared with its
 // history are: x_mm = 0 at the lifter's centre. The liner is centred on the lifter's base, so
 // a scan from a gauge zeroed 8 mm beside the lifter would be moved 8 mm while surveys from the
-// same gauge stay where they are (their mean distance from the history then 5 mm where it is
-// 0.2). It is refused, naming the scan, the offset and the shift that centres it; an offset
+// same gauge stay where they are, and every distance between them and the history is off by
+// the offset. It is refused, naming the scan, the offset and the shift that centres it; an offset
 // within a gauge's placement (1% of the pitch, 1.57 mm on the lab mill) is taken.
 TEST(MeasuredProfile, AScanOffCentreBeyondAGaugesPlacementIsRefused) {
   TempDir dir("millwear-liner-input-off-centre");
