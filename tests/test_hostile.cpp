@@ -461,6 +461,28 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
   }
 }
 
+// --threads is a count in plain decimal digits: CLI11's integer conversion alone would read
+// "0x2" (hexadecimal), "0b10" (binary) and " 2" (a blank before it) as 2. Each is refused by
+// every command that takes the option, naming it (exit 2, nothing written); "2" is taken.
+TEST(HostileOptions, AThreadCountIsPlainDecimalDigits) {
+  const TempDir dir("millwear-hostile-threads");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string out = quoted(dir / "out");
+  for (const std::string count : {"0x2", "0b10", " 2", "2 ", "+2", "2.0", "0", "257"}) {
+    for (const std::string command : {"run " + lab + " -o " + out + " --check", "charge " + lab + " -o " + out}) {
+      const std::string args = command + " --threads '" + count + "'";
+      const auto r = run_millwear(args);
+      EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find("--threads"), std::string::npos) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find("plain decimal digits, got '" + count + "'"), std::string::npos) << args << "\n"
+                                                                                                << r.output;
+      EXPECT_FALSE(fs::exists(dir / "out")) << args;
+    }
+  }
+  const auto ok = run_millwear("run " + lab + " -o " + out + " --check --threads 2");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
 // Lifters so tall that the charge has no room inside their tips: every command refuses the
 // scene up front (exit 2, naming charge.filling and the largest filling that fits), before
 // any design's thread would meet it in the fill. A filling under that bound runs.

@@ -203,6 +203,40 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
   }
 }
 
+// A scan of one lifter is in lifter-local coordinates, as the surveys compared with its
+// history are: x_mm = 0 at the lifter's centre. The liner is centred on the lifter's base, so
+// a scan from a gauge zeroed 8 mm beside the lifter would be moved 8 mm while surveys from the
+// same gauge stay where they are, and every distance between them and the history is off by
+// the offset. It is refused, naming the scan, the offset and the shift that centres it; an offset
+// within a gauge's placement (1% of the pitch, 1.57 mm on the lab mill) is taken.
+TEST(MeasuredProfile, AScanOffCentreBeyondAGaugesPlacementIsRefused) {
+  TempDir dir("millwear-liner-input-off-centre");
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // the lab lifter's half base
+  const auto scan = [hb](double offset_mm) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "x_mm,y_mm\n%.4f,-2\n%.4f,0\n%.4f,20\n%.4f,20\n%.4f,0\n%.4f,-2\n",
+                  offset_mm - 25.0, offset_mm - hb, offset_mm - 5.0, offset_mm + 5.0, offset_mm + hb, offset_mm + 25.0);
+    return std::string(buf);
+  };
+  const auto load = [&](double offset_mm) {
+    dir.write("scan.csv", scan(offset_mm));
+    load_scene(dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"")));
+  };
+  try {
+    load(8.0);
+    ADD_FAILURE() << "a scan 8 mm off centre was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file, (dir.path() / "scan.csv").string());
+    EXPECT_EQ(e.where, "x_mm");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the base's middle 8 mm off centre"), std::string::npos) << m;
+    EXPECT_NE(m.find("add -8 mm to the x_mm of the scan, and of the surveys"), std::string::npos) << m;
+    EXPECT_NE(m.find("lifters.profile"), std::string::npos) << m;
+  }
+  for (double taken : {0.0, 1.0, -1.5}) EXPECT_NO_THROW(load(taken)) << taken;
+  EXPECT_THROW(load(-1.6), InputError);
+}
+
 // A whole liner unit's scan with its pitch: the lab lifter (base +-16.55 mm) in the 157.08 mm
 // pitch of 12 rows in the 0.6 m mill, the shell plate between lifters worn into a dish 4 mm
 // deep, the scan starting 50 mm left of the lifter's centre and ending one pitch later.
@@ -455,6 +489,29 @@ TEST(Pattern, BadPatternsAreRefused) {
   const std::string tall = dir.write("tall.toml", "name = \"tall\"\nform = \"trapezoid\"\nheight = 160.0\ntop_width = 10.0\n"
                                                  "leading_face_angle = 10.0\ntrailing_face_angle = 10.0\n");
   EXPECT_EQ(where("rows = 12\npattern = [\"" + lab + "\", \"" + tall + "\"]"), "lifters.pattern[1]");
+}
+
+// Kinds are told apart by their profiles' names in every output: two profiles of other
+// shapes under one name are refused, naming the later key and the name; the same profile
+// twice is one kind repeated (Pattern.TwoIdenticalKindsEqualThePlainLiner) and is taken.
+TEST(Pattern, KindsOfOtherShapesUnderOneNameAreRefused) {
+  TempDir dir("millwear-liner-input-same-name");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  dir.write("low.toml", "name = \"lab-2x30\"\nform = \"trapezoid\"\nheight = 12.0\ntop_width = 10.0\n"
+                        "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n");
+  try {
+    load_scene(dir.write("s.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"low.toml\"]")));
+    ADD_FAILURE() << "two kinds named lab-2x30 were accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "lifters.pattern[1]");
+    const std::string m = e.what();
+    EXPECT_NE(m.find("the profile named 'lab-2x30' here is of other points than the one of that name in "
+                     "lifters.pattern[0]"),
+              std::string::npos)
+        << m;
+  }
+  const Scene twice = load_scene(dir.write("t.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]")));
+  EXPECT_EQ(twice.mill.kind_count(), 2);
 }
 
 TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {
@@ -795,6 +852,73 @@ TEST(Continue, TheLibraryBackendsChargeIsCarriedOn) {
     EXPECT_NE(c.get<std::string>().rfind("charge:", 0), 0u) << c;
   for (const std::string f : {"profiles/lab-mill_stage2.csv", "stages/lab-mill_stage2.charge.csv"})
     EXPECT_EQ(slurp(two / f), slurp(on / f)) << f;
+}
+
+// A lifter at or under the replacement height at the stage a run continues from was due for
+// relining before it: its life is behind it, and the remaining life would be negative. The
+// continued run is refused before anything is written (exit 2, naming the scene file,
+// wear.replacement_height, the stage, its height and the limit); a limit under the lifter runs.
+TEST(Continue, ALifterAlreadyPastTheReplacementHeightIsRefused) {
+  TempDir dir("millwear-liner-input-cont-past");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.write("lab.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1));
+  const fs::path first = dir.path() / "first", next = dir.path() / "next";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const double h_mm = in_mm(study::read_stage_state(first.string(), "lab-mill", 1).lifter.height_m);
+  ASSERT_LT(h_mm, 19.9);  // worn below the new 20 mm, so a limit between them is valid
+  char set[96];
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", h_mm + 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(scene + ": wear.replacement_height: a lifter above the replacement height"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("at stage 1 of " + first.string() + " (100 h) the lifter is"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("has no life left to run"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+  // From stage 0 (the new lifter) the same limit is ahead of it.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + " --stage 0" + set +
+                   " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", h_mm - 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the
+// run's kinds in the other order (which also changes the first kind, the manifest's
+// lifter_profile) is refused naming lifters.pattern, the key the scene has; and a kind under
+// the replacement height at that stage is named by its index and profile.
+TEST(Continue, APatternOfOtherKindsIsNamedAsThePatternAndEachKindIsChecked) {
+  TempDir dir("millwear-liner-input-cont-pattern");
+  const std::string hi = source_path("profiles/lab-2x30.toml"), lo = source_path("profiles/lab-lo.toml");
+  const std::string scene = dir.write("hilo.toml", lab_scene_text("rows = 12\npattern = [\"" + hi + "\", \"" + lo + "\"]", "", 1));
+  const std::string swapped =
+      dir.write("lohi.toml", lab_scene_text("rows = 12\npattern = [\"" + lo + "\", \"" + hi + "\"]", "", 2));
+  const fs::path first = dir.path() / "first", next = dir.path() / "next";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(swapped) + " -o " + quoted(next) + " --continue " + quoted(first) + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(swapped + ": lifters.pattern: the mill of the run it continues"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("lifters.profile"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+  // The low kind (12 mm new) under a limit just above its stage-1 height; the high kind is far
+  // above it.
+  const StageRecord from = study::read_stage_state(first.string(), "lab-mill", 1);
+  ASSERT_EQ(from.kinds.size(), 2u);
+  const double lo_mm = in_mm(from.kinds[1].height_m);
+  ASSERT_LT(lo_mm, 11.9);
+  char set[96];
+  std::snprintf(set, sizeof set, " --set wear.stages=2 --set wear.replacement_height=%.6f", lo_mm + 0.05);
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) + set + " -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("kind 1 ('lab-lo') is"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(next));
 }
 
 // A new filling is a charge of other disks: stage N goes on with the new filling's charge,

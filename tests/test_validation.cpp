@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "cli_support.hpp"
@@ -478,6 +479,122 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
   EXPECT_EQ(u.exit_code, 2) << u.output;
   EXPECT_NE(u.output.find(unworn + ": hours: at least one survey after the history's start (0 h"), std::string::npos) << u.output;
   EXPECT_FALSE(fs::exists(d / "out"));  // nothing written before the input is valid
+}
+
+// The message of the InputError `f` throws ("accepted" if none), with its line.
+std::string refusal(const std::function<void()>& f, std::string* where = nullptr) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    if (where) *where = e.where;
+    return e.what();
+  }
+  return "accepted";
+}
+
+// An area_loss_mm2 file counts the loss from the history's start: a row there that is not 0
+// counts from elsewhere, and is refused naming its line (the start at 0 h, or a worn start's
+// start_hours); a 0 there is taken.
+TEST(ValidationAreaSurveys, ALossAtTheStartThatIsNotZeroIsRefused) {
+  const auto check = [](const std::string& text, double start_hours) {
+    validation::check_areas_shrink(validation::parse_area_surveys(text, "l.csv"), 419e-6, start_hours, "l.csv");
+  };
+  std::string where;
+  std::string m = refusal([&] { check("hours,area_loss_mm2\n0,5\n100,30\n", 0.0); }, &where);
+  EXPECT_EQ(where, "line 2");
+  EXPECT_NE(m.find("l.csv: line 2: an area loss of 0 at the history's start (0 h)"), std::string::npos) << m;
+  EXPECT_NE(m.find("this row gives 5 mm^2"), std::string::npos) << m;
+  m = refusal([&] { check("hours,area_loss_mm2\n2100,30\n2000,-0.5\n", 2000.0); }, &where);
+  EXPECT_EQ(where, "line 3");
+  EXPECT_NE(m.find("(2000 h)"), std::string::npos) << m;
+  EXPECT_EQ(refusal([&] { check("hours,area_loss_mm2\n0,0\n100,30\n", 0.0); }), "accepted");
+  // Areas at the start are the reference of the loss, whatever their value.
+  EXPECT_EQ(refusal([&] { check("hours,area_mm2\n0,430\n0,440\n100,400\n", 0.0); }), "accepted");
+  // The command refuses it before any work.
+  const TempDir d("millwear-test-validation-loss-at-start");
+  const std::string file = (d / "losses.csv").string();
+  std::ofstream(file) << "hours,area_loss_mm2\n0,5\n100,30\n";
+  const std::string scene = testing::source_path("scenarios/lab-mill.toml");
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    const CliResult r = run_cli(cmd + " \"" + scene + "\" --measured \"" + file + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(file + ": line 2: an area loss of 0 at the history's start"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
+// A worn lifter's area above the one it wore from by more than a gauge's noise (1% of that
+// area) is refused at its line, even where the other rows' losses make the sum positive (the
+// check the rows' sum alone let through); 1% or less is noise and taken.
+TEST(ValidationAreaSurveys, AWornAreaAboveTheStartsBeyondNoiseIsRefused) {
+  const auto check = [](const std::string& text) {
+    validation::check_areas_shrink(validation::parse_area_surveys(text, "a.csv"), 419e-6, 0.0, "a.csv");
+  };
+  std::string where;
+  // Against the file's 0 h area (431): 500 at 100 h is 69 mm^2 more; 300 at 200 h makes the
+  // hours x loss sum positive.
+  std::string m = refusal([&] { check("hours,area_mm2\n0,431\n100,500\n200,300\n"); }, &where);
+  EXPECT_EQ(where, "line 3");
+  EXPECT_NE(m.find("has 500 mm^2, 69 mm^2 more"), std::string::npos) << m;
+  EXPECT_NE(m.find("(431 mm^2, the survey at the start)"), std::string::npos) << m;
+  // Without a 0 h row, against the scene's lifter (419 mm^2): 425 is 6 mm^2, over 4.19.
+  m = refusal([&] { check("hours,area_mm2\n100,425\n200,300\n"); }, &where);
+  EXPECT_EQ(where, "line 2");
+  EXPECT_NE(m.find("the scene's lifter at the start"), std::string::npos) << m;
+  // A negative loss is a gain too.
+  m = refusal([&] { check("hours,area_loss_mm2\n100,-50\n200,200\n"); }, &where);
+  EXPECT_EQ(where, "line 2");
+  EXPECT_NE(m.find("50 mm^2 more"), std::string::npos) << m;
+  // Within 1% of the reference: noise, taken (433 is 2 mm^2 over 431, 4.31 allowed).
+  EXPECT_EQ(refusal([&] { check("hours,area_mm2\n0,431\n100,433\n200,300\n"); }), "accepted");
+  EXPECT_EQ(refusal([&] { check("hours,area_loss_mm2\n100,-4\n200,200\n"); }), "accepted");
+}
+
+// Profile surveys lose metal with the hours, as area surveys must: a survey with more metal
+// than an earlier one over the span both cover, or than the scene's lifter when the file has
+// no survey at the start, beyond 1% of the new lifter's area, is refused naming its line and
+// the amount; less is a gauge's noise. Surveys: the lab lifter (20 mm high, base +-16.55 mm)
+// with its heights scaled by f, so its metal is about f x 419 mm^2.
+TEST(ValidationSurveys, ASurveyThatGainsMetalIsRefused) {
+  const Scene scene = testing::lab_mill();
+  const LinerUnit unit = new_liner_unit(scene);
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);
+  const auto survey = [hb](double hours, double f) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%g,%.4f,0\n%g,-5,%.4f\n%g,5,%.4f\n%g,%.4f,0\n", hours, -hb, hours, 20.0 * f,
+                  hours, 20.0 * f, hours, hb);
+    return std::string(buf);
+  };
+  const auto check = [&](const std::string& rows) {
+    const auto surveys = validation::parse_surveys("hours,x_mm,y_mm\n" + rows, "s.csv");
+    validation::check_surveys_lose_metal(surveys, unit, scene.radius_m(), 0.0, "s.csv");
+  };
+  std::string where;
+  // Worn to 0.9 at 100 h, then 0.95 at 200 h: 5% of the lifter (about 21 mm^2) regained.
+  std::string m = refusal([&] { check(survey(0, 1.0) + survey(100, 0.9) + survey(200, 0.95)); }, &where);
+  EXPECT_EQ(where, "line 10");
+  EXPECT_NE(m.find("the survey at 200 h has"), std::string::npos) << m;
+  EXPECT_NE(m.find("more metal than the survey at 100 h (line 6)"), std::string::npos) << m;
+  // No survey at the start: a survey above the scene's lifter.
+  m = refusal([&] { check(survey(100, 1.03)); }, &where);
+  EXPECT_EQ(where, "line 2");
+  EXPECT_NE(m.find("more metal than the scene's lifter at the history's start (0 h)"), std::string::npos) << m;
+  // A new lifter surveyed 3% above the scene's is the start: later surveys are judged by it.
+  EXPECT_EQ(refusal([&] { check(survey(0, 1.03) + survey(100, 1.01) + survey(200, 0.9)); }), "accepted");
+  // Half a per cent up between two surveys: a gauge's noise, taken.
+  EXPECT_EQ(refusal([&] { check(survey(0, 1.0) + survey(100, 0.9) + survey(200, 0.905)); }), "accepted");
+  // The commands refuse it before any work.
+  const TempDir d("millwear-test-validation-gain");
+  const std::string file = (d / "gain.csv").string();
+  std::ofstream(file) << "hours,x_mm,y_mm\n" + survey(0, 1.0) + survey(100, 0.9) + survey(200, 0.95);
+  const std::string lab = testing::source_path("scenarios/lab-mill.toml");
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    const CliResult r = run_cli(cmd + " \"" + lab + "\" --measured \"" + file + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(file + ": line 10: surveys that lose metal with operating hours"), std::string::npos)
+        << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "out"));
 }
 
 // ---- areas ----

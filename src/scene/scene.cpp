@@ -139,6 +139,27 @@ LinerUnit new_liner_unit(const Scene& scene, int kind) {
                            toml_reader::num_text(scene.mill.diameter_m) + " m mill stand " +
                            toml_reader::num_text(pitch * 1e3) + " mm apart at the shell");
   }
+  // A scan of one lifter (no pitch line) is in lifter-local coordinates, as the surveys are:
+  // x = 0 at the lifter's centre. The unit is centred on the lifter's base (the midpoint of its
+  // feet), which moves the scan by the base centre's offset while surveys measured with the
+  // same gauge stay where they are. A gauge's placement within kPitchTolerance of the pitch is
+  // taken as centred; a larger offset is refused, with the shift that centres it.
+  if (!lifter.measured.empty() && lifter.unit_pitch_m <= 0.0 && lifter.points.size() >= 2) {
+    const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
+    const double left = lifter.points.front().x, right = lifter.points.back().x;
+    const double centre = 0.5 * (left + right);
+    if (std::abs(centre) > kPitchTolerance * pitch) {
+      const auto mm = [](double m) { return toml_reader::num_text(in_mm(m)); };
+      throw InputError(lifter.source_file, "x_mm",
+                       "expected a scan of one lifter centred on it, x_mm = 0 at the middle of the lifter's base "
+                       "(within " + toml_reader::num_text(100.0 * kPitchTolerance) + "% of the pitch, " +
+                           mm(kPitchTolerance * pitch) + " mm): its feet are at x = " + mm(left) + " and " +
+                           mm(right) + " mm, the base's middle " + mm(centre) + " mm off centre; surveys compared "
+                           "with its history are read as measured, so add " + mm(-centre) +
+                           " mm to the x_mm of the scan, and of the surveys taken with the same gauge (" +
+                           scene.source_file + ", " + scene.mill.profile_key(kind) + ")");
+    }
+  }
   try {
     if (!lifter.measured.empty())
       return make_measured_unit(lifter.measured, lifter.points, scene.radius_m(), scene.mill.rows, scene.mill.mesh,
@@ -255,6 +276,20 @@ void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
     const std::string key = "lifters.pattern[" + std::to_string(k) + "]";
     if (!e.is_string()) throw InputError(file, key, "expected a profile file name (a string), " + got_text(e) + line_text(e));
     s.mill.pattern.push_back(load(*e.value<std::string>(), key, e));
+    // A kind is known by its profile's name in every output (kinds.csv, summary.csv's
+    // kindK_profile, the figure's titles, the manifest). The same profile twice is one kind
+    // repeated (a plain liner as a pattern), but two profiles of other shapes under one name
+    // would read as one: refused, naming both keys.
+    const LifterProfile& added = s.mill.pattern.back();
+    for (std::size_t j = 0; j < k; ++j) {
+      const LifterProfile& earlier = s.mill.pattern[j];
+      if (earlier.name != added.name) continue;
+      if (earlier.points == added.points && earlier.measured == added.measured) continue;
+      throw InputError(file, key,
+                       "expected kinds of other shapes to have other names: the profile named '" + added.name +
+                           "' here is of other points than the one of that name in lifters.pattern[" +
+                           std::to_string(j) + "] (give one of the profiles another name)" + line_text(e));
+    }
   }
   if (s.mill.rows % static_cast<int>(arr->size()) != 0)
     r.fail("rows", "a multiple of the pattern's " + std::to_string(arr->size()) +

@@ -89,6 +89,16 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, dou
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file) {
   const MeasuredAreas m = measured_areas(surveys, new_area_m2, start_hours);
   const char* reference = m.reference_measured ? "the survey at the start" : "the scene's lifter at the start";
+  const auto mm2 = [](double m2) { return io::format_number(in_mm2(m2), 6); };
+  const auto at_start = [&](const AreaSurvey& s) { return std::fabs(s.hours - start_hours) <= kSameHoursTolerance; };
+  // The loss since the start is nothing at the start: a value there counts from elsewhere.
+  if (surveys.losses)
+    for (const AreaSurvey& s : surveys.surveys)
+      if (at_start(s) && s.value_m2 != 0.0)
+        throw InputError(file, "line " + std::to_string(s.line),
+                         "an area loss of 0 at the history's start (" + io::format_number(start_hours) +
+                             " h): area_loss_mm2 is the area lost since then, and this row gives " + mm2(s.value_m2) +
+                             " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
   // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     if (!(m.loss_m2[i] < m.reference_m2))
@@ -99,13 +109,26 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
   double moment = 0.0;
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     moment += (surveys.surveys[i].hours - start_hours) * m.loss_m2[i];
-  if (moment > 0.0 || surveys.surveys.empty()) return;
-  throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
-                   std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
-                               "lost); these ") +
-                       (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
-                       " (the reference area is " + reference +
-                       ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
+  if (!(moment > 0.0) && !surveys.surveys.empty())
+    throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
+                     std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
+                                 "lost); these ") +
+                         (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
+                         " (the reference area is " + reference +
+                         ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
+  // Wear removes metal: a survey after the start above the lifter it wore from, by more than
+  // a gauge's noise, is not a survey of that lifter, whatever the other rows lost.
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
+    const AreaSurvey& s = surveys.surveys[i];
+    const double gain_m2 = m.area_m2[i] - m.reference_m2;
+    if (at_start(s) || !(gain_m2 > kGainNoiseShare * m.reference_m2)) continue;
+    throw InputError(file, "line " + std::to_string(s.line),
+                     "a lifter area no larger than the lifter's at the start (" + mm2(m.reference_m2) + " mm^2, " +
+                         reference + ") by more than a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
+                         "% of it, " + mm2(kGainNoiseShare * m.reference_m2) + " mm^2): wear removes metal, and the " +
+                         "survey at " + io::format_number(s.hours) + " h has " + mm2(m.area_m2[i]) + " mm^2, " +
+                         mm2(gain_m2) + " mm^2 more");
+  }
 }
 
 void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,

@@ -15,7 +15,7 @@
 // - area_mm2: the lifter's metal cross-section above the original shell line, mm^2 (> 0),
 //   the area `millwear profile` and OUT/summary.csv (area_mm2) report. Or, instead of
 //   area_mm2, area_loss_mm2: the area lost since the history's start (the lifter new, or a
-//   worn start's lifters.start_hours), mm^2 (finite).
+//   worn start's lifters.start_hours), mm^2 (finite; 0 in a row at that start).
 // - Extra columns are ignored; at least one row.
 // Area loss (what the calibration fits): for area_loss_mm2 the value itself (since the
 // history's start); for area_mm2, A_ref - area, with A_ref the mean of the file's rows at the
@@ -59,9 +59,11 @@ struct MeasuredAreas {
 MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, double start_hours);
 
 // A wear rate can be fitted only to areas that shrink with operating time, and by less than
-// the whole lifter: throws InputError(file, line of a survey, ...) if a survey's loss is not
-// under the reference area, or (line of the last survey) unless the area loss, fitted through
-// the start, grows with the hours (sum of hours since the start x loss > 0).
+// the whole lifter: throws InputError(file, line of a survey, ...) if an area_loss_mm2 row at
+// the history's start is not 0 (the loss counts from there), if a survey's loss is not under
+// the reference area, (line of the last survey) unless the area loss, fitted through the start,
+// grows with the hours (sum of hours since the start x loss > 0), or if a survey after the
+// start has more area than the reference area by over kGainNoiseShare of it (metal gained).
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)

@@ -38,9 +38,11 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                       "--replicates " + std::to_string(a.options.replicates));
   const Measurements measured = read_measurements(a.measured_file);
   check_surveys_in_mill(measured, scene, a.measured_file);
-  if (!measured.areas_only)
-    check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
   const double start_h = scene.wear.start_hours;
+  if (!measured.areas_only) {
+    check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
+    check_surveys_lose_metal(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file);
+  }
   check_surveys_from_start(measured, start_h, "the scene's lifters.start_hours", a.measured_file);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > start_h + kSameHoursTolerance;

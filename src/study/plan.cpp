@@ -13,8 +13,10 @@
 #include <utility>
 
 #include "common/errors.hpp"
+#include "common/units.hpp"
 #include "engine/engine.hpp"
 #include "io/atomic_write.hpp"
+#include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
@@ -223,15 +225,18 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
       const char* key;
       const char* hint;
     };
+    // The lifters are the scene's own key, profile or pattern: a pattern's first kind is also
+    // the manifest's lifter_profile, so kinds given in another order change that too.
+    const char* lifters_key = d.scene.mill.pattern.empty() ? "lifters.profile" : "lifters.pattern";
     const Fixed fixed[] = {
         {"mill.diameter_m: ", "mill.diameter", ""},
         {"mill.length_m: ", "mill.length", ""},
         {"mill.slice_thickness_m: ", "mill.slice_thickness",
          " (without mill.slice_thickness the slice is the largest rock's diameter: give the run's)"},
         {"mill.rows: ", "lifters.rows", ""},
-        {"mill.lifter_profile: ", "lifters.profile", ""},
-        {"mill.lifter_shape: ", "lifters.profile", ""},
-        {"mill.lifter_pattern: ", "lifters.pattern", ""},
+        {"mill.lifter_profile: ", lifters_key, ""},
+        {"mill.lifter_shape: ", lifters_key, ""},
+        {"mill.lifter_pattern: ", lifters_key, ""},
         {"wear.liner_density_kg_m3: ", "wear.liner_density", ""}};
     for (const std::string& change : d.changes)
       for (const Fixed& f : fixed)
@@ -240,6 +245,27 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                            "the mill of the run it continues (" + run + ": " + change.substr(std::strlen(f.setting)) +
                                ")" + f.hint + ": --continue goes on with that liner under new conditions (speed, "
                                "filling, wear rate); another mill, slice or liner is a new run");
+    // A lifter at or under the replacement height at stage k (the mill is the run's, so are its
+    // kinds) was due for relining before that stage: its life is behind it, and the life
+    // counted from stage k would be negative. Refused, as a scene whose lifter starts there is.
+    {
+      const double limit_m = d.scene.wear.replacement_height_m;
+      std::vector<LifterMetrics> lifters = {from.lifter};
+      if (from.kinds.size() > 1) lifters = from.kinds;
+      for (std::size_t i = 0; i < lifters.size(); ++i) {
+        if (lifters[i].height_m > limit_m) continue;
+        const std::string whose =
+            lifters.size() > 1 ? "kind " + std::to_string(i) + " ('" + d.scene.mill.kind(static_cast<int>(i)).name + "')"
+                               : "the lifter";
+        throw InputError(d.files.front(), "wear.replacement_height",
+                         "a lifter above the replacement height at the stage the run continues from: at stage " +
+                             std::to_string(k) + " of " + run + " (" + io::format_number(from.hours) + " h) " + whose +
+                             " is " + io::format_number(in_mm(lifters[i].height_m), 4) + " mm high, at or under the "
+                             "replacement height of " + io::format_number(in_mm(limit_m), 4) +
+                             " mm, so it was due for relining before that stage and has no life left to run; "
+                             "continue from an earlier stage (--stage), or give a lower wear.replacement_height");
+      }
+    }
     // A carried charge of other disks would run the old filling under the new one's name.
     if (from.start_charge.size() > 0 && !same_disks(fill_charge(d.scene, stage_mill(d.scene, from)), from.start_charge)) {
       d.refill = true;

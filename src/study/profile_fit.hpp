@@ -79,6 +79,14 @@ ProfileComparison compare_profile(const Survey& measured, const Polyline& simula
 void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                                const std::string& file);
 
+// Wear removes metal: throws InputError(file, "line N", ...) naming a survey that has more
+// metal than an earlier one, over the span both cover, by more than kGainNoiseShare of the
+// new lifter's area (`new_unit`, the scene's lifter at the history's start). Without a survey
+// at the start (start_hours), the scene's lifter stands in for it. The mirror of
+// check_areas_shrink's check for area files.
+void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                              double start_hours, const std::string& file);
+
 // The survey version of calibration.hpp's common_stage_hours.
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = kMaxCommonStages);
 

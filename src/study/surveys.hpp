@@ -25,8 +25,17 @@
 
 #include "geometry/polyline.hpp"
 #include "io/csv.hpp"
+#include "profiles/profile.hpp"
 
 namespace millwear::validation {
+
+// Metal a survey may show above the lifter it wore from (the survey at the history's start,
+// or the scene's lifter there), as a share of that lifter's area: a gauge's noise, the share
+// the readers already take as noise when they cut the loops of a survey or a scan. More is a
+// gain of metal, which wear cannot make (a survey of another lifter, other units, or hours
+// out of order): refused by check_areas_shrink (area files) and check_surveys_lose_metal
+// (profile files, profile_fit.hpp).
+constexpr double kGainNoiseShare = kMaxNoiseLoopShare;
 
 struct Survey {
   double hours = 0.0;
