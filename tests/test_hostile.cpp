@@ -469,7 +469,7 @@ TEST(HostileOptions, AThreadCountIsPlainDecimalDigits) {
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string out = quoted(dir / "out");
   for (const std::string count : {"0x2", "0b10", " 2", "2 ", "+2", "2.0", "0", "257"}) {
-    for (const std::string command : {"run " + lab + " -o " + out + " --check", "charge " + lab + " -o " + out}) {
+    for (const std::string& command : {"run " + lab + " -o " + out + " --check", "charge " + lab + " -o " + out}) {
       const std::string args = command + " --threads '" + count + "'";
       const auto r = run_millwear(args);
       EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
