@@ -483,6 +483,30 @@ TEST(HostileOptions, AThreadCountIsPlainDecimalDigits) {
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
 }
 
+// Every other count of the command line is read the same way: --jobs of run, sweep and
+// rule1 written in hex, with a sign or with blanks is refused naming the option (exit 2,
+// nothing written); plain digits are taken.
+TEST(HostileOptions, AJobCountIsPlainDecimalDigits) {
+  const TempDir dir("millwear-hostile-jobs");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string out = quoted(dir / "out");
+  for (const std::string count : {"0x2", " 2", "+2", "0"}) {
+    for (const std::string& command : {"run " + lab + " -o " + out + " --check",
+                                       "sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8",
+                                       "rule1 " + lab + " -o " + out}) {
+      const std::string args = command + " --jobs '" + count + "'";
+      const auto r = run_millwear(args);
+      EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find("--jobs"), std::string::npos) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find("plain decimal digits, got '" + count + "'"), std::string::npos) << args << "\n"
+                                                                                                << r.output;
+      EXPECT_FALSE(fs::exists(dir / "out")) << args;
+    }
+  }
+  const auto ok = run_millwear("run " + lab + " -o " + out + " --check --jobs 2");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
 // Lifters so tall that the charge has no room inside their tips: every command refuses the
 // scene up front (exit 2, naming charge.filling and the largest filling that fits), before
 // any design's thread would meet it in the fill. A filling under that bound runs.

@@ -43,8 +43,8 @@ void register_animate(CLI::App& app, Action* action) {
   cmd->add_option("-o,--out", args->out, "output file, FILE.gif")->required()->check(output_file());
   cmd->add_option("--seconds", args->seconds, "simulated seconds shown (" + default_text(args->seconds) + ")")
       ->check(finite_in(0.1, 60.0));
-  cmd->add_option("--frames", args->frames, "frames in the GIF (" + default_text(args->frames) + ")")->check(CLI::Range(10, 200));
-  cmd->add_option("--size", args->size, "image size in pixels, square (" + default_text(args->size) + ")")->check(CLI::Range(200, 2000));
+  cmd->add_option("--frames", args->frames, "frames in the GIF (" + default_text(args->frames) + ")")->check(whole_in(10, 200));
+  cmd->add_option("--size", args->size, "image size in pixels, square (" + default_text(args->size) + ")")->check(whole_in(200, 2000));
   cmd->add_option("--history", args->history, "a finished `millwear run` output folder of this design");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   add_set_option(cmd, &args->overrides);

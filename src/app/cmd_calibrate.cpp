@@ -103,15 +103,15 @@ void register_calibrate(CLI::App& app, Action* action) {
   cmd->add_option("--fidelity", r.fidelity, "draft | standard | reference")->check(fidelity_name());
   add_threads_option(cmd, args->threads);
   add_set_option(cmd, &r.overrides);
-  cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (" + default_text(r.options.max_runs) + ")")->check(CLI::Range(1, 1000));
+  cmd->add_option("--max-runs", r.options.max_runs, "wear histories at most (" + default_text(r.options.max_runs) + ")")->check(whole_in(1, 1000));
   CLI::Option* min_runs = cmd->add_option("--min-runs", r.options.min_runs,
                   "wear histories at least (" + default_text(r.options.min_runs) +
                       "); every history after the first is an estimate, and C is their mean")
-      ->check(CLI::Range(1, 1000));
+      ->check(whole_in(1, 1000));
   cmd->add_option("--replicates", r.options.replicates,
                   "histories at the calibrated C with seeds s .. s+N-1 (" + default_text(r.options.replicates) +
                       "): their estimates join the mean and their spread measures the charge's noise")
-      ->check(CLI::Range(1, study::kMaxReplicates));
+      ->check(whole_in(1, study::kMaxReplicates));
   cmd->add_option("--tolerance", args->tolerance_pct, "stop when the run's C fits within this % (" + default_text(args->tolerance_pct) + ")")
       ->check(finite_in(1e-6, 100.0));
   cmd->footer(std::string(kMeasuredFileHelp) +

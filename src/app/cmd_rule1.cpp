@@ -139,13 +139,13 @@ void register_rule1(CLI::App& app, Action* action) {
       ->check(finite_positive());
   cmd->add_option("--replicates", args->options.replicates,
                   "histories per factor, seeds s, s+1, ... (" + default_text(args->options.replicates) + ")")
-      ->check(CLI::Range(1, study::kMaxReplicates));
+      ->check(whole_in(1, study::kMaxReplicates));
   cmd->add_option("--tolerance", args->options.tolerance_pct_height,
                   "allowed deviation, % of lifter height (" + default_text(args->options.tolerance_pct_height) + ")")
       ->check(finite_in(1e-6, 100.0));
   cmd->add_option("--stages", args->stages, "stages to run (" + default_text(args->stages) + ")")
-      ->check(CLI::Range(1, 10000));
-  cmd->add_option("-j,--jobs", args->options.jobs, "histories at once (default: the cores)")->check(CLI::Range(1, 1024));
+      ->check(whole_in(1, 10000));
+  cmd->add_option("-j,--jobs", args->options.jobs, "histories at once (default: the cores)")->check(whole_in(1, 1024));
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference")->check(fidelity_name());
   add_threads_option(cmd, args->threads, "each history's engine step", "the cores the histories at once leave");
   add_set_option(cmd, &args->overrides);

@@ -211,22 +211,22 @@ void register_run(CLI::App& app, Action* action) {
       ->check(finite_in(1.0, 86400.0));
   cmd->add_flag("--check", args->check, "validate the scenes and comparison files, list the designs, run nothing");
   cmd->add_option("-j,--jobs", args->run.jobs, "designs run at once (default: hardware cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(whole_in(1, 1024));
   cmd->add_option("--continue", args->plan.continue_from,
                   "go on from a finished run's stage (its exact liner and charge) under these scenes' "
                   "conditions (a new speed, filling); stages up to it are copied into OUT");
   auto* stage_opt = cmd->add_option("--stage", args->plan.continue_stage,
                                     "with --continue: the stage to go on from (default: each design's last)")
-                        ->check(CLI::Range(0, 10000));
+                        ->check(whole_in(0, 10000));
   stage_opt->needs("--continue");
   add_threads_option(cmd, args->run.threads, "each design's engine step", "the cores the designs at once leave");
   cmd->add_option("--stop-after-stage", args->run.stop_after_stage,
                   "for testing: stop cleanly after stage K as if interrupted (then --resume)")
-      ->check(CLI::Range(0, 10000));
+      ->check(whole_in(0, 10000));
   cmd->add_option("--replicates", args->plan.replicates,
                   "histories per design, seeds s .. s+N-1, run in parallel: every figure is their mean with its "
                   "standard error (" + default_text(args->plan.replicates) + ": errors from one history's batch means)")
-      ->check(CLI::Range(1, study::kMaxReplicates));
+      ->check(whole_in(1, study::kMaxReplicates));
   add_set_option(cmd, &args->plan.overrides);
   cmd->add_flag("--vtk", args->vtk, "ParaView files of every stage's measuring window in OUT/vtk/ (as --set outputs.vtk=true)");
   cmd->callback([args, action] { *action = [args] { return run_command(*args); }; });

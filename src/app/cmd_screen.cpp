@@ -178,13 +178,13 @@ void register_screen(CLI::App& app, Action* action) {
   cmd->add_option("screen", r.screen_file, "screen file (TOML); with --collect: the output folder");
   cmd->add_option("-o,--out", r.out, "output folder")->check(output_folder());
   cmd->add_option("-j,--jobs", r.jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
-      ->check(CLI::Range(1, 1024));
+      ->check(whole_in(1, 1024));
   cmd->add_flag("--resume", r.resume, "keep finished designs (and finished stages) in OUT, run the rest");
   cmd->add_flag("--force", r.force,
                 "OUT holds a screen of other inputs: delete that screen's files (no other file) and start over");
   auto* emit = cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
   cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")
-      ->check(CLI::Range(1, 100000))
+      ->check(whole_in(1, 100000))
       ->needs(emit);
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--replicates", r.replicates,

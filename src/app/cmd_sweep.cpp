@@ -79,11 +79,11 @@ void register_sweep(CLI::App& app, Action* action) {
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
   cmd->add_option("--revolutions", args->revolutions, "measured revolutions per point (default: the scene's)")
       ->check(finite_in(1e-6, 1e4));
-  cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("-j,--jobs", args->jobs, "points at once (default: hardware cores)")->check(whole_in(1, 1024));
   cmd->add_option("--replicates", args->replicates,
                   "charges per value, seeds s .. s+N-1: figures are their mean with its standard error (" +
                       default_text(args->replicates) + ": batch means, a lower bound)")
-      ->check(CLI::Range(1, study::kMaxReplicates));
+      ->check(whole_in(1, study::kMaxReplicates));
   cmd->add_flag("--no-plot", *no_plot, "skip the figures");
   cmd->add_flag("-q,--quiet", *quiet, "no progress lines, only the final table");
   cmd->callback([args, quiet, no_plot, action] {

@@ -105,11 +105,11 @@ void register_tradeoff(CLI::App& app, Action* action) {
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", r.out, "output folder")->required()->check(output_folder());
   cmd->add_flag("--quick", r.options.quick, "the three presets only (no one-knob ladder)");
-  cmd->add_option("--stages", r.options.stages, "stages to run (default: the scene's)")->check(CLI::Range(1, 10000));
+  cmd->add_option("--stages", r.options.stages, "stages to run (default: the scene's)")->check(whole_in(1, 10000));
   cmd->add_option("--stage-hours", r.options.stage_hours, "hours per stage (default: the scene's)")
       ->check(finite_in(1.0, 1e6));
   cmd->add_option("-j,--jobs", r.jobs, "runs (setting x design) at once (" + default_text(r.jobs) + "; wall times then share the cores)")
-      ->check(CLI::Range(1, 1024));
+      ->check(whole_in(1, 1024));
   cmd->add_flag("--no-plot", *no_plot, "skip the figure");
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--only", r.options.only,

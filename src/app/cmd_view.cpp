@@ -11,6 +11,7 @@
 #include "app/commands.hpp"
 #include "app/default_text.hpp"
 #include "app/fidelity_option.hpp"
+#include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "common/errors.hpp"
 #include "plots/plots.hpp"
@@ -87,10 +88,10 @@ void register_view(CLI::App& app, Action* action) {
       "control the checker refused included).");
   cmd->add_option("scene", args->scene, "scene file (TOML; default: the shipped lab mill)");
   cmd->add_option("--fidelity", args->fidelity, "draft | standard | reference (default: the scene's)")->check(fidelity_name());
-  cmd->add_option("--frames", args->frames, "run this many frames, then stop")->check(CLI::Range(1, 10000000));
+  cmd->add_option("--frames", args->frames, "run this many frames, then stop")->check(whole_in(1, 10000000));
   cmd->add_option("--screenshot", args->screenshot, "write the last frame as a PNG")->check(output_file());
   cmd->add_option("--size", args->size, "window width and height in pixels (" + default_text(args->size) + ")")
-      ->expected(2)->check(CLI::Range(320, 4096));
+      ->expected(2)->check(whole_in(320, 4096));
   cmd->add_option("--script", args->script, "timed control changes (docs/view.md)")->check(CLI::ExistingFile);
   cmd->callback([args, action] { *action = [args] { return run_view_command(*args); }; });
 }

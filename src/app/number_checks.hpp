@@ -27,6 +27,16 @@ inline bool finite_number(const std::string& text, double& v) {
   return end != begin && *end == '\0' && errno != ERANGE && std::isfinite(v);
 }
 
+// The option's text as a whole number written in plain decimal digits; false for anything
+// else: CLI11's integer conversion also takes "0x2", "0b10", "0o2" and blanks around the
+// digits, and a count written so is a typo or a script's mistake, not a number it means.
+inline bool plain_whole(const std::string& text, long long& v) {
+  if (text.empty() || text.size() > 15 || text.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  v = std::stoll(text);
+  return true;
+}
+
 }  // namespace number_checks_detail
 
 // A finite number in [lo, hi].
@@ -40,6 +50,21 @@ inline CLI::Validator finite_in(double lo, double hi) {
         return "";
       },
       "NUMBER in " + range, "finite_in");
+}
+
+// A whole number in [lo, hi], in plain decimal digits (counts: jobs, threads, frames, ...).
+inline CLI::Validator whole_in(long long lo, long long hi) {
+  using namespace number_checks_detail;
+  const std::string range = "[" + std::to_string(lo) + " - " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        long long v = 0;
+        if (!plain_whole(text, v) || v < lo || v > hi)
+          return "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                 " in plain decimal digits, got '" + text + "'";
+        return "";
+      },
+      "INT in " + range, "whole_in");
 }
 
 // A finite number above zero.
