@@ -490,6 +490,30 @@ TEST_F(SceneUnits, ANoteSaysWhatTheLargestClassHoldsFromAboveItsSize) {
   EXPECT_NE(notes[0].find(coarse), std::string::npos) << notes[0];
 }
 
+// --check notes a charge whose heaviest disk is over a hundred times its lightest (beds of
+// many light disks among heavy ones lose an occasional disk), with the time step against the
+// limit that check_numerical_limits holds it to; the base scene (11.6 times) gets no note.
+TEST_F(SceneUnits, AMassRatioPastTheSoundRangeIsNotedWithTheStepAgainstItsLimit) {
+  const Scene base = load_scene(scene_with("seed = 3", "seed = 3"));
+  EXPECT_NEAR(particle_mass_ratio(base), 7800.0 * 20.0 * 20.0 / (2700.0 * 10.0 * 10.0), 1e-9);
+  EXPECT_TRUE(limit_notes(base).empty());
+
+  Scene s = load_scene(scene_with("sizes = [10.0, 20.0]", "sizes = [1.0, 20.0]"));
+  const double ratio = 7800.0 * 20.0 * 20.0 / (2700.0 * 1.0 * 1.0);
+  EXPECT_NEAR(particle_mass_ratio(s), ratio, 1e-9 * ratio);
+  // Four substeps of at most 1.6 smallest radii each: 6.4 radii a step, under the 8 a step.
+  const double limit = 6.4 * 0.0005 / impact_speed_m_s(s);
+  EXPECT_NEAR(time_step_limit_s(s), limit, 1e-12 * limit);
+  s.solver.time_step_s = 1.01 * limit;
+  EXPECT_THROW(check_numerical_limits(s, "scene.toml"), InputError);
+  s.solver.time_step_s = 0.5 * limit;
+  EXPECT_NO_THROW(check_numerical_limits(s, "scene.toml"));
+  const std::vector<std::string> notes = limit_notes(s);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("the heaviest disk is 1156 times the lightest's mass"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("is 0.50 of the limit"), std::string::npos) << notes[0];
+}
+
 // A cut-off a hair above the largest rock is refused, and the message tells the two apart.
 TEST_F(SceneUnits, ACutoffAboveTheLargestRockNamesBothSizesDistinctly) {
   std::string text = kBaseScene;

@@ -24,6 +24,7 @@
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/filling.hpp"
+#include "scene/limits.hpp"
 #include "scene/scene.hpp"
 #include "study/charge_outputs.hpp"
 #include "study/charge_run.hpp"
@@ -67,11 +68,14 @@ int run_charge(const ChargeArgs& args) {
     if (std::filesystem::is_directory(args.out, ec)) io::check_folder_not_taken(args.out, "charge");
     std::printf("%s\n", plan);
     for (const std::string& note : distribution_notes(scene)) std::printf("  %s\n", note.c_str());
+    for (const std::string& note : limit_notes(scene)) std::printf("  %s\n", note.c_str());
     return 0;
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   io::remove_listed_outputs(args.out);               // an earlier charge's files (its manifest's list)
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
+  if (!args.quiet)
+    for (const std::string& note : limit_notes(scene)) std::fprintf(stderr, "  %s\n", note.c_str());
   const auto t0 = std::chrono::steady_clock::now();
   // A line every few seconds on a terminal, every minute in a log: a long charge is not silent.
   const double every_s = ::isatty(STDERR_FILENO) ? 5.0 : kProgressEveryS;

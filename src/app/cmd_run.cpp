@@ -31,6 +31,7 @@
 #include "io/run_folder.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "scene/filling.hpp"
+#include "scene/limits.hpp"
 #include "study/plan.hpp"
 #include "study/run_progress.hpp"
 
@@ -129,6 +130,7 @@ int run_command(const RunArgs& args) {
                   d.scene.wear.stages == 1 ? "" : "s", d.scene.wear.stage_hours,
                   expected_charge_disks(d.scene), d.name == plan.reference ? ", reference" : "");
       for (const std::string& note : distribution_notes(d.scene)) std::printf("%-*s %s\n", 16, "", note.c_str());
+      for (const std::string& note : limit_notes(d.scene)) std::printf("%-*s %s\n", 16, "", note.c_str());
       if (d.continue_run.empty()) continue;
       char stage[64];
       std::snprintf(stage, sizeof stage, " stage %d (%.6g h)", d.continue_stage, d.continue_hours);

@@ -61,6 +61,45 @@ std::int64_t steps_in(double seconds, double dt_s) {
   return static_cast<std::int64_t>(n);
 }
 
+double particle_mass_ratio(const Scene& scene) {
+  double lightest = 0.0, heaviest = 0.0;
+  for (const auto& s : scene.species_as_placed()) {
+    if (!scene.species_in_use(s)) continue;
+    const double lo = s.density_kg_m3 * s.smallest_diameter_m() * s.smallest_diameter_m();
+    const double hi = s.density_kg_m3 * s.largest_diameter_m() * s.largest_diameter_m();
+    if (!(lo > 0.0)) continue;
+    lightest = lightest > 0.0 ? std::min(lightest, lo) : lo;
+    heaviest = std::max(heaviest, hi);
+  }
+  return lightest > 0.0 ? heaviest / lightest : 0.0;
+}
+
+double time_step_limit_s(const Scene& scene) {
+  const double r = scene.smallest_particle_radius_m();
+  if (!(r > 0.0)) return 0.0;
+  const double v = impact_speed_m_s(scene);
+  if (scene.solver.backend != Backend::Soft) return kMaxStepTravelRadii * r / v;
+  const int substeps = std::max(1, scene.solver.substeps);
+  return std::min(kMaxStepTravelRadii * r * substeps, kMaxSoftStepTravelRadii * r) / v;
+}
+
+std::vector<std::string> limit_notes(const Scene& scene) {
+  std::vector<std::string> notes;
+  const double ratio = particle_mass_ratio(scene);
+  if (ratio > kSoundMassRatio) {
+    const double limit = time_step_limit_s(scene), dt = scene.solver.time_step_s;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "charge: the heaviest disk is %.0f times the lightest's mass (sound measured up to %.0f): a bed "
+                  "of many light disks among heavy ones loses an occasional disk (the run fails, exit 1), fewer "
+                  "at half the step limit; solver.time_step %.3g s is %.2f of the limit %.3g s "
+                  "(docs/stability.md)",
+                  ratio, kSoundMassRatio, dt, dt / limit, limit);
+    notes.push_back(buf);
+  }
+  return notes;
+}
+
 void check_numerical_limits(const Scene& scene, const std::string& file) {
   // The soft backend substeps; its own limit is per substep.
   const int substeps = scene.solver.backend == Backend::Soft ? std::max(1, scene.solver.substeps) : 1;

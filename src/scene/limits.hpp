@@ -20,6 +20,7 @@
 // bound on wear.factor (wear loop).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "scene/scene.hpp"
 
@@ -84,6 +85,20 @@ double charge_placement_radius_m(const MillGeometry& mill, double largest_diamet
 // when given back.
 double down_to_3_digits(double x);
 void check_charge_fits(const Scene& scene, const MillGeometry& mill, const std::string& file);
+
+// The heaviest disk's mass over the lightest's, over the species in use and the sizes that
+// get disks (a slice's disks: density x diameter^2); 0 with no disk.
+double particle_mass_ratio(const Scene& scene);
+// The largest time step the limits above allow (per substep on the soft backend, and the
+// soft solver's per-step limit), at the scene's impact speed; 0 with no disk.
+double time_step_limit_s(const Scene& scene);
+// The stability suite ran small disks among heavy ones sound up to this mass ratio (with few
+// small disks); beds of many light disks among far heavier ones lose an occasional disk
+// (docs/stability.md, "Many light disks among heavy ones").
+constexpr double kSoundMassRatio = 100.0;
+// What the scene asks beyond the measured sound range, for --check: a mass ratio above
+// kSoundMassRatio, with the scene's time step against its limit.
+std::vector<std::string> limit_notes(const Scene& scene);
 
 // All of the above, in the order a user would fix them.
 void check_run_limits(const Scene& scene, const std::string& file);
