@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "cli_support.hpp"
+#include "common/units.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -187,6 +188,14 @@ TEST_F(AppRun, ManifestRecordsVersionSeedFidelityAndStageTimes) {
   EXPECT_EQ(solver.at("contact_hertz").get<double>(), 0.0);
   EXPECT_NEAR(solver.at("contact_hertz_used").get<double>(),
               solver.at("substeps").get<double>() / solver.at("time_step_s").get<double>() / 8.0, 1e-9);
+  // The heaviest disk over the lightest (25 mm over 15 mm balls), and the push-out floor that
+  // ratio sets: what eight times the heaviest disk's weight on the lightest needs.
+  const double ratio = solver.at("particle_mass_ratio").get<double>();
+  EXPECT_NEAR(ratio, 25.0 * 25.0 / (15.0 * 15.0), 1e-9);
+  const double w = 2.0 * millwear::kPi * solver.at("contact_hertz_used").get<double>();
+  const double h = solver.at("time_step_s").get<double>() / solver.at("substeps").get<double>();
+  const double floor = 8.0 * millwear::kGravity * (1.0 + ratio) / (w * (2.0 * solver.at("damping_ratio").get<double>() + h * w));
+  EXPECT_NEAR(solver.at("push_out_floor_m_s").get<double>(), floor, 1e-9 * floor);
   // The smoothing radius as given and as used (the scene's 2 mm; without it, the smallest
   // particle radius).
   const auto& wear = d.at("settings").at("wear");

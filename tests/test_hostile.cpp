@@ -484,20 +484,24 @@ TEST(HostileOptions, AThreadCountIsPlainDecimalDigits) {
 }
 
 // Every other count of the command line is read the same way: --jobs of run, sweep and
-// rule1 written in hex, with a sign or with blanks is refused naming the option (exit 2,
-// nothing written); plain digits are taken.
-TEST(HostileOptions, AJobCountIsPlainDecimalDigits) {
+// rule1 and screen's --replicates written in hex, with a sign or with blanks is refused
+// naming the option (exit 2, nothing written); plain digits are taken.
+TEST(HostileOptions, OtherCountsArePlainDecimalDigits) {
   const TempDir dir("millwear-hostile-jobs");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const std::string screen = quoted(fs::path(kSource + "/scenarios/screen-sag-face-angle.toml"));
   const std::string out = quoted(dir / "out");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"run " + lab + " -o " + out + " --check", "--jobs"},
+      {"sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8", "--jobs"},
+      {"rule1 " + lab + " -o " + out, "--jobs"},
+      {"screen " + screen + " -o " + out + " --emit parallel", "--replicates"}};
   for (const std::string count : {"0x2", " 2", "+2", "0"}) {
-    for (const std::string& command : {"run " + lab + " -o " + out + " --check",
-                                       "sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8",
-                                       "rule1 " + lab + " -o " + out}) {
-      const std::string args = command + " --jobs '" + count + "'";
+    for (const auto& [command, option] : cases) {
+      const std::string args = command + " " + option + " '" + count + "'";
       const auto r = run_millwear(args);
       EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
-      EXPECT_NE(r.output.find("--jobs"), std::string::npos) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find(option), std::string::npos) << args << "\n" << r.output;
       EXPECT_NE(r.output.find("plain decimal digits, got '" + count + "'"), std::string::npos) << args << "\n"
                                                                                                 << r.output;
       EXPECT_FALSE(fs::exists(dir / "out")) << args;

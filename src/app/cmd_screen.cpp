@@ -25,6 +25,7 @@
 #include "app/default_text.hpp"
 #include "app/duration_text.hpp"
 #include "app/number_checks.hpp"
+#include "study/plan.hpp"
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
@@ -189,7 +190,8 @@ void register_screen(CLI::App& app, Action* action) {
   add_set_option(cmd, &r.overrides);
   cmd->add_option("--replicates", r.replicates,
                   "histories per design, seeds s, s+1, ... (" + default_text(r.replicates) +
-                      "): the life's error from their spread; with 1 it is propagated from one history's batch means");
+                      "): the life's error from their spread; with 1 it is propagated from one history's batch means")
+      ->check(whole_in(1, study::kMaxReplicates));
   cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,

@@ -9,11 +9,13 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "engine/accounting.hpp"
+#include "engine/soft/model.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "metrics/charge_summary.hpp"
+#include "scene/limits.hpp"
 #include "wear/reshape.hpp"
 
 namespace millwear::study {
@@ -89,6 +91,11 @@ Json scene_settings(const Scene& s) {
     solver["contact_hertz_used"] = s.solver.contact_hertz_used();
     solver["damping_ratio"] = s.solver.damping_ratio;
     solver["push_out_radii_per_s"] = s.solver.push_out_radii_per_s;
+    // The floor the charge's mass ratio sets under the push-out (from its sizes; the engine
+    // takes the larger of the two, from the disks as filled).
+    const double ratio = particle_mass_ratio(s);
+    solver["particle_mass_ratio"] = ratio;
+    solver["push_out_floor_m_s"] = ratio > 0.0 ? soft::carried_push_out_m_s(s.solver, ratio, 1.0) : 0.0;
   }
   solver["settle_time_s"] = s.solver.settle_time_s;
   solver["spinup_revolutions"] = s.solver.spinup_revolutions;

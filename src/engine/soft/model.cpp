@@ -39,6 +39,20 @@ Softness make_softness(double hertz, double zeta, double h) {
   return {w / a1, a2 * a3, a3};
 }
 
+// A soft row of effective mass m_e holds a steady load F with the bias F / (m_e w (2 zeta +
+// h w)) (contact_solver.hpp). The bias is capped at the push-out speed, so a light disk
+// pressed by a far heavier one (the rows between them have about the light disk's mass)
+// sinks on through the liner once that load needs more than the cap: the cap is raised to
+// what kCarriedWeights of the heaviest disk's weight on the lightest needs. The shipped
+// scenes need 1-40% of their default (mass ratios 2.8 to 81), so only far larger ratios
+// change anything.
+double carried_push_out_m_s(const SolverDef& solver, double heaviest_kg, double lightest_kg) {
+  const double h = solver.time_step_s / solver.substeps;
+  const double w = 2.0 * kPi * solver.contact_hertz_used();
+  const double m_e = lightest_kg * heaviest_kg / (lightest_kg + heaviest_kg);
+  return kCarriedWeights * heaviest_kg * kGravity / (m_e * w * (2.0 * solver.damping_ratio + h * w));
+}
+
 Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeState& initial) {
   Model m;
   m.dt_s = scene.solver.time_step_s;
@@ -66,18 +80,7 @@ Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeStat
   m.r_min_m = r_min;
   m.r_max_m = r_max;
   m.push_out_m_s = scene.solver.push_out_radii_per_s * r_min;
-  // A soft row of effective mass m_e holds a steady load F with the bias F / (m_e w (2 zeta +
-  // h w)) (contact_solver.hpp). The bias is capped at the push-out speed, so a light disk
-  // pressed by a far heavier one (the rows between them have about the light disk's mass)
-  // sinks on through the liner once that load needs more: the push-out is raised to what
-  // kCarriedWeights of the heaviest disk's weight on the lightest needs. The shipped scenes
-  // need 1-40% of the default (mass ratios 2.8 to 81), so only far larger ratios change.
-  if (m_max > 0.0) {
-    const double w = 2.0 * kPi * hertz;
-    const double m_e = m_min * m_max / (m_min + m_max);
-    const double carried = kCarriedWeights * m_max * kGravity / (m_e * w * (2.0 * scene.solver.damping_ratio + h * w));
-    m.push_out_m_s = std::max(m.push_out_m_s, carried);
-  }
+  if (m_max > 0.0) m.push_out_m_s = std::max(m.push_out_m_s, carried_push_out_m_s(scene.solver, m_max, m_min));
   m.restitution_threshold_m_s = mean_d / kRestitutionThresholdSeconds;
   m.margin_base_m = kMarginBaseRadii * r_min;
   m.shape_band_m = kShapeBandRadii * r_max;

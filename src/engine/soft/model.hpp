@@ -38,7 +38,8 @@ struct Model {
   int substeps = 4;
   double substep_s = 0.0;  // dt_s / substeps
   Softness pair_softness, liner_softness;  // at the substep
-  double push_out_m_s = 1.0;               // fastest the soft bias pushes an overlap apart
+  double push_out_m_s = 1.0;               // fastest the soft bias pushes an overlap apart:
+                                           // solver.push_out x r_min, or carried_push_out_m_s
   double restitution_threshold_m_s = 0.1;  // slower impacts do not bounce
   double margin_base_m = 0.0;              // speculative margin of a disk at rest
   double r_min_m = 0.0, r_max_m = 0.0;     // smallest and largest disk radius
@@ -46,6 +47,11 @@ struct Model {
   double mill_radius_m = 0.0;
   Materials materials;
 };
+
+// The push-out speed at which a contact of the lightest disk holds kCarriedWeights (8) times
+// the heaviest disk's weight (model.cpp): the model's push-out is at least this, for the
+// masses of the disks as filled.
+double carried_push_out_m_s(const SolverDef& solver, double heaviest_kg, double lightest_kg);
 
 Model build_model(const Scene& scene, const MillGeometry& mill, const ChargeState& initial);
 
