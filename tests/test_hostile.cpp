@@ -461,54 +461,43 @@ TEST(HostileOptions, NotANumberIsRefusedByEveryNumberOption) {
   }
 }
 
-// --threads is a count in plain decimal digits: CLI11's integer conversion alone would read
-// "0x2" (hexadecimal), "0b10" (binary) and " 2" (a blank before it) as 2. Each is refused by
-// every command that takes the option, naming it (exit 2, nothing written); "2" is taken.
-TEST(HostileOptions, AThreadCountIsPlainDecimalDigits) {
-  const TempDir dir("millwear-hostile-threads");
-  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
-  const std::string out = quoted(dir / "out");
-  for (const std::string count : {"0x2", "0b10", " 2", "2 ", "+2", "2.0", "0", "257"}) {
-    for (const std::string& command : {"run " + lab + " -o " + out + " --check", "charge " + lab + " -o " + out}) {
-      const std::string args = command + " --threads '" + count + "'";
-      const auto r = run_millwear(args);
-      EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
-      EXPECT_NE(r.output.find("--threads"), std::string::npos) << args << "\n" << r.output;
-      EXPECT_NE(r.output.find("plain decimal digits, got '" + count + "'"), std::string::npos) << args << "\n"
-                                                                                                << r.output;
-      EXPECT_FALSE(fs::exists(dir / "out")) << args;
-    }
-  }
-  const auto ok = run_millwear("run " + lab + " -o " + out + " --check --threads 2");
-  EXPECT_EQ(ok.exit_code, 0) << ok.output;
-}
-
-// Every other count of the command line is read the same way: --jobs of run, sweep and
-// rule1 and screen's --replicates written in hex, with a sign or with blanks is refused
-// naming the option (exit 2, nothing written); plain digits are taken.
-TEST(HostileOptions, OtherCountsArePlainDecimalDigits) {
-  const TempDir dir("millwear-hostile-jobs");
+// Every count of the command line is plain decimal digits: CLI11's integer conversion alone
+// would read "0x2" (hexadecimal), "0b10" (binary) and " 2" (a blank before it) as 2. Each is
+// refused naming the option (exit 2, nothing written): --threads of run and charge, --jobs of
+// run, sweep and rule1, screen's --replicates; "2" is taken.
+TEST(HostileOptions, ACountIsPlainDecimalDigits) {
+  const TempDir dir("millwear-hostile-counts");
   const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
   const std::string screen = quoted(fs::path(kSource + "/scenarios/screen-sag-face-angle.toml"));
   const std::string out = quoted(dir / "out");
-  const std::vector<std::pair<std::string, std::string>> cases = {
-      {"run " + lab + " -o " + out + " --check", "--jobs"},
-      {"sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8", "--jobs"},
-      {"rule1 " + lab + " -o " + out, "--jobs"},
-      {"screen " + screen + " -o " + out + " --emit parallel", "--replicates"}};
-  for (const std::string count : {"0x2", " 2", "+2", "0"}) {
-    for (const auto& [command, option] : cases) {
-      const std::string args = command + " " + option + " '" + count + "'";
+  const std::vector<std::string> threads = {"0x2", "0b10", " 2", "2 ", "+2", "2.0", "0", "257"};
+  const std::vector<std::string> others = {"0x2", " 2", "+2", "0"};
+  struct Case {
+    std::string command, option;
+    const std::vector<std::string>* counts;
+  };
+  const std::vector<Case> cases = {
+      {"run " + lab + " -o " + out + " --check", "--threads", &threads},
+      {"charge " + lab + " -o " + out, "--threads", &threads},
+      {"run " + lab + " -o " + out + " --check", "--jobs", &others},
+      {"sweep " + lab + " -o " + out + " --vary mill.speed=0.7,0.8", "--jobs", &others},
+      {"rule1 " + lab + " -o " + out, "--jobs", &others},
+      {"screen " + screen + " -o " + out + " --emit parallel", "--replicates", &others}};
+  for (const Case& c : cases) {
+    for (const std::string& count : *c.counts) {
+      const std::string args = c.command + " " + c.option + " '" + count + "'";
       const auto r = run_millwear(args);
       EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
-      EXPECT_NE(r.output.find(option), std::string::npos) << args << "\n" << r.output;
+      EXPECT_NE(r.output.find(c.option), std::string::npos) << args << "\n" << r.output;
       EXPECT_NE(r.output.find("plain decimal digits, got '" + count + "'"), std::string::npos) << args << "\n"
                                                                                                 << r.output;
       EXPECT_FALSE(fs::exists(dir / "out")) << args;
     }
   }
-  const auto ok = run_millwear("run " + lab + " -o " + out + " --check --jobs 2");
-  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  for (const std::string option : {"--threads", "--jobs"}) {
+    const auto ok = run_millwear("run " + lab + " -o " + out + " --check " + option + " 2");
+    EXPECT_EQ(ok.exit_code, 0) << option << "\n" << ok.output;
+  }
 }
 
 // Lifters so tall that the charge has no room inside their tips: every command refuses the
