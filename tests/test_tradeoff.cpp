@@ -215,6 +215,22 @@ TEST(TradeoffCli, TheManifestRecordsTheOverridesSettingsAndFiles) {
   fs::remove_all(out);
 }
 
+// A history that stops (here rule 1's bound on wear.factor at the first update) is a failed
+// setting, not a result: with the reference's failed, the ladder has nothing to compare
+// against, and the command exits 1 naming the failure, with no table of zero deviations.
+TEST(TradeoffCli, AHistoryThatStopsIsAFailureNotAResult) {
+  namespace fs = std::filesystem;
+  const testing::TempDir dir("millwear-tradeoff-fails");
+  const auto r = testing::run_millwear("tradeoff " + testing::quoted(source_path("scenarios/lab-mill.toml")) +
+                                       " -o " + testing::quoted(dir / "out") +
+                                       " --quick --stages 1 --no-plot --set wear.mode=continuous"
+                                       " --set wear.factor=3e6");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("the reference run failed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("lower wear.factor"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "tradeoff.csv"));
+}
+
 // A ladder of one setting (--only reference) has nothing to trade off: no figure, and exit 0
 // (gnuplot crashed on its empty x range). Without gnuplot the tables stand alone: a warning
 // and exit 0, as for every command.

@@ -479,6 +479,7 @@ TradeoffReport run_tradeoff(const TradeoffLadder& ladder, int jobs, const Tradeo
     const double c0 = thread_cpu_s();
     try {
       const WearHistory h = run_wear_history(scene);
+      throw_if_failed(h);  // a lost disk or rule 1's stop: the setting failed, it has no result
       for (const auto& st : h.stages) {
         disk_steps += st.disk_steps;
         simulated += st.simulated_s;
