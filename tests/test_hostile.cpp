@@ -932,6 +932,20 @@ TEST(HostileOptions, AReferenceHardnessFarFromTheDataIsRefused) {
   EXPECT_EQ(fit.find("inf"), std::string::npos) << fit;
 }
 
+// A folder the command may not write (here one holding a user's file) is refused before any
+// result is shown: exit 2, the fit not printed, the user's file untouched.
+TEST(HostileFiles, HardnessRefusesItsFolderBeforePrintingAFit) {
+  const TempDir dir("millwear-hostile-hardness-folder");
+  const std::string file = quoted(fs::path(kSource + "/validation/hardness-synthetic.csv"));
+  fs::create_directories(dir / "out");
+  std::ofstream(dir / "out" / "user.txt") << "mine\n";
+  const auto r = run_millwear("hardness " + file + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output.find("a = "), std::string::npos) << r.output;
+  EXPECT_EQ(read_text(dir / "out" / "user.txt"), "mine\n");
+  EXPECT_FALSE(fs::exists(dir / "out" / "hardness_fit.csv"));
+}
+
 // An empty --fidelity or --reference is a mistake on the command line, not "the default".
 TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
   const TempDir dir("millwear-hostile-options-empty");

@@ -29,6 +29,8 @@ int run_hardness(const HardnessArgs& a) {
   validation::HardnessData data = validation::read_hardness(a.file);
   const validation::HardnessFit f = validation::fit_hardness(data, a.reference_hardness);
   const std::string unit = data.time_unit == "days" ? "day" : "h";
+  // The folder before any result is printed: a refused folder is exit 2 with nothing shown.
+  const io::FolderLock lock(a.out, "hardness");  // one writer per folder
 
   std::printf("hardness correction CT = a * H^b from %zu periods in %s (wear: %s)\n", data.periods.size(),
               a.file.c_str(), data.wear_column.c_str());
@@ -44,7 +46,6 @@ int run_hardness(const HardnessArgs& a) {
   std::printf("coefficient of variation of the wear rate: %.1f%% before, %.1f%% after the correction "
               "(log-log R^2 %.3f)\n", 100.0 * f.cv_before, 100.0 * f.cv_after, f.r_squared);
 
-  const io::FolderLock lock(a.out, "hardness");  // one writer per folder
   validation::write_hardness_outputs(a.out, data, f);
   try {
     const auto files = validation::render_hardness_figure(a.out, data, f);
