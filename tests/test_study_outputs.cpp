@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 
@@ -185,6 +186,37 @@ TEST(Animation, TheFramesNameAndColourTheScenesSpecies) {
   EXPECT_NE(meta.find("sp_rgb[1] = " + std::to_string(0x4f6d8f)), std::string::npos) << meta;
   EXPECT_EQ(plots::species_colours({true, false, false, true}),
             (std::vector<std::string>{"#4f6d8f", "#a08c70", "#c2b59b", "#7d9bbd"}));
+}
+
+// --keep-data writes into FILE_frames/: an earlier animation's folder is written again, a
+// folder holding anything of the user's (even under the name frames.dat) is refused before
+// anything runs, and the user's file stays.
+TEST(Animation, KeptFramesGoOnlyIntoAFolderAnAnimationLeft) {
+  const testing::TempDir scratch("millwear-study-animation-keep");
+  const std::string dir = scratch.path().string();
+  study::AnimationRequest r;
+  r.scene_file = testing::source_path("tests/data/lab-quick.toml");
+  r.frames = 10;
+  r.seconds = 0.2;
+  r.size = 200;
+  r.keep_data = true;
+  r.out = dir + "/charge.gif";
+  study::make_animation(r);
+  study::make_animation(r);  // its own earlier frames: written again
+  EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/charge_frames/frames.dat"));
+
+  std::filesystem::create_directories(dir + "/mine_frames");
+  std::ofstream(dir + "/mine_frames/frames.dat") << "mine\n";
+  r.out = dir + "/mine.gif";
+  try {
+    study::make_animation(r);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--keep-data");
+    EXPECT_NE(std::string(e.what()).find("mine_frames"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(io::read_file(dir + "/mine_frames/frames.dat"), "mine\n");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/mine.gif"));
 }
 
 // A stop that comes once every design has finished (here at the last progress tick, before

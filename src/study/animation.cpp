@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <vector>
 
@@ -169,6 +170,28 @@ double colour_scale_max(const std::vector<Segment>& segments) {
 
 // The data file (per frame: disks "x y r species", then the liner path "x y value") and the
 // meta file (frame count, radius, colour scale, titles) that plots/animate.gp reads.
+// --keep-data writes its frames into FILE_frames/: a folder that is not one an earlier
+// animation left (only its frames.dat, frames_meta.gp and gnuplot.log, the meta file in its
+// own format) is the user's, refused before anything is simulated.
+void check_frames_folder(const std::string& folder) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(folder, ec))) return;
+  if (!fs::is_directory(folder, ec))
+    throw InputError("", "--keep-data", "the frames' folder " + folder + " to be free, found a file of that name");
+  for (const auto& e : fs::directory_iterator(folder, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name != "frames.dat" && name != "frames_meta.gp" && name != "gnuplot.log")
+      throw InputError("", "--keep-data", "the frames' folder " + folder + " to hold an earlier animation's files "
+                       "only; it holds " + name + " (move it, or give -o another name)");
+  }
+  std::ifstream meta(folder + "/frames_meta.gp");
+  std::string first;
+  if (!fs::is_empty(folder, ec) && !(meta && std::getline(meta, first) && first.rfind("nframes = ", 0) == 0))
+    throw InputError("", "--keep-data", "the frames' folder " + folder + " to hold an earlier animation's files "
+                     "only; its frames_meta.gp is missing or not one this command wrote (move the folder, or "
+                     "give -o another name)");
+}
+
 void write_frame_files(const Scene& scene, const std::vector<Segment>& segments, const std::vector<Frame>& frames,
                        const std::string& cblabel, bool history, const std::string& datafile,
                        const std::string& metafile) {
@@ -229,6 +252,7 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
   const std::string outbase = a.out.substr(0, a.out.size() - 4);
+  if (a.keep_data) check_frames_folder(outbase + "_frames");
   // The GIF is all this command makes: without gnuplot, say so before simulating anything.
   if (!plots::gnuplot_available())
     throw RunError("gnuplot not found on PATH: the animation is drawn by gnuplot's gif terminal (for example "
