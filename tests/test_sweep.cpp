@@ -9,6 +9,8 @@
 #include <iterator>
 #include <string>
 
+#include <csignal>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cli_support.hpp"
@@ -239,4 +241,44 @@ TEST(SweepFolder, ASweepAgainRemovesTheEarlierSweepsPointsAndKeepsTheUsersFiles)
   const std::string manifest = millwear::testing::read_text(out / "manifest.json");
   EXPECT_EQ(manifest.find("my-notes.txt"), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("points/01/charge_summary.csv"), std::string::npos) << manifest;
+}
+
+// A sweep killed part-way (SIGKILL: no chance to clean up) has listed what it wrote as each
+// point ended, so the next sweep into the folder removes those points: none of the first
+// sweep's stays beside the new results.
+TEST(SweepFolder, ThePointsOfASweepKilledPartWayDoNotOutliveIt) {
+  const TempDir dir("millwear-sweep-killed");
+  const fs::path out = dir / "out";
+  const std::string lab = millwear::testing::quoted(shipped("scenarios/lab-mill.toml"));
+  const std::string cmd = "exec \"" + std::string(MILLWEAR_BINARY) + "\" sweep " + lab + " -o " +
+                          millwear::testing::quoted(out) + " --vary mill.speed=0.5:1.0:0.1 -j 1 --revolutions 2 -q "
+                          "--no-plot > /dev/null 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Killed once its manifest lists two finished points (of six).
+  bool listed = false;
+  for (int i = 0; i < 1200 && !listed; ++i) {
+    std::ifstream m(out / "manifest.json");
+    const std::string text((std::istreambuf_iterator<char>(m)), std::istreambuf_iterator<char>());
+    const auto first = text.find("\"folder\"");
+    listed = first != std::string::npos && text.find("\"folder\"", first + 1) != std::string::npos;
+    if (!listed) ::usleep(20000);
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(listed) << "two points were not listed within 24 s";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep finished before it was killed";
+  ASSERT_TRUE(fs::exists(out / "points" / "01"));
+
+  const auto r = millwear::testing::run_millwear("sweep " + lab + " -o " + millwear::testing::quoted(out) +
+                                                 " --vary mill.speed=0.8 -j 1 --revolutions 2 -q --no-plot");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "points" / "00" / "charge_summary.csv"));
+  for (const char* stale : {"01", "02", "03", "04", "05"}) EXPECT_FALSE(fs::exists(out / "points" / stale)) << stale;
+  EXPECT_EQ(io::read_csv((out / "sweep.csv").string()).row_count(), 1u);
 }

@@ -150,8 +150,12 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
   t.write(io::join_path(out, "sweep.csv"));
 }
 
+// finished = false: written as each point ends, with the points done so far (point_done) and
+// their files, so that a sweep stopped part-way leaves a list of what it wrote, which the next
+// sweep into the folder removes (io::remove_listed_outputs).
 void write_sweep_manifest(const std::string& out, const SweepRequest& q, const SweepResult& r,
-                          const Scene& first, const std::vector<std::string>& files) {
+                          const Scene& first, const std::vector<std::string>& files,
+                          const std::vector<char>& point_done, bool finished) {
   nlohmann::ordered_json m;
   m["program"] = "millwear";
   m["version"] = MILLWEAR_VERSION;
@@ -169,8 +173,11 @@ void write_sweep_manifest(const std::string& out, const SweepRequest& q, const S
   m["error_source"] = error_source_name(q.replicates > 1 ? ErrorSource::Replicates : ErrorSource::BatchMeans);
   m["jobs"] = r.jobs;
   m["wall_s"] = r.wall_s;
+  m["finished"] = finished;
   nlohmann::ordered_json points = nlohmann::ordered_json::array();
-  for (const SweepPoint& p : r.points) {
+  for (std::size_t i = 0; i < r.points.size(); ++i) {
+    if (!point_done[i]) continue;
+    const SweepPoint& p = r.points[i];
     nlohmann::ordered_json j;
     j["value"] = p.text;
     j["folder"] = io::relative_to(out, point_dir(out, p.index));
@@ -380,6 +387,8 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   r.points.resize(static_cast<std::size_t>(n));
   std::mutex mutex;
   int done = 0;
+  std::vector<char> point_done(static_cast<std::size_t>(n), 0);
+  std::vector<std::string> files{"manifest.json"};  // as the tasks end
   // A numerical failure, or a charge the fill cannot place at this point's value (the up-front
   // check cannot see it), is the point's result; anything else (an I/O failure) stops the sweep.
   for_each_index_parallel(static_cast<std::size_t>(tasks), r.jobs, [&](std::size_t t) {
@@ -400,14 +409,19 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
     }
     std::lock_guard<std::mutex> g(mutex);
     measured[iu][static_cast<std::size_t>(k)] = p;
-    if (--left[iu] > 0) return;
-    r.points[iu] = fold_replicates(measured[iu]);
-    ++done;
-    if (cb.on_point) cb.on_point(r.points[iu], done, n);
+    for (const std::string& f : written[t]) files.push_back(io::relative_to(q.out, f));
+    if (--left[iu] == 0) {
+      r.points[iu] = fold_replicates(measured[iu]);
+      point_done[iu] = 1;
+      ++done;
+      if (cb.on_point) cb.on_point(r.points[iu], done, n);
+    }
+    write_sweep_manifest(q.out, q, r, scenes.front(), files, point_done, false);
   });
 
   write_sweep_csv(q.out, r);
-  std::vector<std::string> files{"manifest.json", "sweep.csv"};
+  // The files in task order (the order they ended in depends on the threads).
+  files = {"manifest.json", "sweep.csv"};
   for (const std::vector<std::string>& task_files : written) {
     std::vector<std::string> in_point;
     for (const std::string& f : task_files) in_point.push_back(io::relative_to(q.out, f));
@@ -424,7 +438,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
     for (const auto& f : r.figure_files) files.push_back(io::relative_to(q.out, f));
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_sweep_manifest(q.out, q, r, scenes.front(), files);
+  write_sweep_manifest(q.out, q, r, scenes.front(), files, point_done, true);
   return r;
 }
 
