@@ -121,6 +121,18 @@ TEST_F(ProfileFile, MissingKeyIsNamed) {
   EXPECT_NE(e.expected.find("missing"), std::string::npos);
 }
 
+// A trapezoid written in metres (a 20 mm lifter as height = 0.02) spans under a millimetre:
+// refused naming the height, as a polyline or a scan in metres is.
+TEST_F(ProfileFile, ATrapezoidInMetresIsRefusedNamingTheHeight) {
+  const InputError e = load_error(write("p.toml",
+                                        "form = \"trapezoid\"\nheight = 0.02\ntop_width = 0.01\n"
+                                        "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n"));
+  EXPECT_EQ(e.where, "height");
+  EXPECT_NE(e.expected.find("are they in metres?"), std::string::npos) << e.what();
+  EXPECT_NO_THROW(load_profile(write("q.toml", "form = \"trapezoid\"\nheight = 2.0\ntop_width = 1.0\n"
+                                               "leading_face_angle = 30.0\ntrailing_face_angle = 30.0\n")));
+}
+
 TEST_F(ProfileFile, NegativeHeightIsRejected) {
   const InputError e = load_error(write("p.toml",
                                         "form = \"trapezoid\"\nheight = -200.0\ntop_width = 100\n"

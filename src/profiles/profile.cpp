@@ -265,6 +265,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
                          "expected face angles that keep the base within +-" + short_number(kMaxPointMm) +
                              " mm of the centre; at " + short_number(in_mm(t.height_m)) + " mm high they reach x = " +
                              short_number(p.x * 1e3) + " mm");
+    check_points_span(prof.points, path, "height");  // a lifter drawn in metres
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
     prof.points = read_points(root, path);
