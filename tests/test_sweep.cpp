@@ -282,3 +282,17 @@ TEST(SweepFolder, ThePointsOfASweepKilledPartWayDoNotOutliveIt) {
   for (const char* stale : {"01", "02", "03", "04", "05"}) EXPECT_FALSE(fs::exists(out / "points" / stale)) << stale;
   EXPECT_EQ(io::read_csv((out / "sweep.csv").string()).row_count(), 1u);
 }
+
+// Ctrl-C (here `timeout`'s SIGINT) stops a sweep as the signal does (exit 130), saying first
+// what it leaves: the points it finished, listed for the next sweep to remove.
+TEST(SweepFolder, AnInterruptedSweepSaysWhatItLeaves) {
+  const TempDir dir("millwear-sweep-interrupted");
+  const auto r = millwear::testing::run_shell(
+      "timeout --preserve-status -s INT 2 \"" + std::string(MILLWEAR_BINARY) + "\" sweep " +
+      millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " + millwear::testing::quoted(dir / "out") +
+      " --vary mill.speed=0.5:1.6:0.1 -j 1 --revolutions 2 -q --no-plot");
+  EXPECT_EQ(r.exit_code, 128 + SIGINT) << r.output;
+  EXPECT_NE(r.output.find("millwear sweep: interrupted; the points it finished are listed in"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "sweep.csv"));
+}

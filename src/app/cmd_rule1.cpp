@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/commands.hpp"
+#include "app/signals.hpp"
 #include "app/default_text.hpp"
 #include "app/fidelity_option.hpp"
 #include "app/number_checks.hpp"
@@ -55,6 +56,8 @@ int run_rule1(const Rule1Args& a) {
     lock = std::make_unique<io::FolderLock>(a.out, "rule1");
     io::remove_listed_outputs(a.out);  // an earlier check's files
   }
+  g_stop_note = "millwear rule1: interrupted; nothing of this check is kept: run it again\n";
+  const SignalScope stop(note_and_die);
   const Rule1Report r = rule1_check(scene, opt);
 
   std::printf("rule 1 on %s: %d stage(s) of %.0f h, continuous mode, %d seed(s) per factor\n", scene.name.c_str(),

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "app/commands.hpp"
+#include "app/signals.hpp"
 #include "app/default_text.hpp"
 #include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
@@ -61,6 +62,9 @@ int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
       std::printf("  failed %-24s %8.1f s  %s  %s\n", s.label.c_str(), wall, error.c_str(), when.c_str());
     std::fflush(stdout);
   };
+  g_stop_note = "millwear tradeoff: interrupted; nothing of this ladder is kept: run it again (--only LABELS "
+                "runs fewer settings)\n";
+  const SignalScope stop(note_and_die);
   const TradeoffStudy study = run_tradeoff_study(a, cb);
   const TradeoffReport& report = study.report;
 

@@ -6,10 +6,12 @@
 // group; a job controller may repeat a signal, and the screen's pool passes SIGTERM on to
 // tasks that may have had it from the process group already).
 #include <time.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
 #include <cstdint>
+#include <string>
 
 namespace millwear::app {
 
@@ -41,6 +43,16 @@ inline void on_signal(int sig) {
 // Only records the signal, every time: for the screen's pool, whose tasks stop on their own
 // (Ctrl-C reaches them from the terminal, the pool passes SIGTERM on).
 inline void record_signal(int sig) { g_signal.store(sig); }
+
+// The commands that do not stop between pieces (sweep, tradeoff, rule1) die of the signal
+// as they would without a handler (exit 128 + signal), first saying what the stop leaves:
+// g_stop_note, set before the handler is installed (write(2) is async-signal-safe).
+inline std::string g_stop_note;
+inline void note_and_die(int sig) {
+  if (!g_stop_note.empty()) (void)!::write(2, g_stop_note.data(), g_stop_note.size());
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
 
 // Installs the handler (on_signal unless given) for SIGINT and SIGTERM for its lifetime and
 // clears g_signal.
