@@ -91,14 +91,30 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
   const char* reference = m.reference_measured ? "the survey at the start" : "the scene's lifter at the start";
   const auto mm2 = [](double m2) { return io::format_number(in_mm2(m2), 6); };
   const auto at_start = [&](const AreaSurvey& s) { return std::fabs(s.hours - start_hours) <= kSameHoursTolerance; };
-  // The loss since the start is nothing at the start: a value there counts from elsewhere.
-  if (surveys.losses)
+  // The loss since the start is nothing at the start: rows there (several lifters, each
+  // reported against their mean, say) average to 0 within a gauge's noise (kGainNoiseShare of
+  // the reference area, as elsewhere); a larger mean counts from elsewhere.
+  if (surveys.losses) {
+    double sum_m2 = 0.0;
+    int n = 0;
+    std::size_t first_line = 0;
     for (const AreaSurvey& s : surveys.surveys)
-      if (at_start(s) && s.value_m2 != 0.0)
-        throw InputError(file, "line " + std::to_string(s.line),
-                         "an area loss of 0 at the history's start (" + io::format_number(start_hours) +
-                             " h): area_loss_mm2 is the area lost since then, and this row gives " + mm2(s.value_m2) +
-                             " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
+      if (at_start(s)) {
+        if (n == 0) first_line = s.line;
+        sum_m2 += s.value_m2;
+        ++n;
+      }
+    const double mean_m2 = n > 0 ? sum_m2 / n : 0.0;
+    if (std::abs(mean_m2) > kGainNoiseShare * m.reference_m2)
+      throw InputError(file, "line " + std::to_string(first_line),
+                       "area losses averaging 0 at the history's start (" + io::format_number(start_hours) +
+                           " h), within a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
+                           "% of the lifter's " + mm2(m.reference_m2) + " mm^2, " +
+                           mm2(kGainNoiseShare * m.reference_m2) + " mm^2): area_loss_mm2 is the area lost since "
+                           "then, and " + (n == 1 ? std::string("this row gives ") : "the " + std::to_string(n) +
+                           " rows there, from this one, average ") + mm2(mean_m2) +
+                           " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
+  }
   // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     if (!(m.loss_m2[i] < m.reference_m2))
