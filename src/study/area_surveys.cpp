@@ -133,15 +133,25 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
                          " (the reference area is " + reference +
                          ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
   // Wear removes metal: a survey after the start above the lifter it wore from, by more than
-  // a gauge's noise, is not a survey of that lifter, whatever the other rows lost.
+  // a gauge's noise, is not a survey of that lifter, whatever the other rows lost. Areas
+  // judged by the drawing (no row at the start) may also be of a casting bigger than drawn;
+  // losses count from the lifter as it was at the start, whatever its casting.
+  const bool drawing = !surveys.losses && !m.reference_measured;
+  const double share = kGainNoiseShare + (drawing ? kCastOverDrawingShare : 0.0);
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
     const AreaSurvey& s = surveys.surveys[i];
     const double gain_m2 = m.area_m2[i] - m.reference_m2;
-    if (at_start(s) || !(gain_m2 > kGainNoiseShare * m.reference_m2)) continue;
+    if (at_start(s) || !(gain_m2 > share * m.reference_m2)) continue;
+    const std::string allowed =
+        drawing ? "a gauge's noise and a casting bigger than drawn (" + io::format_number(100.0 * kGainNoiseShare) +
+                      "% + " + io::format_number(100.0 * kCastOverDrawingShare) + "% of it, " +
+                      mm2(share * m.reference_m2) + " mm^2; a row at the start, hours " +
+                      io::format_number(start_hours) + ", gives the lifter as cast, the exact reference)"
+                : "a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) + "% of it, " +
+                      mm2(share * m.reference_m2) + " mm^2)";
     throw InputError(file, "line " + std::to_string(s.line),
                      "a lifter area no larger than the lifter's at the start (" + mm2(m.reference_m2) + " mm^2, " +
-                         reference + ") by more than a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
-                         "% of it, " + mm2(kGainNoiseShare * m.reference_m2) + " mm^2): wear removes metal, and the " +
+                         reference + ") by more than " + allowed + ": wear removes metal, and the " +
                          "survey at " + io::format_number(s.hours) + " h has " + mm2(m.area_m2[i]) + " mm^2, " +
                          mm2(gain_m2) + " mm^2 more");
   }

@@ -64,7 +64,8 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, dou
 // loss counts from there; line of the first such row), if a survey's loss is not under
 // the reference area, (line of the last survey) unless the area loss, fitted through the start,
 // grows with the hours (sum of hours since the start x loss > 0), or if a survey after the
-// start has more area than the reference area by over kGainNoiseShare of it (metal gained).
+// start has more area than the reference area by over kGainNoiseShare of it (metal gained;
+// kGainNoiseShare + kCastOverDrawingShare when that reference is the scene's lifter).
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)

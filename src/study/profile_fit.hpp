@@ -82,7 +82,8 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
 // Wear removes metal: throws InputError(file, "line N", ...) naming a survey after the start
 // (start_hours) that has more metal than the lifter at the start, over the span both cover,
 // by more than kGainNoiseShare of the new lifter's area (`new_unit`, the scene's lifter at the
-// history's start). The lifter at the start is the survey there, else the scene's lifter.
+// history's start). The lifter at the start is the survey there, else the scene's lifter
+// (then kGainNoiseShare + kCastOverDrawingShare: a casting may be bigger than drawn).
 // Later surveys are not compared with each other (noise and the spread between lifters may
 // beat the wear between two of them). The mirror of check_areas_shrink's check for area files.
 void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
