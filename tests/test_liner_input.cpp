@@ -204,37 +204,55 @@ TEST(MeasuredProfile, SceneRefusesAScanWiderThanThePitch) {
 }
 
 // A scan of one lifter is in lifter-local coordinates, as the surveys compared with its
-// history are: x_mm = 0 at the lifter's centre. The liner is centred on the lifter's base, so
-// a scan from a gauge zeroed 8 mm beside the lifter would be moved 8 mm while surveys from the
-// same gauge stay where they are, and every distance between them and the history is off by
-// the offset. It is refused, naming the scan, the offset and the shift that centres it; an offset
-// within a gauge's placement (1% of the pitch, 1.57 mm on the lab mill) is taken.
-TEST(MeasuredProfile, AScanOffCentreBeyondAGaugesPlacementIsRefused) {
+// history are: x_mm = 0 on the lifter's centre line. It is taken as measured, not moved, so
+// scan and surveys stay in one frame: a lifter whose feet are off x = 0 (a worn face moves its
+// foot) keeps them there. Refused, naming the scan, its feet and that x = 0 must be the
+// lifter's centre line, is only a scan whose lifter cannot stand in its row about x = 0: x = 0
+// outside its metal, or a lifter wider than the pitch about x = 0 that would fit centred.
+TEST(MeasuredProfile, AScanIsTakenInTheSurveysFrameUnlessItsLifterCannotStandInItsRow) {
   TempDir dir("millwear-liner-input-off-centre");
-  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // the lab lifter's half base
-  const auto scan = [hb](double offset_mm) {
+  const auto scan = [](double offset_mm, double hb, double top) {
     char buf[256];
     std::snprintf(buf, sizeof buf, "x_mm,y_mm\n%.4f,-2\n%.4f,0\n%.4f,20\n%.4f,20\n%.4f,0\n%.4f,-2\n",
-                  offset_mm - 25.0, offset_mm - hb, offset_mm - 5.0, offset_mm + 5.0, offset_mm + hb, offset_mm + 25.0);
+                  offset_mm - hb - 8.0, offset_mm - hb, offset_mm - top, offset_mm + top, offset_mm + hb,
+                  offset_mm + hb + 8.0);
     return std::string(buf);
   };
-  const auto load = [&](double offset_mm) {
-    dir.write("scan.csv", scan(offset_mm));
-    load_scene(dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"")));
+  const double lab_hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);  // the lab lifter's half base
+  const auto scene_of = [&](const std::string& text) {
+    dir.write("scan.csv", text);
+    return load_scene(dir.write("s.toml", lab_scene_text("rows = 12\nprofile = \"scan.csv\"")));
   };
-  try {
-    load(8.0);
-    ADD_FAILURE() << "a scan 8 mm off centre was accepted";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file, (dir.path() / "scan.csv").string());
-    EXPECT_EQ(e.where, "x_mm");
-    const std::string m = e.what();
-    EXPECT_NE(m.find("the base's middle 8 mm off centre"), std::string::npos) << m;
-    EXPECT_NE(m.find("add -8 mm to the x_mm of the scan, and of the surveys"), std::string::npos) << m;
-    EXPECT_NE(m.find("lifters.profile"), std::string::npos) << m;
+  // 8 mm off: taken, and the liner unit keeps the scan where it is (its top from 3 to 13 mm).
+  for (double taken : {0.0, 8.0, -12.0}) {
+    const Scene s = scene_of(scan(taken, lab_hb, 5.0));
+    const LinerUnit u = new_liner_unit(s);
+    double top_left = 1.0, top_right = -1.0;
+    for (const Vec2& p : u.surface)
+      if (p.y > 0.0199) top_left = std::min(top_left, p.x), top_right = std::max(top_right, p.x);
+    EXPECT_NEAR(top_left * 1e3, taken - 5.0, 1e-6) << taken;
+    EXPECT_NEAR(top_right * 1e3, taken + 5.0, 1e-6) << taken;
   }
-  for (double taken : {0.0, 1.0, -1.5}) EXPECT_NO_THROW(load(taken)) << taken;
-  EXPECT_THROW(load(-1.6), InputError);
+  const auto refusal = [&](const std::string& text) {
+    try {
+      scene_of(text);
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, (dir.path() / "scan.csv").string());
+      EXPECT_EQ(e.where, "x_mm");
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // 20 mm off: x = 0 is beside the lifter (its feet at 3.453 and 36.547 mm).
+  std::string m = refusal(scan(20.0, lab_hb, 5.0));
+  EXPECT_NE(m.find("x_mm = 0 on the lifter's centre line, as in the surveys"), std::string::npos) << m;
+  EXPECT_NE(m.find("its feet are at x = 3.453 and 36.547 mm, and x = 0 is outside its metal"), std::string::npos) << m;
+  EXPECT_NE(m.find("lifters.profile"), std::string::npos) << m;
+  // A lifter 120 mm wide at its base fits the 157 mm pitch centred, not 30 mm off: about x = 0
+  // it reaches 90 mm, past the half pitch (78.5 mm).
+  EXPECT_EQ(refusal(scan(0.0, 60.0, 20.0)), "accepted");
+  m = refusal(scan(30.0, 60.0, 20.0));
+  EXPECT_NE(m.find("about x = 0 it reaches 90 mm to one side, past half the pitch"), std::string::npos) << m;
 }
 
 // A whole liner unit's scan with its pitch: the lab lifter (base +-16.55 mm) in the 157.08 mm

@@ -180,12 +180,20 @@ LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int row
   return unit;
 }
 
+double measured_unit_shift_m(const Polyline& lifter_local, bool whole_unit) {
+  if (!whole_unit || lifter_local.size() < 2) return 0.0;
+  return -0.5 * (lifter_local.front().x + lifter_local.back().x);
+}
+
 LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter_local, double radius_m, int rows,
                              const MillMeshDef& mesh, bool whole_unit) {
   check_rows_and_radius(radius_m, rows);
   validate_lifter_polyline(lifter_local, "", "lifters.profile");
-  // Centred on the lifter's base, as a new lifter is.
-  const double shift = -0.5 * (lifter_local.front().x + lifter_local.back().x);
+  // A scan of one lifter is in the surveys' frame (x = 0 the lifter's centre line) and stays
+  // there: the midpoint of a worn lifter's feet is not its centre (a worn face moves its foot),
+  // and moving the scan would leave the surveys compared with its history off by the move. A
+  // whole unit's scan places its lifter anywhere in the period: centred on its base.
+  const double shift = measured_unit_shift_m(lifter_local, whole_unit);
   Polyline s = surface;
   double half_extent = 0.0, height = 0.0;
   for (Vec2& p : s) p.x += shift;

@@ -71,14 +71,20 @@ bool deeper_than_liner_surface(const MillGeometry& mill, Vec2 p_mill, double dep
 LinerUnit make_liner_unit(const Polyline& lifter_local, double radius_m, int rows,
                           const MillMeshDef& mesh = {});
 
+// The shift in x make_measured_unit gives a measured surface: 0 for a scan of one lifter,
+// which is in lifter-local coordinates as the surveys are (x = 0 the lifter's centre line);
+// for a whole unit's scan (`whole_unit`), the one that centres the lifter's base (the
+// midpoint of the feet of `lifter_local`) on x = 0.
+double measured_unit_shift_m(const Polyline& lifter_local, bool whole_unit);
+
 // The liner unit of a measured surface (profiles/profile.hpp: `measured`, with its lifter
-// `lifter`): centred on the lifter's base, resampled to the mesh, continued along the shell
+// `lifter`): moved by measured_unit_shift_m, resampled to the mesh, continued along the shell
 // at the height of its ends out to the pitch. Throws InputError if it is wider than the
-// pitch or the lifter is taller than the mill allows. `whole_unit`: the surface is one whole
-// liner unit, its first and last points the same place on neighbouring units (the caller
-// has checked its width is the pitch): it is repeated either side and cut at the unit's
-// edges, so the shell plates keep their measured shape instead of being clipped or
-// continued flat.
+// pitch about x = 0 or the lifter, |x| at most its largest, is wider than the pitch or taller
+// than the mill allows. `whole_unit`: the surface is one whole liner unit, its first and last
+// points the same place on neighbouring units (the caller has checked its width is the
+// pitch): it is repeated either side and cut at the unit's edges, so the shell plates keep
+// their measured shape instead of being clipped or continued flat.
 LinerUnit make_measured_unit(const Polyline& surface, const Polyline& lifter, double radius_m, int rows,
                              const MillMeshDef& mesh = {}, bool whole_unit = false);
 

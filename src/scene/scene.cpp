@@ -140,23 +140,27 @@ LinerUnit new_liner_unit(const Scene& scene, int kind) {
                            toml_reader::num_text(pitch * 1e3) + " mm apart at the shell");
   }
   // A scan of one lifter (no pitch line) is in lifter-local coordinates, as the surveys are:
-  // x = 0 at the lifter's centre. The unit is centred on the lifter's base (the midpoint of its
-  // feet), which moves the scan by the base centre's offset while surveys measured with the
-  // same gauge stay where they are. A gauge's placement within kPitchTolerance of the pitch is
-  // taken as centred; a larger offset is refused, with the shift that centres it.
+  // x = 0 on the lifter's centre line. make_measured_unit takes it as it is, so scan and
+  // surveys stay in one frame (the midpoint of a worn lifter's feet is not its centre line: a
+  // worn face moves its foot). Refused only a scan whose lifter cannot stand in its row about
+  // x = 0: x = 0 outside its metal, or the lifter wider than the pitch about x = 0 though it
+  // would fit centred (a lifter too wide either way is refused by make_measured_unit).
   if (!lifter.measured.empty() && lifter.unit_pitch_m <= 0.0 && lifter.points.size() >= 2) {
     const double pitch = 2.0 * kPi * scene.radius_m() / scene.mill.rows;
     const double left = lifter.points.front().x, right = lifter.points.back().x;
-    const double centre = 0.5 * (left + right);
-    if (std::abs(centre) > kPitchTolerance * pitch) {
+    const double half_extent = std::max(-left, right);
+    const bool outside = !(left < 0.0 && right > 0.0);
+    if (outside || (2.0 * half_extent >= pitch && right - left < pitch)) {
       const auto mm = [](double m) { return toml_reader::num_text(in_mm(m)); };
+      const std::string why =
+          outside ? "x = 0 is outside its metal"
+                  : "about x = 0 it reaches " + mm(half_extent) + " mm to one side, past half the pitch (" +
+                        mm(0.5 * pitch) + " mm), so it would not stand in its row";
       throw InputError(lifter.source_file, "x_mm",
-                       "expected a scan of one lifter centred on it, x_mm = 0 at the middle of the lifter's base "
-                       "(within " + toml_reader::num_text(100.0 * kPitchTolerance) + "% of the pitch, " +
-                           mm(kPitchTolerance * pitch) + " mm): its feet are at x = " + mm(left) + " and " +
-                           mm(right) + " mm, the base's middle " + mm(centre) + " mm off centre; surveys compared "
-                           "with its history are read as measured, so add " + mm(-centre) +
-                           " mm to the x_mm of the scan, and of the surveys taken with the same gauge (" +
+                       "expected a scan of one lifter with x_mm = 0 on the lifter's centre line, as in the surveys "
+                       "compared with its history (the scan is taken as measured, not moved): its feet are at x = " +
+                           mm(left) + " and " + mm(right) + " mm, and " + why + "; give x_mm from the lifter's "
+                           "centre line, in the scan and in the surveys taken with the same gauge (" +
                            scene.source_file + ", " + scene.mill.profile_key(kind) + ")");
     }
   }

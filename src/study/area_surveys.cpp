@@ -91,14 +91,30 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
   const char* reference = m.reference_measured ? "the survey at the start" : "the scene's lifter at the start";
   const auto mm2 = [](double m2) { return io::format_number(in_mm2(m2), 6); };
   const auto at_start = [&](const AreaSurvey& s) { return std::fabs(s.hours - start_hours) <= kSameHoursTolerance; };
-  // The loss since the start is nothing at the start: a value there counts from elsewhere.
-  if (surveys.losses)
+  // The loss since the start is nothing at the start: rows there (several lifters, each
+  // reported against their mean, say) average to 0 within a gauge's noise (kGainNoiseShare of
+  // the reference area, as elsewhere); a larger mean counts from elsewhere.
+  if (surveys.losses) {
+    double sum_m2 = 0.0;
+    int n = 0;
+    std::size_t first_line = 0;
     for (const AreaSurvey& s : surveys.surveys)
-      if (at_start(s) && s.value_m2 != 0.0)
-        throw InputError(file, "line " + std::to_string(s.line),
-                         "an area loss of 0 at the history's start (" + io::format_number(start_hours) +
-                             " h): area_loss_mm2 is the area lost since then, and this row gives " + mm2(s.value_m2) +
-                             " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
+      if (at_start(s)) {
+        if (n == 0) first_line = s.line;
+        sum_m2 += s.value_m2;
+        ++n;
+      }
+    const double mean_m2 = n > 0 ? sum_m2 / n : 0.0;
+    if (std::abs(mean_m2) > kGainNoiseShare * m.reference_m2)
+      throw InputError(file, "line " + std::to_string(first_line),
+                       "area losses averaging 0 at the history's start (" + io::format_number(start_hours) +
+                           " h), within a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
+                           "% of the lifter's " + mm2(m.reference_m2) + " mm^2, " +
+                           mm2(kGainNoiseShare * m.reference_m2) + " mm^2): area_loss_mm2 is the area lost since "
+                           "then, and " + (n == 1 ? std::string("this row gives ") : "the " + std::to_string(n) +
+                           " rows there, from this one, average ") + mm2(mean_m2) +
+                           " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
+  }
   // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     if (!(m.loss_m2[i] < m.reference_m2))
@@ -117,15 +133,25 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
                          " (the reference area is " + reference +
                          ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
   // Wear removes metal: a survey after the start above the lifter it wore from, by more than
-  // a gauge's noise, is not a survey of that lifter, whatever the other rows lost.
+  // a gauge's noise, is not a survey of that lifter, whatever the other rows lost. Areas
+  // judged by the drawing (no row at the start) may also be of a casting bigger than drawn;
+  // losses count from the lifter as it was at the start, whatever its casting.
+  const bool drawing = !surveys.losses && !m.reference_measured;
+  const double share = kGainNoiseShare + (drawing ? kCastOverDrawingShare : 0.0);
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
     const AreaSurvey& s = surveys.surveys[i];
     const double gain_m2 = m.area_m2[i] - m.reference_m2;
-    if (at_start(s) || !(gain_m2 > kGainNoiseShare * m.reference_m2)) continue;
+    if (at_start(s) || !(gain_m2 > share * m.reference_m2)) continue;
+    const std::string allowed =
+        drawing ? "a gauge's noise and a casting bigger than drawn (" + io::format_number(100.0 * kGainNoiseShare) +
+                      "% + " + io::format_number(100.0 * kCastOverDrawingShare) + "% of it, " +
+                      mm2(share * m.reference_m2) + " mm^2; a row at the start, hours " +
+                      io::format_number(start_hours) + ", gives the lifter as cast, the exact reference)"
+                : "a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) + "% of it, " +
+                      mm2(share * m.reference_m2) + " mm^2)";
     throw InputError(file, "line " + std::to_string(s.line),
                      "a lifter area no larger than the lifter's at the start (" + mm2(m.reference_m2) + " mm^2, " +
-                         reference + ") by more than a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
-                         "% of it, " + mm2(kGainNoiseShare * m.reference_m2) + " mm^2): wear removes metal, and the " +
+                         reference + ") by more than " + allowed + ": wear removes metal, and the " +
                          "survey at " + io::format_number(s.hours) + " h has " + mm2(m.area_m2[i]) + " mm^2, " +
                          mm2(gain_m2) + " mm^2 more");
   }

@@ -59,11 +59,13 @@ struct MeasuredAreas {
 MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, double start_hours);
 
 // A wear rate can be fitted only to areas that shrink with operating time, and by less than
-// the whole lifter: throws InputError(file, line of a survey, ...) if an area_loss_mm2 row at
-// the history's start is not 0 (the loss counts from there), if a survey's loss is not under
+// the whole lifter: throws InputError(file, line of a survey, ...) if the area_loss_mm2 rows at
+// the history's start do not average to 0 within kGainNoiseShare of the reference area (the
+// loss counts from there; line of the first such row), if a survey's loss is not under
 // the reference area, (line of the last survey) unless the area loss, fitted through the start,
 // grows with the hours (sum of hours since the start x loss > 0), or if a survey after the
-// start has more area than the reference area by over kGainNoiseShare of it (metal gained).
+// start has more area than the reference area by over kGainNoiseShare of it (metal gained;
+// kGainNoiseShare + kCastOverDrawingShare when that reference is the scene's lifter).
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)

@@ -79,11 +79,13 @@ ProfileComparison compare_profile(const Survey& measured, const Polyline& simula
 void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                                const std::string& file);
 
-// Wear removes metal: throws InputError(file, "line N", ...) naming a survey that has more
-// metal than an earlier one, over the span both cover, by more than kGainNoiseShare of the
-// new lifter's area (`new_unit`, the scene's lifter at the history's start). Without a survey
-// at the start (start_hours), the scene's lifter stands in for it. The mirror of
-// check_areas_shrink's check for area files.
+// Wear removes metal: throws InputError(file, "line N", ...) naming a survey after the start
+// (start_hours) that has more metal than the lifter at the start, over the span both cover,
+// by more than kGainNoiseShare of the new lifter's area (`new_unit`, the scene's lifter at the
+// history's start). The lifter at the start is the survey there, else the scene's lifter
+// (then kGainNoiseShare + kCastOverDrawingShare: a casting may be bigger than drawn).
+// Later surveys are not compared with each other (noise and the spread between lifters may
+// beat the wear between two of them). The mirror of check_areas_shrink's check for area files.
 void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                               double start_hours, const std::string& file);
 

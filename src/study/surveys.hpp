@@ -36,6 +36,13 @@ namespace millwear::validation {
 // out of order): refused by check_areas_shrink (area files) and check_surveys_lose_metal
 // (profile files, profile_fit.hpp).
 constexpr double kGainNoiseShare = kMaxNoiseLoopShare;
+// How much bigger than drawn a new lifter may be cast, as a share of the drawn lifter's area,
+// allowed on top of kGainNoiseShare when the reference a survey is judged by is the drawing
+// (the scene's lifter: no survey or area row at the history's start). A casting's dimensions
+// are held to a per cent or two of the drawing (pattern allowances, foundry tolerance), so its
+// section, the product of two of them, to a few per cent: 5% takes a casting about 2.5% over
+// in both. A survey or area row at the start is the lifter as cast, the exact reference.
+constexpr double kCastOverDrawingShare = 0.05;
 
 struct Survey {
   double hours = 0.0;

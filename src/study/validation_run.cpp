@@ -209,9 +209,9 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   HistorySource src = history_source(scene, a, measured);
   std::vector<StageRecord> stages;
   if (src.from_run) stages = stages_from_run(scene, a, measured, src);
-  // As calibrate: the surveys lose metal with the hours (profiles: none has more than an earlier
-  // one; areas: none more than at the start, none lost more than the whole lifter, and the losses
-  // grow with time).
+  // As calibrate: the surveys lose metal with the hours (profiles: none after the start has more
+  // than the lifter at the start; areas: none more than at the start, none lost more than the
+  // whole lifter, and the losses grow with time).
   if (!measured.areas_only) {
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
     check_surveys_lose_metal(measured.profiles, new_liner_unit(scene), scene.radius_m(), scene.wear.start_hours,

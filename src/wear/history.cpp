@@ -54,7 +54,7 @@ NewLiner new_liner(const Scene& scene) {
     const LinerUnit built = new_liner_unit(scene, k);
     LinerUnit as_read;
     as_read.lifter_half_base_m = built.lifter_half_base_m;
-    const double shift = -0.5 * (p.points.front().x + p.points.back().x);
+    const double shift = measured_unit_shift_m(p.points, p.unit_pitch_m > 0.0);
     for (const Vec2& q : p.measured) as_read.surface.push_back({q.x + shift, q.y});
     const double a_file = measure_lifter(as_read, R).area_m2, a_start = measure_lifter(units.back(), R).area_m2;
     char buf[400];
