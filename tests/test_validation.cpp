@@ -569,6 +569,30 @@ TEST(ValidationAreaSurveys, AWornAreaAboveTheStartsBeyondNoiseIsRefused) {
 // refused naming its line and the amount; less is a gauge's noise. Two later surveys are not
 // compared with each other. Surveys: the lab lifter (20 mm high, base +-16.55 mm) with its
 // heights scaled by f, so its metal is about f x 419 mm^2.
+// In a pattern of lifters of other shapes, a survey without one at the start may be of any of
+// them: not judged by the first kind's drawing. The lab hi-lo liner with its low lifter first:
+// a survey of the high lifter has far more metal than the low one, and is taken.
+TEST(ValidationSurveys, ASurveyOfAPatternsOtherLifterIsNotJudgedByTheFirstKind) {
+  Scene scene = load_scene(testing::source_path("scenarios/lab-hi-lo.toml"));
+  EXPECT_TRUE(testing::lab_mill().mill.one_lifter_shape());
+  ASSERT_FALSE(scene.mill.one_lifter_shape());
+  std::swap(scene.mill.pattern[0], scene.mill.pattern[1]);
+  scene.mill.lifter = scene.mill.pattern[0];
+  const LinerUnit low = new_liner_unit(scene);
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "hours,x_mm,y_mm\n100,%.4f,0\n100,-5,19\n100,5,19\n100,%.4f,0\n", -hb, hb);
+  const auto surveys = validation::parse_surveys(buf, "s.csv");
+  EXPECT_NE(refusal([&] { validation::check_surveys_lose_metal(surveys, low, scene.radius_m(), 0.0, "s.csv"); }),
+            "accepted")
+      << "judged by the low lifter, the high one's survey gains metal";
+  EXPECT_EQ(refusal([&] {
+              validation::check_surveys_lose_metal(surveys, low, scene.radius_m(), 0.0, "s.csv",
+                                                   scene.mill.one_lifter_shape());
+            }),
+            "accepted");
+}
+
 TEST(ValidationSurveys, ASurveyThatGainsMetalIsRefused) {
   const Scene scene = testing::lab_mill();
   const LinerUnit unit = new_liner_unit(scene);

@@ -100,6 +100,17 @@ double Scene::slice_thickness() const {
                                       : 2.0 * largest_particle_radius_m();
 }
 
+bool MillDef::one_lifter_shape() const {
+  for (int k = 1; k < kind_count(); ++k) {
+    const Polyline& a = kind(0).points;
+    const Polyline& b = kind(k).points;
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (a[i].x != b[i].x || a[i].y != b[i].y) return false;
+  }
+  return true;
+}
+
 bool Scene::species_in_use(const SpeciesDef& s) const {
   return s.is_ball ? charge.ball_filling > 0.0 : charge.filling > charge.ball_filling;
 }

@@ -62,6 +62,8 @@ struct MillDef {
   std::vector<LifterProfile> pattern;
   MillMeshDef mesh;
   int kind_count() const { return pattern.empty() ? 1 : static_cast<int>(pattern.size()); }
+  // Every lifter of the liner is of kind 0's shape (one kind, or a pattern of one shape).
+  bool one_lifter_shape() const;
   const LifterProfile& kind(int k) const { return pattern.empty() ? lifter : pattern[static_cast<std::size_t>(k)]; }
   // The scene key that names kind k's profile: lifters.profile, or lifters.pattern[k].
   std::string profile_key(int k) const {

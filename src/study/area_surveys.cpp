@@ -86,7 +86,8 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, dou
   return m;
 }
 
-void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file) {
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file,
+                        bool one_shape) {
   const MeasuredAreas m = measured_areas(surveys, new_area_m2, start_hours);
   const char* reference = m.reference_measured ? "the survey at the start" : "the scene's lifter at the start";
   const auto mm2 = [](double m2) { return io::format_number(in_mm2(m2), 6); };
@@ -137,6 +138,7 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
   // judged by the drawing (no row at the start) may also be of a casting bigger than drawn;
   // losses count from the lifter as it was at the start, whatever its casting.
   const bool drawing = !surveys.losses && !m.reference_measured;
+  if (drawing && !one_shape) return;  // of which of the pattern's lifters? no reference
   const double share = kGainNoiseShare + (drawing ? kCastOverDrawingShare : 0.0);
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
     const AreaSurvey& s = surveys.surveys[i];

@@ -66,7 +66,10 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, dou
 // grows with the hours (sum of hours since the start x loss > 0), or if a survey after the
 // start has more area than the reference area by over kGainNoiseShare of it (metal gained;
 // kGainNoiseShare + kCastOverDrawingShare when that reference is the scene's lifter).
-void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file);
+// one_shape = false (a pattern of lifters of other shapes): areas judged by the drawing are
+// not checked for metal gained (a survey may be of any of the pattern's lifters).
+void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file,
+                        bool one_shape = true);
 
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
 // or area surveys (area_mm2 or area_loss_mm2, no x_mm/y_mm), told apart by the header.

@@ -41,7 +41,8 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   const double start_h = scene.wear.start_hours;
   if (!measured.areas_only) {
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
-    check_surveys_lose_metal(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file);
+    check_surveys_lose_metal(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file,
+                             scene.mill.one_lifter_shape());
   }
   check_surveys_from_start(measured, start_h, "the scene's lifters.start_hours", a.measured_file);
   bool worn = false;
@@ -55,7 +56,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   o.areas = measured.areas_only;
   if (o.areas)
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2, start_h,
-                       a.measured_file);
+                       a.measured_file, scene.mill.one_lifter_shape());
   const std::string stem = fs::path(a.scene_file).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;
   // Without -o the copy goes next to the scene: that folder is checked now, as -o is, not

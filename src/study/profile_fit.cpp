@@ -165,7 +165,7 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
 }
 
 void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
-                              double start_hours, const std::string& file) {
+                              double start_hours, const std::string& file, bool one_shape) {
   const double new_area_m2 = measure_lifter(new_unit, radius_m).area_m2;
   // Each later survey against the lifter at the start only, as check_areas_shrink does: the
   // survey at the start (a file has one survey per hours), else the scene's lifter. Two later
@@ -174,6 +174,7 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
   const Survey* start = nullptr;
   for (const Survey& s : surveys)
     if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) start = &s;
+  if (!start && !one_shape) return;  // of which of the pattern's lifters? no reference
   const Polyline& start_surface = start ? start->profile_m : new_unit.surface;
   const std::string reference =
       start ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +

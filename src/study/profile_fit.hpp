@@ -86,8 +86,11 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
 // (then kGainNoiseShare + kCastOverDrawingShare: a casting may be bigger than drawn).
 // Later surveys are not compared with each other (noise and the spread between lifters may
 // beat the wear between two of them). The mirror of check_areas_shrink's check for area files.
+// one_shape = false (a pattern of lifters of other shapes, Scene::mill.one_lifter_shape): a
+// survey may be of any of them, so without a survey at the start there is no reference and
+// nothing is checked.
 void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
-                              double start_hours, const std::string& file);
+                              double start_hours, const std::string& file, bool one_shape = true);
 
 // The survey version of calibration.hpp's common_stage_hours.
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = kMaxCommonStages);

@@ -215,10 +215,10 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   if (!measured.areas_only) {
     check_surveys_over_lifter(measured.profiles, new_liner_unit(scene), scene.radius_m(), a.measured_file);
     check_surveys_lose_metal(measured.profiles, new_liner_unit(scene), scene.radius_m(), scene.wear.start_hours,
-                             a.measured_file);
+                             a.measured_file, scene.mill.one_lifter_shape());
   } else
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
-                       scene.wear.start_hours, a.measured_file);
+                       scene.wear.start_hours, a.measured_file, scene.mill.one_lifter_shape());
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
   io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
   if (cb.on_history) cb.on_history(scene, measured, src);
