@@ -530,6 +530,23 @@ TEST(Pattern, KindsOfOtherShapesUnderOneNameAreRefused) {
   }
   const Scene twice = load_scene(dir.write("t.toml", lab_scene_text("rows = 12\npattern = [\"" + lab + "\", \"" + lab + "\"]")));
   EXPECT_EQ(twice.mill.kind_count(), 2);
+  // Two scans of one file name in two folders: a scan is named by its file, so the advice is
+  // to rename one.
+  const std::string scan = "x_mm,y_mm\n-30,-3\n-25,-2.5\n-20,-1\n-16.55,0\n-12,7\n-5,17\n0,16.5\n4,13\n8,6\n"
+                           "10.5,0.5\n11.5,-1.5\n15,-3\n25,-3\n30,-3\n";
+  std::string other = scan;
+  other.replace(other.find("-5,17"), 5, "-5,16");
+  std::filesystem::create_directories(dir.path() / "a");
+  std::filesystem::create_directories(dir.path() / "b");
+  dir.write("a/scan.csv", scan);
+  dir.write("b/scan.csv", other);
+  try {
+    load_scene(dir.write("u.toml", lab_scene_text("rows = 12\npattern = [\"a/scan.csv\", \"b/scan.csv\"]")));
+    ADD_FAILURE() << "two scans named scan of other points were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a scan is named by its file: rename one of the files"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(ShellWearRate, ShellEdgesWearAtTheirOwnRate) {

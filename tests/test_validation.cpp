@@ -461,8 +461,12 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
   // them as calibrate does, before any work.
   const std::string too_much = (d / "too-much.csv").string();
   std::ofstream(too_much) << "hours,area_loss_mm2\n100,5000\n";
+  // A small negative loss is within a gauge's noise of the start, but nothing was lost; a
+  // larger one is metal gained, said as such with the loss as given.
   const std::string gained = (d / "gained.csv").string();
-  std::ofstream(gained) << "hours,area_loss_mm2\n100,-20\n";
+  std::ofstream(gained) << "hours,area_loss_mm2\n100,-2\n";
+  const std::string gained_more = (d / "gained-more.csv").string();
+  std::ofstream(gained_more) << "hours,area_loss_mm2\n100,-20\n";
   for (const std::string cmd : {"validate", "calibrate"}) {
     CliResult r = run_cli(cmd + " \"" + scene + "\" --measured \"" + too_much + "\" -o \"" + (d / "out").string() + "\"");
     EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
@@ -471,6 +475,13 @@ TEST(ValidationCli, MalformedAreaFilesExitTwoNamingFileAndLine) {
     r = run_cli(cmd + " \"" + scene + "\" --measured \"" + gained + "\" -o \"" + (d / "out").string() + "\"");
     EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
     EXPECT_NE(r.output.find("these area losses are not positive"), std::string::npos) << cmd << ": " << r.output;
+    r = run_cli(cmd + " \"" + scene + "\" --measured \"" + gained_more + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(gained_more + ": line 2: a lifter area no larger than the lifter's at the start"),
+              std::string::npos)
+        << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find("the survey at 100 h gives a loss of -20 mm^2, 20 mm^2 more"), std::string::npos)
+        << cmd << ": " << r.output;
   }
   // Only the new lifter: nothing to calibrate on.
   const std::string unworn = (d / "unworn.csv").string();

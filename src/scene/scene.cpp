@@ -303,7 +303,11 @@ void read_lifters(const TableReader& r, Scene& s, const std::string& file) {
       throw InputError(file, key,
                        "expected kinds of other shapes to have other names: the profile named '" + added.name +
                            "' here is of other points than the one of that name in lifters.pattern[" +
-                           std::to_string(j) + "] (give one of the profiles another name)" + line_text(e));
+                           std::to_string(j) + "] (" +
+                           (added.measured.empty() ? std::string("give one of the profiles another `name`")
+                                                   : std::string("a scan is named by its file: rename one of the "
+                                                                 "files")) +
+                           ")" + line_text(e));
     }
   }
   if (s.mill.rows % static_cast<int>(arr->size()) != 0)

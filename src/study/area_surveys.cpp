@@ -123,24 +123,14 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
                        "an area loss smaller than the lifter's area (" + std::to_string(m.reference_m2 / kMm2) +
                            " mm^2, " + reference + "); this survey's is " +
                            std::to_string(m.loss_m2[i] / kMm2) + " mm^2");
-  double moment = 0.0;
-  for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
-    moment += (surveys.surveys[i].hours - start_hours) * m.loss_m2[i];
-  if (!(moment > 0.0) && !surveys.surveys.empty())
-    throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
-                     std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
-                                 "lost); these ") +
-                         (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
-                         " (the reference area is " + reference +
-                         ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
   // Wear removes metal: a survey after the start above the lifter it wore from, by more than
   // a gauge's noise, is not a survey of that lifter, whatever the other rows lost. Areas
   // judged by the drawing (no row at the start) may also be of a casting bigger than drawn;
   // losses count from the lifter as it was at the start, whatever its casting.
   const bool drawing = !surveys.losses && !m.reference_measured;
-  if (drawing && !one_shape) return;  // of which of the pattern's lifters? no reference
+  const bool judged = one_shape || !drawing;  // else: of which of the pattern's lifters?
   const double share = kGainNoiseShare + (drawing ? kCastOverDrawingShare : 0.0);
-  for (std::size_t i = 0; i < surveys.surveys.size(); ++i) {
+  for (std::size_t i = 0; i < surveys.surveys.size() && judged; ++i) {
     const AreaSurvey& s = surveys.surveys[i];
     const double gain_m2 = m.area_m2[i] - m.reference_m2;
     if (at_start(s) || !(gain_m2 > share * m.reference_m2)) continue;
@@ -154,9 +144,21 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
     throw InputError(file, "line " + std::to_string(s.line),
                      "a lifter area no larger than the lifter's at the start (" + mm2(m.reference_m2) + " mm^2, " +
                          reference + ") by more than " + allowed + ": wear removes metal, and the " +
-                         "survey at " + io::format_number(s.hours) + " h has " + mm2(m.area_m2[i]) + " mm^2, " +
+                         "survey at " + io::format_number(s.hours) + " h " +
+                         (surveys.losses ? "gives a loss of " + mm2(s.value_m2) + " mm^2, "
+                                         : "has " + mm2(m.area_m2[i]) + " mm^2, ") +
                          mm2(gain_m2) + " mm^2 more");
   }
+  double moment = 0.0;
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
+    moment += (surveys.surveys[i].hours - start_hours) * m.loss_m2[i];
+  if (!(moment > 0.0) && !surveys.surveys.empty())
+    throw InputError(file, "line " + std::to_string(surveys.surveys.back().line),
+                     std::string("lifter areas that shrink with operating hours (a wear rate is fitted to the area "
+                                 "lost); these ") +
+                         (surveys.losses ? "area losses are not positive" : "areas do not shrink with time") +
+                         " (the reference area is " + reference +
+                         ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
 }
 
 void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
