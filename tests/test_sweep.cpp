@@ -73,6 +73,18 @@ TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");
 }
 
+// A sweep runs the charge alone: a key of [wear] would give the same point at every value.
+TEST(SweepVary, AWearKeyIsRefusedAsOneTheChargeDoesNotRead) {
+  try {
+    study::parse_vary("wear.stage_hours=10,20");
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--vary wear.stage_hours");
+    EXPECT_NE(std::string(e.what()).find("a sweep runs the charge alone"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(study::parse_vary("charge.filling=0.2,0.3"));
+}
+
 TEST(SweepVary, MalformedVariesAreRefused) {
   for (const char* bad : {"mill.speed", "=0.5:1:0.1", "mill.speed=0.5:1", "mill.speed=1:0.5:0.1",
                           "mill.speed=0.5:1:0", "mill.speed=0.5,fast", "mill.speed=0:1000:0.001"})
@@ -97,12 +109,12 @@ TEST(SweepVary, AValueOutsideTheKeysRangeIsRefusedNamingTheVary) {
 TEST(SweepVary, APointPastAScenesLimitIsRefusedNamingThePoint) {
   study::SweepRequest q;
   q.scene_file = shipped("scenarios/lab-mill.toml");
-  q.vary = "wear.smoothing_radius=2,30";
+  q.vary = "solver.time_step=0.001,0.02";  // in the key's range, past the lab mill's step limit
   try {
     study::sweep_scenes(q, study::parse_vary(q.vary));
     FAIL() << "no InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.where, "wear.smoothing_radius (at --vary wear.smoothing_radius=30)") << e.what();
+    EXPECT_EQ(e.where, "solver.time_step (at --vary solver.time_step=0.02)") << e.what();
   }
 }
 

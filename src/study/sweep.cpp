@@ -260,6 +260,13 @@ SweepAxis parse_vary(const std::string& text) {
   a.key = trim(text.substr(0, eq));
   const std::string rest = text.substr(eq + 1);
   if (a.key.empty() || a.key.find_first_of(" \t") != std::string::npos) throw InputError("", "--vary", "expected " + usage);
+  // A sweep runs the charge alone (`millwear charge` per point): no key of [wear] changes it,
+  // and a sweep over one would give the same point at every value.
+  if (a.key.rfind("wear.", 0) == 0)
+    throw InputError("", "--vary " + a.key,
+                     "a key the charge reads (mill, lifters, charge, solver): a sweep runs the charge alone, without "
+                     "wear, so every value of " + a.key + " gives the same point; `millwear run` or `tradeoff` "
+                     "measure the wear settings");
   if (rest.find(':') != std::string::npos) {
     std::vector<std::string> parts;
     std::size_t start = 0;
