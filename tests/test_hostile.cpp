@@ -507,6 +507,35 @@ TEST(HostileOptions, ACountIsPlainDecimalDigits) {
   }
 }
 
+// `--stop-after-stage K` names a stage a design runs before its last: past the last it
+// would stop nothing and exit as interrupted never, and at a stage `--continue` copies it
+// would stop before running anything. Both are refused before the run (exit 2).
+TEST(HostileOptions, AStopAfterAStageNoDesignRunsIsRefused) {
+  const TempDir dir("millwear-hostile-stop-stage");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));  // stages 0 to 2
+  const std::string out = quoted(dir / "out");
+  for (const std::string k : {"2", "7"}) {
+    const auto r = run_millwear("run " + lab + " -o " + out + " --check --stop-after-stage " + k);
+    EXPECT_EQ(r.exit_code, 2) << k << "\n" << r.output;
+    EXPECT_NE(r.output.find("--stop-after-stage: a stage from 0 to 1 that a design runs before its last, got " + k),
+              std::string::npos)
+        << r.output;
+  }
+  EXPECT_EQ(run_millwear("run " + lab + " -o " + out + " --check --stop-after-stage 1").exit_code, 0);
+
+  const std::string first = quoted(dir / "first");
+  const auto made = run_millwear("run " + lab + " -o " + first + " --fidelity draft -q --set wear.stages=1");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const std::string go_on = "run " + lab + " -o " + out + " --continue " + first +
+                            " --stage 1 --set wear.stages=3 --fidelity draft -q --check --stop-after-stage ";
+  const auto copied = run_millwear(go_on + "1");
+  EXPECT_EQ(copied.exit_code, 2) << copied.output;
+  EXPECT_NE(copied.output.find("a stage from 2 to 2 that a design runs before its last, got 1"), std::string::npos)
+      << copied.output;
+  EXPECT_EQ(run_millwear(go_on + "2").exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 // Lifters so tall that the charge has no room inside their tips: every command refuses the
 // scene up front (exit 2, naming charge.filling and the largest filling that fits), before
 // any design's thread would meet it in the fill. A filling under that bound runs.

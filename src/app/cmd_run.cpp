@@ -27,6 +27,7 @@
 #include "app/set_option.hpp"
 #include "app/signals.hpp"
 #include "app/threads_option.hpp"
+#include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/run_folder.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -115,6 +116,26 @@ void print_final_summary(const study::RunState& state, double wall) {
               duration_text(wall).c_str());
 }
 
+// `--stop-after-stage K` stops after a stage some design runs and does not end on: stage 0
+// to its last but one, or from the stage after the one `--continue` copies. Another K would
+// stop nothing, or only after a copied stage; refused before anything runs (exit 2).
+void check_stop_stage(const study::Plan& plan, int k) {
+  if (k < 0) return;
+  int lo = -1, hi = -1;
+  for (const auto& d : plan.designs) {
+    const int first = d.continue_run.empty() ? 0 : d.continue_stage + 1;
+    const int last_but_one = d.scene.wear.stages - 1;
+    if (first > last_but_one) continue;
+    if (k >= first && k <= last_but_one) return;
+    lo = lo < 0 ? first : std::min(lo, first);
+    hi = std::max(hi, last_but_one);
+  }
+  const std::string range = lo < 0 ? "no stage: no design runs a stage before its last"
+                                   : "a stage from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                                         " that a design runs before its last";
+  throw InputError("", "--stop-after-stage", range + ", got " + std::to_string(k));
+}
+
 }  // namespace
 
 int run_command(const RunArgs& args) {
@@ -122,6 +143,7 @@ int run_command(const RunArgs& args) {
   study::PlanArgs plan_args = args.plan;
   if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");
   const study::Plan plan = study::make_plan(plan_args);
+  check_stop_stage(plan, args.run.stop_after_stage);
   if (args.check) {
     const std::string folder = study::check_run_folder(plan, args.plan.out, args.run.force, args.run.resume);
     for (const auto& d : plan.designs) {
