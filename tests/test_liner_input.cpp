@@ -922,6 +922,32 @@ TEST(Continue, ALifterAlreadyPastTheReplacementHeightIsRefused) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// A continued run's clock is the run's: its stage K at the hours the run recorded. A scene
+// whose own start differs from the run's is refused (exit 2, naming lifters.start_hours and
+// both starts) rather than run with that start overwritten; the run's own start goes on.
+TEST(Continue, AStartOtherThanTheRunsIsRefused) {
+  TempDir dir("millwear-liner-input-cont-start");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.write("lab.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1));
+  const fs::path first = dir.path() / "first", next = dir.path() / "next";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string go_on = "run " + quoted(scene) + " -o " + quoted(next) + " --continue " + quoted(first) +
+                            " --set wear.stages=2 --check";
+  r = run_millwear(go_on + " --set lifters.start_hours=500");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(scene + ": lifters.start_hours: the start of the run it continues or none (" + first.string() +
+                          " -> the scene: 0.0 -> 500.0 h)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("from stage 1 at 100 h"), std::string::npos) << r.output;
+  r = run_millwear(go_on + " --set lifters.start_hours=0");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(next));
+}
+
 // A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the
 // run's kinds in the other order (which also changes the first kind, the manifest's
 // lifter_profile) is refused naming lifters.pattern, the key the scene has; and a kind under

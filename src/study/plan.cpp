@@ -212,6 +212,15 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     d.continue_stage = k;
     const StageRecord from = study::read_stage_state(run, d.name, k);
     d.continue_hours = from.hours;
+    // The run's stage k sets the clock: a start of the scene's own other than the run's would
+    // be overwritten without a word.
+    for (const std::string& change : study::settings_changes(run, d.name, d.scene))
+      if (change.rfind("wear.start_hours: ", 0) == 0)
+        throw InputError(d.files.front(), "lifters.start_hours",
+                         "the start of the run it continues or none (" + run + " -> the scene: " +
+                             change.substr(std::strlen("wear.start_hours: ")) + " h): --continue goes on from stage " +
+                             std::to_string(k) + " at " + io::format_number(from.hours) +
+                             " h as the run recorded them, so the run's stages set the clock");
     // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
     d.changes = study::settings_changes(run, d.name, d.scene);
