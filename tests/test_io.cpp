@@ -329,6 +329,22 @@ TEST(IoCsv, DefaultWritesTenSignificantDigits) {
   EXPECT_EQ(t.str(), "x\n0.3333333333\n12345.6789\nnan\n");
 }
 
+// The fewest digits that read back as the value: what a person typed stays as typed, and two
+// values one rounding apart never print alike.
+TEST(IoCsv, ShortestTextReadsBackAsTheSameValue) {
+  EXPECT_EQ(io::format_shortest(0.7), "0.7");
+  EXPECT_EQ(io::format_shortest(0.7000000000000001), "0.7000000000000001");
+  EXPECT_EQ(io::format_shortest(1e-300), "1e-300");
+  EXPECT_EQ(io::format_shortest(-25.0), "-25");
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 500; ++i) {
+    const double v = u(rng) * std::pow(10.0, (i % 60) - 30);
+    const std::string text = io::format_shortest(v);
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+  }
+}
+
 TEST(IoCsv, FileRoundTripKeepsQuotedText) {
   TempDir dir{"millwear-io"};
   io::CsvTable t({"name", "note"});

@@ -295,6 +295,21 @@ TEST(SweepFolder, ThePointsOfASweepKilledPartWayDoNotOutliveIt) {
   EXPECT_EQ(io::read_csv((out / "sweep.csv").string()).row_count(), 1u);
 }
 
+// Two values one rounding apart are two points: sweep.csv writes each as the fewest digits
+// that read back as it, so they do not print alike, and a value as typed stays as typed.
+TEST(SweepFolder, ValuesOneRoundingApartAreWrittenApart) {
+  const TempDir out("millwear-sweep-close");
+  const auto r = millwear::testing::run_millwear(
+      "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+      millwear::testing::quoted(out) + " --vary mill.speed=0.7,0.7000000000000001 --revolutions 2 --fidelity draft " +
+      "-j 2 --no-plot -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData t = io::read_csv((out / "sweep.csv").string());
+  ASSERT_EQ(t.row_count(), 2u);
+  EXPECT_EQ(t.text(0, t.column("value")), "0.7");
+  EXPECT_EQ(t.text(1, t.column("value")), "0.7000000000000001");
+}
+
 // Ctrl-C (here `timeout`'s SIGINT) stops a sweep as the signal does (exit 130), saying first
 // what it leaves: the points it finished, listed for the next sweep to remove.
 TEST(SweepFolder, AnInterruptedSweepSaysWhatItLeaves) {

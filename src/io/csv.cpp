@@ -25,6 +25,14 @@ std::string format_number(double v, int digits) {
 
 std::string format_exact(double v) { return format_number(v, 17); }
 
+std::string format_shortest(double v) {
+  for (int digits = 1; digits < 17; ++digits) {
+    const std::string text = format_number(v, digits);
+    if (std::strtod(text.c_str(), nullptr) == v) return text;
+  }
+  return format_exact(v);
+}
+
 std::string format_for_table(double v, const char* format) {
   if (!std::isfinite(v)) return "-";
   char buf[64];

@@ -45,6 +45,9 @@ struct CsvCell {
 std::string format_number(double v, int digits = 10);
 // Formats a double so that strtod returns the same value (%.17g).
 std::string format_exact(double v);
+// The fewest significant digits that strtod reads back as the same value: 0.7 as "0.7",
+// 0.7000000000000001 as itself (two values never print alike).
+std::string format_shortest(double v);
 // Formats a double for a table people read, with a printf format of one double ("%.2f");
 // a value that is not finite is written "-".
 std::string format_for_table(double v, const char* format);

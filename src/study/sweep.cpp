@@ -140,7 +140,7 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
     return std::isfinite(p.liner_impact_share) ? io::CsvCell(p.liner_impact_share_sem) : io::CsvCell("");
   };
   for (const SweepPoint& p : r.points)
-    t.add_row({r.axis.key, p.value, p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
+    t.add_row({r.axis.key, io::format_shortest(p.value), p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
                p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
                p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
                angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, share(p), share_sem(p),
