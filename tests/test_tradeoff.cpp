@@ -194,14 +194,15 @@ TEST(TradeoffCli, BadSceneIsExitTwoAndWritesNothing) {
 }
 
 // The folder records what made it: the scene, the --set overrides in order, the seed they
-// give, the command's settings and every file written.
+// give, the command's settings and every file written. A label's spaces around it are not
+// part of it.
 TEST(TradeoffCli, TheManifestRecordsTheOverridesSettingsAndFiles) {
   namespace fs = std::filesystem;
   const testing::TempDir dir("millwear-tradeoff-manifest");
   const fs::path out = dir / "out";
   const auto r = testing::run_millwear("tradeoff " + testing::quoted(source_path("scenarios/lab-mill.toml")) +
                                        " -o " + testing::quoted(out) +
-                                       " --only draft --stages 1 --stage-hours 1 --no-plot"
+                                       " --only ' draft' --stages 1 --stage-hours 1 --no-plot"
                                        " --set solver.seed=5 --set charge.filling=0.3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto m = nlohmann::json::parse(testing::read_text(out / "manifest.json"));

@@ -17,6 +17,7 @@
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
+#include "common/text.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -121,6 +122,8 @@ void register_tradeoff(CLI::App& app, Action* action) {
                   "the reference always runs")
       ->delimiter(',');
   cmd->callback([args, no_plot, action] {
+    // "standard, draft": a label's own spaces stay, those around a comma go.
+    for (std::string& label : args->options.only) label = trim(label);
     args->figure = !*no_plot;
     args->commit = MILLWEAR_COMMIT;
     *action = [args] { return run_tradeoff_cmd(*args); };
