@@ -15,6 +15,7 @@
 
 #include "common/errors.hpp"
 #include "io/atomic_write.hpp"
+#include "common/text.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
@@ -343,6 +344,18 @@ TEST(IoCsv, ShortestTextReadsBackAsTheSameValue) {
     const std::string text = io::format_shortest(v);
     EXPECT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
   }
+}
+
+// Whole degrees as "%.0f" rounds them, without the "-0" of a toe at -0.3 deg.
+TEST(Text, WholeDegreesRoundAsPrintfAndAreNeverMinusZero) {
+  const auto shown = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return std::string(buf);
+  };
+  for (const double deg : {-0.3, -0.5, 0.0, -0.0}) EXPECT_EQ(shown(millwear::whole_degrees(deg)), "0") << deg;
+  for (const double deg : {0.5, 1.5, -1.5, 2.5, -42.6, 179.49, -0.51})
+    EXPECT_EQ(shown(millwear::whole_degrees(deg)), shown(deg)) << deg;
 }
 
 TEST(IoCsv, FileRoundTripKeepsQuotedText) {

@@ -16,6 +16,7 @@
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
 #include "app/threads_option.hpp"
+#include "common/text.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
@@ -106,7 +107,8 @@ int run_charge(const ChargeArgs& args) {
   const MorrellResult& morrell = est.morrell;
   if (std::isfinite(morrell.net_power_kW))
     std::printf("  Morrell      %10.4g kW/m   toe %.0f deg, shoulder %.0f deg (C-model, dry, this bed's density)\n",
-                morrell.net_power_kW, morrell.toe_deg_from_bottom, morrell.shoulder_deg_from_bottom);
+                morrell.net_power_kW, whole_degrees(morrell.toe_deg_from_bottom),
+                whole_degrees(morrell.shoulder_deg_from_bottom));
   else if (!(scene.mill.speed_fraction_critical < 1.0))
     std::printf("  Morrell      none at or above critical speed (the C-model's fits end below it)\n");
   else
@@ -127,10 +129,10 @@ int run_charge(const ChargeArgs& args) {
   const double com_deg = f.summary.centre_of_mass_deg;
   if (f.summary.centrifuged)
     std::printf("  centrifuged: the charge covers the whole shell (no toe or shoulder); centre of mass %.0f deg\n",
-                com_deg);
+                whole_degrees(com_deg));
   else
     std::printf("  toe %.0f deg, shoulder %.0f deg, centre of mass %.0f deg (from 6 o'clock, + on the rising side)\n",
-                f.summary.toe_deg, f.summary.shoulder_deg, com_deg);
+                whole_degrees(f.summary.toe_deg), whole_degrees(f.summary.shoulder_deg), whole_degrees(com_deg));
   if (f.summary.mean_packed_disks > 0.0)
     std::printf("  packed: %.1f disks on average rode the liner for over a revolution; their slip, %.1f%%\n"
                 "          of all liner slip work, is not counted as wear unless wear.packed_wear is set\n"

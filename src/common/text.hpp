@@ -1,5 +1,6 @@
 #pragma once
 // Text helpers of the file readers and the messages.
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <string>
@@ -20,6 +21,13 @@ inline std::string short_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
+}
+
+// An angle in whole degrees for a line people read: rounded as "%.0f" rounds, and never
+// "-0" (a toe at -0.3 deg is at 0).
+inline double whole_degrees(double deg) {
+  const double r = std::nearbyint(deg);
+  return r == 0.0 ? 0.0 : r;
 }
 
 // Text as shown in a message: control characters as \xNN escapes, cut after `max` characters.
