@@ -121,7 +121,8 @@ TEST(Rule1Statistics, TheSameFactorTwiceIsNoiseAndTheLargestIsRecommended) {
 }
 
 // A factor that wears more than a quarter of the lifter in one update fails and is never
-// recommended; the smaller factor still is.
+// recommended; the smaller factor still is. The failed runs still report the time they
+// simulated up to the stop (their charge was settled, spun up and worn for a while).
 TEST(Rule1Statistics, AFactorPastTheOneUpdateBoundFails) {
   Scene s = testing::lab_mill();
   s.wear.stages = 1;
@@ -133,6 +134,7 @@ TEST(Rule1Statistics, AFactorPastTheOneUpdateBoundFails) {
   EXPECT_EQ(r.rows[1].verdict, Rule1Verdict::Failed);
   ASSERT_FALSE(r.rows[1].replicates[0].events.empty());
   EXPECT_NE(r.rows[1].replicates[0].events[0].find("too large for rule 1"), std::string::npos);
+  for (const auto& rep : r.rows[1].replicates) EXPECT_GT(rep.simulated_s, 0.0) << rep.seed;
   EXPECT_EQ(r.recommended_row, 0);
 }
 

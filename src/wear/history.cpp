@@ -394,6 +394,12 @@ bool wear_on(const Scene& scene, const NewLiner& liner, StageRun& run, double c_
     throw;
   }
   const bool lost = note_lost_disks(history, run);
+  if (end == StageEnd::StoppedByRule && on_record) {
+    // Not finished (never handed to on_stage), but the time it simulated up to the stop is
+    // the history's to report.
+    history.stages.back().simulated_s = run.simulated_s;
+    history.stages.back().disk_steps = run.disk_steps;
+  }
   if (end == StageEnd::StoppedByRule || (lost && !on_record)) return false;
   if (on_record) {
     finish_stage(history, run, cb);
