@@ -223,11 +223,11 @@ TEST(StabilityProfile, ResmoothingLossIsZeroForASmallRadiusAndLargeForAWideOne) 
   EXPECT_GT(wide, 0.1 * area) << wide / area;
 }
 
-// Wear never adds metal. The straight-skeleton smoothing this loop used before re-sharpened
-// every worn corner narrower than its radius and grew metal there (4 mm on the 1x30's
-// trailing corner in one 750 h stage; at twice the radius a lifter 347 mm high). Every
-// stage's surface must lie inside the one before. Twice the radius is now refused before
-// any work: re-smoothing the new lifter at 100 mm would take 6% of it.
+// Wear never adds metal. A straight-skeleton smoothing re-sharpens every worn corner narrower
+// than its radius and grows metal there (4 mm on the 1x30's trailing corner in one 750 h
+// stage; at twice the radius a lifter 347 mm high). Every stage's surface must lie inside the
+// one before. Twice the radius is refused before any work: re-smoothing the new lifter at
+// 100 mm would take 6% of it.
 bool inside_metal(const Polyline& surface, Vec2 p) {
   // Below the surface: an upward ray from p crosses it an odd number of times.
   int crossings = 0;

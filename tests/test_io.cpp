@@ -115,7 +115,7 @@ TEST(IoAtomicWrite, RemoveStaleTempsDeletesOnlyTemporaries) {
   TempDir dir{"millwear-io"};
   io::write_file_atomic(dir / "keep.csv", "x");
   io::write_file_atomic(dir / "keep.tmp.csv", "x");             // ".tmp." not followed by a pid
-  io::write_file_atomic(dir / "x.tmp.1", "a user's file");      // the old temporary pattern
+  io::write_file_atomic(dir / "x.tmp.1", "a user's file");      // a pattern of temporaries not ours
   io::write_file_atomic(dir / "notes.csv.tmp.1234.0", "a user's file");
   io::write_file_atomic(dir / ".leftover.csv.millwear-tmp.1234.0", "x");
   io::write_file_atomic(dir / ".fig.millwear-tmp.1234.1.png", "x");

@@ -167,8 +167,8 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughGnuParallel) {
 
 // Figure scripts that are not there: every history finishes and is ranked as with figures,
 // each task.status says finished with exit code 1 and why, and the screen exits 1 (0 on a
-// machine without gnuplot, where figures are not expected). Each design used to be marked
-// failed, and nothing ranked.
+// machine without gnuplot, where figures are not expected). A figure's failure is not a
+// design's: none is marked failed, and all are ranked.
 TEST_F(ScreenRun, FiguresThatFailLeaveEveryDesignRankedAndExitOne) {
   const fs::path out = root_ / "no-scripts", scripts = root_ / "no-scripts-plots";
   fs::create_directories(scripts);
@@ -794,8 +794,8 @@ TEST(ScreenSet, BadOverrideExitsTwoNamingTheKeyBeforeAnythingIsWritten) {
 }
 
 // A screen started over a folder where a task still runs a design (a GNU parallel job, say)
-// is refused naming the holder, and removes nothing: it used to clear every design's files
-// for its fresh start, the running task's too.
+// is refused naming the holder, and removes nothing: a fresh start that cleared every
+// design's files would clear the running task's too.
 TEST(ScreenSet, AFreshScreenOverADesignATaskStillRunsIsRefusedAndRemovesNothing) {
   const TempDir dir("millwear-screen-held");
   const fs::path out = dir / "out";

@@ -62,7 +62,7 @@ def areas(run_dir: Path):
         "# of sd 2 mm^2 (0.5% of the 419 mm^2 new lifter), seed 13. One row at 0 h (the new lifter: the\n"
         "# reference of the area loss), three rows (three lifters) at each of 100 and 200 h.\n"
         "# Format: hours,area_mm2; one row per lifter surveyed; area = the lifter's metal cross-section\n"
-        "# above the original shell line (as `millwear profile` and OUT/summary.csv report it).\n"
+        "# above the original shell line (as OUT/summary.csv reports it, on the mill's curved shell).\n"
         "hours,area_mm2\n" + "\n".join(rows) + "\n")
     (here / "lab-mill-areas.csv").write_text(text)
 
