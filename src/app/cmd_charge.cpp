@@ -126,6 +126,8 @@ int run_charge(const ChargeArgs& args) {
     std::cerr << "millwear: warning: the charge was not steady in the window: " << std::lround(100.0 * into_energy)
               << "% of the drive's power went into its kinetic and potential energy; spin it up longer "
                  "(solver.spinup_revolutions) or measure more revolutions\n";
+  if (const std::string unsound = unsound_energy_split(f); !unsound.empty())
+    std::cerr << "millwear: warning: " << unsound << "\n";
   const double com_deg = f.summary.centre_of_mass_deg;
   if (f.summary.centrifuged)
     std::printf("  centrifuged: the charge covers the whole shell (no toe or shoulder); centre of mass %.0f deg\n",

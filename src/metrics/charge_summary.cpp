@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "common/units.hpp"
 #include "metrics/batch_means.hpp"
@@ -78,6 +79,18 @@ double austin_estimate_W_per_m(const Scene& scene) {
   const AustinInput in = austin_input(scene);
   if (!(in.speed_fraction < 1.0) || !(in.ore_density_kg_m3 > 0.0)) return std::nan("");
   return austin_power_W(in);
+}
+
+std::string unsound_energy_split(const ChargeFigures& f) {
+  if (!(f.collision_kW_per_m < 0.0)) return "";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the contacts between disks gave the charge energy in the measured window (collision power %.3g "
+                "kW/m, the drive's %.3g kW/m): the solver's error is larger than the collisions' dissipation here, "
+                "so the collision power, the utilisation and the split of the drive's power are not sound; a "
+                "smaller solver.time_step shrinks the error (docs/stability.md)",
+                f.collision_kW_per_m, f.power_kW_per_m);
+  return buf;
 }
 
 double energy_share_of_power(const ChargeSummary& s) {

@@ -16,6 +16,7 @@
 // frame, and `centrifuged` says why).
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "engine/accounting.hpp"
@@ -69,6 +70,15 @@ ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double o
 // mill's share is 0.1% over 8 revolutions, and a window past kSteadyEnergyShare is not steady.
 double energy_share_of_power(const ChargeSummary& s);
 constexpr double kSteadyEnergyShare = 0.1;
+
+// Collisions between disks only take energy out of a real charge. A window whose disk-disk
+// contacts gave the charge energy (collision power below 0) has the solver's own error larger
+// than that dissipation: in a heavily loaded bed turning fast (a centrifuged charge) the
+// contact normals, fixed over a step while the bed turns, move energy from the disk-disk
+// contacts to the liner's, in proportion to the time step; the split of the drive's power,
+// the utilisation and the drive's power itself are then not sound. Empty for a sound window,
+// else the sentence that says so.
+std::string unsound_energy_split(const ChargeFigures& f);
 
 // Morrell's C-model (power_models.hpp) for the scene's mill and speed, per metre of mill
 // length, at the charge's own filling and with the bulk density of the measured bed: its
