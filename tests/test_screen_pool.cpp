@@ -123,6 +123,28 @@ TEST(ScreenTask, ATaskNumberOutsideTheDesignsIsAnInputError) {
   }
 }
 
+// A designs.csv of no row is a damaged list (a screen writes every valid candidate), named
+// as such: no range of task numbers is made of it.
+TEST(ScreenTask, AListOfNoDesignIsRefusedAsDamagedNotAsARangeOfTasks) {
+  const testing::TempDir dir("millwear-screen-pool-empty");
+  const fs::path out = dir.path();
+  std::ofstream(out / "designs.csv") << "task,design,sample,height_mm,top_width_mm,leading_face_angle_deg,"
+                                        "trailing_face_angle_deg,rows,direction,area_mm2,profile_source,scene_file,"
+                                        "profile_file\n";
+  for (int pass = 0; pass < 2; ++pass) {
+    try {
+      if (pass == 0) run_screen_tasks(out.string(), {0}, {}, nullptr);
+      else run_screen_task(out.string(), {}, 0);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, designs_csv(out.string()));
+      EXPECT_EQ(e.where, "line 2") << e.what();
+      EXPECT_NE(std::string(e.what()).find("at least one design"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_FALSE(fs::exists(out / "designs")) << "a task ran";
+}
+
 TEST(ScreenCollect, AFolderWithoutAScreenIsAnInputError) {
   const testing::TempDir dir("millwear-screen-pool-nothing");
   const fs::path out = dir.path();

@@ -14,6 +14,19 @@
 
 namespace millwear::screen {
 
+namespace {
+
+// A task number outside designs.csv's rows; a list of no design is a damaged file (a screen
+// writes every valid candidate and refuses a family with none), not a range to name.
+[[noreturn]] void refuse_task_number(const std::string& out, std::size_t designs, int index) {
+  if (designs == 0)
+    throw InputError(designs_csv(out), "line 2", "at least one design (a screen writes every valid candidate)");
+  throw InputError(designs_csv(out), "I",
+                   "task numbers in [0, " + std::to_string(designs - 1) + "], got " + std::to_string(index));
+}
+
+}  // namespace
+
 void write_task_status(const std::string& out, const Candidate& c, const std::string& status, int exit_code,
                        const std::string& reason) {
   io::KeyValues kv{{"design", c.name}, {"status", status}, {"exit_code", std::to_string(exit_code)}};
@@ -36,9 +49,7 @@ bool design_finished(const std::string& out, const Candidate& c, bool with_figur
 
 TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>& designs, int index,
                             const TaskOptions& options) {
-  if (index < 0 || index >= static_cast<int>(designs.size()))
-    throw InputError(designs_csv(out), "I",
-                     "a task number in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(index));
+  if (index < 0 || index >= static_cast<int>(designs.size())) refuse_task_number(out, designs.size(), index);
   const Candidate& c = designs[static_cast<std::size_t>(index)];
   const std::string dir = design_dir(out, c.name);
   const io::FolderLock lock(dir);  // before the status: a task refused here changes nothing
@@ -96,9 +107,7 @@ int run_screen_tasks(const std::string& out, const std::vector<int>& indices, co
   const std::vector<Candidate> designs = read_designs(out);
   // Every task number before the first task runs: a bad one is refused with nothing run.
   for (int i : indices)
-    if (i < 0 || i >= static_cast<int>(designs.size()))
-      throw InputError(designs_csv(out), "I",
-                       "task numbers in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(i));
+    if (i < 0 || i >= static_cast<int>(designs.size())) refuse_task_number(out, designs.size(), i);
   int worst = 0;
   for (int i : indices) {
     const TaskOutcome o = run_screen_task(out, designs, i, options);
