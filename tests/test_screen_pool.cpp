@@ -145,6 +145,27 @@ TEST(ScreenTask, AListOfNoDesignIsRefusedAsDamagedNotAsARangeOfTasks) {
   EXPECT_FALSE(fs::exists(out / "designs")) << "a task ran";
 }
 
+// The histories a task runs come from screen.key; a count the screen would not write there is
+// refused naming the file and key before the task starts (no status, nothing run), not read
+// as a number's prefix or failed as the design's error.
+TEST(ScreenTask, ADamagedReplicatesCountInTheScreenKeyIsRefusedBeforeTheTaskStarts) {
+  const testing::TempDir dir("millwear-screen-pool-key");
+  const fs::path out = dir.path();
+  const std::vector<Candidate> designs = three_designs(out);
+  for (const char* bad : {"abc", "", "2x", "99999999999", "0", "1001"}) {
+    std::ofstream(screen_key_path(out.string())) << "# millwear screen\nreplicates=" << bad << "\n";
+    try {
+      run_screen_task(out.string(), designs, 0);
+      ADD_FAILURE() << "'" << bad << "': expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, screen_key_path(out.string())) << e.what();
+      EXPECT_EQ(e.where, "replicates") << e.what();
+    }
+    EXPECT_FALSE(fs::exists(task_status_path(out.string(), "d000"))) << "'" << bad << "': the task started";
+    fs::remove(task_status_path(out.string(), "d000"));
+  }
+}
+
 TEST(ScreenCollect, AFolderWithoutAScreenIsAnInputError) {
   const testing::TempDir dir("millwear-screen-pool-nothing");
   const fs::path out = dir.path();
