@@ -207,6 +207,26 @@ TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
   EXPECT_NE(p.err.find("script line 2, save_profiles"), std::string::npos) << p.err;
 }
 
+// A scene save writes its edited lifter beside it as FILE_lifter.toml: a user's own file of
+// that name is refused (exit 2, naming it and the script line) and stays as it was, with no
+// scene written; a lifter an earlier save wrote there is the save's to replace.
+TEST(View, ASceneSaveLeavesAUsersFileUnderItsLifterNameAlone) {
+  const TempDir dir("millwear-view-test-lifter-name");
+  write(dir / "mine_lifter.toml", "the user's own notes\n");
+  write(dir / "s.txt", "0 lifter 25 20 25\n0 save_scene " + (dir / "mine.toml").string() + "\n0 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("mine_lifter.toml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("script line 2, save_scene"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir / "mine_lifter.toml"), "the user's own notes\n");
+  EXPECT_FALSE(fs::exists(dir / "mine.toml"));
+  write(dir / "t.txt", "0 lifter 25 20 25\n0 save_scene " + (dir / "ours.toml").string() + "\n0 lifter 22 20 25\n0 save_scene " +
+                          (dir / "ours.toml").string() + "\n0 quit\n");
+  const Result again = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "t.txt").string()), dir);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(slurp(dir / "ours_lifter.toml").find("height = 22"), std::string::npos) << slurp(dir / "ours_lifter.toml");
+}
+
 // The power the view reads over its steady batches, and `millwear charge` on the scene the view
 // saved, measure one process: they agree within four standard errors of their difference.
 // The view's batch-means error is scaled to charge's shorter window for charge's own.

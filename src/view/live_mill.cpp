@@ -33,6 +33,9 @@ namespace {
 
 constexpr std::size_t kReadoutsKept = 240;  // batches in the rolling plot
 constexpr std::size_t kTrailPoints = 180;   // frames a trail keeps (3 s at 60 frames/s)
+// The first line of a lifter file a scene save writes beside the scene: a file of that name
+// without it is not the view's to replace.
+constexpr const char* kSavedLifterMark = "# Lifter saved by millwear view";
 
 std::string number(double v) {
   char buf[64];
@@ -323,6 +326,12 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
   std::string lifter_file;
   if (!edited_profile_text_.empty()) {
     lifter_file = (target.parent_path() / (target.stem().string() + "_lifter.toml")).string();
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(lifter_file, ec)) && read_text(lifter_file).rfind(kSavedLifterMark, 0) != 0)
+      throw InputError(lifter_file, "",
+                       "a name free for the edited lifter of " + target.filename().string() +
+                           " (a scene save writes its lifter as FILE_lifter.toml): a file there that no scene save "
+                           "wrote is left as it is; save the scene under another name, or move that file");
     for (auto& e : edits)
       if (e.table == "lifters" && e.key == "profile") e.value = toml_string_value(target.stem().string() + "_lifter.toml");
   }
@@ -331,7 +340,8 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
                                              "Scene saved by millwear view from " + scene_file_);
   io::ensure_dir(out_dir);  // `save_scene out/lab-edited.toml` makes out/, as a recording does
   if (!lifter_file.empty()) {
-    io::write_file_atomic(lifter_file, edited_profile_text_);
+    io::write_file_atomic(lifter_file, std::string(kSavedLifterMark) + " with " + target.filename().string() + "\n" +
+                                           edited_profile_text_);
     written.push_back(lifter_file);
   }
   // What is written reads back as the scene on screen (the checker runs on it first).

@@ -101,7 +101,8 @@ class LiveMill {
   void write_wear_profiles(const std::string& out) const;
 
   // The scene as edited, as a TOML file `millwear run` accepts (an edited lifter goes beside
-  // it as FILE_lifter.toml). Written atomically. Returns the files written.
+  // it as FILE_lifter.toml, marked as the view's; a FILE_lifter.toml without that mark is
+  // refused, InputError, and nothing is written). Written atomically. Returns the files written.
   std::vector<std::string> save_scene(const std::string& file) const;
 
   const Scene& scene() const { return scene_; }
