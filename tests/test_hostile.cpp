@@ -798,6 +798,32 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
   EXPECT_FALSE(fs::exists(dir / "new" / "out")) << v.output;
 }
 
+// --force takes over another run's folder by deleting that run's files only: a user's own
+// file there under a name the new design writes (its liner, a stage's profile) was not that
+// run's, and is refused naming it (exit 2, the folder left as it was), not overwritten.
+TEST(HostileOptions, ForceRefusesAUsersFileUnderANameTheNewDesignWrites) {
+  const TempDir dir("millwear-hostile-options-force-user");
+  const fs::path first = dir / "first.toml", second = dir / "second.toml", out = dir / "out";
+  write(first, lab_quick());
+  std::string t = lab_quick();
+  const std::string name = "name = \"lab-quick\"";
+  t.replace(t.find(name), name.size(), "name = \"lab-other\"");
+  write(second, t);
+  const auto r0 = run_millwear("run " + quoted(first) + " -o " + quoted(out) + " -q --stop-after-stage 0");
+  ASSERT_EQ(r0.exit_code, 130) << r0.output;
+  for (const char* mine : {"liner_lab-other.csv", "profiles/lab-other_stage0.csv"}) {
+    write(out / mine, "the user's own\n");
+    for (const char* check : {" --check", ""}) {
+      const auto r = run_millwear("run " + quoted(second) + " -o " + quoted(out) + " -q --force" + check);
+      EXPECT_EQ(r.exit_code, 2) << mine << check << "\n" << r.output;
+      EXPECT_NE(r.output.find(mine), std::string::npos) << r.output;
+      EXPECT_EQ(read_text(out / mine), "the user's own\n") << mine << check;
+      EXPECT_TRUE(fs::exists(out / "stages" / "lab-quick_stage0.done")) << "the refusal deleted the earlier run";
+    }
+    fs::remove(out / mine);
+  }
+}
+
 // A command other than `run` that writes into a folder holding another command's results
 // (a run's manifest or run key, a sweep's manifest) would overwrite part of them: refused
 // before any work, and the folder's files left as they were. The same command's own folder
