@@ -667,6 +667,34 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
 }
 
+// The figures `charge` says it drew are the ones in OUT/plots: with the snapshot or the
+// spectrum turned off in the scene their figures are not drawn, and not named.
+TEST(HostileScenes, ChargeNamesOnlyTheFiguresItDrew) {
+  const TempDir dir("millwear-hostile-charge-figures");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const char* off : {"outputs.snapshot=false", "outputs.collision_spectrum=false"}) {
+    const fs::path out = dir / off;
+    const auto r = run_millwear("charge " + lab + " --revolutions 0.3 -q --set " + off + " -o " + quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto at = r.output.find("figures in ");
+    if (!millwear::plots::gnuplot_available()) {
+      EXPECT_EQ(at, std::string::npos) << r.output;
+      continue;
+    }
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const auto open = r.output.find('(', at), close = r.output.find(')', at);
+    ASSERT_LT(open, close) << r.output;
+    const std::string list = r.output.substr(open + 1, close - open - 1) + ",";
+    int named = 0;
+    for (std::size_t from = 0, comma; (comma = list.find(',', from)) != std::string::npos; from = comma + 2, ++named) {
+      const std::string fig = list.substr(from, comma - from);
+      EXPECT_TRUE(fs::exists(out / "plots" / (fig + ".png"))) << off << ": named " << fig << " but did not draw it\n"
+                                                             << r.output;
+    }
+    EXPECT_GE(named, 1) << r.output;
+  }
+}
+
 // The same for a sweep: the table stands and the command exits 1 (it exited 0 with a warning).
 TEST(HostileScenes, SweepFiguresThatFailExitOneWithTheTableWritten) {
   const TempDir dir("millwear-hostile-sweep-no-scripts");

@@ -1,6 +1,7 @@
 // `millwear charge SCENE -o OUT`: the charge alone (no wear) for some revolutions.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -157,9 +158,17 @@ int run_charge(const ChargeArgs& args) {
   try {
     const auto figs = render_charge_figures(args.out, scene);
     record.files.insert(record.files.end(), figs.begin(), figs.end());
-    if (!figs.empty())
-      std::printf("  figures in %s/plots (spectrum, snapshot_%s, impacts_%s, trajectories_%s)\n", args.out.c_str(),
-                  scene.name.c_str(), scene.name.c_str(), scene.name.c_str());
+    // The figures drawn, by name: those of an output the scene turns off (outputs.snapshot,
+    // outputs.collision_spectrum) are not.
+    std::vector<std::string> names;
+    for (const std::string& f : figs) {
+      const std::filesystem::path p(f);
+      if (p.extension() != ".png" && p.extension() != ".svg") continue;
+      if (std::find(names.begin(), names.end(), p.stem().string()) == names.end()) names.push_back(p.stem().string());
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    if (!names.empty()) std::printf("  figures in %s/plots (%s)\n", args.out.c_str(), list.c_str());
   } catch (const std::exception& e) {
     std::cerr << "millwear: warning: figures: " << e.what() << "\n";
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
