@@ -282,6 +282,32 @@ TEST(View, WearModeDrawsTheProfilesRunWrites) {
   EXPECT_NE(slurp(dir / "view" / "profiles/lab-mill_stage0.csv"), slurp(dir / "view" / "profiles/lab-mill_stage2.csv"));
 }
 
+// The wear history's profiles are saved beside no command's results (a run's folder, whose
+// profiles they would replace) and over no file of other points (a user's): both are refused,
+// exit 2, naming the folder or file, which stay as they were. The same history saved twice
+// into one folder is the same files.
+TEST(View, SavedProfilesReplaceNoRunsAndNoUsersFiles) {
+  const TempDir dir("millwear-view-test-profiles-taken");
+  fs::create_directories(dir / "run" / "profiles");
+  write(dir / "run" / "manifest.json", "{\"program\": \"millwear\", \"files\": [\"profiles/lab-mill_stage0.csv\"]}\n");
+  write(dir / "run" / "profiles" / "lab-mill_stage0.csv", "x_mm,y_mm\n0,1\n");
+  fs::create_directories(dir / "mine" / "profiles");
+  write(dir / "mine" / "profiles" / "lab-mill_stage1.csv", "x_mm,y_mm\n0,2\n");
+  for (const char* taken : {"run", "mine"}) {
+    write(dir / "s.txt", "0 wear 100\n0 wait_wear\n0 save_profiles " + (dir / "ok").string() + "\n0 save_profiles " +
+                            (dir / "ok").string() + "\n0 save_profiles " + (dir / taken).string() + "\n0 quit\n");
+    const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+    EXPECT_EQ(r.exit_code, 2) << taken << "\n" << r.err;
+    EXPECT_NE(r.err.find((dir / taken).string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("script line 5, save_profiles"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "ok" / "profiles" / "lab-mill_stage1.csv")) << r.err;
+  }
+  EXPECT_EQ(slurp(dir / "run" / "profiles" / "lab-mill_stage0.csv"), "x_mm,y_mm\n0,1\n");
+  EXPECT_FALSE(fs::exists(dir / "run" / "profiles" / "lab-mill_stage1.csv"));
+  EXPECT_EQ(slurp(dir / "mine" / "profiles" / "lab-mill_stage1.csv"), "x_mm,y_mm\n0,2\n");
+  EXPECT_FALSE(fs::exists(dir / "mine" / "profiles" / "lab-mill_stage0.csv"));
+}
+
 // The lifter's shape and the direction change in the running mill, and the saved scene carries
 // them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
 // writes a frame sequence.

@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
 #include "metrics/batch_means.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -462,6 +463,21 @@ void LiveMill::take_wear_result() {
 void LiveMill::write_wear_profiles(const std::string& out) const {
   std::lock_guard<std::mutex> lock(wear_mutex_);
   if (wear_records_.empty() || wear_.running) throw RunError("no finished wear history to write");
+  // A command's results folder (a run's, whose profiles these would replace) is not the view's
+  // to write into; elsewhere a profile file already there is replaced only by the same text
+  // (this history saved again), never by another history's.
+  std::error_code ec;
+  if (fs::is_directory(out, ec))
+    if (const std::string holder = io::folder_results_command(out); !holder.empty())
+      throw InputError(out, "", "a folder of no millwear command's results, but it holds those of `millwear " + holder +
+                                    "`, whose files the wear history's profiles would replace: save them into another folder");
+  for (const StageRecord& rec : wear_records_) {
+    const std::string path = io::profile_path(out, scene_.name, rec.stage);
+    if (fs::exists(fs::symlink_status(path, ec)) && read_text(path) != study::profile_csv_text(rec))
+      throw InputError(path, "", "a name free for the wear history's stage " + std::to_string(rec.stage) +
+                                     " profile: a file of other points is there, which it would replace; save the "
+                                     "profiles into another folder, or move that file");
+  }
   for (const StageRecord& rec : wear_records_) study::write_profile_csv(out, scene_.name, rec);
 }
 
