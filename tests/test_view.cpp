@@ -308,6 +308,23 @@ TEST(View, SavedProfilesReplaceNoRunsAndNoUsersFiles) {
   EXPECT_FALSE(fs::exists(dir / "mine" / "profiles" / "lab-mill_stage0.csv"));
 }
 
+// A recording starts in a folder without frames: a second recording into the folder of a first
+// is refused (exit 2, naming the folder and the script line), so the first's frames are
+// neither written over nor left behind the second's in the film made of the folder.
+TEST(View, ARecordingIsNotMadeOverTheFramesOfAnother) {
+  const TempDir dir("millwear-view-test-record-twice");
+  const std::string frames = (dir / "frames").string();
+  write(dir / "s.txt", "0 record " + frames + "\n0.2 stop_record\n0.3 record " + frames + "\n0.4 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(frames), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("script line 3, record"), std::string::npos) << r.err;
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(frames)) count += e.path().extension() == ".png";
+  EXPECT_GE(count, 12);  // 0 to 0.2 s of frames, 1/60 s each: the first recording's alone
+  EXPECT_LE(count, 13);
+}
+
 // The lifter's shape and the direction change in the running mill, and the saved scene carries
 // them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
 // writes a frame sequence.
