@@ -786,6 +786,26 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// `screen --collect` ranks what is in the folder: an option of a screen that runs or emits
+// designs (--emit, --replicates, --resume, --force, --jobs) is refused naming it (exit 2), not
+// ignored as though it had been applied, and the folder is left as it was.
+TEST(HostileOptions, CollectRefusesTheOptionsOfAScreenThatRuns) {
+  const TempDir dir("millwear-hostile-options-collect");
+  const fs::path out = dir / "screen";
+  const auto emitted = run_millwear("screen " + quoted(fs::path(kSource + "/tests/data/screen-lab.toml")) + " -o " +
+                                    quoted(out) + " --emit parallel");
+  ASSERT_EQ(emitted.exit_code, 0) << emitted.output;
+  for (const char* option : {"--emit", "--replicates", "--resume", "--force", "--jobs"}) {
+    const std::string value = option == std::string("--emit") ? " slurm" : option == std::string("--replicates") ||
+                                                                            option == std::string("--jobs") ? " 3" : "";
+    const auto r = run_millwear("screen --collect " + quoted(out) + " " + option + value);
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.output;
+    EXPECT_NE(r.output.find(option), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "ranking.csv")) << option << ": collected";
+    EXPECT_FALSE(fs::exists(out / "screen.sbatch")) << option << ": emitted";
+  }
+}
+
 // An output folder that cannot be made is bad input (exit 2) found before any work, and a
 // command refused after its folder was made does not leave it behind empty.
 TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLeft) {
