@@ -325,6 +325,17 @@ TEST(View, ARecordingIsNotMadeOverTheFramesOfAnother) {
   EXPECT_LE(count, 13);
 }
 
+// A scene with a pattern of lifters (hi-lo: one liner unit per kind, repeating over the rows)
+// is drawn row by row from its kind's unit: the window opens, runs and writes its screenshot.
+TEST(View, APatternOfLiftersIsDrawnFromEachRowsKind) {
+  const TempDir dir("millwear-view-test-pattern");
+  const std::string shot = (dir / "hi-lo.png").string();
+  const Result r = run_millwear("view " + q(src("scenarios/lab-hi-lo.toml")) + " --fidelity draft --size 640 400 --frames 3 --screenshot " +
+                                    q(shot), dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(shot)) << r.err;
+}
+
 // The lifter's shape and the direction change in the running mill, and the saved scene carries
 // them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
 // writes a frame sequence.

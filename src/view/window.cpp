@@ -105,7 +105,7 @@ void draw_liner(ImDrawList* dl, const Pane& pane, const MillGeometry& mill, doub
                 const std::vector<double>& edge_value, double value_max) {
   const int rows = mill.rows;
   for (int row = 0; row < rows; ++row) {
-    const LinerUnit& u = mill.units[mill.units.size() == 1 ? 0 : static_cast<std::size_t>(row)];
+    const LinerUnit& u = mill.units[mill.unit_of_row(row)];  // a pattern: one unit per kind
     std::vector<ImVec2> poly;
     for (const Vec2& p : u.surface)
       if (std::fabs(p.x) <= 1.05 * u.lifter_half_base_m) poly.push_back(pane.at(rotated(local_to_mill(p, row, rows, mill.radius_m), angle)));
