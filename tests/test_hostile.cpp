@@ -786,6 +786,34 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// A charge's own earlier folder is its to rewrite, but a user's file put there under a name a
+// charge of another scene writes (its snapshot, a figure) is refused naming it (exit 2, by
+// --check too), not overwritten; the user's other files stay beside the charges that do run.
+TEST(HostileOptions, AChargeRefusesAUsersFileInItsFolderUnderAnOutputsName) {
+  const TempDir dir("millwear-hostile-options-charge-user");
+  const fs::path out = dir / "out", other = dir / "other.toml";
+  std::string s = lab_mill_with("name = \"lab-mill\"", "name = \"other\"");
+  write(other, s);
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const auto first = run_millwear("charge " + lab + " --revolutions 0.3 -q -o " + quoted(out));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  write(out / "notes.txt", "mine\n");
+  for (const char* mine : {"snapshot_other.csv", "plots/impacts_other.png"}) {
+    write(out / mine, "the user's own\n");
+    for (const char* check : {" --check", ""}) {
+      const auto r = run_millwear("charge " + quoted(other) + " --revolutions 0.3 -q -o " + quoted(out) + check);
+      EXPECT_EQ(r.exit_code, 2) << mine << check << "\n" << r.output;
+      EXPECT_NE(r.output.find(mine), std::string::npos) << r.output;
+      EXPECT_EQ(read_text(out / mine), "the user's own\n") << mine << check;
+      EXPECT_TRUE(fs::exists(out / "snapshot_lab-mill.csv")) << "the refusal deleted the earlier charge";
+    }
+    fs::remove(out / mine);
+  }
+  const auto again = run_millwear("charge " + quoted(other) + " --revolutions 0.3 -q -o " + quoted(out));
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_text(out / "notes.txt"), "mine\n");
+}
+
 // `screen --collect` ranks what is in the folder: an option of a screen that runs or emits
 // designs (--emit, --replicates, --resume, --force, --jobs) is refused naming it (exit 2), not
 // ignored as though it had been applied, and the folder is left as it was.

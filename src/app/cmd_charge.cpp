@@ -50,6 +50,17 @@ struct ChargeArgs {
   std::vector<std::string> overrides;
 };
 
+// An earlier charge's folder is this one's to rewrite, but not a user's file in it under a name
+// this charge writes (another scene's snapshot, a contact log): refused, before anything is
+// deleted or run.
+void refuse_users_file(const std::string& out, const Scene& scene) {
+  if (const std::string taken = io::unlisted_output(out, charge_output_names(scene)); !taken.empty())
+    throw InputError(out, "-o",
+                     "a folder that is new or holds an earlier charge's results, but " + taken +
+                         " is there and no charge wrote it (its manifest.json does not list it); this charge would "
+                         "overwrite it: move it, or use another folder");
+}
+
 int run_charge(const ChargeArgs& args) {
   std::vector<std::string> overrides = args.overrides;
   if (args.vtk) overrides.push_back("outputs.vtk=true");
@@ -68,12 +79,14 @@ int run_charge(const ChargeArgs& args) {
     io::check_output_folder(args.out);
     std::error_code ec;
     if (std::filesystem::is_directory(args.out, ec)) io::check_folder_not_taken(args.out, "charge");
+    refuse_users_file(args.out, scene);
     std::printf("%s\n", plan);
     for (const std::string& note : distribution_notes(scene)) std::printf("  %s\n", note.c_str());
     for (const std::string& note : limit_notes(scene)) std::printf("  %s\n", note.c_str());
     return 0;
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
+  refuse_users_file(args.out, scene);
   io::remove_listed_outputs(args.out);               // an earlier charge's files (its manifest's list)
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   if (!args.quiet)
