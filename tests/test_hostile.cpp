@@ -667,6 +667,34 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
 }
 
+// The figures `charge` says it drew are the ones in OUT/plots: with the snapshot or the
+// spectrum turned off in the scene their figures are not drawn, and not named.
+TEST(HostileScenes, ChargeNamesOnlyTheFiguresItDrew) {
+  const TempDir dir("millwear-hostile-charge-figures");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const char* off : {"outputs.snapshot=false", "outputs.collision_spectrum=false"}) {
+    const fs::path out = dir / off;
+    const auto r = run_millwear("charge " + lab + " --revolutions 0.3 -q --set " + off + " -o " + quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto at = r.output.find("figures in ");
+    if (!millwear::plots::gnuplot_available()) {
+      EXPECT_EQ(at, std::string::npos) << r.output;
+      continue;
+    }
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const auto open = r.output.find('(', at), close = r.output.find(')', at);
+    ASSERT_LT(open, close) << r.output;
+    const std::string list = r.output.substr(open + 1, close - open - 1) + ",";
+    int named = 0;
+    for (std::size_t from = 0, comma; (comma = list.find(',', from)) != std::string::npos; from = comma + 2, ++named) {
+      const std::string fig = list.substr(from, comma - from);
+      EXPECT_TRUE(fs::exists(out / "plots" / (fig + ".png"))) << off << ": named " << fig << " but did not draw it\n"
+                                                             << r.output;
+    }
+    EXPECT_GE(named, 1) << r.output;
+  }
+}
+
 // The same for a sweep: the table stands and the command exits 1 (it exited 0 with a warning).
 TEST(HostileScenes, SweepFiguresThatFailExitOneWithTheTableWritten) {
   const TempDir dir("millwear-hostile-sweep-no-scripts");
@@ -758,6 +786,54 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// A charge's own earlier folder is its to rewrite, but a user's file put there under a name a
+// charge of another scene writes (its snapshot, a figure) is refused naming it (exit 2, by
+// --check too), not overwritten; the user's other files stay beside the charges that do run.
+TEST(HostileOptions, AChargeRefusesAUsersFileInItsFolderUnderAnOutputsName) {
+  const TempDir dir("millwear-hostile-options-charge-user");
+  const fs::path out = dir / "out", other = dir / "other.toml";
+  std::string s = lab_mill_with("name = \"lab-mill\"", "name = \"other\"");
+  write(other, s);
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const auto first = run_millwear("charge " + lab + " --revolutions 0.3 -q -o " + quoted(out));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  write(out / "notes.txt", "mine\n");
+  for (const char* mine : {"snapshot_other.csv", "plots/impacts_other.png"}) {
+    write(out / mine, "the user's own\n");
+    for (const char* check : {" --check", ""}) {
+      const auto r = run_millwear("charge " + quoted(other) + " --revolutions 0.3 -q -o " + quoted(out) + check);
+      EXPECT_EQ(r.exit_code, 2) << mine << check << "\n" << r.output;
+      EXPECT_NE(r.output.find(mine), std::string::npos) << r.output;
+      EXPECT_EQ(read_text(out / mine), "the user's own\n") << mine << check;
+      EXPECT_TRUE(fs::exists(out / "snapshot_lab-mill.csv")) << "the refusal deleted the earlier charge";
+    }
+    fs::remove(out / mine);
+  }
+  const auto again = run_millwear("charge " + quoted(other) + " --revolutions 0.3 -q -o " + quoted(out));
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_text(out / "notes.txt"), "mine\n");
+}
+
+// `screen --collect` ranks what is in the folder: an option of a screen that runs or emits
+// designs (--emit, --replicates, --resume, --force, --jobs) is refused naming it (exit 2), not
+// ignored as though it had been applied, and the folder is left as it was.
+TEST(HostileOptions, CollectRefusesTheOptionsOfAScreenThatRuns) {
+  const TempDir dir("millwear-hostile-options-collect");
+  const fs::path out = dir / "screen";
+  const auto emitted = run_millwear("screen " + quoted(fs::path(kSource + "/tests/data/screen-lab.toml")) + " -o " +
+                                    quoted(out) + " --emit parallel");
+  ASSERT_EQ(emitted.exit_code, 0) << emitted.output;
+  for (const char* option : {"--emit", "--replicates", "--resume", "--force", "--jobs"}) {
+    const std::string value = option == std::string("--emit") ? " slurm" : option == std::string("--replicates") ||
+                                                                            option == std::string("--jobs") ? " 3" : "";
+    const auto r = run_millwear("screen --collect " + quoted(out) + " " + option + value);
+    EXPECT_EQ(r.exit_code, 2) << option << "\n" << r.output;
+    EXPECT_NE(r.output.find(option), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "ranking.csv")) << option << ": collected";
+    EXPECT_FALSE(fs::exists(out / "screen.sbatch")) << option << ": emitted";
+  }
+}
+
 // An output folder that cannot be made is bad input (exit 2) found before any work, and a
 // command refused after its folder was made does not leave it behind empty.
 TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLeft) {
@@ -796,6 +872,32 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
   EXPECT_EQ(v.exit_code, 2) << v.output;
   EXPECT_NE(v.output.find("no-run"), std::string::npos) << v.output;
   EXPECT_FALSE(fs::exists(dir / "new" / "out")) << v.output;
+}
+
+// --force takes over another run's folder by deleting that run's files only: a user's own
+// file there under a name the new design writes (its liner, a stage's profile) was not that
+// run's, and is refused naming it (exit 2, the folder left as it was), not overwritten.
+TEST(HostileOptions, ForceRefusesAUsersFileUnderANameTheNewDesignWrites) {
+  const TempDir dir("millwear-hostile-options-force-user");
+  const fs::path first = dir / "first.toml", second = dir / "second.toml", out = dir / "out";
+  write(first, lab_quick());
+  std::string t = lab_quick();
+  const std::string name = "name = \"lab-quick\"";
+  t.replace(t.find(name), name.size(), "name = \"lab-other\"");
+  write(second, t);
+  const auto r0 = run_millwear("run " + quoted(first) + " -o " + quoted(out) + " -q --stop-after-stage 0");
+  ASSERT_EQ(r0.exit_code, 130) << r0.output;
+  for (const char* mine : {"liner_lab-other.csv", "profiles/lab-other_stage0.csv"}) {
+    write(out / mine, "the user's own\n");
+    for (const char* check : {" --check", ""}) {
+      const auto r = run_millwear("run " + quoted(second) + " -o " + quoted(out) + " -q --force" + check);
+      EXPECT_EQ(r.exit_code, 2) << mine << check << "\n" << r.output;
+      EXPECT_NE(r.output.find(mine), std::string::npos) << r.output;
+      EXPECT_EQ(read_text(out / mine), "the user's own\n") << mine << check;
+      EXPECT_TRUE(fs::exists(out / "stages" / "lab-quick_stage0.done")) << "the refusal deleted the earlier run";
+    }
+    fs::remove(out / mine);
+  }
 }
 
 // A command other than `run` that writes into a folder holding another command's results

@@ -123,6 +123,49 @@ TEST(ScreenTask, ATaskNumberOutsideTheDesignsIsAnInputError) {
   }
 }
 
+// A designs.csv of no row is a damaged list (a screen writes every valid candidate), named
+// as such: no range of task numbers is made of it.
+TEST(ScreenTask, AListOfNoDesignIsRefusedAsDamagedNotAsARangeOfTasks) {
+  const testing::TempDir dir("millwear-screen-pool-empty");
+  const fs::path out = dir.path();
+  std::ofstream(out / "designs.csv") << "task,design,sample,height_mm,top_width_mm,leading_face_angle_deg,"
+                                        "trailing_face_angle_deg,rows,direction,area_mm2,profile_source,scene_file,"
+                                        "profile_file\n";
+  for (int pass = 0; pass < 2; ++pass) {
+    try {
+      if (pass == 0) run_screen_tasks(out.string(), {0}, {}, nullptr);
+      else run_screen_task(out.string(), {}, 0);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, designs_csv(out.string()));
+      EXPECT_EQ(e.where, "line 2") << e.what();
+      EXPECT_NE(std::string(e.what()).find("at least one design"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_FALSE(fs::exists(out / "designs")) << "a task ran";
+}
+
+// The histories a task runs come from screen.key; a count the screen would not write there is
+// refused naming the file and key before the task starts (no status, nothing run), not read
+// as a number's prefix or failed as the design's error.
+TEST(ScreenTask, ADamagedReplicatesCountInTheScreenKeyIsRefusedBeforeTheTaskStarts) {
+  const testing::TempDir dir("millwear-screen-pool-key");
+  const fs::path out = dir.path();
+  const std::vector<Candidate> designs = three_designs(out);
+  for (const char* bad : {"abc", "", "2x", "99999999999", "0", "1001"}) {
+    std::ofstream(screen_key_path(out.string())) << "# millwear screen\nreplicates=" << bad << "\n";
+    try {
+      run_screen_task(out.string(), designs, 0);
+      ADD_FAILURE() << "'" << bad << "': expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, screen_key_path(out.string())) << e.what();
+      EXPECT_EQ(e.where, "replicates") << e.what();
+    }
+    EXPECT_FALSE(fs::exists(task_status_path(out.string(), "d000"))) << "'" << bad << "': the task started";
+    fs::remove(task_status_path(out.string(), "d000"));
+  }
+}
+
 TEST(ScreenCollect, AFolderWithoutAScreenIsAnInputError) {
   const testing::TempDir dir("millwear-screen-pool-nothing");
   const fs::path out = dir.path();

@@ -207,6 +207,26 @@ TEST(View, ScriptFilesMakeTheirFoldersAndFailuresNameTheLine) {
   EXPECT_NE(p.err.find("script line 2, save_profiles"), std::string::npos) << p.err;
 }
 
+// A scene save writes its edited lifter beside it as FILE_lifter.toml: a user's own file of
+// that name is refused (exit 2, naming it and the script line) and stays as it was, with no
+// scene written; a lifter an earlier save wrote there is the save's to replace.
+TEST(View, ASceneSaveLeavesAUsersFileUnderItsLifterNameAlone) {
+  const TempDir dir("millwear-view-test-lifter-name");
+  write(dir / "mine_lifter.toml", "the user's own notes\n");
+  write(dir / "s.txt", "0 lifter 25 20 25\n0 save_scene " + (dir / "mine.toml").string() + "\n0 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("mine_lifter.toml"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("script line 2, save_scene"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir / "mine_lifter.toml"), "the user's own notes\n");
+  EXPECT_FALSE(fs::exists(dir / "mine.toml"));
+  write(dir / "t.txt", "0 lifter 25 20 25\n0 save_scene " + (dir / "ours.toml").string() + "\n0 lifter 22 20 25\n0 save_scene " +
+                          (dir / "ours.toml").string() + "\n0 quit\n");
+  const Result again = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "t.txt").string()), dir);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(slurp(dir / "ours_lifter.toml").find("height = 22"), std::string::npos) << slurp(dir / "ours_lifter.toml");
+}
+
 // The power the view reads over its steady batches, and `millwear charge` on the scene the view
 // saved, measure one process: they agree within four standard errors of their difference.
 // The view's batch-means error is scaled to charge's shorter window for charge's own.
@@ -260,6 +280,60 @@ TEST(View, WearModeDrawsTheProfilesRunWrites) {
   }
   // The history wore the lifter: the last profile differs from the new one.
   EXPECT_NE(slurp(dir / "view" / "profiles/lab-mill_stage0.csv"), slurp(dir / "view" / "profiles/lab-mill_stage2.csv"));
+}
+
+// The wear history's profiles are saved beside no command's results (a run's folder, whose
+// profiles they would replace) and over no file of other points (a user's): both are refused,
+// exit 2, naming the folder or file, which stay as they were. The same history saved twice
+// into one folder is the same files.
+TEST(View, SavedProfilesReplaceNoRunsAndNoUsersFiles) {
+  const TempDir dir("millwear-view-test-profiles-taken");
+  fs::create_directories(dir / "run" / "profiles");
+  write(dir / "run" / "manifest.json", "{\"program\": \"millwear\", \"files\": [\"profiles/lab-mill_stage0.csv\"]}\n");
+  write(dir / "run" / "profiles" / "lab-mill_stage0.csv", "x_mm,y_mm\n0,1\n");
+  fs::create_directories(dir / "mine" / "profiles");
+  write(dir / "mine" / "profiles" / "lab-mill_stage1.csv", "x_mm,y_mm\n0,2\n");
+  for (const char* taken : {"run", "mine"}) {
+    write(dir / "s.txt", "0 wear 100\n0 wait_wear\n0 save_profiles " + (dir / "ok").string() + "\n0 save_profiles " +
+                            (dir / "ok").string() + "\n0 save_profiles " + (dir / taken).string() + "\n0 quit\n");
+    const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+    EXPECT_EQ(r.exit_code, 2) << taken << "\n" << r.err;
+    EXPECT_NE(r.err.find((dir / taken).string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("script line 5, save_profiles"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "ok" / "profiles" / "lab-mill_stage1.csv")) << r.err;
+  }
+  EXPECT_EQ(slurp(dir / "run" / "profiles" / "lab-mill_stage0.csv"), "x_mm,y_mm\n0,1\n");
+  EXPECT_FALSE(fs::exists(dir / "run" / "profiles" / "lab-mill_stage1.csv"));
+  EXPECT_EQ(slurp(dir / "mine" / "profiles" / "lab-mill_stage1.csv"), "x_mm,y_mm\n0,2\n");
+  EXPECT_FALSE(fs::exists(dir / "mine" / "profiles" / "lab-mill_stage0.csv"));
+}
+
+// A recording starts in a folder without frames: a second recording into the folder of a first
+// is refused (exit 2, naming the folder and the script line), so the first's frames are
+// neither written over nor left behind the second's in the film made of the folder.
+TEST(View, ARecordingIsNotMadeOverTheFramesOfAnother) {
+  const TempDir dir("millwear-view-test-record-twice");
+  const std::string frames = (dir / "frames").string();
+  write(dir / "s.txt", "0 record " + frames + "\n0.2 stop_record\n0.3 record " + frames + "\n0.4 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(frames), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("script line 3, record"), std::string::npos) << r.err;
+  int count = 0;
+  for (const auto& e : fs::directory_iterator(frames)) count += e.path().extension() == ".png";
+  EXPECT_GE(count, 12);  // 0 to 0.2 s of frames, 1/60 s each: the first recording's alone
+  EXPECT_LE(count, 13);
+}
+
+// A scene with a pattern of lifters (hi-lo: one liner unit per kind, repeating over the rows)
+// is drawn row by row from its kind's unit: the window opens, runs and writes its screenshot.
+TEST(View, APatternOfLiftersIsDrawnFromEachRowsKind) {
+  const TempDir dir("millwear-view-test-pattern");
+  const std::string shot = (dir / "hi-lo.png").string();
+  const Result r = run_millwear("view " + q(src("scenarios/lab-hi-lo.toml")) + " --fidelity draft --size 640 400 --frames 3 --screenshot " +
+                                    q(shot), dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(shot)) << r.err;
 }
 
 // The lifter's shape and the direction change in the running mill, and the saved scene carries

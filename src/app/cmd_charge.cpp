@@ -1,6 +1,7 @@
 // `millwear charge SCENE -o OUT`: the charge alone (no wear) for some revolutions.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +50,17 @@ struct ChargeArgs {
   std::vector<std::string> overrides;
 };
 
+// An earlier charge's folder is this one's to rewrite, but not a user's file in it under a name
+// this charge writes (another scene's snapshot, a contact log): refused, before anything is
+// deleted or run.
+void refuse_users_file(const std::string& out, const Scene& scene) {
+  if (const std::string taken = io::unlisted_output(out, charge_output_names(scene)); !taken.empty())
+    throw InputError(out, "-o",
+                     "a folder that is new or holds an earlier charge's results, but " + taken +
+                         " is there and no charge wrote it (its manifest.json does not list it); this charge would "
+                         "overwrite it: move it, or use another folder");
+}
+
 int run_charge(const ChargeArgs& args) {
   std::vector<std::string> overrides = args.overrides;
   if (args.vtk) overrides.push_back("outputs.vtk=true");
@@ -67,12 +79,14 @@ int run_charge(const ChargeArgs& args) {
     io::check_output_folder(args.out);
     std::error_code ec;
     if (std::filesystem::is_directory(args.out, ec)) io::check_folder_not_taken(args.out, "charge");
+    refuse_users_file(args.out, scene);
     std::printf("%s\n", plan);
     for (const std::string& note : distribution_notes(scene)) std::printf("  %s\n", note.c_str());
     for (const std::string& note : limit_notes(scene)) std::printf("  %s\n", note.c_str());
     return 0;
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
+  refuse_users_file(args.out, scene);
   io::remove_listed_outputs(args.out);               // an earlier charge's files (its manifest's list)
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   if (!args.quiet)
@@ -159,9 +173,17 @@ int run_charge(const ChargeArgs& args) {
   try {
     const auto figs = render_charge_figures(args.out, scene);
     record.files.insert(record.files.end(), figs.begin(), figs.end());
-    if (!figs.empty())
-      std::printf("  figures in %s/plots (spectrum, snapshot_%s, impacts_%s, trajectories_%s)\n", args.out.c_str(),
-                  scene.name.c_str(), scene.name.c_str(), scene.name.c_str());
+    // The figures drawn, by name: those of an output the scene turns off (outputs.snapshot,
+    // outputs.collision_spectrum) are not.
+    std::vector<std::string> names;
+    for (const std::string& f : figs) {
+      const std::filesystem::path p(f);
+      if (p.extension() != ".png" && p.extension() != ".svg") continue;
+      if (std::find(names.begin(), names.end(), p.stem().string()) == names.end()) names.push_back(p.stem().string());
+    }
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    if (!names.empty()) std::printf("  figures in %s/plots (%s)\n", args.out.c_str(), list.c_str());
   } catch (const std::exception& e) {
     std::cerr << "millwear: warning: figures: " << e.what() << "\n";
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone

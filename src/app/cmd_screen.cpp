@@ -178,21 +178,28 @@ void register_screen(CLI::App& app, Action* action) {
       "Exit codes: 0 all ranked, 1 a design failed or is missing, 2 bad input, 130/143 interrupted (--resume).");
   cmd->add_option("screen", r.screen_file, "screen file (TOML); with --collect: the output folder");
   cmd->add_option("-o,--out", r.out, "output folder")->check(output_folder());
-  cmd->add_option("-j,--jobs", r.jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
+  auto* jobs = cmd->add_option("-j,--jobs", r.jobs, "designs run at once (default: hardware cores); with --emit slurm: %M")
       ->check(whole_in(1, 1024));
-  cmd->add_flag("--resume", r.resume, "keep finished designs (and finished stages) in OUT, run the rest");
-  cmd->add_flag("--force", r.force,
+  auto* resume = cmd->add_flag("--resume", r.resume, "keep finished designs (and finished stages) in OUT, run the rest");
+  auto* force = cmd->add_flag("--force", r.force,
                 "OUT holds a screen of other inputs: delete that screen's files (no other file) and start over");
   auto* emit = cmd->add_option("--emit", r.emit, "parallel | slurm: write a job list / sbatch array script instead of running");
   cmd->add_option("--chunk", r.chunk, "designs per job or array task (with --emit)")
       ->check(whole_in(1, 100000))
       ->needs(emit);
   add_set_option(cmd, &r.overrides);
-  cmd->add_option("--replicates", r.replicates,
+  auto* replicates = cmd->add_option("--replicates", r.replicates,
                   "histories per design, seeds s, s+1, ... (" + default_text(r.replicates) +
                       "): the life's error from their spread; with 1 it is propagated from one history's batch means")
       ->check(whole_in(1, study::kMaxReplicates));
-  cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs");
+  // --collect ranks what is there: an option of a screen that runs or emits designs would be
+  // ignored, as if it had been applied.
+  cmd->add_flag("--collect", args->collect, "rank whatever finished in OUT; list missing and failed designs")
+      ->excludes(jobs)
+      ->excludes(resume)
+      ->excludes(force)
+      ->excludes(emit)
+      ->excludes(replicates);
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress");
   cmd->add_option("--progress-every", args->progress_every_s,
                   "without a terminal: a plain progress line every SECONDS and at each design (" +

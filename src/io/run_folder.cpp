@@ -136,6 +136,18 @@ int remove_listed_outputs(const std::string& out, const std::vector<std::string>
   return remove_run_files(out, manifest_files(out), keep);
 }
 
+std::string unlisted_output(const std::string& out, const std::vector<std::string>& names) {
+  std::error_code ec;
+  // Without a manifest (an older millwear's folder, or none) nothing tells its files apart.
+  if (!fs::is_directory(out, ec) || !file_exists(manifest_path(out))) return "";
+  const std::vector<std::string> listed = manifest_files(out);
+  for (const std::string& n : names)
+    if (std::find(listed.begin(), listed.end(), n) == listed.end() &&
+        fs::exists(fs::symlink_status(join_path(out, n), ec)))
+      return join_path(out, n);
+  return "";
+}
+
 // ---- key=value ----
 
 namespace {

@@ -77,6 +77,12 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
 // again). A user's own files in OUT are not listed and stay.
 int remove_listed_outputs(const std::string& out, const std::vector<std::string>& keep = {});
 
+// Before such a command writes OUT again: the first of `names` (paths relative to OUT) that is
+// there though its earlier run's manifest does not list it, as OUT/NAME; "" if none, or if OUT
+// has no manifest. That file is a user's, which the command would overwrite under its own
+// output's name.
+std::string unlisted_output(const std::string& out, const std::vector<std::string>& names);
+
 // ---- key=value files ----
 using KeyValues = std::vector<std::pair<std::string, std::string>>;  // in file order
 

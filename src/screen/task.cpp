@@ -5,6 +5,7 @@
 #include <csignal>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
@@ -13,6 +14,35 @@
 #include "study/run_designs.hpp"
 
 namespace millwear::screen {
+
+namespace {
+
+// A task number outside designs.csv's rows; a list of no design is a damaged file (a screen
+// writes every valid candidate and refuses a family with none), not a range to name.
+[[noreturn]] void refuse_task_number(const std::string& out, std::size_t designs, int index) {
+  if (designs == 0)
+    throw InputError(designs_csv(out), "line 2", "at least one design (a screen writes every valid candidate)");
+  throw InputError(designs_csv(out), "I",
+                   "task numbers in [0, " + std::to_string(designs - 1) + "], got " + std::to_string(index));
+}
+
+// The histories each task runs, as the screen wrote them in screen.key (1 without the file).
+// Read before any task starts: a damaged count is bad input naming the file, not a task that
+// fails or runs another number of histories.
+int screen_replicates(const std::string& out) {
+  const std::string key_file = screen_key_path(out);
+  if (!io::file_exists(key_file)) return 1;
+  const std::string text = io::find_value(io::read_key_values(key_file), "replicates", "1");
+  const bool digits = !text.empty() && text.size() <= 9 && text.find_first_not_of("0123456789") == std::string::npos;
+  const int n = digits ? std::stoi(text) : 0;
+  if (n < 1 || n > study::kMaxReplicates)
+    throw InputError(key_file, "replicates",
+                     "a whole number of histories per design in [1, " + std::to_string(study::kMaxReplicates) +
+                         "], as the screen writes it, got '" + printable(text, 40) + "'");
+  return n;
+}
+
+}  // namespace
 
 void write_task_status(const std::string& out, const Candidate& c, const std::string& status, int exit_code,
                        const std::string& reason) {
@@ -36,10 +66,9 @@ bool design_finished(const std::string& out, const Candidate& c, bool with_figur
 
 TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>& designs, int index,
                             const TaskOptions& options) {
-  if (index < 0 || index >= static_cast<int>(designs.size()))
-    throw InputError(designs_csv(out), "I",
-                     "a task number in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(index));
+  if (index < 0 || index >= static_cast<int>(designs.size())) refuse_task_number(out, designs.size(), index);
   const Candidate& c = designs[static_cast<std::size_t>(index)];
+  const int replicates = screen_replicates(out);
   const std::string dir = design_dir(out, c.name);
   const io::FolderLock lock(dir);  // before the status: a task refused here changes nothing
   write_task_status(out, c, "running", -1, "");
@@ -48,10 +77,8 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
   try {
     // The same code path as `millwear run`: the candidate's folder is what run writes. A
     // re-run task (Slurm requeue, re-emitted job) continues its stages.
-    // Replicates as the screen asked (screen.key): N histories, one after another in this task.
-    const std::string key_file = screen_key_path(out);
-    const int replicates =
-        io::file_exists(key_file) ? std::stoi(io::find_value(io::read_key_values(key_file), "replicates", "1")) : 1;
+    // Replicates as the screen asked (screen.key, read above): N histories, one after another
+    // in this task.
     const study::Plan plan =
         study::make_plan({{io::join_path(out, c.scene_file)}, "", "", dir, "", -1, {}, replicates});
     study::RunState state(plan);
@@ -94,11 +121,10 @@ TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>
 int run_screen_tasks(const std::string& out, const std::vector<int>& indices, const TaskOptions& options,
                      const std::function<void(const TaskOutcome&)>& on_task) {
   const std::vector<Candidate> designs = read_designs(out);
+  screen_replicates(out);
   // Every task number before the first task runs: a bad one is refused with nothing run.
   for (int i : indices)
-    if (i < 0 || i >= static_cast<int>(designs.size()))
-      throw InputError(designs_csv(out), "I",
-                       "task numbers in [0, " + std::to_string(designs.size() - 1) + "], got " + std::to_string(i));
+    if (i < 0 || i >= static_cast<int>(designs.size())) refuse_task_number(out, designs.size(), i);
   int worst = 0;
   for (int i : indices) {
     const TaskOutcome o = run_screen_task(out, designs, i, options);

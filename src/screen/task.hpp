@@ -36,8 +36,9 @@ struct TaskOutcome {
 };
 
 // Runs design `index` of `designs` (read from OUT/designs.csv), holding the lock of its
-// folder (io/folder_lock.hpp). Throws InputError for an index out of range or a folder
-// another process holds; every other failure is the outcome.
+// folder (io/folder_lock.hpp). Throws InputError for an index out of range, a folder another
+// process holds or a replicates count in OUT/screen.key that is not one the screen writes;
+// every other failure is the outcome.
 TaskOutcome run_screen_task(const std::string& out, const std::vector<Candidate>& designs, int index,
                             const TaskOptions& options = {});
 

@@ -277,6 +277,16 @@ std::string percent_text(const std::string& share, const std::string& se) {
 
 }  // namespace
 
+std::vector<std::string> charge_output_names(const Scene& scene) {
+  const std::string& n = scene.name;
+  std::vector<std::string> names = {"charge_summary.csv", "liner_work.csv", "spectrum.csv", "contacts.csv",
+                                    "impacts.csv", "trajectories_" + n + ".csv", "snapshot_" + n + ".csv",
+                                    "liner_" + n + ".csv", "plots/data/" + n + "_spectrum.csv", "vtk/" + n + ".pvd"};
+  for (const std::string& fig : {std::string("spectrum"), "snapshot_" + n, "impacts_" + n, "trajectories_" + n})
+    for (const char* ext : {".png", ".svg"}) names.push_back("plots/" + fig + ext);
+  return names;
+}
+
 std::vector<std::string> render_charge_figures(const std::string& out, const Scene& scene) {
   plots::FigureOutcome figures;
   try {

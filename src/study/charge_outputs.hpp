@@ -29,6 +29,10 @@ ChargeEstimates charge_estimates(const Scene& scene, const ChargeRunResult& r);
 std::vector<std::string> write_charge_outputs(const std::string& out, const Scene& scene, const ChargeRunResult& r,
                                               const ChargeEstimates& estimates, double wall_s);
 
+// Every file name, relative to OUT, that write_charge_outputs and render_charge_figures may
+// write for the scene (the tables, the figures and their data, the ParaView series' index).
+std::vector<std::string> charge_output_names(const Scene& scene);
+
 // OUT/plots/spectrum, snapshot_NAME, impacts_NAME and trajectories_NAME (PNG and SVG) from
 // those files. Returns the
 // figures written; throws RunError when gnuplot is missing or fails (plots/plots.hpp).

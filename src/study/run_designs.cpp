@@ -2,6 +2,7 @@
 #include "study/run_designs.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -448,6 +449,44 @@ std::string unrecorded_output(const Plan& plan, const std::string& out) {
   return "";
 }
 
+// A folder of another run's results, taken over with --force: the first file the run would
+// remove or overwrite that the earlier run did not write ("" if none). The earlier run's are
+// those its manifest lists and the state of the designs its run.key names (what
+// remove_run_outputs deletes); the rest, under a name this run writes (a table, or the
+// snapshot, liner, stage state or profile of one of its designs), is a user's.
+std::string unlisted_output(const Plan& plan, const std::string& out) {
+  const std::vector<std::string> files = io::manifest_files(out);
+  const std::set<std::string> listed(files.begin(), files.end());
+  std::set<std::string> recorded;
+  try {
+    for (const auto& [k, v] : io::read_key_values(io::run_key_path(out)))
+      if (k.compare(0, 7, "design.") == 0) recorded.insert(k.substr(7));
+  } catch (const std::exception&) {
+  }
+  std::vector<std::string> names = {"summary.md", "kinds.csv", "replicates.csv"};
+  // DESIGN_stage<digits>.<anything>, as remove_stage_state takes them.
+  const auto stage_file = [](const std::string& n, const std::string& prefix) {
+    std::size_t i = prefix.size();
+    if (n.compare(0, i, prefix) != 0 || i >= n.size() || !std::isdigit(static_cast<unsigned char>(n[i]))) return false;
+    while (i < n.size() && std::isdigit(static_cast<unsigned char>(n[i]))) ++i;
+    return i < n.size() && n[i] == '.';
+  };
+  std::error_code ec;
+  for (const DesignInput& d : plan.designs) {
+    if (recorded.count(d.name)) continue;
+    names.push_back("snapshot_" + d.name + ".csv");
+    names.push_back("liner_" + d.name + ".csv");
+    for (const std::string& dir : {std::string("stages"), std::string("profiles")})
+      if (fs::is_directory(io::join_path(out, dir), ec))
+        for (const auto& e : fs::directory_iterator(io::join_path(out, dir), ec))
+          if (stage_file(e.path().filename().string(), d.name + "_stage"))
+            names.push_back(dir + "/" + e.path().filename().string());
+  }
+  for (const std::string& n : names)
+    if (!listed.count(n) && fs::exists(fs::symlink_status(io::join_path(out, n), ec))) return io::join_path(out, n);
+  return "";
+}
+
 // What OUT holds, once the run may write there: throws InputError(OUT, "-o", ...) for a
 // folder of another command's results, of another run's (unless force), or holding a file
 // no run recorded under a name the run writes.
@@ -464,6 +503,12 @@ Holds check_folder(const Plan& plan, const std::string& out, bool force, std::st
                      "a folder that is new or holds the results of these same scenes and settings, but it "
                      "holds " + holds_what + ". Use another folder, or --force to delete that run's files (those "
                      "its manifest.json lists; no other file is touched)");
+  if (holds == Holds::Other)
+    if (const std::string taken = unlisted_output(plan, out); !taken.empty())
+      throw InputError(out, "-o",
+                       "a folder whose earlier run --force deletes, but " + taken +
+                           " is there and that run did not write it (its manifest.json does not list it); this run "
+                           "would overwrite it: move it, or use another folder");
   if (holds == Holds::None && io::folder_results_command(out).empty())
     if (const std::string taken = unrecorded_output(plan, out); !taken.empty())
       throw InputError(out, "-o",

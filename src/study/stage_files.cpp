@@ -409,7 +409,7 @@ void remove_stage_state(const std::string& out, const std::string& design) {
     }
 }
 
-void write_profile_csv(const std::string& out, const std::string& design, const StageRecord& rec) {
+std::string profile_csv_text(const StageRecord& rec) {
   io::CsvTable t({"x_mm", "y_mm"});
   if (!rec.units.empty()) {
     const LinerUnit& u = rec.units.front();
@@ -417,8 +417,12 @@ void write_profile_csv(const std::string& out, const std::string& design, const 
     for (const Vec2& p : u.surface)
       if (std::fabs(p.x) <= xmax) t.add_row({p.x * 1e3, p.y * 1e3});
   }
+  return t.str();
+}
+
+void write_profile_csv(const std::string& out, const std::string& design, const StageRecord& rec) {
   io::ensure_dir(io::profiles_dir(out));
-  t.write(io::profile_path(out, design, rec.stage));
+  io::write_file_atomic(io::profile_path(out, design, rec.stage), profile_csv_text(rec));
 }
 
 void write_snapshot_table(const std::string& path, const ChargeState& st, const std::vector<SpeciesDef>& species) {

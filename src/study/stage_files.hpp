@@ -45,6 +45,8 @@ void remove_stage_state(const std::string& out, const std::string& design);
 constexpr double kProfileMargin = 1.25;
 // OUT/profiles/DESIGN_stageK.csv: x_mm,y_mm (lifter-local, unit of row 0).
 void write_profile_csv(const std::string& out, const std::string& design, const StageRecord& rec);
+// The text write_profile_csv writes.
+std::string profile_csv_text(const StageRecord& rec);
 // A charge snapshot as CSV: x_m,y_m,radius_m,species,species_name,ball (active disks, in the
 // frame the state is in). species indexes `species` (the scene's charge.species).
 void write_snapshot_table(const std::string& path, const ChargeState& state,

@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/atomic_write.hpp"
+#include "io/run_folder.hpp"
 #include "metrics/batch_means.hpp"
 #include "scene/fidelity.hpp"
 #include "scene/limits.hpp"
@@ -33,6 +34,9 @@ namespace {
 
 constexpr std::size_t kReadoutsKept = 240;  // batches in the rolling plot
 constexpr std::size_t kTrailPoints = 180;   // frames a trail keeps (3 s at 60 frames/s)
+// The first line of a lifter file a scene save writes beside the scene: a file of that name
+// without it is not the view's to replace.
+constexpr const char* kSavedLifterMark = "# Lifter saved by millwear view";
 
 std::string number(double v) {
   char buf[64];
@@ -323,6 +327,12 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
   std::string lifter_file;
   if (!edited_profile_text_.empty()) {
     lifter_file = (target.parent_path() / (target.stem().string() + "_lifter.toml")).string();
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(lifter_file, ec)) && read_text(lifter_file).rfind(kSavedLifterMark, 0) != 0)
+      throw InputError(lifter_file, "",
+                       "a name free for the edited lifter of " + target.filename().string() +
+                           " (a scene save writes its lifter as FILE_lifter.toml): a file there that no scene save "
+                           "wrote is left as it is; save the scene under another name, or move that file");
     for (auto& e : edits)
       if (e.table == "lifters" && e.key == "profile") e.value = toml_string_value(target.stem().string() + "_lifter.toml");
   }
@@ -331,7 +341,8 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
                                              "Scene saved by millwear view from " + scene_file_);
   io::ensure_dir(out_dir);  // `save_scene out/lab-edited.toml` makes out/, as a recording does
   if (!lifter_file.empty()) {
-    io::write_file_atomic(lifter_file, edited_profile_text_);
+    io::write_file_atomic(lifter_file, std::string(kSavedLifterMark) + " with " + target.filename().string() + "\n" +
+                                           edited_profile_text_);
     written.push_back(lifter_file);
   }
   // What is written reads back as the scene on screen (the checker runs on it first).
@@ -452,6 +463,21 @@ void LiveMill::take_wear_result() {
 void LiveMill::write_wear_profiles(const std::string& out) const {
   std::lock_guard<std::mutex> lock(wear_mutex_);
   if (wear_records_.empty() || wear_.running) throw RunError("no finished wear history to write");
+  // A command's results folder (a run's, whose profiles these would replace) is not the view's
+  // to write into; elsewhere a profile file already there is replaced only by the same text
+  // (this history saved again), never by another history's.
+  std::error_code ec;
+  if (fs::is_directory(out, ec))
+    if (const std::string holder = io::folder_results_command(out); !holder.empty())
+      throw InputError(out, "", "a folder of no millwear command's results, but it holds those of `millwear " + holder +
+                                    "`, whose files the wear history's profiles would replace: save them into another folder");
+  for (const StageRecord& rec : wear_records_) {
+    const std::string path = io::profile_path(out, scene_.name, rec.stage);
+    if (fs::exists(fs::symlink_status(path, ec)) && read_text(path) != study::profile_csv_text(rec))
+      throw InputError(path, "", "a name free for the wear history's stage " + std::to_string(rec.stage) +
+                                     " profile: a file of other points is there, which it would replace; save the "
+                                     "profiles into another folder, or move that file");
+  }
   for (const StageRecord& rec : wear_records_) study::write_profile_csv(out, scene_.name, rec);
 }
 

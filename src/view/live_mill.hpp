@@ -97,11 +97,14 @@ class LiveMill {
   WearView wear_view() const;
   bool wear_running() const;
   // The profile files `millwear run` writes (OUT/profiles/DESIGN_stageK.csv) for the last
-  // finished wear history, into `out`. Throws RunError when no history has finished.
+  // finished wear history, into `out`. Throws RunError when no history has finished, and
+  // InputError, writing nothing, for a folder of a command's results (a run's) or a profile
+  // file there of other points.
   void write_wear_profiles(const std::string& out) const;
 
   // The scene as edited, as a TOML file `millwear run` accepts (an edited lifter goes beside
-  // it as FILE_lifter.toml). Written atomically. Returns the files written.
+  // it as FILE_lifter.toml, marked as the view's; a FILE_lifter.toml without that mark is
+  // refused, InputError, and nothing is written). Written atomically. Returns the files written.
   std::vector<std::string> save_scene(const std::string& file) const;
 
   const Scene& scene() const { return scene_; }

@@ -105,7 +105,7 @@ void draw_liner(ImDrawList* dl, const Pane& pane, const MillGeometry& mill, doub
                 const std::vector<double>& edge_value, double value_max) {
   const int rows = mill.rows;
   for (int row = 0; row < rows; ++row) {
-    const LinerUnit& u = mill.units[mill.units.size() == 1 ? 0 : static_cast<std::size_t>(row)];
+    const LinerUnit& u = mill.units[mill.unit_of_row(row)];  // a pattern: one unit per kind
     std::vector<ImVec2> poly;
     for (const Vec2& p : u.surface)
       if (std::fabs(p.x) <= 1.05 * u.lifter_half_base_m) poly.push_back(pane.at(rotated(local_to_mill(p, row, rows, mill.radius_m), angle)));
@@ -194,6 +194,22 @@ void draw_mill(const LiveMill& s, const WearView& wear, bool show_wear, const Pa
     dl->AddLine(ImVec2(m.x - 7, m.y), ImVec2(m.x + 7, m.y), kCentre, 2.0f);
     dl->AddLine(ImVec2(m.x, m.y - 7), ImVec2(m.x, m.y + 7), kCentre, 2.0f);
   }
+}
+
+// Why a recording may not start in `dir` ("" if it may): it is a file, or holds frame_NNNNN.png
+// already (an earlier recording's, or a user's). Their numbers would be written over, and a
+// shorter recording would leave the rest of them behind its own, in the film made of the folder.
+std::string recording_refusal(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return "";
+  if (!fs::is_directory(dir, ec)) return "a folder for the recording's frames, but it is a file";
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string n = e.path().filename().string();
+    if (n.rfind("frame_", 0) == 0 && e.path().extension() == ".png")
+      return "a folder without frames for the recording (frame_NNNNN.png), but it holds " + n +
+             ", of an earlier recording or not: record into another folder, or move them";
+  }
+  return "";
 }
 
 void refuse_or_clear(UiState& ui, const std::string& r, LiveMill& s) {
@@ -307,9 +323,14 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
     if (ImGui::Button("screenshot")) ui.shot_pending = ui.shot_path;
     ImGui::InputText("frames folder", ui.record_dir, sizeof ui.record_dir);
     if (ImGui::Button(ui.recording ? "stop recording" : "record")) {
-      ui.recording = !ui.recording;
-      ui.record_to = ui.record_dir;
-      ui.record_index = 0;
+      const std::string refused = ui.recording ? "" : recording_refusal(ui.record_dir);
+      if (refused.empty()) {
+        ui.recording = !ui.recording;
+        ui.record_to = ui.record_dir;
+        ui.record_index = 0;
+      } else {
+        ui.message = std::string(ui.record_dir) + ": " + refused;
+      }
     }
   }
   ImGui::End();
@@ -422,7 +443,10 @@ std::string run_script_command(const ScriptCommand& c, LiveMill& live, UiState& 
       live.write_wear_profiles(c.args[0]);
       if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
     } else if (c.name == "screenshot") shot = c.args[0];
-    else if (c.name == "record") ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
+    else if (c.name == "record") {
+      if (const std::string r = recording_refusal(c.args[0]); !r.empty()) throw InputError(c.args[0], "", r);
+      ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
+    }
     else if (c.name == "stop_record") ui.recording = false;
     else if (c.name == "report") { if (hooks.report) hooks.report(report_line(live)); }
     else if (c.name == "quit") quit = true;
