@@ -1274,6 +1274,24 @@ TEST(HostileScenes, ContactsThatGiveTheChargeEnergyAreSaidToBeUnsound) {
     EXPECT_NE(resumed.output.find(stage), std::string::npos) << resumed.output;
 }
 
+// One disk never collides: its spectrum is empty, and no spectrum figure is drawn (on log
+// axes it has no point, and gnuplot's refusal failed the command). The rest are drawn and
+// the commands succeed.
+TEST(HostileScenes, AChargeWithoutACollisionDrawsNoSpectrumAndSucceeds) {
+  const TempDir dir("millwear-hostile-one-disk");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const std::string one = " --set charge.filling=0.001 --set charge.ball_filling=0.001";
+  const auto charge = run_millwear("charge " + quoted(scene) + one + " -o " + quoted(dir / "charge"));
+  ASSERT_EQ(charge.exit_code, 0) << charge.output;
+  EXPECT_FALSE(fs::exists(dir / "charge" / "plots" / "spectrum.png"));
+  EXPECT_EQ(charge.output.find("spectrum,"), std::string::npos) << charge.output;
+  const auto run = run_millwear("run " + quoted(scene) + one + " --set wear.stages=1 -o " + quoted(dir / "run"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(dir / "run" / "plots" / "fig7_area.png"));
+  EXPECT_FALSE(fs::exists(dir / "run" / "plots" / "spectrum.png"));
+}
+
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
 // file, which is what the file means, and the run resumes from it.
 TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {

@@ -541,7 +541,12 @@ FigureOutcome draw_all_figures(const std::string& out, const std::vector<std::st
       // Only the designs drawn: a run's spectrum.csv also holds each replicate's histogram.
       if (!io::is_valid_design_name(d) || std::find(designs.begin(), designs.end(), d) == designs.end()) continue;
       write_rows(io::join_path(data_dir, d + "_spectrum.csv"), t.header, rows);
-      with_spectrum.insert(d);
+      // A charge without a collision (a single disk) has no spectrum to draw on log axes.
+      const std::size_t count = data.column("count_per_s");
+      const bool any = std::any_of(rows.begin(), rows.end(), [count](const std::vector<std::string>& r) {
+        return count < r.size() && std::strtod(r[count].c_str(), nullptr) > 0.0;
+      });
+      if (any) with_spectrum.insert(d);
     }
   }
 
