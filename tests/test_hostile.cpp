@@ -85,6 +85,24 @@ void expect_refused(const millwear::testing::CliResult& r, const std::string& fi
 
 // ---- step counts ---------------------------------------------------------------------------
 
+// A time step past the limit is refused with the largest step allowed, and that step is one
+// the check takes (the limit rounded down to the digits shown, not up past it).
+TEST(HostileSteps, TheTimeStepARefusalOffersIsAccepted) {
+  const TempDir dir("millwear-hostile-step-offer");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  for (const std::string dt : {"0.0102", "0.05"}) {
+    const auto r = run_millwear("charge " + lab + " -o " + quoted(dir / "out") + " --check --set solver.time_step=" + dt);
+    ASSERT_EQ(r.exit_code, 2) << r.output;
+    const std::string lead = "a time step of at most ";
+    const auto at = r.output.find(lead);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string offered = r.output.substr(at + lead.size(), r.output.find(' ', at + lead.size()) - at - lead.size());
+    const auto again = run_millwear("charge " + lab + " -o " + quoted(dir / "out") + " --check --set solver.time_step=" +
+                                    offered);
+    EXPECT_EQ(again.exit_code, 0) << dt << " offered " << offered << "\n" << again.output;
+  }
+}
+
 TEST(HostileSteps, CountsPastSixtyFourBitsSaturateInsteadOfWrapping) {
   EXPECT_EQ(millwear::steps_in(1e300, 1e-3), std::numeric_limits<std::int64_t>::max());
   EXPECT_EQ(millwear::steps_in(3e6 * 1.3, 1e-3), 3'900'000'000LL);  // past int: no wrap to 0

@@ -21,6 +21,14 @@ namespace {
 // reshape of the liner and, staged, a measuring window.
 constexpr double kMaxUpdates = 100'000;
 
+// A limit to three significant digits, rounded down, so that the value a message offers is
+// one the check takes (0.010198 s is offered as 0.0101 s, not 0.0102 s).
+double three_digits_down(double v) {
+  if (!(v > 0.0) || !std::isfinite(v)) return v;
+  const double unit = std::pow(10.0, std::floor(std::log10(v)) - 2.0);
+  return std::floor(v / unit) * unit;
+}
+
 std::string count_text(double n) {
   char buf[32];
   std::snprintf(buf, sizeof buf, n < 1e6 ? "%.0f" : "%.3g", n);
@@ -112,7 +120,7 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
                   "a time step of at most %.3g s (1/%.0f s): at the impact speed %.2f m/s (shell speed + "
                   "free fall across the mill) a disk would move %.2f smallest radii (of %.3g mm) per %s, over the "
                   "limit of %.1f radii where disks start to leak through the liner; got %.3g s (1/%.0f s)",
-                  dt_max, std::ceil(1.0 / dt_max), impact_speed_m_s(scene), travel, r * 1e3,
+                  three_digits_down(dt_max), std::ceil(1.0 / dt_max), impact_speed_m_s(scene), travel, r * 1e3,
                   substeps > 1 ? "substep" : "step", kMaxStepTravelRadii, scene.solver.time_step_s,
                   1.0 / scene.solver.time_step_s);
     throw InputError(file, "solver.time_step", buf);
@@ -125,7 +133,7 @@ void check_numerical_limits(const Scene& scene, const std::string& file) {
                   "a time step of at most %.3g s (1/%.0f s): the soft solver finds contacts once a step, and at the "
                   "impact speed %.2f m/s a disk would move %.1f smallest radii (of %.3g mm) per step, over the limit "
                   "of %.0f radii where disks start to leak whatever the substeps; got %.3g s (1/%.0f s)",
-                  dt_max, std::ceil(1.0 / dt_max), impact_speed_m_s(scene), step_travel,
+                  three_digits_down(dt_max), std::ceil(1.0 / dt_max), impact_speed_m_s(scene), step_travel,
                   scene.smallest_particle_radius_m() * 1e3, kMaxSoftStepTravelRadii, scene.solver.time_step_s,
                   1.0 / scene.solver.time_step_s);
     throw InputError(file, "solver.time_step", buf);
