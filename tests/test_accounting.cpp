@@ -230,6 +230,34 @@ TEST(ChargeShape, TheCentreOfMassAngleIsMeasuredFrom6OClockTowardTheRisingSide) 
 // A 0.1 m slice of a 5 m mill: 50 slices. 200 kg and 30 kW a slice are 10 t and 1.5 MW a
 // mill, 150 kW/t. A liner losing 2e-9 m^2 of cross-section a second along 5 m of steel
 // (7800 kg/m^3) loses 7.8e-5 kg/s: 7.8e-5 / 1.5e6 kg/J = 0.1872 g/kWh.
+// A window is sound when its disk-disk contacts dissipate and its books close: the drive's
+// power less the dissipation booked and the charge's energy change within a tenth of it.
+TEST(ChargeEnergy, AWindowIsUnsoundWhenCollisionsGiveEnergyOrTheBooksDoNotClose) {
+  ChargeFigures f;
+  f.summary.power_W = 1000.0;
+  f.summary.collision_power_W = 700.0;
+  f.summary.liner_dissipation_W = 250.0;
+  f.summary.solver_dissipation_W = 20.0;
+  f.summary.kinetic_change_W = -20.0;  // 50 W (5%) unbooked
+  f.collision_kW_per_m = 0.7;
+  f.power_kW_per_m = 1.0;
+  EXPECT_EQ(unsound_energy_split(f), "");
+  f.summary.liner_dissipation_W = 150.0;  // 150 W (15%) unbooked
+  EXPECT_NE(unsound_energy_split(f).find("do not close"), std::string::npos) << unsound_energy_split(f);
+  EXPECT_NE(unsound_energy_split(f).find("15% of the drive's power"), std::string::npos) << unsound_energy_split(f);
+  f.summary.liner_dissipation_W = 350.0;  // 50 W (-5%) booked beyond the work
+  EXPECT_EQ(unsound_energy_split(f), "");
+  f.summary.collision_power_W = -100.0;   // closes, yet the collisions gave energy
+  f.summary.liner_dissipation_W = 1100.0;
+  f.collision_kW_per_m = -0.1;
+  EXPECT_NE(unsound_energy_split(f).find("gave the charge energy"), std::string::npos) << unsound_energy_split(f);
+  f.summary.power_W = 0.0;                // a mill at rest draws nothing: only the collisions judge
+  f.summary.collision_power_W = f.summary.liner_dissipation_W = f.summary.solver_dissipation_W = 0.0;
+  f.summary.kinetic_change_W = -5.0;
+  f.collision_kW_per_m = 0.0;
+  EXPECT_EQ(unsound_energy_split(f), "");
+}
+
 TEST(MillEnergy, SliceFiguresScaleToTheMillAndSetLinerLossAgainstEnergy) {
   ChargeSummary s;
   s.mass_kg = 200.0;

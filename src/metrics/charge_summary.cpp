@@ -82,8 +82,20 @@ double austin_estimate_W_per_m(const Scene& scene) {
 }
 
 std::string unsound_energy_split(const ChargeFigures& f) {
-  if (!(f.collision_kW_per_m < 0.0)) return "";
+  const ChargeSummary& s = f.summary;
+  const double unbooked_W =
+      s.power_W - s.collision_power_W - s.liner_dissipation_W - s.solver_dissipation_W - s.kinetic_change_W;
   char buf[400];
+  if (f.collision_kW_per_m >= 0.0 && s.power_W != 0.0 &&
+      std::fabs(unbooked_W) > kUnbookedPowerShare * std::fabs(s.power_W)) {
+    std::snprintf(buf, sizeof buf,
+                  "the energy books do not close in the measured window: %.0f%% of the drive's power is not booked "
+                  "as dissipation or as the charge's energy, so the collision power, the utilisation and the split "
+                  "of the power are not sound (docs/stability.md)",
+                  100.0 * unbooked_W / s.power_W);
+    return buf;
+  }
+  if (!(f.collision_kW_per_m < 0.0)) return "";
   std::snprintf(buf, sizeof buf,
                 "the contacts between disks gave the charge energy in the measured window (collision power %.3g "
                 "kW/m, the drive's %.3g kW/m): the solver's error is larger than the collisions' dissipation here, "
