@@ -1310,6 +1310,22 @@ TEST(HostileScenes, AChargeWithoutACollisionDrawsNoSpectrumAndSucceeds) {
   EXPECT_FALSE(fs::exists(dir / "run" / "plots" / "spectrum.png"));
 }
 
+// outputs.snapshot = false: a run writes no snapshot of the charge and draws none, as charge
+// does not; the liner file and the other figures are written.
+TEST(HostileScenes, ARunWithoutTheSnapshotOutputWritesNone) {
+  const TempDir dir("millwear-hostile-no-snapshot");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto r = run_millwear("run " + quoted(scene) + " --set outputs.snapshot=false --set wear.stages=1 -o " +
+                              quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "snapshot_lab-quick.csv"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "plots" / "snapshot_lab-quick.png"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "liner_lab-quick.csv"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "plots" / "fig7_area.png"));
+  EXPECT_EQ(read_text(dir / "out" / "manifest.json").find("snapshot_lab-quick"), std::string::npos);
+}
+
 // A charge that centrifuges has no toe or shoulder: their standard errors are NaN in the stage
 // file, which is what the file means, and the run resumes from it.
 TEST(HostileStageFiles, ACentrifugedRunResumesFromItsStages) {

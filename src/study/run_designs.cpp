@@ -232,11 +232,11 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
     latest = rec.stage > st.latest_written && rec.snapshot.size() > 0;
     if (latest) st.latest_written = rec.stage;
   }
-  // The snapshot and liner files show the latest stage (only this thread writes them).
-  if (latest) {
-    study::write_snapshot_csv(out, d.name, d.scene, rec);
-    study::write_liner_csv(out, d.name, d.scene, rec);
-  }
+  // The snapshot (unless outputs.snapshot is off) and liner files show the latest stage (only
+  // this thread writes them).
+  const bool snapshot = latest && d.scene.outputs.snapshot;
+  if (snapshot) study::write_snapshot_csv(out, d.name, d.scene, rec);
+  if (latest) study::write_liner_csv(out, d.name, d.scene, rec);
   // ParaView files of the stage's measuring window (a stage read back from disk has none).
   std::vector<std::string> vtk_files;
   if (!rec.frames.empty()) {
@@ -251,10 +251,8 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   note(ctx, out, io::profile_path(out, d.name, rec.stage));
   for (const auto& f : state_files) note(ctx, out, f);
   for (const auto& f : vtk_files) note(ctx, out, f);
-  if (latest) {
-    note(ctx, out, io::snapshot_path(out, d.name));
-    note(ctx, out, io::liner_path(out, d.name));
-  }
+  if (snapshot) note(ctx, out, io::snapshot_path(out, d.name));
+  if (latest) note(ctx, out, io::liner_path(out, d.name));
   st.stages[rec.stage] = std::move(light);
   write_tables(ctx, opt, false);
   const bool last = rec.stage >= d.scene.wear.stages || rec.worn_out;
