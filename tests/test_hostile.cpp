@@ -1310,6 +1310,25 @@ TEST(HostileScenes, AChargeWithoutACollisionDrawsNoSpectrumAndSucceeds) {
   EXPECT_FALSE(fs::exists(dir / "run" / "plots" / "spectrum.png"));
 }
 
+// The same history under two names gives every figure to the same bit: the verdicts say the
+// two are equal, not that one is higher by 0.
+TEST(HostileScenes, TwoNamesOfOneHistoryAreSaidToBeEqual) {
+  const TempDir dir("millwear-hostile-equal");
+  std::string s = lab_quick();
+  s.replace(s.find("\"lab-quick\""), 11, "\"copy-a\"");
+  write(dir / "a.toml", s);
+  s.replace(s.find("\"copy-a\""), 8, "\"copy-b\"");
+  write(dir / "b.toml", s);
+  const auto r = run_millwear("run " + quoted(dir / "a.toml") + " " + quoted(dir / "b.toml") +
+                              " --set wear.stages=1 --quiet -o " + quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_EQ(read_text(dir / "out" / "profiles" / "copy-a_stage1.csv"), read_text(dir / "out" / "profiles" / "copy-b_stage1.csv"));
+  const std::string md = read_text(dir / "out" / "summary.md");
+  EXPECT_NE(md.find("copy-b and copy-a are equal"), std::string::npos) << md;
+  EXPECT_EQ(md.find("higher than"), std::string::npos) << md;
+  EXPECT_EQ(md.find("lower than"), std::string::npos) << md;
+}
+
 // outputs.snapshot = false: a run writes no snapshot of the charge and draws none, as charge
 // does not; the liner file and the other figures are written.
 TEST(HostileScenes, ARunWithoutTheSnapshotOutputWritesNone) {

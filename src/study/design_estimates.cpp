@@ -230,7 +230,12 @@ std::string verdict_text(const Verdict& v) {
   const std::string pm =
       number_text(std::abs(d)) + " +- " + number_text(v.difference.se) + (v.unit.empty() ? "" : " " + v.unit);
   std::string what;
-  if (v.figure == "life_h")
+  if (d == 0.0)  // the same figure to the last bit (the same history under two names)
+    what = (v.figure == "life_h" ? std::string("life")
+                                 : v.figure + (v.stage >= 0 ? " at stage " + std::to_string(v.stage) : std::string())) +
+           ": " + v.design + " and " + v.reference + " are equal (0 +- " + number_text(v.difference.se) +
+           (v.unit.empty() ? "" : " " + v.unit) + ")";
+  else if (v.figure == "life_h")
     what = v.design + (d >= 0.0 ? " outlasts " : " wears out before ") + v.reference + " by " + pm;
   else
     what = v.figure + (v.stage >= 0 ? " at stage " + std::to_string(v.stage) : std::string()) + ": " + v.design +
