@@ -1310,6 +1310,47 @@ TEST(HostileScenes, AChargeWithoutACollisionDrawsNoSpectrumAndSucceeds) {
   EXPECT_FALSE(fs::exists(dir / "run" / "plots" / "spectrum.png"));
 }
 
+// Soft contacts let the settled bed sink into itself under its weight, about 2 n g / w^2 at
+// the bottom of n layers. The estimate against the engine: the deepest overlap of two disks
+// in the lab mill's bed after two revolutions, at 40 and 80 Hz, within a third of it. At 40
+// Hz --check notes the contacts as soft for the bed and names a frequency that is not; at
+// that frequency, and at the scene's own, nothing is noted.
+TEST(HostileScenes, ContactsTooSoftForTheBedAreNotedAndTheEstimateHolds) {
+  const TempDir dir("millwear-hostile-soft-bed");
+  const std::string lab = kSource + "/scenarios/lab-mill.toml";
+  for (const int hertz : {40, 80}) {
+    const millwear::Scene s = millwear::load_scene(lab, {"solver.contact_hertz=" + std::to_string(hertz)});
+    const double estimate = millwear::bed_overlap_radii(s);
+    const fs::path out = dir / ("hz" + std::to_string(hertz));
+    const auto r = run_millwear("charge " + quoted(fs::path(lab)) + " --revolutions 2 -q --set solver.contact_hertz=" +
+                                std::to_string(hertz) + " -o " + quoted(out));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const millwear::io::CsvData snap = millwear::io::read_csv((out / "snapshot_lab-mill.csv").string());
+    const auto x = snap.numbers("x_m"), y = snap.numbers("y_m"), rad = snap.numbers("radius_m");
+    double deepest = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (std::size_t j = i + 1; j < x.size(); ++j) {
+        const double overlap = rad[i] + rad[j] - std::hypot(x[i] - x[j], y[i] - y[j]);
+        deepest = std::max(deepest, overlap / s.smallest_particle_radius_m());
+      }
+    EXPECT_GT(deepest, estimate / 1.33) << hertz << " Hz";
+    EXPECT_LT(deepest, estimate * 1.33) << hertz << " Hz";
+  }
+  const auto noted = run_millwear("charge " + quoted(fs::path(lab)) + " --check --set solver.contact_hertz=40 -o " +
+                                  quoted(dir / "check"));
+  ASSERT_EQ(noted.exit_code, 0) << noted.output;
+  const std::string lead = "solver.contact_hertz ";
+  const auto at = noted.output.find(lead, noted.output.find("are soft for this bed"));
+  ASSERT_NE(at, std::string::npos) << noted.output;
+  const std::string enough = noted.output.substr(at + lead.size(), noted.output.find(' ', at + lead.size()) - at - lead.size());
+  EXPECT_LE(millwear::bed_overlap_radii(millwear::load_scene(lab, {"solver.contact_hertz=" + enough})), millwear::kSoundBedOverlapRadii) << enough;
+  for (const std::string set : {" --set solver.contact_hertz=" + enough, std::string()}) {
+    const auto quiet = run_millwear("charge " + quoted(fs::path(lab)) + " --check" + set + " -o " + quoted(dir / "check"));
+    ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
+    EXPECT_EQ(quiet.output.find("soft for this bed"), std::string::npos) << set << "\n" << quiet.output;
+  }
+}
+
 // The same history under two names gives every figure to the same bit: the verdicts say the
 // two are equal, not that one is higher by 0.
 TEST(HostileScenes, TwoNamesOfOneHistoryAreSaidToBeEqual) {

@@ -91,8 +91,48 @@ double time_step_limit_s(const Scene& scene) {
   return std::min(kMaxStepTravelRadii * r * substeps, kMaxSoftStepTravelRadii * r) / v;
 }
 
+namespace {
+
+// The bed's layers of disks: the depth of the circular segment that holds the filling over
+// the mean diameter of the disks that fill it (each with its share of the packed area).
+double bed_layers(const Scene& scene) {
+  const double disks = expected_charge_disks(scene);
+  const double fill = std::clamp(scene.charge.filling, 0.0, 1.0);
+  if (!(disks > 0.0) || !(fill > 0.0)) return 0.0;
+  // theta - sin(theta) = 2 pi fill, theta the segment's angle (increasing in theta).
+  double lo = 0.0, hi = 2.0 * kPi;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (mid - std::sin(mid) < 2.0 * kPi * fill ? lo : hi) = mid;
+  }
+  const double r = scene.radius_m();
+  const double depth_m = r * (1.0 - std::cos(0.5 * lo));
+  const double packed_m2 = fill * kPi * r * r * scene.charge.bulk_packing;
+  const double mean_diameter_m = std::sqrt(4.0 * packed_m2 / (kPi * disks));
+  return depth_m / mean_diameter_m;
+}
+
+}  // namespace
+
+double bed_overlap_radii(const Scene& scene) {
+  const double r_min = scene.smallest_particle_radius_m();
+  if (scene.solver.backend != Backend::Soft || !(r_min > 0.0)) return 0.0;
+  const double w = 2.0 * kPi * scene.solver.contact_hertz_used();
+  return 2.0 * bed_layers(scene) * kGravity / (w * w) / r_min;
+}
+
 std::vector<std::string> limit_notes(const Scene& scene) {
   std::vector<std::string> notes;
+  if (const double sag = bed_overlap_radii(scene); sag > kSoundBedOverlapRadii) {
+    const double hertz = scene.solver.contact_hertz_used();
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "solver: contacts of %.3g Hz are soft for this bed: under its weight the lowest disks overlap by "
+                  "about %.2g smallest radii (sound measured up to %.2g; at 10 Hz disks end inside each other); "
+                  "solver.contact_hertz %.3g Hz or more keeps them within it (docs/stability.md)",
+                  hertz, sag, kSoundBedOverlapRadii, std::ceil(hertz * std::sqrt(sag / kSoundBedOverlapRadii)));
+    notes.push_back(buf);
+  }
   const double ratio = particle_mass_ratio(scene);
   if (ratio > kSoundMassRatio) {
     const double limit = time_step_limit_s(scene), dt = scene.solver.time_step_s;

@@ -96,8 +96,18 @@ double time_step_limit_s(const Scene& scene);
 // small disks); beds of many light disks among far heavier ones lose an occasional disk
 // (docs/stability.md, "Many light disks among heavy ones").
 constexpr double kSoundMassRatio = 100.0;
+// How far the lowest soft contacts of the settled bed overlap under its weight, in smallest
+// radii: about 2 n g / w^2 for n layers of disks (the bed's depth at its filling over the
+// disks' mean diameter) on contacts of angular frequency w = 2 pi contact_hertz_used, each
+// carrying the disks above it on half a disk's mass. The lab mill measured 0.45 and 0.13 of
+// the smallest radius at 40 and 80 Hz where this gives 0.42 and 0.11; at 10 Hz disks end
+// inside each other (docs/stability.md). 0 on the library backend and with no disk.
+double bed_overlap_radii(const Scene& scene);
+// Past this the contacts are too soft for the bed: a note, as a softer contact is a choice.
+constexpr double kSoundBedOverlapRadii = 0.25;
 // What the scene asks beyond the measured sound range, for --check: a mass ratio above
-// kSoundMassRatio, with the scene's time step against its limit.
+// kSoundMassRatio, with the scene's time step against its limit; contacts that let the bed
+// sink past kSoundBedOverlapRadii, with the frequency that would not.
 std::vector<std::string> limit_notes(const Scene& scene);
 
 // All of the above, in the order a user would fix them.
