@@ -55,13 +55,8 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
   std::printf("\n");
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   for (const study::SweepPoint& p : r.points)
-    if (p.error.empty() && p.collision_kW < 0.0)
-      std::fprintf(stderr,
-                   "millwear: warning: %s = %s: the contacts between disks gave the charge energy (collision power "
-                   "%.4g kW): the solver's error is larger than the collisions' dissipation there, so its collision "
-                   "power and split of the power are not sound; a smaller solver.time_step shrinks the error "
-                   "(docs/stability.md)\n",
-                   r.axis.key.c_str(), p.text.c_str(), p.collision_kW);
+    if (p.error.empty() && !p.unsound.empty())
+      std::fprintf(stderr, "millwear: warning: %s = %s: %s\n", r.axis.key.c_str(), p.text.c_str(), p.unsound.c_str());
   for (const study::SweepPoint& p : r.points)
     if (!p.error.empty())
       std::fprintf(stderr, "millwear: run failed: %s = %s: %s\n", r.axis.key.c_str(), p.text.c_str(), p.error.c_str());

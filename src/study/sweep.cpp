@@ -92,6 +92,7 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
     return m > 0.0 ? f.power_kW_per_m * L / m : 0.0;
   };
   const ChargeFigures& f = r.figures;
+  p.unsound = unsound_energy_split(f);
   p.charge_t = charge_t(f);
   p.power_kW = f.power_kW_per_m * L;
   p.specific_kW_per_t = specific(f);
@@ -244,6 +245,7 @@ SweepPoint fold_replicates(const std::vector<SweepPoint>& reps) {
     p.lost_disks += r.lost_disks;
     p.centrifuged = p.centrifuged || r.centrifuged;
     if (p.error.empty() && !r.error.empty()) p.error = r.error;
+    if (p.unsound.empty() && !r.unsound.empty()) p.unsound = r.unsound;
   }
   return p;
 }

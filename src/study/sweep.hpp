@@ -72,6 +72,7 @@ struct SweepPoint {
   double simulated_s = 0.0, wall_s = 0.0;
   int replicates = 1;                          // charges folded into the figures
   std::string error;                           // a lost disk or a failed run: figures suspect
+  std::string unsound;  // the window's split of the power not sound (unsound_energy_split; "": sound)
 };
 
 // Replicates of one value folded: each figure's mean over them, its error the standard error
