@@ -918,6 +918,37 @@ TEST(HostileOptions, ForceRefusesAUsersFileUnderANameTheNewDesignWrites) {
   }
 }
 
+// A run that starts over in its own folder (the same inputs without --resume, or another
+// run's folder with --force) deletes that run's stage files and profiles: a user's other
+// files beside them, even under names that start like a stage's, stay.
+TEST(HostileOptions, StartingOverLeavesAUsersOtherFilesBesideTheStages) {
+  const TempDir dir("millwear-hostile-options-start-over");
+  const fs::path first = dir / "first.toml", second = dir / "second.toml", out = dir / "out";
+  write(first, lab_quick());
+  std::string t = lab_quick();
+  const std::string name = "name = \"lab-quick\"";
+  t.replace(t.find(name), name.size(), "name = \"lab-other\"");
+  write(second, t);
+  const std::vector<std::string> mine = {"stages/lab-quick_stage0.notes.txt", "stages/lab-quick_stage7.csv",
+                                         "profiles/lab-quick_stage0.marked.csv", "profiles/lab-quick_stage0.txt"};
+  for (const char* extra : {"", " --force"}) {
+    const fs::path scene = *extra ? second : first;
+    const auto r0 = run_millwear("run " + quoted(first) + " -o " + quoted(out) + " -q --stop-after-stage 0");
+    ASSERT_EQ(r0.exit_code, 130) << r0.output;
+    for (const std::string& m : mine) write(out / m, "the user's own\n");
+    const auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " -q --stop-after-stage 0" + extra);
+    ASSERT_EQ(r.exit_code, 130) << extra << "\n" << r.output;
+    for (const std::string& m : mine) {
+      ASSERT_TRUE(fs::exists(out / m)) << m << extra;
+      EXPECT_EQ(read_text(out / m), "the user's own\n") << m << extra;
+    }
+    // The earlier run's own stage files went (with --force: the other design's were written).
+    EXPECT_EQ(fs::exists(out / "stages" / "lab-quick_stage0.done"), !*extra) << extra;
+    EXPECT_TRUE(fs::exists(out / "stages" / (*extra ? "lab-other_stage0.done" : "lab-quick_stage0.done")));
+    fs::remove_all(out);
+  }
+}
+
 // A command other than `run` that writes into a folder holding another command's results
 // (a run's manifest or run key, a sweep's manifest) would overwrite part of them: refused
 // before any work, and the folder's files left as they were. The same command's own folder
@@ -1344,7 +1375,7 @@ TEST(HostileScenes, ContactsTooSoftForTheBedAreNotedAndTheEstimateHolds) {
   ASSERT_NE(at, std::string::npos) << noted.output;
   const std::string enough = noted.output.substr(at + lead.size(), noted.output.find(' ', at + lead.size()) - at - lead.size());
   EXPECT_LE(millwear::bed_overlap_radii(millwear::load_scene(lab, {"solver.contact_hertz=" + enough})), millwear::kSoundBedOverlapRadii) << enough;
-  for (const std::string set : {" --set solver.contact_hertz=" + enough, std::string()}) {
+  for (const std::string& set : {" --set solver.contact_hertz=" + enough, std::string()}) {
     const auto quiet = run_millwear("charge " + quoted(fs::path(lab)) + " --check" + set + " -o " + quoted(dir / "check"));
     ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
     EXPECT_EQ(quiet.output.find("soft for this bed"), std::string::npos) << set << "\n" << quiet.output;

@@ -462,12 +462,15 @@ std::string unlisted_output(const Plan& plan, const std::string& out) {
   } catch (const std::exception&) {
   }
   std::vector<std::string> names = {"summary.md", "kinds.csv", "replicates.csv"};
-  // DESIGN_stage<digits>.<anything>, as remove_stage_state takes them.
-  const auto stage_file = [](const std::string& n, const std::string& prefix) {
+  // The names remove_stage_state takes: stage state in stages/, DESIGN_stage<digits>.csv in
+  // profiles/.
+  const auto stage_file = [](const std::string& dir, const std::string& n, const std::string& design) {
+    if (dir == "stages") return study::is_stage_state_name(n, design);
+    const std::string prefix = design + "_stage";
     std::size_t i = prefix.size();
     if (n.compare(0, i, prefix) != 0 || i >= n.size() || !std::isdigit(static_cast<unsigned char>(n[i]))) return false;
     while (i < n.size() && std::isdigit(static_cast<unsigned char>(n[i]))) ++i;
-    return i < n.size() && n[i] == '.';
+    return n.compare(i, std::string::npos, ".csv") == 0;
   };
   std::error_code ec;
   for (const DesignInput& d : plan.designs) {
@@ -477,7 +480,7 @@ std::string unlisted_output(const Plan& plan, const std::string& out) {
     for (const std::string& dir : {std::string("stages"), std::string("profiles")})
       if (fs::is_directory(io::join_path(out, dir), ec))
         for (const auto& e : fs::directory_iterator(io::join_path(out, dir), ec))
-          if (stage_file(e.path().filename().string(), d.name + "_stage"))
+          if (stage_file(dir, e.path().filename().string(), d.name))
             names.push_back(dir + "/" + e.path().filename().string());
   }
   for (const std::string& n : names)

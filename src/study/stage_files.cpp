@@ -23,6 +23,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The extensions of a stage's state files, after DESIGN_stageN (the marker, .done, aside).
+constexpr const char* kStateExtensions[] = {".record", ".units.csv", ".spectrum.csv", ".edges.csv", ".charge.csv", ".start.csv"};
+
 std::string stage_base(const std::string& out, const std::string& design, int stage) {
   return io::join_path(io::stages_dir(out), design + "_stage" + std::to_string(stage));
 }
@@ -371,32 +374,41 @@ StageRecord read_stage_state(const std::string& out, const std::string& design, 
 std::vector<std::string> stage_state_files(const std::string& out, const std::string& design, int stage) {
   const std::string base = stage_base(out, design, stage);
   std::vector<std::string> files;
-  for (const char* ext : {".record", ".units.csv", ".spectrum.csv", ".edges.csv", ".charge.csv", ".start.csv"})
+  for (const char* ext : kStateExtensions)
     if (io::file_exists(base + ext)) files.push_back(base + ext);
   const std::string marker = io::stage_done_marker(out, design, stage);
   if (io::file_exists(marker)) files.push_back(marker);
   return files;
 }
 
+bool is_stage_state_name(const std::string& name, const std::string& design) {
+  const std::string prefix = design + "_stage";
+  if (name.compare(0, prefix.size(), prefix) != 0) return false;
+  // DESIGN_stage<digits>EXT: not another design whose name starts the same way, and not a
+  // file of the user's under a name the run never writes.
+  std::size_t i = prefix.size();
+  if (i >= name.size() || !std::isdigit(static_cast<unsigned char>(name[i]))) return false;
+  while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i]))) ++i;
+  const std::string_view ext(name.c_str() + i);
+  if (ext == ".done") return true;
+  for (const char* e : kStateExtensions)
+    if (ext == e) return true;
+  return false;
+}
+
 void remove_stage_state(const std::string& out, const std::string& design) {
   std::error_code ec;
-  const std::string dir = io::stages_dir(out), prefix = design + "_stage";
+  const std::string dir = io::stages_dir(out);
   if (!fs::is_directory(dir, ec)) return;
   std::vector<fs::path> doomed;
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    const std::string n = e.path().filename().string();
-    if (n.compare(0, prefix.size(), prefix) != 0) continue;
-    // DESIGN_stage<digits>.<anything>: not another design whose name starts the same way.
-    std::size_t i = prefix.size();
-    if (i >= n.size() || !std::isdigit(static_cast<unsigned char>(n[i]))) continue;
-    while (i < n.size() && std::isdigit(static_cast<unsigned char>(n[i]))) ++i;
-    if (i < n.size() && n[i] == '.') doomed.push_back(e.path());
-  }
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (is_stage_state_name(e.path().filename().string(), design)) doomed.push_back(e.path());
   // Markers first, so a half-removed stage is never taken for a finished one.
   for (const auto& p : doomed)
     if (p.extension() == ".done") fs::remove(p, ec);
   for (const auto& p : doomed) fs::remove(p, ec);
   // Profiles of the earlier run would otherwise be drawn as extra stages.
+  const std::string prefix = design + "_stage";
   const std::string pdir = io::profiles_dir(out);
   if (fs::is_directory(pdir, ec))
     for (const auto& e : fs::directory_iterator(pdir, ec)) {
