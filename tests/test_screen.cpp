@@ -261,7 +261,8 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughASlurmJobArray) {
   ASSERT_EQ(r.exit_code, 0) << "could not start a private Slurm:\n" << r.output;
   const std::string env = "SLURM_CONF=" + q(dir / "slurm.conf") + " ";
 
-  const fs::path out = root_ / "slurm";
+  // A folder with a space and a % in its name: the task logs go into it all the same.
+  const fs::path out = root_ / "slurm 100%";
   r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit slurm --chunk 2");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(slurp(out / "screen.sbatch").find("#SBATCH --array=0-1"), std::string::npos);  // 4 designs, 2 a task
@@ -280,6 +281,14 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughASlurmJobArray) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
   EXPECT_TRUE(fs::exists(out / "slurm/tasks.txt"));
+  // Each of the two array tasks logged its screen-task's output there.
+  int logs = 0;
+  for (const auto& e : fs::directory_iterator(out / "slurm"))
+    if (e.path().filename().string().rfind("task-", 0) == 0 && e.path().extension() == ".out") {
+      ++logs;
+      EXPECT_NE(slurp(e.path()).find("d00"), std::string::npos) << e.path();
+    }
+  EXPECT_EQ(logs, 2);
 }
 
 TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {

@@ -42,15 +42,19 @@ std::string slurm_script(const std::vector<int>& tasks, const EmitOptions& o, st
   s << "#!/bin/bash\n"
     << "# millwear screen " << o.name << ": " << tasks.size() << " design(s) in " << jobs.size()
     << " array task(s) of up to " << o.chunk << ".\n"
-    << "# Submit: sbatch " << o.out << "/screen.sbatch; when done: millwear screen --collect " << o.out << "\n"
+    << "# Submit: sbatch " << shell_quote(o.out + "/screen.sbatch") << "; when done: millwear screen --collect "
+    << shell_quote(o.out) << "\n"
     << "#SBATCH --job-name=millwear-" << o.name << "\n"
     << "#SBATCH --array=0-" << (jobs.empty() ? 0 : jobs.size() - 1);
   if (o.max_running > 0) s << "%" << o.max_running;
   s << "\n"
     << "#SBATCH --ntasks=1\n"
     << "#SBATCH --cpus-per-task=1\n"
-    << "#SBATCH --output=" << o.out << "/slurm/task-%A_%a.out\n"
+    // Slurm reads an #SBATCH path up to the first space and expands its % signs, so the log
+    // is opened by the shell instead, with the folder quoted as the other commands have it.
+    << "#SBATCH --output=/dev/null\n"
     << "set -u\n"
+    << "exec >" << shell_quote(o.out + "/slurm/task-") << "\"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.out\" 2>&1\n"
     << "designs=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" " << shell_quote(o.out + "/slurm/tasks.txt") << ")\n"
     << "exec " << shell_quote(o.binary) << " screen-task " << shell_quote(o.out) << " $designs\n";
   return s.str();
