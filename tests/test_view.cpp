@@ -282,6 +282,18 @@ TEST(View, WearModeDrawsTheProfilesRunWrites) {
   EXPECT_NE(slurp(dir / "view" / "profiles/lab-mill_stage0.csv"), slurp(dir / "view" / "profiles/lab-mill_stage2.csv"));
 }
 
+// A reset while the wear mode runs is refused like the other controls (exit 2, naming the
+// line), not passed over as if it had refilled the mill.
+TEST(View, AResetWhileTheWearModeRunsIsRefused) {
+  const TempDir dir("millwear-view-test-reset-wear");
+  write(dir / "s.txt", "0 wear 200\n0 reset\n0 wait_wear\n0 reset\n0.2 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("refused at line 2: the wear mode is running"), std::string::npos) << r.err;
+  // Once the history has finished, the reset is the mill's to do.
+  EXPECT_EQ(r.err.find("refused at line 4"), std::string::npos) << r.err;
+}
+
 // The wear history's profiles are saved beside no command's results (a run's folder, whose
 // profiles they would replace) and over no file of other points (a user's): both are refused,
 // exit 2, naming the folder or file, which stay as they were. The same history saved twice

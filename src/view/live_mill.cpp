@@ -202,8 +202,8 @@ double LiveMill::lifter_height_mm() const { return in_mm(scene_.mill.lifter.trap
 double LiveMill::leading_face_deg() const { return deg_from_rad(scene_.mill.lifter.trapezoid.leading_face_angle_rad); }
 double LiveMill::trailing_face_deg() const { return deg_from_rad(scene_.mill.lifter.trapezoid.trailing_face_angle_rad); }
 
-void LiveMill::reset() {
-  if (wear_running()) return;
+std::string LiveMill::reset() {
+  if (wear_running()) return "the wear mode is running: stop it first";
   mill_ = new_mill_;
   start_engine(fill_charge(scene_, mill_));
   phase_ = Phase::Settling;
@@ -212,6 +212,7 @@ void LiveMill::reset() {
   readouts_.clear();
   edge_shear_.clear();
   changed();
+  return "";
 }
 
 void LiveMill::close_batch() {

@@ -82,7 +82,9 @@ class LiveMill {
   std::string set_lifter_shape(double height_mm, double leading_deg, double trailing_deg);
   void set_paused(bool paused) { paused_ = paused; }
   void set_time_scale(double s) { time_scale_ = s; }
-  void reset();             // a fresh fill of the scene as it stands, settled again
+  // A fresh fill of the scene as it stands, settled again; refused (the reason) while the
+  // wear mode runs.
+  std::string reset();
   void step_frame(double simulated_s);  // one frame even when paused
 
   // Advance the live charge by simulated_s (times the time scale; nothing when paused or

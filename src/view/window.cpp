@@ -273,7 +273,7 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
     ImGui::SameLine();
     if (ImGui::Button("step")) actions.push_back([&s] { s.step_frame(kFrameSimS); });
     ImGui::SameLine();
-    if (ImGui::Button("reset")) actions.push_back([&s] { s.reset(); });
+    if (ImGui::Button("reset")) actions.push_back([&s, &ui] { refuse_or_clear(ui, s.reset(), s); });
     if (ImGui::SliderFloat("time scale", &ui.time_scale, 0.05f, 4.0f, "%.2f")) s.set_time_scale(ui.time_scale);
     ImGui::Checkbox("colour by speed", &ui.colour_by_speed);
     if (ImGui::SliderInt("trails", &ui.trails, 0, 16)) s.set_trail_count(ui.trails);
@@ -430,7 +430,7 @@ std::string run_script_command(const ScriptCommand& c, LiveMill& live, UiState& 
     else if (c.name == "lifter") refused = live.set_lifter_shape(num(0), num(1), num(2));
     else if (c.name == "pause") live.set_paused(true);
     else if (c.name == "resume") live.set_paused(false);
-    else if (c.name == "reset") live.reset();
+    else if (c.name == "reset") refused = live.reset();
     else if (c.name == "time_scale") live.set_time_scale(num(0));
     else if (c.name == "colour") ui.colour_by_speed = c.args[0] == "speed";
     else if (c.name == "trails") live.set_trail_count(static_cast<int>(num(0)));
