@@ -78,6 +78,31 @@ TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
   EXPECT_NEAR(io::read_csv(out + "/calibration.csv").number(0, "rms_mm"), 0.002, 1e-15);
 }
 
+// The spread of the surveys' own estimates is known from two worn surveys on; with one it is
+// an empty cell, not a spread of 0 (the fit keeps its default there).
+TEST(CalibrationTables, TheSurveysSpreadIsEmptyWithOneWornSurvey) {
+  const testing::TempDir dir("millwear-study-calibration-spread");
+  const std::string out = dir.path().string();
+  validation::CalibrationResult res;
+  validation::CalibrationRun one, two;
+  one.run = 1;
+  one.fit.sigma_curvature = 0.02;
+  one.fit.survey_hours = {100.0};
+  one.fit.survey_scale = {1.1};
+  two.run = 2;
+  two.fit.sigma_curvature = 0.02;
+  two.fit.sigma_spread = 0.03;
+  two.fit.survey_hours = {50.0, 100.0};
+  two.fit.survey_scale = {1.0, 1.06};
+  res.runs = {one, two};
+  validation::write_calibration_tables(out, res, true);
+  const io::CsvData runs = io::read_csv(out + "/calibration.csv");
+  const std::size_t spread = runs.column("sigma_scale_spread");
+  EXPECT_EQ(runs.text(0, spread), "");
+  EXPECT_DOUBLE_EQ(runs.number(1, "sigma_scale_spread"), 0.03);
+  EXPECT_DOUBLE_EQ(runs.number(0, "sigma_scale_curvature"), 0.02);
+}
+
 TEST(ValidationFiles, AProfileBlockIsATitleThenMillimetrePoints) {
   const Polyline line{{-0.01, 0.0}, {0.0025, 0.02}};
   EXPECT_EQ(validation::profile_block("50 h", line, true), "50 h,-\n-10,0\n2.5,20\n");

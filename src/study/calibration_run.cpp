@@ -122,11 +122,14 @@ void write_calibration_tables(const std::string& out, const CalibrationResult& r
   io::CsvTable runs({"run", "replicate", "seed", "c_run_m3_per_J", "reached_hours", "scale", "c_estimate_m3_per_J",
                      areas ? "rms_mm2" : "rms_mm", "points", "sigma_scale_curvature", "sigma_scale_spread",
                      "at_bound", "wall_s"});
-  // A sigma one residual leaves unknown (infinite in the fit) is an empty cell.
+  // A sigma one residual leaves unknown (infinite in the fit) is an empty cell; so is the
+  // spread of the surveys' estimates with one worn survey (no spread to measure).
   const auto sigma = [](double s) { return std::isfinite(s) ? io::CsvCell(s) : io::CsvCell(""); };
-  for (const auto& r : res.runs)
+  for (const auto& r : res.runs) {
+    const io::CsvCell spread = r.fit.survey_scale.size() >= 2 ? sigma(r.fit.sigma_spread) : io::CsvCell("");
     runs.add_row({r.run, r.replicate, static_cast<unsigned long long>(r.seed), r.c_m3_per_J, r.reached_hours, r.fit.scale, r.c_estimate, r.fit.rms * (areas ? 1e6 : 1e3),
-                  r.fit.points, sigma(r.fit.sigma_curvature), sigma(r.fit.sigma_spread), r.fit.at_bound, r.wall_s});
+                  r.fit.points, sigma(r.fit.sigma_curvature), spread, r.fit.at_bound, r.wall_s});
+  }
   runs.write(io::join_path(out, "calibration.csv"));
   io::CsvTable per({"hours", "c_m3_per_J"});
   for (std::size_t j = 0; j < res.survey_c.size(); ++j) per.add_row({res.survey_hours[j], res.survey_c[j]});
