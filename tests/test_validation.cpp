@@ -687,6 +687,24 @@ TEST(ValidationAreas, AreasMeasuredFromASimulatedRunValidateWithZeroError) {
   EXPECT_TRUE(std::isnan(rows[0].loss_error_pct));  // 0 h: no loss to compare with
 }
 
+// Several lifters surveyed at the start scatter about their mean, the reference of the loss:
+// each row's "loss" there is its gauge's scatter, not wear, and has no percentage error,
+// while the rows after the start keep theirs.
+TEST(ValidationAreas, RowsAtTheStartHaveNoLossPercentageWhateverTheirScatter) {
+  const validation::AreaHistory h{{0.0, 100.0}, {400e-6, 360e-6}};
+  for (const char* text : {"hours,area_mm2\n0,398\n0,402\n100,362\n",
+                           "hours,area_loss_mm2\n0,-1.5\n0,1.5\n100,38\n"}) {
+    const auto rows = validation::compare_areas(validation::parse_area_surveys(text, "a.csv"), h);
+    ASSERT_EQ(rows.size(), 3u) << text;
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_NE(rows[i].measured_loss_m2, 0.0) << text;  // each start row is off the mean
+      EXPECT_TRUE(std::isnan(rows[i].loss_error_pct)) << text << " row " << i << ": " << rows[i].loss_error_pct;
+    }
+    // 40 mm^2 simulated against 38 measured at 100 h: +2/38 of it.
+    EXPECT_NEAR(rows[2].loss_error_pct, 100.0 * 2.0 / 38.0, 1e-6) << text;
+  }
+}
+
 // A synthetic history in place of the engine: the lifter area falls by 0.3 mm^2/h at
 // C = 1e-10 m^3/J, in proportion to C t, so the time-scaling and the linear interpolation
 // between stages are exact, and the "simulation" carries no statistical error.
