@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -169,6 +170,57 @@ TEST(ValidationSurveys, PointsOutOfOrderAreRefusedAndANoiseLoopIsKept) {
   const auto one_face = validation::parse_surveys(head + block("100", face), "face.csv");
   ASSERT_EQ(one_face.size(), 2u);
   EXPECT_EQ(one_face[1].profile_m.size(), 6u);
+}
+
+// A laser scan as a survey: 150,000 points a block along the lab lifter (20 mm high, 33 mm
+// base). Its edges' crossings are found in a tree of bounding boxes, so two such blocks read in
+// well under a second of CPU; testing every pair of edges takes over a minute (1.1e10 pairs a
+// block). The bound, 10 s, leaves room for a slow, shared machine. Two points swapped between
+// the faces in such a scan are still found.
+TEST(ValidationSurveys, ADenseScanIsReadInTimeAndItsCrossingsAreFound) {
+  const std::vector<Vec2> corners = {{-16.5, 0.0}, {-5.0, 20.0}, {5.0, 20.0}, {16.5, 0.0}};  // mm
+  const std::size_t n = 150000;
+  auto points = [&](double scale) {
+    std::vector<Vec2> out;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double t = 3.0 * static_cast<double>(k) / static_cast<double>(n - 1);
+      const std::size_t edge = std::min<std::size_t>(2, static_cast<std::size_t>(t));
+      const Vec2 a = corners[edge], b = corners[edge + 1];
+      const double u = t - static_cast<double>(edge);
+      out.push_back({a.x + u * (b.x - a.x), scale * (a.y + u * (b.y - a.y))});
+    }
+    return out;
+  };
+  auto block = [](const std::string& hours, const std::vector<Vec2>& p) {
+    std::string out;
+    char row[96];
+    for (const Vec2& v : p) {
+      std::snprintf(row, sizeof row, "%s,%.9g,%.9g\n", hours.c_str(), v.x, v.y);
+      out += row;
+    }
+    return out;
+  };
+  const std::string head = "hours,x_mm,y_mm\n" + block("0", points(1.0));
+  const std::clock_t start = std::clock();
+  const auto s = validation::parse_surveys(head + block("100", points(0.8)), "scan.csv");
+  const double cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[1].profile_m.size(), n);
+  EXPECT_LT(cpu_s, 10.0);
+  // A point a third of the way up the trailing face swapped with its mirror on the leading one:
+  // the worn block (from line n + 2) crosses itself around the lifter's top.
+  std::vector<Vec2> swapped = points(0.8);
+  std::swap(swapped[n / 6], swapped[n - 1 - n / 6]);
+  try {
+    validation::parse_surveys(head + block("100", swapped), "scan.csv");
+    ADD_FAILURE() << "a dense survey with two points swapped between its faces was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("crosses itself"), std::string::npos) << e.what();
+    const std::size_t first_line = n + 2;  // header, then the block at 0 h
+    const std::size_t line = std::stoul(e.where.substr(5));
+    EXPECT_GE(line, first_line + n / 6 - 1) << e.what();
+    EXPECT_LE(line, first_line + n - n / 6) << e.what();
+  }
 }
 
 // A survey beside the lifter (over the shell alone) has no lifter area to be a share of.
