@@ -976,6 +976,9 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
   };
   expect("period,area_loss_mm2,hardness\n1,2,3\n", "line 1", "days, hours");
   expect("days,area_loss_mm2,mass_loss_kg,hardness\n1,2,3,4\n", "line 1", "several");
+  // Below comment lines the header is on a later line, and the missing column is named there.
+  expect("# mill 3\n# 2023\nperiod,area_loss_mm2,hardness\n1,2,3\n", "line 3", "days, hours");
+  expect("# mill 3\n\nperiod,days,hardness\n1,2,3\n", "line 3", "wear column");
   expect("# c\ndays,area_loss_mm2,hardness\n1,2,3\n2,0,3\n3,2,3\n", "line 4", "wear in [1e-9, 1e9]");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,x\n3,2,3\n", "line 3", "hardness");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,4\n", "line 4", "at least 3 periods");
