@@ -376,6 +376,28 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
   EXPECT_NE(r.output.find("areas do not shrink with time"), std::string::npos) << r.output;
 }
 
+// Profiles that lost no metal give no wear rate, as areas that do not shrink give none: refused
+// at the last survey's line before the first history (it ran five histories, exit 1, and wrote a
+// calibrated copy with C = 5e-25 m^3/J). Later surveys that copy the one at the start, or stand
+// a gauge's noise above it, lost nothing.
+TEST(HostileSurveys, CalibrateRefusesProfilesThatLostNoMetal) {
+  const TempDir dir("millwear-hostile-no-wear");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto block = [](const std::string& hours, double top_mm) {
+    const std::string top = std::to_string(top_mm);
+    return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
+  };
+  const std::string start = "hours,x_mm,y_mm\n" + block("0", 20.0);
+  for (const std::string& later : {block("50", 20.0) + block("100", 20.0), block("50", 20.01) + block("100", 20.02)}) {
+    write(dir / "profiles.csv", start + later);
+    const auto r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "profiles.csv") + " -o " +
+                                quoted(dir / "out"));
+    expect_refused(r, (dir / "profiles.csv").string(), "line 10", dir / "out");
+    EXPECT_NE(r.output.find("have lost none"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("history"), r.output.find("history's start")) << "a history ran: " << r.output;
+  }
+}
+
 // A survey that lost more area than the lifter has is refused at its line before any history
 // is run (the histories could never reach it: they would run to --max-runs and not converge).
 TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {

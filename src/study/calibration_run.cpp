@@ -54,6 +54,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                                                    ") to calibrate on");
   CalibrateOutcome o;
   o.areas = measured.areas_only;
+  if (!o.areas)
+    check_surveys_show_wear(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file,
+                            scene.mill.one_lifter_shape());
   if (o.areas)
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2, start_h,
                        a.measured_file, scene.mill.one_lifter_shape());

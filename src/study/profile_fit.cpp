@@ -211,6 +211,37 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
   }
 }
 
+void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                             double start_hours, const std::string& file, bool one_shape) {
+  // The lifter at the start, as check_surveys_lose_metal takes it.
+  const Survey* start = nullptr;
+  for (const Survey& s : surveys)
+    if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) start = &s;
+  if (!start && !one_shape) return;  // of which of the pattern's lifters? no reference
+  const Polyline& start_surface = start ? start->profile_m : new_unit.surface;
+  double moment_m2h = 0.0;  // hours since the start times the metal lost, summed
+  const Survey* last = nullptr;
+  for (const Survey& later : surveys) {
+    if (!(later.hours > start_hours + kSameHoursTolerance)) continue;
+    const double lo = std::max(later.profile_m.front().x, start_surface.front().x);
+    const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
+    if (!(hi > lo)) continue;
+    const double lost_m2 = area_between(start_surface, lo, hi, radius_m) - area_between(later.profile_m, lo, hi, radius_m);
+    moment_m2h += (later.hours - start_hours) * lost_m2;
+    last = &later;
+  }
+  if (!last || moment_m2h > 0.0) return;
+  const std::string reference =
+      start ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +
+                  std::to_string(start->first_line) + ")"
+            : "the scene's lifter at the history's start (" + io::format_number(start_hours) + " h)";
+  throw InputError(file, "line " + std::to_string(last->first_line),
+                   "surveys that lose metal with operating hours (a wear rate is fitted to the metal lost); over the "
+                   "spans they share with " + reference + " the later surveys have lost none: the metal lost times "
+                   "the hours since the start, summed, is " + io::format_number(moment_m2h / (kMm * kMm), 4) +
+                   " mm^2 h, not above 0");
+}
+
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {
   return common_stage_hours(survey_hours(surveys), max_stages);
 }
