@@ -300,6 +300,16 @@ TEST(ValidationProfiles, CommonStageHoursPutsStageBoundariesOnTheSurveys) {
   EXPECT_DOUBLE_EQ(at({0, 500, 1200}), 100.0);
   EXPECT_DOUBLE_EQ(at({1000, 1001}), 0.0);  // 1 h steps: too many stages, interpolate
   EXPECT_DOUBLE_EQ(at({0}), 0.0);
+  // Surveys minutes apart would make stages shorter than a scene takes (wear.stage_hours in
+  // [1, 1e6]), whose first update's re-smoothing, not wear, sets their loss: they fall between
+  // the scene's own stages instead, and so does the step a fresh history of them runs.
+  EXPECT_DOUBLE_EQ(at({0, 0.001, 0.002}), 0.0);
+  EXPECT_DOUBLE_EQ(at({0, 0.5, 1.0}), 0.0);
+  EXPECT_DOUBLE_EQ(at({0, 1.0, 2.0}), 1.0);
+  const Scene s = quick_lab();
+  const Scene fresh = validation::scene_for_survey_hours(s, {0.0, 0.001, 0.002}, 0.0);
+  EXPECT_DOUBLE_EQ(fresh.wear.stage_hours, s.wear.stage_hours);
+  EXPECT_EQ(fresh.wear.stages, 1);
 }
 
 TEST(ValidationProfiles, ProfileMeasuredFromASimulatedRunValidatesWithZeroError) {
