@@ -398,6 +398,32 @@ TEST(HostileSurveys, CalibrateRefusesProfilesThatLostNoMetal) {
   }
 }
 
+// A survey too far out for the scene's stages: 999,999 h in 50 h stages is 20,000 stages, twice
+// what a scene may ask for (wear.stages); validate ran them all (hours of a lifter that hardly
+// wears), calibrate 1.6 times as many. Refused at the survey's line, with a stage_hours that would
+// do, before any history.
+TEST(HostileSurveys, ASurveyPastTheStagesAHistoryMayRunIsRefused) {
+  const TempDir dir("millwear-hostile-far-survey");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,418.9\n999999,418\n");
+  // (calibrate takes no wear rate on its command line: the scene's is its first guess.)
+  for (const std::string command : {"validate --set wear.wear_rate=1e-20", "calibrate"}) {
+    const auto r = run_millwear(command + " " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                                quoted(dir / "out"));
+    expect_refused(r, (dir / "areas.csv").string(), "line 4", dir / "out");
+    EXPECT_NE(r.output.find("at most 10000 stages"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stage 0 at"), std::string::npos) << "a history ran: " << r.output;
+  }
+  // Within the limit (9,999 stages of 50 h) validate's surveys pass this check and meet the next
+  // one, made before any work too: the last row, above the start, gained metal.
+  write(dir / "near.csv", "hours,area_mm2\n0,419\n50,418.9\n499950,450\n");
+  const auto near = run_millwear("validate " + scene + " --measured " + quoted(dir / "near.csv") + " -o " +
+                                 quoted(dir / "out") + " --set wear.wear_rate=1e-20");
+  expect_refused(near, (dir / "near.csv").string(), "line 4", dir / "out");
+  EXPECT_EQ(near.output.find("at most 10000 stages"), std::string::npos) << near.output;
+  EXPECT_NE(near.output.find("wear removes metal"), std::string::npos) << near.output;
+}
+
 // A survey that lost more area than the lifter has is refused at its line before any history
 // is run (the histories could never reach it: they would run to --max-runs and not converge).
 TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {

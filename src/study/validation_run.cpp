@@ -41,6 +41,7 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
     return src;
   }
   check_surveys_from_start(measured, scene.wear.start_hours, "the scene's lifters.start_hours", a.measured_file);
+  check_surveys_within_stages(measured, scene, 1.0, a.measured_file);
   const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
   src.scene = scene_for_survey_hours(scene, hours, c, 1.0);
   return src;
