@@ -717,6 +717,46 @@ TEST(ValidationSurveys, ASurveyThatGainsMetalIsRefused) {
   EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+// A survey that has lost the lifter (under 1% of its metal left, kWornOutFraction: the lifter
+// reached the shell, which ends a history), most likely with y_mm measured down, is one no
+// history reaches: refused at its line before any work, as an area loss of the whole lifter is.
+// validate compared it with a lifter still standing (exit 0); calibrate ran five histories that
+// could not wear that far and exited 1.
+TEST(ValidationSurveys, ASurveyThatLostTheWholeLifterIsRefused) {
+  const Scene scene = testing::lab_mill();
+  const LinerUnit unit = new_liner_unit(scene);
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);
+  const auto survey = [hb](double hours, double top_mm) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%g,%.4f,0\n%g,-5,%.4f\n%g,5,%.4f\n%g,%.4f,0\n", hours, -hb, hours, top_mm, hours,
+                  top_mm, hours, hb);
+    return std::string(buf);
+  };
+  const auto check = [&](const std::string& rows) {
+    const auto surveys = validation::parse_surveys("hours,x_mm,y_mm\n" + rows, "s.csv");
+    validation::check_surveys_lose_metal(surveys, unit, scene.radius_m(), 0.0, "s.csv");
+  };
+  std::string where;
+  for (const std::string& start : {survey(0, 20.0), std::string()}) {  // judged by the survey at 0 h, or the scene
+    const std::string m = refusal([&] { check(start + survey(100, 16.0) + survey(200, -14.0)); }, &where);
+    EXPECT_EQ(where, start.empty() ? "line 6" : "line 10") << m;
+    EXPECT_NE(m.find("the survey at 200 h has 0 mm^2 of metal above the shell line"), std::string::npos) << m;
+    // Worn to 2% of its height (about 4% of its metal): still a lifter, taken.
+    EXPECT_EQ(refusal([&] { check(start + survey(100, 16.0) + survey(200, 0.4)); }), "accepted");
+  }
+  // The commands refuse it before any work.
+  const TempDir d("millwear-test-validation-whole-lifter");
+  const std::string file = (d / "down.csv").string();
+  std::ofstream(file) << "hours,x_mm,y_mm\n" + survey(0, 20.0) + survey(100, -2.0);
+  const std::string lab = testing::source_path("scenarios/lab-mill.toml");
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    const CliResult r = run_cli(cmd + " \"" + lab + "\" --measured \"" + file + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(file + ": line 6: surveys that keep some of the lifter"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 // ---- areas ----
 
 TEST(ValidationAreas, AreaHistoryIsExactAtStagesAndLinearBetween) {

@@ -10,6 +10,7 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
+#include "wear/life.hpp"
 
 namespace millwear::validation {
 
@@ -189,7 +190,23 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
     const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
     if (!(hi > lo)) continue;
     const double start_m2 = area_between(start_surface, lo, hi, radius_m);
-    const double gain_m2 = area_between(later.profile_m, lo, hi, radius_m) - start_m2;
+    const double later_m2 = area_between(later.profile_m, lo, hi, radius_m);
+    // A lifter worn to the shell (kWornOutFraction of it left) ends its history: no history
+    // reaches a survey with less, whose y_mm are most likely measured down, not up.
+    if (start_m2 > 0.0 && later_m2 < kWornOutFraction * start_m2) {
+      char buf[640];
+      std::snprintf(buf, sizeof buf,
+                    "surveys that keep some of the lifter (one worn to under %s%% of its metal reached the shell, "
+                    "which ends a history; y_mm is measured up from the original shell line, toward the mill "
+                    "axis): over x = %s to %s mm the survey at %s h has %s mm^2 of metal above the shell line, "
+                    "against %s mm^2 in %s",
+                    io::format_number(100.0 * kWornOutFraction).c_str(), io::format_number(in_mm(lo), 6).c_str(),
+                    io::format_number(in_mm(hi), 6).c_str(), io::format_number(later.hours).c_str(),
+                    io::format_number(in_mm2(later_m2), 4).c_str(), io::format_number(in_mm2(start_m2), 4).c_str(),
+                    reference.c_str());
+      throw InputError(file, "line " + std::to_string(later.first_line), buf);
+    }
+    const double gain_m2 = later_m2 - start_m2;
     if (!(gain_m2 > allowed_m2)) continue;
     const std::string allowed =
         start ? "a gauge's noise of up to " + io::format_number(100.0 * kGainNoiseShare) + "%"

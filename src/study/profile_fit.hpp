@@ -86,6 +86,8 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
 // (then kGainNoiseShare + kCastOverDrawingShare: a casting may be bigger than drawn).
 // Later surveys are not compared with each other (noise and the spread between lifters may
 // beat the wear between two of them). The mirror of check_areas_shrink's check for area files.
+// A survey after the start with under kWornOutFraction (wear/life.hpp) of the start's metal over
+// that span has lost the lifter, which ends a history: refused too, naming its line.
 // one_shape = false (a pattern of lifters of other shapes, Scene::mill.one_lifter_shape): a
 // survey may be of any of them, so without a survey at the start there is no reference and
 // nothing is checked.
