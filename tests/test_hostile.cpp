@@ -1150,6 +1150,24 @@ TEST(HostileFiles, HardnessRefusesItsFolderBeforePrintingAFit) {
   EXPECT_FALSE(fs::exists(dir / "out" / "hardness_fit.csv"));
 }
 
+// A frame of the animation is a whole number of time steps. 200 frames of 0.1 s on the lab's
+// 1 ms step were a step each, 0.2 s, said to be "0.10 s of the charge" with exit 0: refused
+// before any work, with the frames that fit. Frames of 10/3 steps are 4 steps each: the
+// seconds said are those shown, 30 x 4 ms.
+TEST(HostileOptions, AnimateFramesAreWholeTimeStepsAndTheSecondsSaidAreThoseShown) {
+  const TempDir dir("millwear-hostile-animate-frames");
+  const std::string lab = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto r = run_millwear("animate " + lab + " -o " + quoted(dir / "a.gif") + " --seconds 0.1 --frames 200");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("at most 100 frames for 0.1 s"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "a.gif"));
+  // (Without gnuplot, which draws the GIF, animate stops before simulating: exit 1.)
+  const auto ok = run_millwear("animate " + lab + " -o " + quoted(dir / "b.gif") + " --seconds 0.1 --frames 30");
+  ASSERT_EQ(ok.exit_code, millwear::plots::gnuplot_available() ? 0 : 1) << ok.output;
+  if (ok.exit_code == 0) EXPECT_NE(ok.output.find("30 frames, 0.12 s of the charge"), std::string::npos) << ok.output;
+}
+
 // An empty --fidelity or --reference is a mistake on the command line, not "the default".
 TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
   const TempDir dir("millwear-hostile-options-empty");
