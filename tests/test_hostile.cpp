@@ -17,6 +17,7 @@
 #include "common/errors.hpp"
 #include "common/names.hpp"
 #include "geometry/polyline.hpp"
+#include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
@@ -422,6 +423,25 @@ TEST(HostileSurveys, ASurveyPastTheStagesAHistoryMayRunIsRefused) {
   expect_refused(near, (dir / "near.csv").string(), "line 4", dir / "out");
   EXPECT_EQ(near.output.find("at most 10000 stages"), std::string::npos) << near.output;
   EXPECT_NE(near.output.find("wear removes metal"), std::string::npos) << near.output;
+}
+
+// A run of --replicates 2 holds two histories of the design; validate --from compares the
+// first (the scene's seed), while the run's summary.csv gives their mean: it says which
+// history it compared, on the screen and in its manifest.
+TEST(HostileSurveys, ValidateFromAReplicatedRunSaysWhichHistoryItCompared) {
+  const TempDir dir("millwear-hostile-from-replicates");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto run = run_millwear("run " + scene + " -o " + quoted(dir / "run") + " --replicates 2 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n");
+  const auto r = run_millwear("validate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                              quoted(dir / "out") + " --from " + quoted(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the run holds 2 histories of lab-quick (--replicates); compared: the first, seed 1"),
+            std::string::npos)
+      << r.output;
+  const std::string manifest = millwear::io::read_file((dir / "out" / "manifest.json").string());
+  EXPECT_NE(manifest.find("1 of 2 (seed 1)"), std::string::npos) << manifest;
 }
 
 // A survey that lost more area than the lifter has is refused at its line before any history
