@@ -17,6 +17,7 @@
 #include "common/errors.hpp"
 #include "common/names.hpp"
 #include "geometry/polyline.hpp"
+#include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "plots/plots.hpp"
@@ -374,6 +375,73 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
   r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "flat.csv") + " -o " + quoted(dir / "out"));
   expect_refused(r, (dir / "flat.csv").string(), "line 4", dir / "out");
   EXPECT_NE(r.output.find("areas do not shrink with time"), std::string::npos) << r.output;
+}
+
+// Profiles that lost no metal give no wear rate, as areas that do not shrink give none: refused
+// at the last survey's line before the first history (it ran five histories, exit 1, and wrote a
+// calibrated copy with C = 5e-25 m^3/J). Later surveys that copy the one at the start, or stand
+// a gauge's noise above it, lost nothing.
+TEST(HostileSurveys, CalibrateRefusesProfilesThatLostNoMetal) {
+  const TempDir dir("millwear-hostile-no-wear");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto block = [](const std::string& hours, double top_mm) {
+    const std::string top = std::to_string(top_mm);
+    return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
+  };
+  const std::string start = "hours,x_mm,y_mm\n" + block("0", 20.0);
+  for (const std::string& later : {block("50", 20.0) + block("100", 20.0), block("50", 20.01) + block("100", 20.02)}) {
+    write(dir / "profiles.csv", start + later);
+    const auto r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "profiles.csv") + " -o " +
+                                quoted(dir / "out"));
+    expect_refused(r, (dir / "profiles.csv").string(), "line 10", dir / "out");
+    EXPECT_NE(r.output.find("have lost none"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("history"), r.output.find("history's start")) << "a history ran: " << r.output;
+  }
+}
+
+// A survey too far out for the scene's stages: 999,999 h in 50 h stages is 20,000 stages, twice
+// what a scene may ask for (wear.stages); validate ran them all (hours of a lifter that hardly
+// wears), calibrate 1.6 times as many. Refused at the survey's line, with a stage_hours that would
+// do, before any history.
+TEST(HostileSurveys, ASurveyPastTheStagesAHistoryMayRunIsRefused) {
+  const TempDir dir("millwear-hostile-far-survey");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,418.9\n999999,418\n");
+  // (calibrate takes no wear rate on its command line: the scene's is its first guess.)
+  for (const std::string command : {"validate --set wear.wear_rate=1e-20", "calibrate"}) {
+    const auto r = run_millwear(command + " " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                                quoted(dir / "out"));
+    expect_refused(r, (dir / "areas.csv").string(), "line 4", dir / "out");
+    EXPECT_NE(r.output.find("at most 10000 stages"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stage 0 at"), std::string::npos) << "a history ran: " << r.output;
+  }
+  // Within the limit (9,999 stages of 50 h) validate's surveys pass this check and meet the next
+  // one, made before any work too: the last row, above the start, gained metal.
+  write(dir / "near.csv", "hours,area_mm2\n0,419\n50,418.9\n499950,450\n");
+  const auto near = run_millwear("validate " + scene + " --measured " + quoted(dir / "near.csv") + " -o " +
+                                 quoted(dir / "out") + " --set wear.wear_rate=1e-20");
+  expect_refused(near, (dir / "near.csv").string(), "line 4", dir / "out");
+  EXPECT_EQ(near.output.find("at most 10000 stages"), std::string::npos) << near.output;
+  EXPECT_NE(near.output.find("wear removes metal"), std::string::npos) << near.output;
+}
+
+// A run of --replicates 2 holds two histories of the design; validate --from compares the
+// first (the scene's seed), while the run's summary.csv gives their mean: it says which
+// history it compared, on the screen and in its manifest.
+TEST(HostileSurveys, ValidateFromAReplicatedRunSaysWhichHistoryItCompared) {
+  const TempDir dir("millwear-hostile-from-replicates");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto run = run_millwear("run " + scene + " -o " + quoted(dir / "run") + " --replicates 2 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n");
+  const auto r = run_millwear("validate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                              quoted(dir / "out") + " --from " + quoted(dir / "run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the run holds 2 histories of lab-quick (--replicates); compared: the first, seed 1"),
+            std::string::npos)
+      << r.output;
+  const std::string manifest = millwear::io::read_file((dir / "out" / "manifest.json").string());
+  EXPECT_NE(manifest.find("1 of 2 (seed 1)"), std::string::npos) << manifest;
 }
 
 // A survey that lost more area than the lifter has is refused at its line before any history
@@ -1131,6 +1199,24 @@ TEST(HostileFiles, HardnessRefusesItsFolderBeforePrintingAFit) {
   EXPECT_EQ(r.output.find("a = "), std::string::npos) << r.output;
   EXPECT_EQ(read_text(dir / "out" / "user.txt"), "mine\n");
   EXPECT_FALSE(fs::exists(dir / "out" / "hardness_fit.csv"));
+}
+
+// A frame of the animation is a whole number of time steps. 200 frames of 0.1 s on the lab's
+// 1 ms step were a step each, 0.2 s, said to be "0.10 s of the charge" with exit 0: refused
+// before any work, with the frames that fit. Frames of 10/3 steps are 4 steps each: the
+// seconds said are those shown, 30 x 4 ms.
+TEST(HostileOptions, AnimateFramesAreWholeTimeStepsAndTheSecondsSaidAreThoseShown) {
+  const TempDir dir("millwear-hostile-animate-frames");
+  const std::string lab = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const auto r = run_millwear("animate " + lab + " -o " + quoted(dir / "a.gif") + " --seconds 0.1 --frames 200");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--frames"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("at most 100 frames for 0.1 s"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "a.gif"));
+  // (Without gnuplot, which draws the GIF, animate stops before simulating: exit 1.)
+  const auto ok = run_millwear("animate " + lab + " -o " + quoted(dir / "b.gif") + " --seconds 0.1 --frames 30");
+  ASSERT_EQ(ok.exit_code, millwear::plots::gnuplot_available() ? 0 : 1) << ok.output;
+  if (ok.exit_code == 0) EXPECT_NE(ok.output.find("30 frames, 0.12 s of the charge"), std::string::npos) << ok.output;
 }
 
 // An empty --fidelity or --reference is a mistake on the command line, not "the default".

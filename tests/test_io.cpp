@@ -1,6 +1,8 @@
 // Tests for src/io: atomic writes, CSV tables, run-folder markers.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -533,6 +535,32 @@ TEST(IoCsv, SemicolonFilesReadWithDecimalCommas) {
   EXPECT_EQ(d.text(1, 2), "a,b");  // a comma is text in a ';' file
   // In a ',' file a comma is never a decimal separator.
   EXPECT_EQ(io::parse_csv("a,b\n1,2\n", "c.csv").separator, ',');
+}
+
+// European Excel writes 1000 h as "1.000" where it writes 385.5 as "385,5": in a ';' file that
+// writes decimal commas, digits grouped in threes after points are a thousands separator,
+// which strtod read as 1 h with exit 0. Refused naming the line and the comma that shows it;
+// a file without decimal commas keeps the point as its decimal point.
+TEST(IoCsv, SemicolonFilesWithDecimalCommasRefuseAThousandsPoint) {
+  const io::CsvData d = io::parse_csv("hours;area_mm2\n0;419\n50;385,5\n1.000;355\n2.5;-12.500.000\n", "eu.csv");
+  EXPECT_EQ(d.number(1, "area_mm2"), 385.5);
+  EXPECT_EQ(d.number(2, "area_mm2"), 355.0);
+  EXPECT_EQ(d.number(3, "hours"), 2.5);  // not in groups of three: a decimal point still
+  for (const auto& [row, col, line, found] : {std::tuple<std::size_t, const char*, const char*, const char*>{
+                                                  2, "hours", "line 4", "'1.000'"},
+                                              {3, "area_mm2", "line 5", "'-12.500.000'"}}) {
+    try {
+      d.number(row, col);
+      ADD_FAILURE() << "read " << found << " as " << d.number(row, col);
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file, "eu.csv");
+      EXPECT_EQ(e.where, line);
+      EXPECT_NE(e.expected.find(found), std::string::npos) << e.what();
+      EXPECT_NE(e.expected.find("'385,5' on line 3"), std::string::npos) << e.what();
+    }
+  }
+  const io::CsvData points = io::parse_csv("hours;area_mm2\n0;419\n1.000;355\n", "points.csv");
+  EXPECT_EQ(points.number(1, "hours"), 1.0);
 }
 
 TEST(IoCsv, SemicolonFileErrorsNameFileLineAndWhatWasExpected) {

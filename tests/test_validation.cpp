@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -171,6 +172,57 @@ TEST(ValidationSurveys, PointsOutOfOrderAreRefusedAndANoiseLoopIsKept) {
   EXPECT_EQ(one_face[1].profile_m.size(), 6u);
 }
 
+// A laser scan as a survey: 150,000 points a block along the lab lifter (20 mm high, 33 mm
+// base). Its edges' crossings are found in a tree of bounding boxes, so two such blocks read in
+// well under a second of CPU; testing every pair of edges takes over a minute (1.1e10 pairs a
+// block). The bound, 10 s, leaves room for a slow, shared machine. Two points swapped between
+// the faces in such a scan are still found.
+TEST(ValidationSurveys, ADenseScanIsReadInTimeAndItsCrossingsAreFound) {
+  const std::vector<Vec2> corners = {{-16.5, 0.0}, {-5.0, 20.0}, {5.0, 20.0}, {16.5, 0.0}};  // mm
+  const std::size_t n = 150000;
+  auto points = [&](double scale) {
+    std::vector<Vec2> out;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double t = 3.0 * static_cast<double>(k) / static_cast<double>(n - 1);
+      const std::size_t edge = std::min<std::size_t>(2, static_cast<std::size_t>(t));
+      const Vec2 a = corners[edge], b = corners[edge + 1];
+      const double u = t - static_cast<double>(edge);
+      out.push_back({a.x + u * (b.x - a.x), scale * (a.y + u * (b.y - a.y))});
+    }
+    return out;
+  };
+  auto block = [](const std::string& hours, const std::vector<Vec2>& p) {
+    std::string out;
+    char row[96];
+    for (const Vec2& v : p) {
+      std::snprintf(row, sizeof row, "%s,%.9g,%.9g\n", hours.c_str(), v.x, v.y);
+      out += row;
+    }
+    return out;
+  };
+  const std::string head = "hours,x_mm,y_mm\n" + block("0", points(1.0));
+  const std::clock_t start = std::clock();
+  const auto s = validation::parse_surveys(head + block("100", points(0.8)), "scan.csv");
+  const double cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[1].profile_m.size(), n);
+  EXPECT_LT(cpu_s, 10.0);
+  // A point a third of the way up the trailing face swapped with its mirror on the leading one:
+  // the worn block (from line n + 2) crosses itself around the lifter's top.
+  std::vector<Vec2> swapped = points(0.8);
+  std::swap(swapped[n / 6], swapped[n - 1 - n / 6]);
+  try {
+    validation::parse_surveys(head + block("100", swapped), "scan.csv");
+    ADD_FAILURE() << "a dense survey with two points swapped between its faces was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("crosses itself"), std::string::npos) << e.what();
+    const std::size_t first_line = n + 2;  // header, then the block at 0 h
+    const std::size_t line = std::stoul(e.where.substr(5));
+    EXPECT_GE(line, first_line + n / 6 - 1) << e.what();
+    EXPECT_LE(line, first_line + n - n / 6) << e.what();
+  }
+}
+
 // A survey beside the lifter (over the shell alone) has no lifter area to be a share of.
 TEST(ValidationSurveys, ASurveyBesideTheLifterIsRefused) {
   const Scene scene = testing::lab_mill();
@@ -248,6 +300,16 @@ TEST(ValidationProfiles, CommonStageHoursPutsStageBoundariesOnTheSurveys) {
   EXPECT_DOUBLE_EQ(at({0, 500, 1200}), 100.0);
   EXPECT_DOUBLE_EQ(at({1000, 1001}), 0.0);  // 1 h steps: too many stages, interpolate
   EXPECT_DOUBLE_EQ(at({0}), 0.0);
+  // Surveys minutes apart would make stages shorter than a scene takes (wear.stage_hours in
+  // [1, 1e6]), whose first update's re-smoothing, not wear, sets their loss: they fall between
+  // the scene's own stages instead, and so does the step a fresh history of them runs.
+  EXPECT_DOUBLE_EQ(at({0, 0.001, 0.002}), 0.0);
+  EXPECT_DOUBLE_EQ(at({0, 0.5, 1.0}), 0.0);
+  EXPECT_DOUBLE_EQ(at({0, 1.0, 2.0}), 1.0);
+  const Scene s = quick_lab();
+  const Scene fresh = validation::scene_for_survey_hours(s, {0.0, 0.001, 0.002}, 0.0);
+  EXPECT_DOUBLE_EQ(fresh.wear.stage_hours, s.wear.stage_hours);
+  EXPECT_EQ(fresh.wear.stages, 1);
 }
 
 TEST(ValidationProfiles, ProfileMeasuredFromASimulatedRunValidatesWithZeroError) {
@@ -655,6 +717,46 @@ TEST(ValidationSurveys, ASurveyThatGainsMetalIsRefused) {
   EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+// A survey that has lost the lifter (under 1% of its metal left, kWornOutFraction: the lifter
+// reached the shell, which ends a history), most likely with y_mm measured down, is one no
+// history reaches: refused at its line before any work, as an area loss of the whole lifter is.
+// validate compared it with a lifter still standing (exit 0); calibrate ran five histories that
+// could not wear that far and exited 1.
+TEST(ValidationSurveys, ASurveyThatLostTheWholeLifterIsRefused) {
+  const Scene scene = testing::lab_mill();
+  const LinerUnit unit = new_liner_unit(scene);
+  const double hb = 5.0 + 20.0 * std::tan(30.0 * kPi / 180.0);
+  const auto survey = [hb](double hours, double top_mm) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%g,%.4f,0\n%g,-5,%.4f\n%g,5,%.4f\n%g,%.4f,0\n", hours, -hb, hours, top_mm, hours,
+                  top_mm, hours, hb);
+    return std::string(buf);
+  };
+  const auto check = [&](const std::string& rows) {
+    const auto surveys = validation::parse_surveys("hours,x_mm,y_mm\n" + rows, "s.csv");
+    validation::check_surveys_lose_metal(surveys, unit, scene.radius_m(), 0.0, "s.csv");
+  };
+  std::string where;
+  for (const std::string& start : {survey(0, 20.0), std::string()}) {  // judged by the survey at 0 h, or the scene
+    const std::string m = refusal([&] { check(start + survey(100, 16.0) + survey(200, -14.0)); }, &where);
+    EXPECT_EQ(where, start.empty() ? "line 6" : "line 10") << m;
+    EXPECT_NE(m.find("the survey at 200 h has 0 mm^2 of metal above the shell line"), std::string::npos) << m;
+    // Worn to 2% of its height (about 4% of its metal): still a lifter, taken.
+    EXPECT_EQ(refusal([&] { check(start + survey(100, 16.0) + survey(200, 0.4)); }), "accepted");
+  }
+  // The commands refuse it before any work.
+  const TempDir d("millwear-test-validation-whole-lifter");
+  const std::string file = (d / "down.csv").string();
+  std::ofstream(file) << "hours,x_mm,y_mm\n" + survey(0, 20.0) + survey(100, -2.0);
+  const std::string lab = testing::source_path("scenarios/lab-mill.toml");
+  for (const std::string cmd : {"validate", "calibrate"}) {
+    const CliResult r = run_cli(cmd + " \"" + lab + "\" --measured \"" + file + "\" -o \"" + (d / "out").string() + "\"");
+    EXPECT_EQ(r.exit_code, 2) << cmd << ": " << r.output;
+    EXPECT_NE(r.output.find(file + ": line 6: surveys that keep some of the lifter"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 // ---- areas ----
 
 TEST(ValidationAreas, AreaHistoryIsExactAtStagesAndLinearBetween) {
@@ -685,6 +787,24 @@ TEST(ValidationAreas, AreasMeasuredFromASimulatedRunValidateWithZeroError) {
   EXPECT_GT(rows[1].measured_loss_m2, 0.0);  // the worn survey did lose metal
   EXPECT_NEAR(rows[1].simulated_loss_m2, h.stages[0].lifter.area_m2 - h.stages[1].lifter.area_m2, 1e-18);
   EXPECT_TRUE(std::isnan(rows[0].loss_error_pct));  // 0 h: no loss to compare with
+}
+
+// Several lifters surveyed at the start scatter about their mean, the reference of the loss:
+// each row's "loss" there is its gauge's scatter, not wear, and has no percentage error,
+// while the rows after the start keep theirs.
+TEST(ValidationAreas, RowsAtTheStartHaveNoLossPercentageWhateverTheirScatter) {
+  const validation::AreaHistory h{{0.0, 100.0}, {400e-6, 360e-6}};
+  for (const char* text : {"hours,area_mm2\n0,398\n0,402\n100,362\n",
+                           "hours,area_loss_mm2\n0,-1.5\n0,1.5\n100,38\n"}) {
+    const auto rows = validation::compare_areas(validation::parse_area_surveys(text, "a.csv"), h);
+    ASSERT_EQ(rows.size(), 3u) << text;
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_NE(rows[i].measured_loss_m2, 0.0) << text;  // each start row is off the mean
+      EXPECT_TRUE(std::isnan(rows[i].loss_error_pct)) << text << " row " << i << ": " << rows[i].loss_error_pct;
+    }
+    // 40 mm^2 simulated against 38 measured at 100 h: +2/38 of it.
+    EXPECT_NEAR(rows[2].loss_error_pct, 100.0 * 2.0 / 38.0, 1e-6) << text;
+  }
 }
 
 // A synthetic history in place of the engine: the lifter area falls by 0.3 mm^2/h at
@@ -906,6 +1026,9 @@ TEST(Hardness, MalformedFilesNameFileAndLine) {
   };
   expect("period,area_loss_mm2,hardness\n1,2,3\n", "line 1", "days, hours");
   expect("days,area_loss_mm2,mass_loss_kg,hardness\n1,2,3,4\n", "line 1", "several");
+  // Below comment lines the header is on a later line, and the missing column is named there.
+  expect("# mill 3\n# 2023\nperiod,area_loss_mm2,hardness\n1,2,3\n", "line 3", "days, hours");
+  expect("# mill 3\n\nperiod,days,hardness\n1,2,3\n", "line 3", "wear column");
   expect("# c\ndays,area_loss_mm2,hardness\n1,2,3\n2,0,3\n3,2,3\n", "line 4", "wear in [1e-9, 1e9]");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,x\n3,2,3\n", "line 3", "hardness");
   expect("days,area_loss_mm2,hardness\n1,2,3\n2,2,4\n", "line 4", "at least 3 periods");

@@ -23,7 +23,7 @@ int run_animate(const study::AnimationRequest& a) {
   const std::string liner =
       o.from_history ? "stages 0-" + std::to_string(o.last_stage) + " by wear rate" : "liner by shear work rate";
   std::printf("%s: %zu frames, %.2f s of the charge (%zu disks), %s; wrote %s in %.1f s\n", o.scene_name.c_str(),
-              o.frames, a.seconds, o.disks, liner.c_str(), a.out.c_str(), o.wall_s);
+              o.frames, o.seconds, o.disks, liner.c_str(), a.out.c_str(), o.wall_s);
   if (a.keep_data) std::printf("  frame data kept in %s (rerun plots/animate.gp by hand)\n", o.data_dir.c_str());
   return 0;
 }

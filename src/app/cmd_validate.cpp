@@ -25,9 +25,14 @@ namespace {
 void print_history(const Scene& scene, const validation::Measurements& m, const validation::HistorySource& src,
                    const std::string& from) {
   const char* kind = m.areas_only ? "area" : "profile";
-  if (src.from_run)
+  if (src.from_run) {
     std::printf("validate %s: %zu %s survey(s) against the run in %s (%d stage(s), %.0f h)\n", scene.name.c_str(),
                 m.count(), kind, from.c_str(), src.last_stage, src.reached_hours);
+    if (src.histories > 1)
+      std::printf("  the run holds %d histories of %s (--replicates); compared: the first, seed %llu, not their "
+                  "mean in its summary.csv\n",
+                  src.histories, scene.name.c_str(), static_cast<unsigned long long>(scene.solver.seed));
+  }
   else
     std::printf("validate %s: %zu %s survey(s); running %d stage(s) of %g h (fidelity %s)\n", scene.name.c_str(),
                 m.count(), kind, src.scene.wear.stages, src.scene.wear.stage_hours, src.scene.fidelity.c_str());

@@ -1,5 +1,6 @@
 #include "io/csv.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -111,8 +112,50 @@ const std::string& CsvData::text(std::size_t row, std::size_t col) const {
   return rows.at(row).at(col);
 }
 
+namespace {
+
+// Digits in groups of three after points, as a thousands separator writes them: "1.000",
+// "-12.500.000" (blanks around allowed).
+bool thousands_grouped(const std::string& field) {
+  const std::string t = trim(field);
+  std::size_t i = (!t.empty() && (t[0] == '+' || t[0] == '-')) ? 1 : 0;
+  const std::size_t digits_from = i;
+  while (i < t.size() && std::isdigit(static_cast<unsigned char>(t[i]))) ++i;
+  if (i == digits_from || i - digits_from > 3 || i == t.size()) return false;
+  while (i < t.size()) {
+    if (t[i] != '.' || t.size() - i < 4) return false;
+    for (std::size_t k = 1; k <= 3; ++k)
+      if (!std::isdigit(static_cast<unsigned char>(t[i + k]))) return false;
+    i += 4;
+  }
+  return true;
+}
+
+// A field that is a number with one comma as its decimal point: "385,5", "-0,25", ",5".
+bool decimal_comma_number(const std::string& field) {
+  const std::string t = trim(field);
+  std::size_t i = (!t.empty() && (t[0] == '+' || t[0] == '-')) ? 1 : 0;
+  std::size_t digits = 0, commas = 0;
+  for (; i < t.size(); ++i) {
+    if (std::isdigit(static_cast<unsigned char>(t[i]))) ++digits;
+    else if (t[i] == ',') ++commas;
+    else return false;
+  }
+  return commas == 1 && digits > 0 && t.back() != ',';
+}
+
+}  // namespace
+
 double CsvData::number(std::size_t row, std::size_t col) const {
   const std::string& field = text(row, col);
+  // A file that writes decimal commas writes its thousands with points: "1.000" is a thousand
+  // there, which strtod would read as one. Refused, not guessed at.
+  if (separator == ';' && decimal_comma_line != 0 && thousands_grouped(field))
+    throw InputError(path, "line " + std::to_string(row_line.at(row)),
+                     "a number in column " + header.at(col) + " without a thousands separator (this ';'-separated file "
+                     "writes decimals with a comma, as '" + shown_text(decimal_comma_example) + "' on line " +
+                     std::to_string(decimal_comma_line) + ", so its '.' groups thousands), found '" +
+                     shown_text(field) + "'");
   // In a ';' file (European spreadsheets) the decimal separator is a comma: one comma and
   // no point reads as the point. A point and a comma together (a thousands separator) is
   // refused, not guessed at.
@@ -295,6 +338,13 @@ CsvData parse_csv(const std::string& text_in, const std::string& name) {
                            std::to_string(records[r].fields.size()));
     data.rows.push_back(std::move(records[r].fields));
     data.row_line.push_back(records[r].line);
+    if (data.separator == ';' && data.decimal_comma_line == 0)
+      for (const std::string& f : data.rows.back())
+        if (decimal_comma_number(f)) {
+          data.decimal_comma_line = data.row_line.back();
+          data.decimal_comma_example = trim(f);
+          break;
+        }
   }
   return data;
 }

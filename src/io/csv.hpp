@@ -88,6 +88,10 @@ struct CsvData {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::size_t> row_line;    // 1-based line number of each row in the file
   std::size_t header_line = 1;          // 1-based line number of the header (after blank lines)
+  // A ';' file's first number written with a decimal comma ("385,5") and its line; 0: none.
+  // In such a file a number like "1.000" is a thousands separator, not a decimal point.
+  std::size_t decimal_comma_line = 0;
+  std::string decimal_comma_example;
 
   std::size_t row_count() const { return rows.size(); }
   bool has_column(const std::string& name) const;
@@ -96,7 +100,9 @@ struct CsvData {
   std::size_t column(const std::string& name) const;
   const std::string& text(std::size_t row, std::size_t col) const;
   // The field as a double (strtod, whole field, surrounding spaces allowed; nan/inf
-  // accepted, hexadecimal not; in a ';' file one ',' is the decimal separator).
+  // accepted, hexadecimal not; in a ';' file one ',' is the decimal separator, and where the
+  // file writes decimal commas, points in groups of three digits, "1.000", are refused as
+  // thousands separators).
   // Throws InputError(path, "line N", "a number in column NAME, found 'X'").
   double number(std::size_t row, std::size_t col) const;
   double number(std::size_t row, const std::string& col) const { return number(row, column(col)); }

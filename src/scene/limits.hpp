@@ -49,6 +49,11 @@ constexpr double kMaxSoftStepTravelRadii = 8.0;
 // Every time in hours, in files and on the command line, is at most 1e6 h (over a century of
 // operation).
 constexpr double kMaxHours = 1e6;
+// The shortest stage, wear.stage_hours, in hours. A stage's first wear update re-smooths the
+// liner, which takes a little metal whatever the hours; under an hour that is the stage's wear.
+constexpr double kMinStageHours = 1.0;
+// The most stages of one history, wear.stages.
+constexpr int kMaxStages = 10000;
 
 // The most steps of any one phase: settling, spin-up, `charge`'s revolutions, a measuring
 // window (all its batches), the simulated time of a continuous stage. 1e8 steps of a

@@ -514,8 +514,8 @@ void read_wear(const TableReader& r, Scene& s) {
   // wears a lifter away within one window.
   if (auto x = r.number("factor", open_closed(0.0, 1e12), "C_model = factor * C")) w.factor = *x;
   // A stage of at least an hour: shorter ones wear less than one re-smoothing moves the surface.
-  if (auto x = r.number("stage_hours", closed(1.0, kMaxHours), "hours of operation")) w.stage_hours = *x;
-  if (auto x = r.integer("stages", 1, 10000)) w.stages = static_cast<int>(*x);
+  if (auto x = r.number("stage_hours", closed(kMinStageHours, kMaxHours), "hours of operation")) w.stage_hours = *x;
+  if (auto x = r.integer("stages", 1, kMaxStages)) w.stages = static_cast<int>(*x);
   if (auto x = r.number("window_revolutions", open_closed(0.0, kMaxRevolutions), "revolutions"))
     w.window_revolutions = *x;
   if (auto x = r.number("max_depth_step", open_closed(0.0, 1000.0), "mm")) w.max_depth_step_m = *x * kMm;

@@ -98,7 +98,7 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
 // segment's liner in turn. Without a history the one segment gets the window's shear work
 // rate per unit liner area as its colour.
 std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& segments, const AnimationRequest& a,
-                                   std::size_t& disks) {
+                                   std::size_t& disks, double& seconds) {
   const ChargeState initial = fill_charge(scene, segments.front().mill);
   disks = initial.size();
   auto engine = make_engine(scene, segments.front().mill, initial, accounting_options_for(scene));
@@ -108,6 +108,7 @@ std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& seg
   const double start_s = engine->state().time_s;
   const int nframes = a.frames;
   const int steps_per_frame = std::max(1, steps_for(a.seconds / nframes, engine->time_step_s()));
+  seconds = nframes * steps_per_frame * engine->time_step_s();
   std::vector<Frame> frames;
   frames.reserve(static_cast<std::size_t>(nframes));
   std::size_t seg = 0;
@@ -251,6 +252,19 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   Scene scene = study::load_checked_scene(a.scene_file, a.overrides, a.fidelity);
   if (a.out.size() < 5 || a.out.substr(a.out.size() - 4) != ".gif")
     throw InputError("", "-o", "an output file name ending in .gif, found '" + a.out + "'");
+  // A frame is a whole number of time steps: frames shorter than one step would each be one,
+  // and the animation would show more seconds than asked (0.1 s in 200 frames of 1 ms steps
+  // showed 0.2 s).
+  const double dt_s = scene.solver.time_step_s;
+  if (a.seconds / a.frames < dt_s * (1.0 - 1e-9)) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "at most one frame per time step of the scene (%.6g s): %d frames of %.6g s need --seconds of "
+                  "at least %.6g, or at most %d frames for %.6g s",
+                  dt_s, a.frames, a.seconds, a.frames * dt_s, static_cast<int>(std::floor(a.seconds / dt_s * (1.0 + 1e-9))),
+                  a.seconds);
+    throw InputError("", "--frames", buf);
+  }
   const std::string outbase = a.out.substr(0, a.out.size() - 4);
   if (a.keep_data) check_frames_folder(outbase + "_frames");
   // The GIF is all this command makes: without gnuplot, say so before simulating anything.
@@ -274,7 +288,7 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Frame> frames = simulate_frames(scene, segments, a, o.disks);
+  const std::vector<Frame> frames = simulate_frames(scene, segments, a, o.disks, o.seconds);
   o.frames = frames.size();
   o.last_stage = segments.back().stage;
 

@@ -32,12 +32,14 @@ struct AnimationOutcome {
   std::size_t disks = 0;
   bool from_history = false;
   int last_stage = 0;          // with a history: the last stage shown
+  double seconds = 0.0;        // simulated seconds shown: frames x whole time steps per frame
   std::string data_dir;        // the frame files, when kept
   double wall_s = 0.0;
 };
 
-// Throws InputError for a bad scene (or one outside the run limits), an output name not ending in .gif, or a history folder
-// without finished stages of the scene's design; RunError when gnuplot fails.
+// Throws InputError for a bad scene (or one outside the run limits), an output name not ending in .gif, frames
+// shorter than the scene's time step (--frames), or a history folder without finished stages of the scene's
+// design; RunError when gnuplot fails.
 AnimationOutcome make_animation(const AnimationRequest& request);
 
 }  // namespace millwear::study

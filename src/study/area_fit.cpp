@@ -45,7 +45,12 @@ std::vector<AreaComparison> compare_areas(const AreaSurveys& surveys, const Area
     c.measured_loss_m2 = m.loss_m2[i];
     c.simulated_loss_m2 = a0 - c.simulated_area_m2;
     c.loss_error_m2 = c.simulated_loss_m2 - c.measured_loss_m2;
-    c.loss_error_pct = c.measured_loss_m2 != 0.0 ? 100.0 * c.loss_error_m2 / c.measured_loss_m2 : std::nan("");
+    // A row at the start measured no loss: it is the reference the losses count from. Several
+    // lifters there scatter about their mean by a gauge's noise, which is no loss to take a
+    // percentage of (it would read -100% whatever the simulation did).
+    const bool at_start = std::fabs(c.hours - history.start_hours()) <= kSameHoursTolerance;
+    c.loss_error_pct = !at_start && c.measured_loss_m2 != 0.0 ? 100.0 * c.loss_error_m2 / c.measured_loss_m2
+                                                              : std::nan("");
     out.push_back(c);
   }
   return out;

@@ -52,7 +52,7 @@ struct AreaComparison {
   double measured_loss_m2 = 0.0;    // area_surveys.hpp's reference rule
   double simulated_loss_m2 = 0.0;   // A_sim(0) - A_sim(h)
   double loss_error_m2 = 0.0;       // simulated - measured
-  double loss_error_pct = 0.0;      // of the measured loss; NaN where that is 0
+  double loss_error_pct = 0.0;      // of the measured loss; NaN where that is 0, and at the start
 };
 // One comparison per survey row (file order). Precondition: history.covers(every hours).
 std::vector<AreaComparison> compare_areas(const AreaSurveys& surveys, const AreaHistory& history);

@@ -172,6 +172,27 @@ void check_surveys_from_start(const Measurements& measured, double start_hours, 
                            " h): the wear before it is not simulated; this survey is at " + io::format_number(hours[i]) + " h");
 }
 
+void check_surveys_within_stages(const Measurements& measured, const Scene& scene, double reach,
+                                 const std::string& file) {
+  const std::vector<double> hours = measured.hours();
+  if (hours.empty()) return;
+  const Scene s = scene_for_survey_hours(scene, hours, 0.0, reach);
+  if (s.wear.stages <= kMaxStages) return;
+  const std::size_t last = static_cast<std::size_t>(std::max_element(hours.begin(), hours.end()) - hours.begin());
+  const double since_h = reach * (hours[last] - scene.wear.start_hours);
+  char buf[480];
+  std::snprintf(buf, sizeof buf,
+                "surveys a history reaches in at most %d stages (as wear.stages) of the scene's wear.stage_hours, "
+                "%s h%s: the survey at %s h needs %d (to %s h from the history's start); give the scene a "
+                "stage_hours of at least %s h",
+                kMaxStages, io::format_number(s.wear.stage_hours).c_str(),
+                reach > 1.0 ? (", its first history running to " + io::format_number(reach) + " x the last survey").c_str()
+                            : "",
+                io::format_number(hours[last]).c_str(), s.wear.stages, io::format_number(since_h).c_str(),
+                io::format_number(std::ceil(since_h / kMaxStages)).c_str());
+  throw InputError(file, "line " + std::to_string(measured.lines()[last]), buf);
+}
+
 void check_surveys_in_mill(const Measurements& measured, const Scene& scene, const std::string& file) {
   if (measured.areas_only) {
     if (measured.areas.losses) return;

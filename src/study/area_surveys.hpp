@@ -98,4 +98,11 @@ constexpr double kMinAreaShare = 1e-3;
 void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
                               const std::string& file);
 
+// A fresh history reaches `reach` x the last survey's hours since the start in stages of the
+// scene's stage_hours (or the surveys' common step, scene_for_survey_hours): at most kMaxStages
+// of them (scene/limits.hpp), as a scene's own wear.stages. Throws InputError(file, line of the
+// last survey, ...) naming the stages it needs and the stage_hours that would do.
+void check_surveys_within_stages(const Measurements& measured, const Scene& scene, double reach,
+                                 const std::string& file);
+
 }  // namespace millwear::validation

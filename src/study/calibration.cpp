@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "common/errors.hpp"
+#include "scene/limits.hpp"
 #include "wear/history.hpp"
 
 namespace millwear::validation {
@@ -55,6 +56,8 @@ double common_stage_hours(const std::vector<double>& survey_hours, int max_stage
   for (int k = 1; k <= max_stages; ++k) {
     const double h0 = hmin / k;
     if (hmax / h0 > max_stages + 1e-6) return 0.0;
+    // No stage shorter than a scene may have: surveys minutes apart fall between stages.
+    if (h0 < kMinStageHours) return 0.0;
     bool ok = true;
     for (double h : survey_hours) {
       const double q = h / h0;

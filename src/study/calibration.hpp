@@ -49,8 +49,9 @@ constexpr double kSameHoursTolerance = 1e-6;
 
 // Stage hours for a fresh run that puts stage boundaries on the survey hours (hours since
 // the history's start): the largest step h0 with every survey's hours a whole multiple of it
-// (1e-6 relative), if that needs at most max_stages stages to the last survey; otherwise 0
-// (use the scene's stage_hours).
+// (1e-6 relative), if that needs at most max_stages stages to the last survey and is at least
+// kMinStageHours (scene/limits.hpp), the shortest stage a scene takes; otherwise 0 (use the
+// scene's stage_hours).
 constexpr int kMaxCommonStages = 50;
 double common_stage_hours(const std::vector<double>& survey_hours, int max_stages = kMaxCommonStages);
 

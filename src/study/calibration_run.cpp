@@ -1,6 +1,7 @@
 // `millwear calibrate` as one call (see calibration_run.hpp).
 #include "study/calibration_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -45,6 +46,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                              scene.mill.one_lifter_shape());
   }
   check_surveys_from_start(measured, start_h, "the scene's lifters.start_hours", a.measured_file);
+  check_surveys_within_stages(measured, scene, std::max(a.options.first_reach, a.options.reach), a.measured_file);
   bool worn = false;
   for (double h : measured.hours()) worn |= h > start_h + kSameHoursTolerance;
   if (!worn)
@@ -54,6 +56,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                                                    ") to calibrate on");
   CalibrateOutcome o;
   o.areas = measured.areas_only;
+  if (!o.areas)
+    check_surveys_show_wear(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file,
+                            scene.mill.one_lifter_shape());
   if (o.areas)
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2, start_h,
                        a.measured_file, scene.mill.one_lifter_shape());

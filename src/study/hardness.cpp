@@ -39,7 +39,7 @@ std::string exactly_one(const io::CsvData& d, const std::vector<std::string>& na
   if (count != 1) {
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InputError(d.path, "line 1", "exactly one " + what + " column of: " + list +
+    throw InputError(d.path, "line " + std::to_string(d.header_line), "exactly one " + what + " column of: " + list +
                                            (count == 0 ? " (none found)" : " (several found)"));
   }
   return found;

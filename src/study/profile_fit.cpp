@@ -10,6 +10,7 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
+#include "wear/life.hpp"
 
 namespace millwear::validation {
 
@@ -189,7 +190,23 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
     const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
     if (!(hi > lo)) continue;
     const double start_m2 = area_between(start_surface, lo, hi, radius_m);
-    const double gain_m2 = area_between(later.profile_m, lo, hi, radius_m) - start_m2;
+    const double later_m2 = area_between(later.profile_m, lo, hi, radius_m);
+    // A lifter worn to the shell (kWornOutFraction of it left) ends its history: no history
+    // reaches a survey with less, whose y_mm are most likely measured down, not up.
+    if (start_m2 > 0.0 && later_m2 < kWornOutFraction * start_m2) {
+      char buf[640];
+      std::snprintf(buf, sizeof buf,
+                    "surveys that keep some of the lifter (one worn to under %s%% of its metal reached the shell, "
+                    "which ends a history; y_mm is measured up from the original shell line, toward the mill "
+                    "axis): over x = %s to %s mm the survey at %s h has %s mm^2 of metal above the shell line, "
+                    "against %s mm^2 in %s",
+                    io::format_number(100.0 * kWornOutFraction).c_str(), io::format_number(in_mm(lo), 6).c_str(),
+                    io::format_number(in_mm(hi), 6).c_str(), io::format_number(later.hours).c_str(),
+                    io::format_number(in_mm2(later_m2), 4).c_str(), io::format_number(in_mm2(start_m2), 4).c_str(),
+                    reference.c_str());
+      throw InputError(file, "line " + std::to_string(later.first_line), buf);
+    }
+    const double gain_m2 = later_m2 - start_m2;
     if (!(gain_m2 > allowed_m2)) continue;
     const std::string allowed =
         start ? "a gauge's noise of up to " + io::format_number(100.0 * kGainNoiseShare) + "%"
@@ -209,6 +226,37 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
                   io::format_number(in_mm2(gain_m2), 4).c_str(), reference.c_str(), exact.c_str());
     throw InputError(file, "line " + std::to_string(later.first_line), buf);
   }
+}
+
+void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                             double start_hours, const std::string& file, bool one_shape) {
+  // The lifter at the start, as check_surveys_lose_metal takes it.
+  const Survey* start = nullptr;
+  for (const Survey& s : surveys)
+    if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) start = &s;
+  if (!start && !one_shape) return;  // of which of the pattern's lifters? no reference
+  const Polyline& start_surface = start ? start->profile_m : new_unit.surface;
+  double moment_m2h = 0.0;  // hours since the start times the metal lost, summed
+  const Survey* last = nullptr;
+  for (const Survey& later : surveys) {
+    if (!(later.hours > start_hours + kSameHoursTolerance)) continue;
+    const double lo = std::max(later.profile_m.front().x, start_surface.front().x);
+    const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
+    if (!(hi > lo)) continue;
+    const double lost_m2 = area_between(start_surface, lo, hi, radius_m) - area_between(later.profile_m, lo, hi, radius_m);
+    moment_m2h += (later.hours - start_hours) * lost_m2;
+    last = &later;
+  }
+  if (!last || moment_m2h > 0.0) return;
+  const std::string reference =
+      start ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +
+                  std::to_string(start->first_line) + ")"
+            : "the scene's lifter at the history's start (" + io::format_number(start_hours) + " h)";
+  throw InputError(file, "line " + std::to_string(last->first_line),
+                   "surveys that lose metal with operating hours (a wear rate is fitted to the metal lost); over the "
+                   "spans they share with " + reference + " the later surveys have lost none: the metal lost times "
+                   "the hours since the start, summed, is " + io::format_number(moment_m2h / (kMm * kMm), 4) +
+                   " mm^2 h, not above 0");
 }
 
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {

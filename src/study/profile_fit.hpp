@@ -86,11 +86,23 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
 // (then kGainNoiseShare + kCastOverDrawingShare: a casting may be bigger than drawn).
 // Later surveys are not compared with each other (noise and the spread between lifters may
 // beat the wear between two of them). The mirror of check_areas_shrink's check for area files.
+// A survey after the start with under kWornOutFraction (wear/life.hpp) of the start's metal over
+// that span has lost the lifter, which ends a history: refused too, naming its line.
 // one_shape = false (a pattern of lifters of other shapes, Scene::mill.one_lifter_shape): a
 // survey may be of any of them, so without a survey at the start there is no reference and
 // nothing is checked.
 void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                               double start_hours, const std::string& file, bool one_shape = true);
+
+// A wear rate is fitted to the metal the surveys lost: throws InputError(file, "line N", ...),
+// N the last survey's line, if the surveys after the start (start_hours) lost none against the
+// lifter at the start (taken as by check_surveys_lose_metal) over the spans they share with it:
+// their losses, each times its hours since the start, summed, not above 0 (surveys of a
+// lifter that did not wear, or copies of the survey at the start). The mirror of
+// check_areas_shrink's check on area losses. Nothing is checked without a reference (a
+// pattern's surveys with no survey at the start) or without a later survey over the lifter.
+void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                             double start_hours, const std::string& file, bool one_shape);
 
 // The survey version of calibration.hpp's common_stage_hours.
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages = kMaxCommonStages);

@@ -8,6 +8,7 @@
 #include "common/errors.hpp"
 #include "common/text.hpp"
 #include "common/units.hpp"
+#include "geometry/edge_tree.hpp"
 #include "io/csv.hpp"
 #include "profiles/profile.hpp"
 #include "scene/limits.hpp"
@@ -45,19 +46,31 @@ void check_in_order(const Survey& s, const std::vector<std::size_t>& lines, cons
   const double limit_m2 = kMaxNoiseLoopShare * metal_m2;
   double worst_m2 = 0.0;
   std::size_t first = 0, last = 0;  // the worst loop's edges (first, first + 1) and (last, last + 1)
+  // A laser scan gives a survey of a million points: the edges that may cross edge j are found
+  // in a tree of bounding boxes (about log n tests each, not n), and a loop's area from running
+  // sums of the shoelace terms (taken about the first point, to keep their digits), not by
+  // walking the loop.
+  const Vec2 origin = p.front();
+  std::vector<double> shoelace(p.size(), 0.0);  // shoelace[k]: cross terms of edges 0 .. k-1
+  for (std::size_t k = 0; k + 1 < p.size(); ++k)
+    shoelace[k + 1] = shoelace[k] + cross(p[k] - origin, p[k + 1] - origin);
+  const EdgeTree tree(p, 0.0);
   for (std::size_t j = 2; j + 1 < p.size(); ++j)
-    for (std::size_t i = 0; i + 1 < j; ++i) {
-      if (!cross_inside(p[i], p[i + 1], p[j], p[j + 1])) continue;
+    tree.last_hit(box_of(p[j], p[j + 1]), 0, j - 2, [&](std::size_t i) {
+      if (!cross_inside(p[i], p[i + 1], p[j], p[j + 1])) return false;
+      // The loop: the crossing point, then p[i + 1] .. p[j].
       const Vec2 d = p[i + 1] - p[i], e = p[j + 1] - p[j];
-      Polygon loop = {p[i] + (cross(p[j] - p[i], e) / cross(d, e)) * d};
-      loop.insert(loop.end(), p.begin() + static_cast<std::ptrdiff_t>(i + 1), p.begin() + static_cast<std::ptrdiff_t>(j + 1));
-      const double loop_m2 = std::abs(signed_area(loop));
-      if (loop_m2 > worst_m2) {
+      const Vec2 x = p[i] + (cross(p[j] - p[i], e) / cross(d, e)) * d - origin;
+      const double loop_m2 =
+          0.5 * std::abs(cross(x, p[i + 1] - origin) + (shoelace[j] - shoelace[i + 1]) + cross(p[j] - origin, x));
+      // The largest loop; of equal ones, the one that starts first along the survey.
+      if (loop_m2 > worst_m2 || (loop_m2 == worst_m2 && worst_m2 > 0.0 && j == last && i < first)) {
         worst_m2 = loop_m2;
         first = i;
         last = j;
       }
-    }
+      return false;  // every crossing edge before j, not only the last
+    });
   char buf[480];
   if (worst_m2 > limit_m2) {
     const std::size_t a = std::min(lines[first], lines[last + 1]), b = std::max(lines[first], lines[last + 1]);

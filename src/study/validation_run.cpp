@@ -38,9 +38,14 @@ HistorySource history_source(const Scene& scene, const ValidateRequest& a, const
     // The run's figures stand for the scene only if the run was of the scene as given now
     // (its --set and --fidelity included).
     study::check_run_of_scene(a.from, scene, "--from");
+    // A run of --replicates N holds N histories of the design; the first, on the scene's own
+    // seed, is the one compared, and the outcome says so.
+    while (io::last_finished_stage(a.from, scene.name + ".r" + std::to_string(src.histories + 1)) >= 0)
+      ++src.histories;
     return src;
   }
   check_surveys_from_start(measured, scene.wear.start_hours, "the scene's lifters.start_hours", a.measured_file);
+  check_surveys_within_stages(measured, scene, 1.0, a.measured_file);
   const double c = scene.wear.rate_source == WearRateSource::Given ? scene.wear.wear_rate_m3_per_J : 0.0;
   src.scene = scene_for_survey_hours(scene, hours, c, 1.0);
   return src;
@@ -229,6 +234,9 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   else validate_profiles(scene, a, measured.profiles, stages, o);
   study::CommandRecord record{"validate", a.commit, a.scene_file, a.overrides, scene.fidelity, scene.solver.seed,
                               {{"measured", a.measured_file}, {"from", a.from}}, o.files};
+  if (src.histories > 1)
+    record.settings.push_back({"from_history", "1 of " + std::to_string(src.histories) + " (seed " +
+                                                   std::to_string(scene.solver.seed) + ")"});
   record.files.insert(record.files.end(), o.figure_files.begin(), o.figure_files.end());
   record.files.push_back(io::join_path(a.out, "plots/gnuplot.log"));
   study::write_command_manifest(a.out, record);

@@ -49,6 +49,9 @@ struct HistorySource {
   bool from_run = false;
   int last_stage = 0;          // from a run: stages 0..last_stage are read
   double reached_hours = 0.0;  // from a run: the hours of its last stage
+  // From a run of --replicates N: its N histories (DESIGN, DESIGN.r2, ...), of which the first
+  // (the scene's seed) is compared; its summary.csv gives their mean.
+  int histories = 1;
   Scene scene;                 // a fresh history: the scene it runs (stages on the survey hours)
 };
 
