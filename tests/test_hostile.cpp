@@ -1216,7 +1216,9 @@ TEST(HostileOptions, AnimateFramesAreWholeTimeStepsAndTheSecondsSaidAreThoseShow
   // (Without gnuplot, which draws the GIF, animate stops before simulating: exit 1.)
   const auto ok = run_millwear("animate " + lab + " -o " + quoted(dir / "b.gif") + " --seconds 0.1 --frames 30");
   ASSERT_EQ(ok.exit_code, millwear::plots::gnuplot_available() ? 0 : 1) << ok.output;
-  if (ok.exit_code == 0) EXPECT_NE(ok.output.find("30 frames, 0.12 s of the charge"), std::string::npos) << ok.output;
+  if (ok.exit_code == 0) {
+    EXPECT_NE(ok.output.find("30 frames, 0.12 s of the charge"), std::string::npos) << ok.output;
+  }
 }
 
 // An empty --fidelity or --reference is a mistake on the command line, not "the default".
