@@ -68,6 +68,15 @@ TEST(SweepVary, AListKeepsItsValuesAsWritten) {
   EXPECT_DOUBLE_EQ(a.values[2], 16.0);
 }
 
+// A sweep is a curve: a list typed out of order is swept, tabled and drawn in ascending
+// order, each value kept as typed, so the figures' lines do not double back.
+TEST(SweepVary, AListIsSweptInAscendingOrder) {
+  const study::SweepAxis a = study::parse_vary("mill.speed=0.8, 0.50,0.65,-0");
+  ASSERT_EQ(a.texts.size(), 4u);
+  EXPECT_EQ(a.texts, (std::vector<std::string>{"-0", "0.50", "0.65", "0.8"}));
+  for (std::size_t k = 0; k + 1 < a.values.size(); ++k) EXPECT_LT(a.values[k], a.values[k + 1]) << k;
+}
+
 // The same value twice would run the same charge twice: refused, naming both as written.
 TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");

@@ -315,6 +315,17 @@ SweepAxis parse_vary(const std::string& text) {
     }
     if (a.values.size() > kMaxSweepValues)
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values");
+    // A sweep is a curve: its points in ascending order, as its table lists them and its
+    // figures join them (0.8,0.5,0.65 drawn in the order typed would double back on itself).
+    std::vector<std::size_t> order(a.values.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&a](std::size_t i, std::size_t j) { return a.values[i] < a.values[j]; });
+    SweepAxis sorted{a.key, {}, {}};
+    for (std::size_t k : order) {
+      sorted.values.push_back(a.values[k]);
+      sorted.texts.push_back(a.texts[k]);
+    }
+    a = std::move(sorted);
   }
   return a;
 }
