@@ -94,6 +94,43 @@ TEST(SweepVary, AWearKeyIsRefusedAsOneTheChargeDoesNotRead) {
   EXPECT_NO_THROW(study::parse_vary("charge.filling=0.2,0.3"));
 }
 
+// Nor do the keys of a wear history outside [wear], what is written, the other backend's
+// solver settings, or the revolutions --revolutions sets for every point: each is refused
+// before any point runs, naming the --vary and why.
+TEST(SweepVary, AKeyTheSweepsChargeDoesNotReadIsRefused) {
+  for (const char* vary : {"outputs.vtk_frames=5,10", "lifters.start_hours=0,100", "mill.reverse_every=10,50"})
+    try {
+      study::parse_vary(vary);
+      ADD_FAILURE() << "accepted: " << vary;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "--vary " + std::string(vary).substr(0, std::string(vary).find('='))) << e.what();
+      EXPECT_NE(std::string(e.what()).find("every value gives the same point"), std::string::npos) << e.what();
+    }
+  const auto refused = [](const std::string& vary, double revolutions, const std::vector<std::string>& sets) {
+    study::SweepRequest q;
+    q.scene_file = shipped("scenarios/lab-mill.toml");
+    q.vary = vary;
+    q.revolutions = revolutions;
+    q.overrides = sets;
+    try {
+      study::sweep_scenes(q, study::parse_vary(q.vary));
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "--vary " + vary.substr(0, vary.find('='))) << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("solver.velocity_iterations=4,8", 0.0, {}).find("backend (soft) does not read"), std::string::npos);
+  EXPECT_NE(refused("solver.substeps=2,8", 0.0, {"solver.backend=\"box2d\"", "solver.time_step=0.0005"})
+                .find("backend (box2d) does not read"),
+            std::string::npos);
+  EXPECT_NE(refused("run.revolutions=1,2", 0.5, {}).find("--revolutions 0.5 sets every point's"), std::string::npos);
+  // What each backend reads, and the revolutions without --revolutions, are swept.
+  EXPECT_EQ(refused("solver.substeps=2,8", 0.0, {}), "");
+  EXPECT_EQ(refused("solver.velocity_iterations=4,8", 0.0, {"solver.backend=\"box2d\"", "solver.time_step=0.0005"}), "");
+  EXPECT_EQ(refused("run.revolutions=1,2", 0.0, {}), "");
+}
+
 TEST(SweepVary, MalformedVariesAreRefused) {
   for (const char* bad : {"mill.speed", "=0.5:1:0.1", "mill.speed=0.5:1", "mill.speed=1:0.5:0.1",
                           "mill.speed=0.5:1:0", "mill.speed=0.5,fast", "mill.speed=0:1000:0.001"})

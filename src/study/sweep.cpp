@@ -269,6 +269,14 @@ SweepAxis parse_vary(const std::string& text) {
                      "a key the charge reads (mill, lifters, charge, solver): a sweep runs the charge alone, without "
                      "wear, so every value of " + a.key + " gives the same point; `millwear run` or `tradeoff` "
                      "measure the wear settings");
+  // Nor do the keys of a wear history outside [wear] (a liner's hours, the hours between
+  // reversals: the charge turns one way) or what is written (ParaView frames take the same steps).
+  if (a.key.rfind("outputs.", 0) == 0 || a.key == "lifters.start_hours" || a.key == "mill.reverse_every")
+    throw InputError("", "--vary " + a.key,
+                     "a key the charge reads (mill, lifters, charge, solver): " + a.key +
+                         (a.key.rfind("outputs.", 0) == 0 ? " says what is written, not what is measured"
+                                                          : " counts the hours of a wear history, which the charge has not") +
+                         ", so every value gives the same point");
   if (rest.find(':') != std::string::npos) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -346,6 +354,24 @@ std::string without_vary_set(std::string expected, const std::string& vary) {
   return expected;
 }
 
+// A key this sweep's charge does not read gives the same point at every value: the other
+// backend's solver settings, and the window's revolutions --revolutions sets for every point.
+void check_key_is_read(const SweepRequest& q, const std::string& key, const Scene& scene) {
+  const bool box2d = scene.solver.backend == Backend::Box2D;
+  const char* backend = box2d ? "box2d" : "soft";
+  const std::vector<std::string> other_backend =
+      box2d ? std::vector<std::string>{"solver.substeps", "solver.contact_hertz", "solver.damping_ratio", "solver.push_out"}
+            : std::vector<std::string>{"solver.velocity_iterations", "solver.position_iterations"};
+  std::string why;
+  if (std::find(other_backend.begin(), other_backend.end(), key) != other_backend.end())
+    why = "the scene's backend (" + std::string(backend) + ") does not read " + key;
+  else if (key == "run.revolutions" && q.revolutions > 0.0)
+    why = "--revolutions " + io::format_number(q.revolutions) + " sets every point's revolutions";
+  if (!why.empty())
+    throw InputError(q.scene_file, "--vary " + key,
+                     "a key the sweep's charge reads: " + why + ", so every value gives the same point");
+}
+
 }  // namespace
 
 std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
@@ -379,6 +405,7 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     }
     scenes.push_back(std::move(s));
   }
+  check_key_is_read(q, axis.key, scenes.front());
   return scenes;
 }
 
