@@ -1203,6 +1203,25 @@ TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
   EXPECT_EQ(intact.exit_code, 0) << intact.output;
 }
 
+// A stage marker that does not read (garbled on disk) marks no finished stage, as a marker
+// deleted does: --resume measures that stage again and the run ends as an uninterrupted one,
+// not failed when it comes to write the stage over the garbled marker.
+TEST(HostileStageFiles, AGarbledStageMarkerIsAStageToRunAgain) {
+  const TempDir dir("millwear-hostile-stage-garbled-marker");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet").exit_code, 0);
+  const std::string summary = read_text(out / "summary.csv");
+  const fs::path marker = out / "stages" / "lab-quick_stage1.done";
+  ASSERT_TRUE(fs::exists(marker));
+  write(marker, "garbage\n");
+  const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_text(out / "summary.csv"), summary);
+  EXPECT_NE(read_text(marker).find("hash.record="), std::string::npos);
+}
+
 // --continue reads a finished run: one another process is still writing is refused, naming it.
 TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
   const TempDir dir("millwear-hostile-continue-locked");
