@@ -40,6 +40,22 @@ TEST(SweepVary, ARangeIncludesItsLastValueWrittenWithoutRoundingNoise) {
   EXPECT_DOUBLE_EQ(a.values.back(), 1.6);
 }
 
+// A range's values are those typed, to every digit: FIRST and STEP written to 13 digits, or
+// seeds of 13 digits, are swept as written, not rounded to 12 significant digits (a seed of
+// 1000000000001 as 1e+12, which solver.seed then refuses as no integer).
+TEST(SweepVary, ARangeKeepsEveryDigitOfItsValues) {
+  const study::SweepAxis seeds = study::parse_vary("solver.seed=1000000000000:1000000000003:1");
+  EXPECT_EQ(seeds.texts, (std::vector<std::string>{"1000000000000", "1000000000001", "1000000000002", "1000000000003"}));
+  const study::SweepAxis fine = study::parse_vary("mill.speed=0.1234567890123:0.2234567890123:0.05");
+  ASSERT_EQ(fine.texts.size(), 3u);
+  EXPECT_EQ(fine.texts.front(), "0.1234567890123");
+  EXPECT_EQ(fine.texts[1], "0.1734567890123");
+  EXPECT_EQ(fine.texts.back(), "0.2234567890123");
+  EXPECT_EQ(fine.values.back(), 0.2234567890123);
+  // Written with an exponent, the values are rounded to 12 significant digits.
+  EXPECT_EQ(study::parse_vary("mill.speed=5e-1:7e-1:1e-1").texts, (std::vector<std::string>{"0.5", "0.6", "0.7"}));
+}
+
 namespace {
 
 // A --vary of mill.speed parse_vary refuses, naming the --vary and saying `says`.

@@ -53,6 +53,21 @@ std::string value_text(double v) {
   return buf;
 }
 
+// The decimals of a number written plainly ("0.05": 2, "12": 0); -1 for one with an
+// exponent ("5e-2") or too many to print.
+int decimal_places(const std::string& text) {
+  if (text.find_first_of("eExX") != std::string::npos) return -1;
+  const std::size_t dot = text.find('.');
+  const int places = dot == std::string::npos ? 0 : static_cast<int>(text.size() - dot - 1);
+  return places <= 30 ? places : -1;
+}
+
+std::string fixed_text(double v, int places) {
+  char buf[400];  // %.30f of a value up to 1e308
+  std::snprintf(buf, sizeof buf, "%.*f", places, v);
+  return buf;
+}
+
 // Replicate 1 (k = 0) in points/NN, replicate K in points/NN.rK.
 std::string point_dir(const std::string& out, int index, int k = 0) {
   char buf[32];
@@ -298,10 +313,16 @@ SweepAxis parse_vary(const std::string& text) {
     if (n + 1 > static_cast<double>(kMaxSweepValues))
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values, got " +
                                                   value_text(n + 1));
+    // FIRST + i STEP carries the rounding of binary fractions (0.5 + 2 x 0.1 is
+    // 0.7000000000000001): written FIRST and STEP in plain decimals, every value has no more
+    // decimals than they have, and is rounded to those; else to 12 significant digits. Twelve
+    // digits alone would round a seed of 13 digits to 1e+12, or a FIRST typed to 13 digits.
+    const int places = std::max(decimal_places(parts[0]), decimal_places(parts[2]));
     for (int i = 0; i <= static_cast<int>(n); ++i) {
-      const double v = std::stod(value_text(first + i * step));
+      const double raw = first + i * step;
+      const double v = std::stod(places >= 0 && decimal_places(parts[1]) >= 0 ? fixed_text(raw, places) : value_text(raw));
       a.values.push_back(v);
-      a.texts.push_back(value_text(v));
+      a.texts.push_back(io::format_shortest(v));
     }
   } else {
     std::size_t start = 0;
