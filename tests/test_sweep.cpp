@@ -247,6 +247,26 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
   }
 }
 
+// A point whose charge was still settling in its window is warned of, naming the point, as
+// `millwear charge` of its scene warns (lab mill at 1.9 of critical, three revolutions of
+// spin-up, one measured: most of the drive's power goes into the charge's energy); the
+// steady point is not.
+TEST(SweepCharge, APointWhoseChargeWasNotSteadyIsWarnedOf) {
+  const TempDir out("millwear-sweep-unsteady");
+  const std::string args = millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+                           millwear::testing::quoted(out) +
+                           " --set solver.spinup_revolutions=3 --revolutions 1 --fidelity draft -q";
+  const auto charge = millwear::testing::run_millwear("charge " + args + " --set mill.speed=1.9");
+  ASSERT_EQ(charge.exit_code, 0) << charge.output;
+  ASSERT_NE(charge.output.find("the charge was not steady in the window"), std::string::npos) << charge.output;
+  fs::remove_all(out.path());
+  const auto r = millwear::testing::run_millwear("sweep " + args + " --vary mill.speed=0.75,1.9 -j 2 --no-plot");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: mill.speed = 1.9: the charge was not steady in the window"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("mill.speed = 0.75: the charge was not steady"), std::string::npos) << r.output;
+}
+
 TEST(SweepReplicates, FoldedIntoTheMeanAndTheStandardErrorOfTheMean) {
   std::vector<study::SweepPoint> reps(4);
   const double power[] = {10.0, 12.0, 14.0, 16.0};

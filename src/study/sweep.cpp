@@ -108,6 +108,7 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
   };
   const ChargeFigures& f = r.figures;
   p.unsound = unsound_energy_split(f);
+  p.unsteady = unsteady_window(f.summary);
   p.charge_t = charge_t(f);
   p.power_kW = f.power_kW_per_m * L;
   p.specific_kW_per_t = specific(f);
@@ -261,6 +262,7 @@ SweepPoint fold_replicates(const std::vector<SweepPoint>& reps) {
     p.centrifuged = p.centrifuged || r.centrifuged;
     if (p.error.empty() && !r.error.empty()) p.error = r.error;
     if (p.unsound.empty() && !r.unsound.empty()) p.unsound = r.unsound;
+    if (p.unsteady.empty() && !r.unsteady.empty()) p.unsteady = r.unsteady;
   }
   return p;
 }
