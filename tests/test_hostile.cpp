@@ -1311,6 +1311,26 @@ TEST(HostileScenes, ContactsThatGiveTheChargeEnergyAreSaidToBeUnsound) {
     EXPECT_NE(resumed.output.find(stage), std::string::npos) << resumed.output;
 }
 
+// A stage whose window finds the charge still settling (at 1.9 times the critical speed the
+// lab bed takes over a revolution of spin-up to ride the shell) is a run event naming the
+// stage, as `charge` warns of that window, a resumed run too; at the scene's own speed the
+// windows are steady and nothing is said.
+TEST(HostileScenes, AStageWindowNotSteadyIsARunEvent) {
+  const TempDir dir("millwear-hostile-unsteady-window");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const std::string run = "run " + quoted(scene) + " --set mill.speed=1.9 --set wear.stages=1 -o " + quoted(dir / "run");
+  const auto stopped = run_millwear(run + " --stop-after-stage 0");
+  ASSERT_EQ(stopped.exit_code, 130) << stopped.output;
+  const auto resumed = run_millwear(run + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("event: stage 0: the charge was not steady in the window"), std::string::npos)
+      << resumed.output;
+  const auto steady = run_millwear("run " + quoted(scene) + " --set wear.stages=1 -o " + quoted(dir / "steady"));
+  ASSERT_EQ(steady.exit_code, 0) << steady.output;
+  EXPECT_EQ(steady.output.find("not steady"), std::string::npos) << steady.output;
+}
+
 // One disk never collides: its spectrum is empty, and no spectrum figure is drawn (on log
 // axes it has no point, and gnuplot's refusal failed the command). The rest are drawn and
 // the commands succeed.
