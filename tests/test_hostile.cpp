@@ -1322,6 +1322,25 @@ TEST(HostileStageFiles, AStateFileCutAtALineEndIsRefused) {
   EXPECT_EQ(intact.exit_code, 0) << intact.output;
 }
 
+// A stage marker that does not read (garbled on disk) marks no finished stage, as a marker
+// deleted does: --resume measures that stage again and the run ends as an uninterrupted one,
+// not failed when it comes to write the stage over the garbled marker.
+TEST(HostileStageFiles, AGarbledStageMarkerIsAStageToRunAgain) {
+  const TempDir dir("millwear-hostile-stage-garbled-marker");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const fs::path out = dir / "out";
+  ASSERT_EQ(run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet").exit_code, 0);
+  const std::string summary = read_text(out / "summary.csv");
+  const fs::path marker = out / "stages" / "lab-quick_stage1.done";
+  ASSERT_TRUE(fs::exists(marker));
+  write(marker, "garbage\n");
+  const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_text(out / "summary.csv"), summary);
+  EXPECT_NE(read_text(marker).find("hash.record="), std::string::npos);
+}
+
 // --continue reads a finished run: one another process is still writing is refused, naming it.
 TEST(HostileStageFiles, ARunStillBeingWrittenIsNotContinued) {
   const TempDir dir("millwear-hostile-continue-locked");
@@ -1409,6 +1428,26 @@ TEST(HostileScenes, ContactsThatGiveTheChargeEnergyAreSaidToBeUnsound) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   for (const char* stage : {"event: stage 0: the contacts between disks", "event: stage 1: the contacts between disks"})
     EXPECT_NE(resumed.output.find(stage), std::string::npos) << resumed.output;
+}
+
+// A stage whose window finds the charge still settling (at 1.9 times the critical speed the
+// lab bed takes over a revolution of spin-up to ride the shell) is a run event naming the
+// stage, as `charge` warns of that window, a resumed run too; at the scene's own speed the
+// windows are steady and nothing is said.
+TEST(HostileScenes, AStageWindowNotSteadyIsARunEvent) {
+  const TempDir dir("millwear-hostile-unsteady-window");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const std::string run = "run " + quoted(scene) + " --set mill.speed=1.9 --set wear.stages=1 -o " + quoted(dir / "run");
+  const auto stopped = run_millwear(run + " --stop-after-stage 0");
+  ASSERT_EQ(stopped.exit_code, 130) << stopped.output;
+  const auto resumed = run_millwear(run + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("event: stage 0: the charge was not steady in the window"), std::string::npos)
+      << resumed.output;
+  const auto steady = run_millwear("run " + quoted(scene) + " --set wear.stages=1 -o " + quoted(dir / "steady"));
+  ASSERT_EQ(steady.exit_code, 0) << steady.output;
+  EXPECT_EQ(steady.output.find("not steady"), std::string::npos) << steady.output;
 }
 
 // One disk never collides: its spectrum is empty, and no spectrum figure is drawn (on log

@@ -348,6 +348,20 @@ TEST(IoCsv, ShortestTextReadsBackAsTheSameValue) {
   }
 }
 
+// A whole number is written as one, never in %g's exponent form of its fewest digits: a
+// sweep over lifters.rows=10,20 or mill.speed_rpm=20,30 writes 10, 20, 30 in sweep.csv's
+// value column, not 1e+01, 2e+01, 3e+01.
+TEST(IoCsv, ShortestTextWritesWholeNumbersPlainly) {
+  EXPECT_EQ(io::format_shortest(10.0), "10");
+  EXPECT_EQ(io::format_shortest(20.0), "20");
+  EXPECT_EQ(io::format_shortest(1500.0), "1500");
+  EXPECT_EQ(io::format_shortest(-300.0), "-300");
+  EXPECT_EQ(io::format_shortest(1000.0), "1000");
+  EXPECT_EQ(io::format_shortest(0.0001), "0.0001");
+  EXPECT_EQ(io::format_shortest(0.0), "0");
+  EXPECT_EQ(io::format_shortest(1e20), "1e+20");
+}
+
 // Whole degrees as "%.0f" rounds them, without the "-0" of a toe at -0.3 deg.
 TEST(Text, WholeDegreesRoundAsPrintfAndAreNeverMinusZero) {
   const auto shown = [](double v) {

@@ -40,6 +40,22 @@ TEST(SweepVary, ARangeIncludesItsLastValueWrittenWithoutRoundingNoise) {
   EXPECT_DOUBLE_EQ(a.values.back(), 1.6);
 }
 
+// A range's values are those typed, to every digit: FIRST and STEP written to 13 digits, or
+// seeds of 13 digits, are swept as written, not rounded to 12 significant digits (a seed of
+// 1000000000001 as 1e+12, which solver.seed then refuses as no integer).
+TEST(SweepVary, ARangeKeepsEveryDigitOfItsValues) {
+  const study::SweepAxis seeds = study::parse_vary("solver.seed=1000000000000:1000000000003:1");
+  EXPECT_EQ(seeds.texts, (std::vector<std::string>{"1000000000000", "1000000000001", "1000000000002", "1000000000003"}));
+  const study::SweepAxis fine = study::parse_vary("mill.speed=0.1234567890123:0.2234567890123:0.05");
+  ASSERT_EQ(fine.texts.size(), 3u);
+  EXPECT_EQ(fine.texts.front(), "0.1234567890123");
+  EXPECT_EQ(fine.texts[1], "0.1734567890123");
+  EXPECT_EQ(fine.texts.back(), "0.2234567890123");
+  EXPECT_EQ(fine.values.back(), 0.2234567890123);
+  // Written with an exponent, the values are rounded to 12 significant digits.
+  EXPECT_EQ(study::parse_vary("mill.speed=5e-1:7e-1:1e-1").texts, (std::vector<std::string>{"0.5", "0.6", "0.7"}));
+}
+
 namespace {
 
 // A --vary of mill.speed parse_vary refuses, naming the --vary and saying `says`.
@@ -68,6 +84,15 @@ TEST(SweepVary, AListKeepsItsValuesAsWritten) {
   EXPECT_DOUBLE_EQ(a.values[2], 16.0);
 }
 
+// A sweep is a curve: a list typed out of order is swept, tabled and drawn in ascending
+// order, each value kept as typed, so the figures' lines do not double back.
+TEST(SweepVary, AListIsSweptInAscendingOrder) {
+  const study::SweepAxis a = study::parse_vary("mill.speed=0.8, 0.50,0.65,-0");
+  ASSERT_EQ(a.texts.size(), 4u);
+  EXPECT_EQ(a.texts, (std::vector<std::string>{"-0", "0.50", "0.65", "0.8"}));
+  for (std::size_t k = 0; k + 1 < a.values.size(); ++k) EXPECT_LT(a.values[k], a.values[k + 1]) << k;
+}
+
 // The same value twice would run the same charge twice: refused, naming both as written.
 TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");
@@ -83,6 +108,43 @@ TEST(SweepVary, AWearKeyIsRefusedAsOneTheChargeDoesNotRead) {
     EXPECT_NE(std::string(e.what()).find("a sweep runs the charge alone"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(study::parse_vary("charge.filling=0.2,0.3"));
+}
+
+// Nor do the keys of a wear history outside [wear], what is written, the other backend's
+// solver settings, or the revolutions --revolutions sets for every point: each is refused
+// before any point runs, naming the --vary and why.
+TEST(SweepVary, AKeyTheSweepsChargeDoesNotReadIsRefused) {
+  for (const char* vary : {"outputs.vtk_frames=5,10", "lifters.start_hours=0,100", "mill.reverse_every=10,50"})
+    try {
+      study::parse_vary(vary);
+      ADD_FAILURE() << "accepted: " << vary;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "--vary " + std::string(vary).substr(0, std::string(vary).find('='))) << e.what();
+      EXPECT_NE(std::string(e.what()).find("every value gives the same point"), std::string::npos) << e.what();
+    }
+  const auto refused = [](const std::string& vary, double revolutions, const std::vector<std::string>& sets) {
+    study::SweepRequest q;
+    q.scene_file = shipped("scenarios/lab-mill.toml");
+    q.vary = vary;
+    q.revolutions = revolutions;
+    q.overrides = sets;
+    try {
+      study::sweep_scenes(q, study::parse_vary(q.vary));
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "--vary " + vary.substr(0, vary.find('='))) << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("solver.velocity_iterations=4,8", 0.0, {}).find("backend (soft) does not read"), std::string::npos);
+  EXPECT_NE(refused("solver.substeps=2,8", 0.0, {"solver.backend=\"box2d\"", "solver.time_step=0.0005"})
+                .find("backend (box2d) does not read"),
+            std::string::npos);
+  EXPECT_NE(refused("run.revolutions=1,2", 0.5, {}).find("--revolutions 0.5 sets every point's"), std::string::npos);
+  // What each backend reads, and the revolutions without --revolutions, are swept.
+  EXPECT_EQ(refused("solver.substeps=2,8", 0.0, {}), "");
+  EXPECT_EQ(refused("solver.velocity_iterations=4,8", 0.0, {"solver.backend=\"box2d\"", "solver.time_step=0.0005"}), "");
+  EXPECT_EQ(refused("run.revolutions=1,2", 0.0, {}), "");
 }
 
 TEST(SweepVary, MalformedVariesAreRefused) {
@@ -183,6 +245,26 @@ TEST(SweepCharge, PowerRisesToAPeakBelowCriticalAndFallsAsTheChargeCentrifuges) 
     const std::string said = "mill.speed = " + t.text(row, t.column("value")) + ": the contacts between disks gave";
     EXPECT_EQ(r.output.find(said) != std::string::npos, col("collision_power_kW", row) < 0.0) << said << "\n" << r.output;
   }
+}
+
+// A point whose charge was still settling in its window is warned of, naming the point, as
+// `millwear charge` of its scene warns (lab mill at 1.9 of critical, three revolutions of
+// spin-up, one measured: most of the drive's power goes into the charge's energy); the
+// steady point is not.
+TEST(SweepCharge, APointWhoseChargeWasNotSteadyIsWarnedOf) {
+  const TempDir out("millwear-sweep-unsteady");
+  const std::string args = millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+                           millwear::testing::quoted(out) +
+                           " --set solver.spinup_revolutions=3 --revolutions 1 --fidelity draft -q";
+  const auto charge = millwear::testing::run_millwear("charge " + args + " --set mill.speed=1.9");
+  ASSERT_EQ(charge.exit_code, 0) << charge.output;
+  ASSERT_NE(charge.output.find("the charge was not steady in the window"), std::string::npos) << charge.output;
+  fs::remove_all(out.path());
+  const auto r = millwear::testing::run_millwear("sweep " + args + " --vary mill.speed=0.75,1.9 -j 2 --no-plot");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: mill.speed = 1.9: the charge was not steady in the window"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("mill.speed = 0.75: the charge was not steady"), std::string::npos) << r.output;
 }
 
 TEST(SweepReplicates, FoldedIntoTheMeanAndTheStandardErrorOfTheMean) {

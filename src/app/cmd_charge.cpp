@@ -135,11 +135,8 @@ int run_charge(const ChargeArgs& args) {
                 austin_W_per_m / 1000.0, AustinInput{}.porosity, 100.0 * AustinInput{}.solids_mass_fraction);
   else
     std::printf("  Austin       none (a SAG model: rock in the charge, below critical speed)\n");
-  const double into_energy = energy_share_of_power(f.summary);
-  if (std::fabs(into_energy) > kSteadyEnergyShare)
-    std::cerr << "millwear: warning: the charge was not steady in the window: " << std::lround(100.0 * into_energy)
-              << "% of the drive's power went into its kinetic and potential energy; spin it up longer "
-                 "(solver.spinup_revolutions) or measure more revolutions\n";
+  if (const std::string unsteady = unsteady_window(f.summary); !unsteady.empty())
+    std::cerr << "millwear: warning: " << unsteady << "\n";
   if (const std::string unsound = unsound_energy_split(f); !unsound.empty())
     std::cerr << "millwear: warning: " << unsound << "\n";
   const double com_deg = f.summary.centre_of_mass_deg;

@@ -55,6 +55,9 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
   std::printf("\n");
   if (!r.figure_error.empty()) std::fprintf(stderr, "millwear: warning: figures: %s\n", r.figure_error.c_str());
   for (const study::SweepPoint& p : r.points)
+    if (p.error.empty() && !p.unsteady.empty())
+      std::fprintf(stderr, "millwear: warning: %s = %s: %s\n", r.axis.key.c_str(), p.text.c_str(), p.unsteady.c_str());
+  for (const study::SweepPoint& p : r.points)
     if (p.error.empty() && !p.unsound.empty())
       std::fprintf(stderr, "millwear: warning: %s = %s: %s\n", r.axis.key.c_str(), p.text.c_str(), p.unsound.c_str());
   for (const study::SweepPoint& p : r.points)

@@ -27,8 +27,13 @@ std::string format_number(double v, int digits) {
 std::string format_exact(double v) { return format_number(v, 17); }
 
 std::string format_shortest(double v) {
+  // %g writes an exponent once the value's own exponent reaches the digits asked for: 20 at
+  // one digit is "2e+01". Where %g writes a number plainly at 17 digits (1e-4 to 1e16), the
+  // text is the plain one: a whole number as one ("20", "1500"), a fraction as typed ("0.7").
+  const bool plain = std::fabs(v) >= 1e-4 && std::fabs(v) < 1e16;
   for (int digits = 1; digits < 17; ++digits) {
     const std::string text = format_number(v, digits);
+    if (plain && text.find('e') != std::string::npos) continue;
     if (std::strtod(text.c_str(), nullptr) == v) return text;
   }
   return format_exact(v);

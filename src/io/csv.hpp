@@ -46,7 +46,8 @@ std::string format_number(double v, int digits = 10);
 // Formats a double so that strtod returns the same value (%.17g).
 std::string format_exact(double v);
 // The fewest significant digits that strtod reads back as the same value: 0.7 as "0.7",
-// 0.7000000000000001 as itself (two values never print alike).
+// 0.7000000000000001 as itself (two values never print alike); from 1e-4 to 1e16 without an
+// exponent (20 as "20", not "2e+01").
 std::string format_shortest(double v);
 // Formats a double for a table people read, with a printf format of one double ("%.2f");
 // a value that is not finite is written "-".

@@ -109,6 +109,17 @@ double energy_share_of_power(const ChargeSummary& s) {
   return s.power_W != 0.0 ? s.kinetic_change_W / s.power_W : 0.0;
 }
 
+std::string unsteady_window(const ChargeSummary& s) {
+  const double into_energy = energy_share_of_power(s);
+  if (!(std::fabs(into_energy) > kSteadyEnergyShare)) return "";
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "the charge was not steady in the window: %.0f%% of the drive's power went into its kinetic and "
+                "potential energy; spin it up longer (solver.spinup_revolutions) or measure more revolutions",
+                100.0 * into_energy);
+  return buf;
+}
+
 ChargeSummary summarize(const Accounting& acc, double mill_speed_rad_s, double gravity_m_s2) {
   ChargeSummary s;
   s.time_s = acc.time_s;

@@ -70,6 +70,9 @@ ChargeFigures charge_figures(const Accounting& acc, const Scene& scene, double o
 // mill's share is 0.1% over 8 revolutions, and a window past kSteadyEnergyShare is not steady.
 double energy_share_of_power(const ChargeSummary& s);
 constexpr double kSteadyEnergyShare = 0.1;
+// What a window past kSteadyEnergyShare is told ("" for a steady one): its figures are those
+// of a charge still settling, not of the mill turning steadily.
+std::string unsteady_window(const ChargeSummary& s);
 
 // Collisions between disks only take energy out of a real charge. A window whose disk-disk
 // contacts gave the charge energy (collision power below 0) has the solver's own error larger

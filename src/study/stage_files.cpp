@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <string_view>
 #include <utility>
 
@@ -278,10 +279,19 @@ void write_stage_state(const std::string& out, const std::string& design, const 
   // stop while the files are replaced leaves each one matching the marker.
   io::KeyValues hashes;
   for (const auto& [ext, content] : files) hashes.emplace_back(hash_key(ext), io::stable_hash_hex(content));
+  // A marker that does not read marks no finished stage (io::list_finished_stages): the
+  // stage is being written as a new one, and the marker goes before its files are replaced.
   const std::string marker_path = io::stage_done_marker(out, design, rec.stage);
-  if (io::file_exists(marker_path)) {
+  std::optional<io::KeyValues> old_marker;
+  if (io::file_exists(marker_path)) try {
+      old_marker = io::read_key_values(marker_path);
+    } catch (const InputError&) {
+      std::error_code ec;
+      fs::remove(marker_path, ec);
+    }
+  if (old_marker) {
     io::KeyValues pending;
-    for (const auto& kv_old : io::read_key_values(marker_path))  // design= and stage= come anew
+    for (const auto& kv_old : *old_marker)  // design= and stage= come anew
       if (kv_old.first.rfind("next.", 0) != 0 && kv_old.first != "design" && kv_old.first != "stage")
         pending.push_back(kv_old);
     for (const auto& [key, hash] : hashes) pending.emplace_back("next." + key, hash);

@@ -53,6 +53,21 @@ std::string value_text(double v) {
   return buf;
 }
 
+// The decimals of a number written plainly ("0.05": 2, "12": 0); -1 for one with an
+// exponent ("5e-2") or too many to print.
+int decimal_places(const std::string& text) {
+  if (text.find_first_of("eExX") != std::string::npos) return -1;
+  const std::size_t dot = text.find('.');
+  const int places = dot == std::string::npos ? 0 : static_cast<int>(text.size() - dot - 1);
+  return places <= 30 ? places : -1;
+}
+
+std::string fixed_text(double v, int places) {
+  char buf[400];  // %.30f of a value up to 1e308
+  std::snprintf(buf, sizeof buf, "%.*f", places, v);
+  return buf;
+}
+
 // Replicate 1 (k = 0) in points/NN, replicate K in points/NN.rK.
 std::string point_dir(const std::string& out, int index, int k = 0) {
   char buf[32];
@@ -93,6 +108,7 @@ SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& 
   };
   const ChargeFigures& f = r.figures;
   p.unsound = unsound_energy_split(f);
+  p.unsteady = unsteady_window(f.summary);
   p.charge_t = charge_t(f);
   p.power_kW = f.power_kW_per_m * L;
   p.specific_kW_per_t = specific(f);
@@ -246,6 +262,7 @@ SweepPoint fold_replicates(const std::vector<SweepPoint>& reps) {
     p.centrifuged = p.centrifuged || r.centrifuged;
     if (p.error.empty() && !r.error.empty()) p.error = r.error;
     if (p.unsound.empty() && !r.unsound.empty()) p.unsound = r.unsound;
+    if (p.unsteady.empty() && !r.unsteady.empty()) p.unsteady = r.unsteady;
   }
   return p;
 }
@@ -269,6 +286,14 @@ SweepAxis parse_vary(const std::string& text) {
                      "a key the charge reads (mill, lifters, charge, solver): a sweep runs the charge alone, without "
                      "wear, so every value of " + a.key + " gives the same point; `millwear run` or `tradeoff` "
                      "measure the wear settings");
+  // Nor do the keys of a wear history outside [wear] (a liner's hours, the hours between
+  // reversals: the charge turns one way) or what is written (ParaView frames take the same steps).
+  if (a.key.rfind("outputs.", 0) == 0 || a.key == "lifters.start_hours" || a.key == "mill.reverse_every")
+    throw InputError("", "--vary " + a.key,
+                     "a key the charge reads (mill, lifters, charge, solver): " + a.key +
+                         (a.key.rfind("outputs.", 0) == 0 ? " says what is written, not what is measured"
+                                                          : " counts the hours of a wear history, which the charge has not") +
+                         ", so every value gives the same point");
   if (rest.find(':') != std::string::npos) {
     std::vector<std::string> parts;
     std::size_t start = 0;
@@ -290,10 +315,16 @@ SweepAxis parse_vary(const std::string& text) {
     if (n + 1 > static_cast<double>(kMaxSweepValues))
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values, got " +
                                                   value_text(n + 1));
+    // FIRST + i STEP carries the rounding of binary fractions (0.5 + 2 x 0.1 is
+    // 0.7000000000000001): written FIRST and STEP in plain decimals, every value has no more
+    // decimals than they have, and is rounded to those; else to 12 significant digits. Twelve
+    // digits alone would round a seed of 13 digits to 1e+12, or a FIRST typed to 13 digits.
+    const int places = std::max(decimal_places(parts[0]), decimal_places(parts[2]));
     for (int i = 0; i <= static_cast<int>(n); ++i) {
-      const double v = std::stod(value_text(first + i * step));
+      const double raw = first + i * step;
+      const double v = std::stod(places >= 0 && decimal_places(parts[1]) >= 0 ? fixed_text(raw, places) : value_text(raw));
       a.values.push_back(v);
-      a.texts.push_back(value_text(v));
+      a.texts.push_back(io::format_shortest(v));
     }
   } else {
     std::size_t start = 0;
@@ -315,6 +346,17 @@ SweepAxis parse_vary(const std::string& text) {
     }
     if (a.values.size() > kMaxSweepValues)
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values");
+    // A sweep is a curve: its points in ascending order, as its table lists them and its
+    // figures join them (0.8,0.5,0.65 drawn in the order typed would double back on itself).
+    std::vector<std::size_t> order(a.values.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&a](std::size_t i, std::size_t j) { return a.values[i] < a.values[j]; });
+    SweepAxis sorted{a.key, {}, {}};
+    for (std::size_t k : order) {
+      sorted.values.push_back(a.values[k]);
+      sorted.texts.push_back(a.texts[k]);
+    }
+    a = std::move(sorted);
   }
   return a;
 }
@@ -333,6 +375,24 @@ std::string without_vary_set(std::string expected, const std::string& vary) {
   if (expected.size() >= none.size() && expected.compare(expected.size() - none.size(), none.size(), none) == 0)
     expected.erase(expected.size() - none.size());
   return expected;
+}
+
+// A key this sweep's charge does not read gives the same point at every value: the other
+// backend's solver settings, and the window's revolutions --revolutions sets for every point.
+void check_key_is_read(const SweepRequest& q, const std::string& key, const Scene& scene) {
+  const bool box2d = scene.solver.backend == Backend::Box2D;
+  const char* backend = box2d ? "box2d" : "soft";
+  const std::vector<std::string> other_backend =
+      box2d ? std::vector<std::string>{"solver.substeps", "solver.contact_hertz", "solver.damping_ratio", "solver.push_out"}
+            : std::vector<std::string>{"solver.velocity_iterations", "solver.position_iterations"};
+  std::string why;
+  if (std::find(other_backend.begin(), other_backend.end(), key) != other_backend.end())
+    why = "the scene's backend (" + std::string(backend) + ") does not read " + key;
+  else if (key == "run.revolutions" && q.revolutions > 0.0)
+    why = "--revolutions " + io::format_number(q.revolutions) + " sets every point's revolutions";
+  if (!why.empty())
+    throw InputError(q.scene_file, "--vary " + key,
+                     "a key the sweep's charge reads: " + why + ", so every value gives the same point");
 }
 
 }  // namespace
@@ -368,6 +428,7 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     }
     scenes.push_back(std::move(s));
   }
+  check_key_is_read(q, axis.key, scenes.front());
   return scenes;
 }
 

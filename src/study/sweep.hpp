@@ -73,6 +73,7 @@ struct SweepPoint {
   int replicates = 1;                          // charges folded into the figures
   std::string error;                           // a lost disk or a failed run: figures suspect
   std::string unsound;  // the window's split of the power not sound (unsound_energy_split; "": sound)
+  std::string unsteady;  // the charge still settling in the window (unsteady_window; "": steady)
 };
 
 // Replicates of one value folded: each figure's mean over them, its error the standard error

@@ -449,9 +449,12 @@ WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
     mill = std::move(run.mill);
   }
   // Every measured stage's window, resumed ones too, so that a resumed history says the same.
-  for (const StageRecord& rec : history.stages)
+  for (const StageRecord& rec : history.stages) {
+    if (const std::string unsteady = unsteady_window(rec.charge.summary); !unsteady.empty())
+      history.events.push_back("stage " + std::to_string(rec.stage) + ": " + unsteady);
     if (const std::string unsound = unsound_energy_split(rec.charge); !unsound.empty())
       history.events.push_back("stage " + std::to_string(rec.stage) + ": " + unsound);
+  }
   compute_life(history, scene.wear.replacement_height_m);
   return history;
 }
