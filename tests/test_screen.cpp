@@ -154,14 +154,24 @@ TEST_F(ScreenRun, RankingIsIdenticalWithOneJob) {
 
 TEST_F(ScreenRun, RankingIsIdenticalThroughGnuParallel) {
   if (!have("parallel")) GTEST_SKIP() << "GNU parallel is not installed (apt-get install parallel): not tested";
-  const fs::path out = root_ / "parallel";
-  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel");
+  // A folder whose name means something to the shell: the commands the screen prints run as
+  // pasted (N set to 2).
+  const fs::path out = root_ / "it's $HOME parallel";
+  const std::string quoted_out = "'" + root_.string() + "/it'\\''s $HOME parallel'";
+  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + quoted_out + " --emit parallel");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(fs::exists(out / "jobs.txt"));
-  r = shell("parallel --will-cite -j 2 < " + q(out / "jobs.txt"));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = millwear_cmd("screen --collect " + q(out));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto printed = [&r](const std::string& lead) {
+    const auto at = r.output.find(lead);
+    return at == std::string::npos ? std::string() : r.output.substr(at + lead.size(), r.output.find('\n', at) - at - lead.size());
+  };
+  std::string run = printed("run:  "), then = printed("then: ");
+  ASSERT_EQ(run.rfind("parallel -j N < ", 0), 0u) << r.output;
+  run.replace(run.find(" N "), 3, " 2 ");
+  r = shell(run.replace(0, 8, "parallel --will-cite"));
+  ASSERT_EQ(r.exit_code, 0) << run << "\n" << r.output;
+  r = shell(then);
+  ASSERT_EQ(r.exit_code, 0) << then << "\n" << r.output;
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 

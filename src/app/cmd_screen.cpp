@@ -32,6 +32,7 @@
 #include "app/signals.hpp"
 #include "common/errors.hpp"
 #include "common/units.hpp"
+#include "screen/jobs.hpp"
 #include "screen/run_screen.hpp"
 
 namespace millwear::app {
@@ -96,16 +97,17 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
 
 void print_emitted(const ScreenArgs& a, const ScreenOutcome& o) {
   const std::string& out = a.request.out;
+  // The commands printed are to be pasted into a shell: their paths are quoted where needed.
   if (o.emit.path.empty()) {
     std::printf("every design has finished: nothing to emit; rank them with millwear screen --collect %s\n",
-                out.c_str());
+                screen::shell_word(out).c_str());
     return;
   }
   const bool parallel = a.request.emit == "parallel";
   std::printf("%zu %s (%zu design(s), %d already finished) in %s\nrun:  %s%s\nthen: %s screen --collect %s\n",
               o.emit.jobs, parallel ? "job(s)" : "array task(s)", o.setup.todo.size(), o.setup.already_done,
-              o.emit.path.c_str(), parallel ? "parallel -j N < " : "sbatch ", o.emit.path.c_str(),
-              o.emit.binary.c_str(), out.c_str());
+              o.emit.path.c_str(), parallel ? "parallel -j N < " : "sbatch ", screen::shell_word(o.emit.path).c_str(),
+              screen::shell_word(o.emit.binary).c_str(), screen::shell_word(out).c_str());
 }
 
 int screen_command(const ScreenArgs& args) {

@@ -1,6 +1,9 @@
 // Job lists for GNU parallel and Slurm arrays (see jobs.hpp).
 #include "screen/jobs.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <sstream>
 
 namespace millwear::screen {
@@ -9,6 +12,13 @@ std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
+}
+
+std::string shell_word(const std::string& s) {
+  const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./+-:=,@", c) != nullptr;
+  });
+  return plain ? s : shell_quote(s);
 }
 
 std::vector<std::vector<int>> chunk_tasks(const std::vector<int>& tasks, int chunk) {

@@ -29,5 +29,8 @@ std::string slurm_script(const std::vector<int>& tasks, const EmitOptions& o, st
 
 // Quotes a path for a POSIX shell ('...').
 std::string shell_quote(const std::string& s);
+// A path as one word of a POSIX shell command: as it is when nothing in it means anything to
+// the shell (letters, digits and _ . / + - : = , @), quoted otherwise.
+std::string shell_word(const std::string& s);
 
 }  // namespace millwear::screen
