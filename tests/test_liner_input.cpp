@@ -948,6 +948,31 @@ TEST(Continue, AStartOtherThanTheRunsIsRefused) {
   EXPECT_FALSE(fs::exists(next));
 }
 
+// A continued run writes beside the run it continues, not into it: OUT the run's folder, a
+// folder inside it (however written) or a new one inside it are refused before any work
+// (exit 2, naming -o), and nothing is made in the run.
+TEST(Continue, AnOutputFolderInsideTheRunIsRefused) {
+  TempDir dir("millwear-liner-input-cont-inside");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.write("lab.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1));
+  const fs::path first = dir.path() / "first";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const fs::path& out : {first, first / "next", first / "stages" / ".." / "next" / "deeper", first / "plots"}) {
+    r = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --continue " + quoted(first) +
+                     " --set wear.stages=2 -q");
+    EXPECT_EQ(r.exit_code, 2) << out << "\n" << r.output;
+    EXPECT_NE(r.output.find("-o: an output folder other than the run it continues"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(first / "next"));
+  // Beside it, with a name that starts like the run's: the run goes on.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "first-next") + " --continue " +
+                   quoted(first) + " --set wear.stages=2 --check");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the
 // run's kinds in the other order (which also changes the first kind, the manifest's
 // lifter_profile) is refused naming lifters.pattern, the key the scene has; and a kind under

@@ -190,8 +190,13 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
   std::error_code ec;
   if (!fs::is_directory(run, ec) || !io::file_exists(io::manifest_path(run)))
     throw InputError(run, "--continue", "a run folder of `millwear run` (with manifest.json)");
-  if (!args.out.empty() && fs::exists(args.out, ec) && fs::equivalent(run, args.out, ec))
-    throw InputError(args.out, "-o", "an output folder other than the run it continues (" + run + ")");
+  if (!args.out.empty()) {
+    // OUT may not be RUN, nor a folder inside it, which the run's own files would then hold.
+    const fs::path r = fs::weakly_canonical(run, ec), o = fs::weakly_canonical(args.out, ec);
+    const auto mismatch = std::mismatch(r.begin(), r.end(), o.begin(), o.end());
+    if (!r.empty() && mismatch.first == r.end())
+      throw InputError(args.out, "-o", "an output folder other than the run it continues (" + run + ") and outside it");
+  }
   if (const std::string holder = io::folder_holder(run); !holder.empty())
     throw InputError(run, "--continue", "a run no process is writing, but " + holder +
                                             " holds its lock; wait for it to end");
