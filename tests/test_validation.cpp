@@ -992,6 +992,25 @@ TEST(Hardness, FitRecoversSyntheticAAndB) {
   for (const auto& p : data.periods) EXPECT_NEAR(p.ct, f.a * std::pow(p.hardness, f.b), 1e-12);
 }
 
+// Periods of one wear rate at several hardnesses: b = 0, and there is nothing for the line to
+// explain, so no R^2 (an empty cell), not a perfect one; varying rates have one in [0, 1].
+TEST(Hardness, RatesThatDoNotVaryHaveNoRSquared) {
+  auto flat = validation::parse_hardness("period,days,area_loss_mm2,hardness\n1,10,120,10\n2,10,120,12\n3,10,120,14\n",
+                                         "flat.csv");
+  const auto f = validation::fit_hardness(flat);
+  EXPECT_NEAR(f.b, 0.0, 1e-12);
+  EXPECT_TRUE(std::isnan(f.r_squared)) << f.r_squared;
+  const TempDir dir("millwear-hardness-flat");
+  validation::write_hardness_outputs(dir.path().string(), flat, f);
+  const io::CsvData fit = io::read_csv((dir.path() / "hardness_fit.csv").string());
+  EXPECT_EQ(fit.text(0, fit.column("r_squared")), "");
+  auto varied = validation::parse_hardness(
+      "period,days,area_loss_mm2,hardness\n1,10,100,10\n2,10,150,12\n3,10,170,14\n", "varied.csv");
+  const double r2 = validation::fit_hardness(varied).r_squared;
+  EXPECT_GE(r2, 0.0);
+  EXPECT_LE(r2, 1.0);
+}
+
 TEST(Hardness, DefaultNormalisationKeepsTheTotalOperatingTime) {
   auto data = validation::parse_hardness(
       "period,hours,wear_rate,hardness\n1,100,2.0,10\n2,50,3.1,12\n3,80,1.7,9\n4,30,2.6,11\n", "r.csv");

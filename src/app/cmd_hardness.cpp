@@ -6,6 +6,7 @@
 // Exit codes: 0 done; 1 the figure failed; 2 bad input.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 
 #include "app/number_checks.hpp"
@@ -43,8 +44,11 @@ int run_hardness(const HardnessArgs& a) {
               f.reference_hardness > 0.0
                   ? ("CT = 1 at hardness " + io::format_number(f.reference_hardness)).c_str()
                   : "a normalised so the corrected total time equals the actual total time");
-  std::printf("coefficient of variation of the wear rate: %.1f%% before, %.1f%% after the correction "
-              "(log-log R^2 %.3f)\n", 100.0 * f.cv_before, 100.0 * f.cv_after, f.r_squared);
+  char r_squared[64];
+  if (std::isfinite(f.r_squared)) std::snprintf(r_squared, sizeof r_squared, "log-log R^2 %.3f", f.r_squared);
+  else std::snprintf(r_squared, sizeof r_squared, "no log-log R^2: the rates do not vary");
+  std::printf("coefficient of variation of the wear rate: %.1f%% before, %.1f%% after the correction (%s)\n",
+              100.0 * f.cv_before, 100.0 * f.cv_after, r_squared);
 
   validation::write_hardness_outputs(a.out, data, f);
   try {

@@ -157,7 +157,9 @@ HardnessFit fit_hardness(HardnessData& data, double reference_hardness) {
   f.b_se = std::sqrt(std::max(0.0, cov(1, 1)));
   const double ymean = y.mean();
   const double tss = (y.array() - ymean).square().sum();
-  f.r_squared = tss > 0.0 ? 1.0 - rss / tss : 1.0;
+  // Rates that do not vary leave nothing for the line to explain: no R^2 (NaN), not a
+  // perfect one.
+  f.r_squared = tss > 0.0 ? 1.0 - rss / tss : std::nan("");
   f.reference_hardness = reference_hardness;
   double dadb;
   if (reference_hardness > 0.0) {
@@ -219,8 +221,10 @@ std::vector<std::string> write_hardness_outputs(const std::string& out, const Ha
                    "mean_corrected_rate", "r_squared", "periods", "time_unit", "wear_column"});
   // No --reference-hardness: an empty cell, not a hardness of 0.
   const io::CsvCell reference = fit.reference_hardness > 0.0 ? io::CsvCell(fit.reference_hardness) : io::CsvCell("");
+  // Rates that do not vary: no R^2, an empty cell.
+  const io::CsvCell r_squared = std::isfinite(fit.r_squared) ? io::CsvCell(fit.r_squared) : io::CsvCell("");
   ft.add_row({fit.a, fit.a_se, fit.b, fit.b_se, reference, fit.cv_before, fit.cv_after, fit.mean_rate,
-              fit.mean_corrected_rate, fit.r_squared, static_cast<int>(data.periods.size()), data.time_unit,
+              fit.mean_corrected_rate, r_squared, static_cast<int>(data.periods.size()), data.time_unit,
               data.wear_column});
   const std::vector<std::string> files = {io::join_path(out, "hardness_periods.csv"),
                                           io::join_path(out, "hardness_fit.csv")};

@@ -65,7 +65,7 @@ struct HardnessFit {
   double reference_hardness = 0.0;   // 0: default normalisation (total corrected time)
   double cv_before = 0.0, cv_after = 0.0;
   double mean_rate = 0.0, mean_corrected_rate = 0.0;
-  double r_squared = 0.0;            // of the log-log line
+  double r_squared = 0.0;            // of the log-log line; NaN where the rates do not vary
 };
 
 // Fits CT = a H^b and fills every period's ct and corrected_rate. reference_hardness > 0
