@@ -462,15 +462,9 @@ std::string unlisted_output(const Plan& plan, const std::string& out) {
   } catch (const std::exception&) {
   }
   std::vector<std::string> names = {"summary.md", "kinds.csv", "replicates.csv"};
-  // The names remove_stage_state takes: stage state in stages/, DESIGN_stage<digits>.csv in
-  // profiles/.
+  // The names remove_stage_state takes.
   const auto stage_file = [](const std::string& dir, const std::string& n, const std::string& design) {
-    if (dir == "stages") return study::is_stage_state_name(n, design);
-    const std::string prefix = design + "_stage";
-    std::size_t i = prefix.size();
-    if (n.compare(0, i, prefix) != 0 || i >= n.size() || !std::isdigit(static_cast<unsigned char>(n[i]))) return false;
-    while (i < n.size() && std::isdigit(static_cast<unsigned char>(n[i]))) ++i;
-    return n.compare(i, std::string::npos, ".csv") == 0;
+    return dir == "stages" ? study::is_stage_state_name(n, design) : study::is_stage_profile_name(n, design);
   };
   std::error_code ec;
   for (const DesignInput& d : plan.designs) {

@@ -391,15 +391,29 @@ std::vector<std::string> stage_state_files(const std::string& out, const std::st
   return files;
 }
 
-bool is_stage_state_name(const std::string& name, const std::string& design) {
+namespace {
+
+// What follows DESIGN_stage<digits> in a name ("" if it is not one): not another design whose
+// name starts the same way.
+std::string_view after_stage_number(const std::string& name, const std::string& design) {
   const std::string prefix = design + "_stage";
-  if (name.compare(0, prefix.size(), prefix) != 0) return false;
-  // DESIGN_stage<digits>EXT: not another design whose name starts the same way, and not a
-  // file of the user's under a name the run never writes.
+  if (name.compare(0, prefix.size(), prefix) != 0) return {};
   std::size_t i = prefix.size();
-  if (i >= name.size() || !std::isdigit(static_cast<unsigned char>(name[i]))) return false;
+  if (i >= name.size() || !std::isdigit(static_cast<unsigned char>(name[i]))) return {};
   while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i]))) ++i;
-  const std::string_view ext(name.c_str() + i);
+  return std::string_view(name).substr(i);
+}
+
+}  // namespace
+
+bool is_stage_profile_name(const std::string& name, const std::string& design) {
+  return after_stage_number(name, design) == ".csv";
+}
+
+bool is_stage_state_name(const std::string& name, const std::string& design) {
+  // Not a file of the user's under a name the run never writes.
+  const std::string_view ext = after_stage_number(name, design);
+  if (ext.empty()) return false;
   if (ext == ".done") return true;
   for (const char* e : kStateExtensions)
     if (ext == e) return true;
@@ -418,17 +432,10 @@ void remove_stage_state(const std::string& out, const std::string& design) {
     if (p.extension() == ".done") fs::remove(p, ec);
   for (const auto& p : doomed) fs::remove(p, ec);
   // Profiles of the earlier run would otherwise be drawn as extra stages.
-  const std::string prefix = design + "_stage";
   const std::string pdir = io::profiles_dir(out);
   if (fs::is_directory(pdir, ec))
-    for (const auto& e : fs::directory_iterator(pdir, ec)) {
-      const std::string n = e.path().filename().string();
-      if (n.compare(0, prefix.size(), prefix) == 0 && e.path().extension() == ".csv") {
-        const std::string mid = n.substr(prefix.size(), n.size() - prefix.size() - 4);
-        if (!mid.empty() && std::all_of(mid.begin(), mid.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
-          fs::remove(e.path(), ec);
-      }
-    }
+    for (const auto& e : fs::directory_iterator(pdir, ec))
+      if (is_stage_profile_name(e.path().filename().string(), design)) fs::remove(e.path(), ec);
 }
 
 std::string profile_csv_text(const StageRecord& rec) {

@@ -41,6 +41,8 @@ std::vector<std::string> stage_state_files(const std::string& out, const std::st
 // Whether a file name in OUT/stages is one of a design's stage state files or markers
 // (DESIGN_stageN followed by one of their extensions); a user's other file there is not.
 bool is_stage_state_name(const std::string& name, const std::string& design);
+// Whether a file name in OUT/profiles is one of a design's stage profiles (DESIGN_stageN.csv).
+bool is_stage_profile_name(const std::string& name, const std::string& design);
 // Deletes the state files and marker of every stage of a design (a fresh run), and its
 // stage profiles; other files in those folders stay.
 void remove_stage_state(const std::string& out, const std::string& design);
