@@ -147,6 +147,32 @@ TEST(SweepVary, AKeyTheSweepsChargeDoesNotReadIsRefused) {
   EXPECT_EQ(refused("run.revolutions=1,2", 0.0, {}), "");
 }
 
+// Replicate K of a point runs seed + K - 1: seeds swept closer than the replicates would run
+// one charge in two points, and are refused naming the pair; seeds that far apart are swept.
+TEST(SweepVary, SeedsCloserThanTheReplicatesAreRefused) {
+  const auto refused = [](const std::string& vary, int replicates) {
+    study::SweepRequest q;
+    q.scene_file = shipped("scenarios/lab-mill.toml");
+    q.vary = vary;
+    q.replicates = replicates;
+    try {
+      study::sweep_scenes(q, study::parse_vary(q.vary));
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where, "--vary solver.seed") << e.what();
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused("solver.seed=1,2", 2).find("got 1 and 2"), std::string::npos);
+  EXPECT_NE(refused("solver.seed=1:9:4", 5).find("got 1 and 5"), std::string::npos);
+  EXPECT_NE(refused("solver.seed=10,1,3", 3).find("got 1 and 3, which would run the same charges"), std::string::npos)
+      << refused("solver.seed=10,1,3", 3);
+  EXPECT_EQ(refused("solver.seed=10,1,4", 3), "");
+  EXPECT_EQ(refused("solver.seed=1,3", 2), "");
+  EXPECT_EQ(refused("solver.seed=1,2", 1), "");
+  EXPECT_EQ(refused("mill.speed=0.6,0.7", 4), "");
+}
+
 TEST(SweepVary, MalformedVariesAreRefused) {
   for (const char* bad : {"mill.speed", "=0.5:1:0.1", "mill.speed=0.5:1", "mill.speed=1:0.5:0.1",
                           "mill.speed=0.5:1:0", "mill.speed=0.5,fast", "mill.speed=0:1000:0.001"})

@@ -395,6 +395,19 @@ void check_key_is_read(const SweepRequest& q, const std::string& key, const Scen
                      "a key the sweep's charge reads: " + why + ", so every value gives the same point");
 }
 
+// Replicate K of a point runs its scene with seed + K - 1: a sweep of the seed itself with
+// replicates would run one charge in two points unless its seeds are that far apart.
+void check_seeds_apart(const SweepRequest& q, const SweepAxis& axis, const std::vector<Scene>& scenes) {
+  const auto reps = static_cast<std::uint64_t>(std::max(1, q.replicates));
+  if (axis.key != "solver.seed" || reps < 2) return;
+  for (std::size_t i = 1; i < scenes.size(); ++i)  // the values ascend (parse_vary)
+    if (scenes[i].solver.seed - scenes[i - 1].solver.seed < reps)
+      throw InputError("", "--vary solver.seed",
+                       "seeds at least --replicates (" + std::to_string(reps) + ") apart, as each point's replicates "
+                       "run seeds s .. s + " + std::to_string(reps - 1) + "; got " + axis.texts[i - 1] + " and " +
+                           axis.texts[i] + ", which would run the same charges");
+}
+
 }  // namespace
 
 std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
@@ -429,6 +442,7 @@ std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
     scenes.push_back(std::move(s));
   }
   check_key_is_read(q, axis.key, scenes.front());
+  check_seeds_apart(q, axis, scenes);
   return scenes;
 }
 
