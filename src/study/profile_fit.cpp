@@ -165,32 +165,61 @@ void check_surveys_over_lifter(const std::vector<Survey>& surveys, const LinerUn
   }
 }
 
-void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
-                              double start_hours, const std::string& file, bool one_shape) {
-  const double new_area_m2 = measure_lifter(new_unit, radius_m).area_m2;
-  // Each later survey against the lifter at the start only, as check_areas_shrink does: the
-  // survey at the start (a file has one survey per hours), else the scene's lifter. Two later
-  // surveys are not compared with each other: surveys hours apart, or of other lifters of the
-  // row (which wear at other rates), may differ by more than the wear between them.
-  const Survey* start = nullptr;
+namespace {
+
+// What each later survey is judged against, as check_areas_shrink does: the survey at the
+// start (a file has one survey per hours), else the scene's lifter. Two later surveys are not
+// compared with each other: surveys hours apart, or of other lifters of the row (which wear at
+// other rates), may differ by more than the wear between them.
+struct StartLifter {
+  const Survey* survey = nullptr;  // null: the scene's lifter
+  const Polyline* surface = nullptr;
+  std::string reference;  // how messages name it
+};
+
+// Null surface where there is no reference: no survey at the start of a pattern's lifters
+// (of which lifter would the scene's be?).
+StartLifter start_lifter(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double start_hours,
+                         bool one_shape) {
+  StartLifter l;
   for (const Survey& s : surveys)
-    if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) start = &s;
-  if (!start && !one_shape) return;  // of which of the pattern's lifters? no reference
-  const Polyline& start_surface = start ? start->profile_m : new_unit.surface;
-  const std::string reference =
-      start ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +
-                  std::to_string(start->first_line) + ")"
-            : "the scene's lifter at the history's start (" + io::format_number(start_hours) + " h)";
-  // Judged by the drawing, a survey may also be of a casting bigger than drawn.
-  const double share = kGainNoiseShare + (start ? 0.0 : kCastOverDrawingShare);
-  const double allowed_m2 = share * new_area_m2;
+    if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) l.survey = &s;
+  if (!l.survey && !one_shape) return l;
+  l.surface = l.survey ? &l.survey->profile_m : &new_unit.surface;
+  l.reference = l.survey ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +
+                               std::to_string(l.survey->first_line) + ")"
+                         : "the scene's lifter at the history's start (" + io::format_number(start_hours) + " h)";
+  return l;
+}
+
+// fn(later, lo, hi, start_m2, later_m2) for each survey after the start, over the span of x it
+// shares with the lifter at the start: the metal above the shell line of either there.
+template <class Fn>
+void for_later_surveys(const std::vector<Survey>& surveys, const Polyline& start_surface, double start_hours,
+                       double radius_m, const Fn& fn) {
   for (const Survey& later : surveys) {
     if (!(later.hours > start_hours + kSameHoursTolerance)) continue;
     const double lo = std::max(later.profile_m.front().x, start_surface.front().x);
     const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
     if (!(hi > lo)) continue;
-    const double start_m2 = area_between(start_surface, lo, hi, radius_m);
-    const double later_m2 = area_between(later.profile_m, lo, hi, radius_m);
+    fn(later, lo, hi, area_between(start_surface, lo, hi, radius_m), area_between(later.profile_m, lo, hi, radius_m));
+  }
+}
+
+}  // namespace
+
+void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
+                              double start_hours, const std::string& file, bool one_shape) {
+  const double new_area_m2 = measure_lifter(new_unit, radius_m).area_m2;
+  const StartLifter lifter = start_lifter(surveys, new_unit, start_hours, one_shape);
+  if (!lifter.surface) return;
+  const Survey* start = lifter.survey;
+  const std::string& reference = lifter.reference;
+  // Judged by the drawing, a survey may also be of a casting bigger than drawn.
+  const double share = kGainNoiseShare + (start ? 0.0 : kCastOverDrawingShare);
+  const double allowed_m2 = share * new_area_m2;
+  for_later_surveys(surveys, *lifter.surface, start_hours, radius_m, [&](const Survey& later, double lo, double hi,
+                                                                         double start_m2, double later_m2) {
     // A lifter worn to the shell (kWornOutFraction of it left) ends its history: no history
     // reaches a survey with less, whose y_mm are most likely measured down, not up.
     if (start_m2 > 0.0 && later_m2 < kWornOutFraction * start_m2) {
@@ -207,7 +236,7 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
       throw InputError(file, "line " + std::to_string(later.first_line), buf);
     }
     const double gain_m2 = later_m2 - start_m2;
-    if (!(gain_m2 > allowed_m2)) continue;
+    if (!(gain_m2 > allowed_m2)) return;
     const std::string allowed =
         start ? "a gauge's noise of up to " + io::format_number(100.0 * kGainNoiseShare) + "%"
               : "a gauge's noise and a casting bigger than drawn, up to " +
@@ -225,33 +254,22 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
                   io::format_number(in_mm(hi), 6).c_str(), io::format_number(later.hours).c_str(),
                   io::format_number(in_mm2(gain_m2), 4).c_str(), reference.c_str(), exact.c_str());
     throw InputError(file, "line " + std::to_string(later.first_line), buf);
-  }
+  });
 }
 
 void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                              double start_hours, const std::string& file, bool one_shape) {
-  // The lifter at the start, as check_surveys_lose_metal takes it.
-  const Survey* start = nullptr;
-  for (const Survey& s : surveys)
-    if (std::fabs(s.hours - start_hours) <= kSameHoursTolerance) start = &s;
-  if (!start && !one_shape) return;  // of which of the pattern's lifters? no reference
-  const Polyline& start_surface = start ? start->profile_m : new_unit.surface;
+  const StartLifter lifter = start_lifter(surveys, new_unit, start_hours, one_shape);
+  if (!lifter.surface) return;
   double moment_m2h = 0.0;  // hours since the start times the metal lost, summed
   const Survey* last = nullptr;
-  for (const Survey& later : surveys) {
-    if (!(later.hours > start_hours + kSameHoursTolerance)) continue;
-    const double lo = std::max(later.profile_m.front().x, start_surface.front().x);
-    const double hi = std::min(later.profile_m.back().x, start_surface.back().x);
-    if (!(hi > lo)) continue;
-    const double lost_m2 = area_between(start_surface, lo, hi, radius_m) - area_between(later.profile_m, lo, hi, radius_m);
-    moment_m2h += (later.hours - start_hours) * lost_m2;
-    last = &later;
-  }
+  for_later_surveys(surveys, *lifter.surface, start_hours, radius_m,
+                    [&](const Survey& later, double, double, double start_m2, double later_m2) {
+                      moment_m2h += (later.hours - start_hours) * (start_m2 - later_m2);
+                      last = &later;
+                    });
   if (!last || moment_m2h > 0.0) return;
-  const std::string reference =
-      start ? "the survey at the start, " + io::format_number(start_hours) + " h (line " +
-                  std::to_string(start->first_line) + ")"
-            : "the scene's lifter at the history's start (" + io::format_number(start_hours) + " h)";
+  const std::string& reference = lifter.reference;
   throw InputError(file, "line " + std::to_string(last->first_line),
                    "surveys that lose metal with operating hours (a wear rate is fitted to the metal lost); over the "
                    "spans they share with " + reference + " the later surveys have lost none: the metal lost times "
