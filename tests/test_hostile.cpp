@@ -343,6 +343,27 @@ TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
   EXPECT_EQ(r.output.find("-1 rows"), std::string::npos) << r.output;
 }
 
+// A point typed onto another edge pinches the lifter into two parts joined at a point; in
+// metres the point rounds to one side of the edge or the other, and either way it is refused,
+// naming the point and the edge.
+TEST(HostileProfile, APointOnAnotherOfItsEdgesIsRefusedNamingBoth) {
+  const TempDir dir("millwear-hostile-touch");
+  // The line back from the leading face ends on the trailing face, y = 2 (x + 50).
+  for (const std::string pt : {"-37.5, 25.0", "-37.65, 24.7", "-43.9, 12.2"}) {
+    write(dir / "touch.toml", "name = \"touch\"\nform = \"polyline\"\npoints = [[-50.0, 0.0], [-25.0, 50.0], "
+                              "[25.0, 50.0], [30.0, 25.0], [" + pt + "], [50.0, 0.0]]\n");
+    const auto r = run_millwear("profile " + quoted(dir / "touch.toml"));
+    EXPECT_EQ(r.exit_code, 2) << pt << "\n" << r.output;
+    EXPECT_NE(r.output.find("touch.toml: points[4]"), std::string::npos) << pt << "\n" << r.output;
+    EXPECT_NE(r.output.find("lies on the edge from points[0] to points[1]"), std::string::npos) << pt << "\n" << r.output;
+  }
+  // A micrometre and more off the edge is a lifter with a slot, as drawn.
+  write(dir / "slot.toml", "name = \"slot\"\nform = \"polyline\"\npoints = [[-50.0, 0.0], [-25.0, 50.0], "
+                           "[25.0, 50.0], [30.0, 25.0], [-37.49, 25.0], [50.0, 0.0]]\n");
+  const auto r = run_millwear("profile " + quoted(dir / "slot.toml"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // ---- screens and surveys ---------------------------------------------------------------------
 
 // Four parameters of 10,000 steps each are 1e16 candidates: refused before any is made.

@@ -147,6 +147,23 @@ Polyline read_points(const toml::table& t, const std::string& file) {
   return pts;
 }
 
+// A point typed onto one of the line's other edges (within a micrometre) pinches the lifter
+// into two parts joined at a point. The exact test of validate_lifter_polyline sees such a
+// point on whichever side the conversion to metres rounded it, so it is found here first, by
+// distance, naming the point and the edge. A drawn profile has tens of points: every pair.
+void check_no_point_on_another_edge(const Polyline& pts, const std::string& file) {
+  constexpr double kTouchM = 1e-6;  // far below any drawing's resolution, far above rounding
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+      if (j == i || j + 1 == i) continue;  // the point's own edges
+      if (distance_to_polyline(pts[i], Polyline{pts[j], pts[j + 1]}) > kTouchM) continue;
+      throw InputError(file, "points[" + std::to_string(i) + "]",
+                       "expected a polyline that does not touch itself; this point (" + short_number(pts[i].x * 1e3) +
+                           ", " + short_number(pts[i].y * 1e3) + " mm) lies on the edge from points[" +
+                           std::to_string(j) + "] to points[" + std::to_string(j + 1) + "]");
+    }
+}
+
 // A name is also a CSV file name (`profile --csv`) and a manifest field: the one rule for names.
 // `key` names where the name came from: "name", or the file name of a TOML profile without
 // that key or of a measured CSV (which has no keys: the file must be renamed).
@@ -269,6 +286,7 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
     prof.points = read_points(root, path);
+    check_no_point_on_another_edge(prof.points, path);
     validate_lifter_polyline(prof.points, path, "points");
   }
   chain.pop_back();
