@@ -420,6 +420,34 @@ TEST(HostileSurveys, CalibrateRefusesProfilesThatLostNoMetal) {
   }
 }
 
+// Losses within a gauge's noise give no wear rate: the histories shrank C by a thousand a run
+// (the re-smoothing alone takes more than the surveys lost) and ended without converging.
+// Refused at the line of the survey that lost the most, before the first history.
+TEST(HostileSurveys, CalibrateRefusesLossesWithinAGaugesNoise) {
+  const TempDir dir("millwear-hostile-noise-loss");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,418.999\n100,419.0005\n");
+  auto r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " + quoted(dir / "out"));
+  expect_refused(r, (dir / "areas.csv").string(), "line 3", dir / "out");
+  EXPECT_NE(r.output.find("the survey that lost the most, at 50 h, lost 0.001 mm^2"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("history"), r.output.find("history's start")) << "a history ran: " << r.output;
+  // 1% of 419 mm^2 is 4.19 mm^2: a survey that lost 5 mm^2 is calibrated on.
+  write(dir / "worn.csv", "hours,area_loss_mm2\n0,0\n50,1\n100,5\n");
+  r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "worn.csv") + " -o " + quoted(dir / "out") +
+                   " --max-runs 1");
+  EXPECT_NE(r.exit_code, 2) << r.output;
+  // Profiles: a lifter 20 mm high, 10 mm across its top, lowered by 0.01 mm loses about 0.3 mm^2.
+  const auto block = [](const std::string& hours, double top_mm) {
+    const std::string top = std::to_string(top_mm);
+    return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
+  };
+  write(dir / "profiles.csv", "hours,x_mm,y_mm\n" + block("0", 20.0) + block("50", 19.99) + block("100", 19.995));
+  r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "profiles.csv") + " -o " + quoted(dir / "out2"));
+  expect_refused(r, (dir / "profiles.csv").string(), "line 6", dir / "out2");
+  EXPECT_NE(r.output.find("the survey that lost the most, at 50 h"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("history"), r.output.find("history's start")) << "a history ran: " << r.output;
+}
+
 // A survey too far out for the scene's stages: 999,999 h in 50 h stages is 20,000 stages, twice
 // what a scene may ask for (wear.stages); validate ran them all (hours of a lifter that hardly
 // wears), calibrate 1.6 times as many. Refused at the survey's line, with a stage_hours that would

@@ -161,6 +161,26 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
                          ", " + std::to_string(m.reference_m2 / kMm2) + " mm^2)");
 }
 
+void check_area_losses_above_noise(const AreaSurveys& surveys, double new_area_m2, double start_hours,
+                                   const std::string& file) {
+  const MeasuredAreas m = measured_areas(surveys, new_area_m2, start_hours);
+  std::size_t most = surveys.surveys.size();
+  for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
+    if (surveys.surveys[i].hours > start_hours + kSameHoursTolerance &&
+        (most == surveys.surveys.size() || m.loss_m2[i] > m.loss_m2[most]))
+      most = i;
+  if (most == surveys.surveys.size()) return;  // no survey after the start: refused elsewhere
+  const double noise_m2 = kGainNoiseShare * m.reference_m2;
+  if (m.loss_m2[most] > noise_m2) return;
+  const auto mm2 = [](double m2) { return io::format_number(in_mm2(m2), 6); };
+  throw InputError(file, "line " + std::to_string(surveys.surveys[most].line),
+                   "a survey that lost more area than a gauge's noise (" + io::format_number(100.0 * kGainNoiseShare) +
+                       "% of the lifter's " + mm2(m.reference_m2) + " mm^2 at the start, " + mm2(noise_m2) +
+                       " mm^2) to fit a wear rate to; the survey that lost the most, at " +
+                       io::format_number(surveys.surveys[most].hours) + " h, lost " + mm2(m.loss_m2[most]) +
+                       " mm^2 (a survey later in the lifter's life shows its wear)");
+}
+
 void check_surveys_from_start(const Measurements& measured, double start_hours, const std::string& from,
                               const std::string& file) {
   const std::vector<double> hours = measured.hours();

@@ -71,6 +71,13 @@ MeasuredAreas measured_areas(const AreaSurveys& surveys, double new_area_m2, dou
 void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double start_hours, const std::string& file,
                         bool one_shape = true);
 
+// A wear rate is fitted to the area lost, which must be told from a gauge's noise: throws
+// InputError(file, line of the survey that lost the most, ...) unless a survey after the start
+// lost more than kGainNoiseShare of the reference area. Calibration's check, after
+// check_areas_shrink (validation compares surveys of any loss).
+void check_area_losses_above_noise(const AreaSurveys& surveys, double new_area_m2, double start_hours,
+                                   const std::string& file);
+
 // A measurement file (`--measured`): profile surveys (columns x_mm and y_mm, surveys.hpp)
 // or area surveys (area_mm2 or area_loss_mm2, no x_mm/y_mm), told apart by the header.
 struct Measurements {

@@ -59,9 +59,11 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   if (!o.areas)
     check_surveys_show_wear(measured.profiles, new_liner_unit(scene), scene.radius_m(), start_h, a.measured_file,
                             scene.mill.one_lifter_shape());
-  if (o.areas)
-    check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2, start_h,
-                       a.measured_file, scene.mill.one_lifter_shape());
+  if (o.areas) {
+    const double new_area_m2 = measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2;
+    check_areas_shrink(measured.areas, new_area_m2, start_h, a.measured_file, scene.mill.one_lifter_shape());
+    check_area_losses_above_noise(measured.areas, new_area_m2, start_h, a.measured_file);
+  }
   const std::string stem = fs::path(a.scene_file).stem().string();
   const std::string out_dir = a.out.empty() ? fs::absolute(fs::path(a.scene_file)).parent_path().string() : a.out;
   // Without -o the copy goes next to the scene: that folder is checked now, as -o is, not

@@ -263,18 +263,37 @@ void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit
   if (!lifter.surface) return;
   double moment_m2h = 0.0;  // hours since the start times the metal lost, summed
   const Survey* last = nullptr;
+  const Survey* most = nullptr;  // the survey that lost the most
+  double most_m2 = 0.0;
   for_later_surveys(surveys, *lifter.surface, start_hours, radius_m,
                     [&](const Survey& later, double, double, double start_m2, double later_m2) {
                       moment_m2h += (later.hours - start_hours) * (start_m2 - later_m2);
                       last = &later;
+                      if (!most || start_m2 - later_m2 > most_m2) {
+                        most = &later;
+                        most_m2 = start_m2 - later_m2;
+                      }
                     });
-  if (!last || moment_m2h > 0.0) return;
+  if (!last) return;
   const std::string& reference = lifter.reference;
-  throw InputError(file, "line " + std::to_string(last->first_line),
-                   "surveys that lose metal with operating hours (a wear rate is fitted to the metal lost); over the "
-                   "spans they share with " + reference + " the later surveys have lost none: the metal lost times "
-                   "the hours since the start, summed, is " + io::format_number(moment_m2h / (kMm * kMm), 4) +
-                   " mm^2 h, not above 0");
+  if (!(moment_m2h > 0.0))
+    throw InputError(file, "line " + std::to_string(last->first_line),
+                     "surveys that lose metal with operating hours (a wear rate is fitted to the metal lost); over the "
+                     "spans they share with " + reference + " the later surveys have lost none: the metal lost times "
+                     "the hours since the start, summed, is " + io::format_number(moment_m2h / (kMm * kMm), 4) +
+                     " mm^2 h, not above 0");
+  // A loss within a gauge's noise (the share of metal a survey may show above its lifter) is
+  // not told from none: a rate fitted to it is fitted to the noise, and the histories shrink C
+  // toward nothing without converging.
+  const double noise_m2 = kGainNoiseShare * measure_lifter(new_unit, radius_m).area_m2;
+  if (most_m2 > noise_m2) return;
+  throw InputError(file, "line " + std::to_string(most->first_line),
+                   "a survey that lost more metal than a gauge's noise (" +
+                       io::format_number(100.0 * kGainNoiseShare) + "% of the new lifter's area, " +
+                       io::format_number(in_mm2(noise_m2), 4) + " mm^2) to fit a wear rate to; over the spans "
+                       "they share with " + reference + ", the survey that lost the most, at " +
+                       io::format_number(most->hours) + " h, lost " + io::format_number(in_mm2(most_m2), 4) +
+                       " mm^2 (a survey later in the lifter's life shows its wear)");
 }
 
 double common_stage_hours(const std::vector<Survey>& surveys, int max_stages) {

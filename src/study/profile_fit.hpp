@@ -99,7 +99,9 @@ void check_surveys_lose_metal(const std::vector<Survey>& surveys, const LinerUni
 // lifter at the start (taken as by check_surveys_lose_metal) over the spans they share with it:
 // their losses, each times its hours since the start, summed, not above 0 (surveys of a
 // lifter that did not wear, or copies of the survey at the start). The mirror of
-// check_areas_shrink's check on area losses. Nothing is checked without a reference (a
+// check_areas_shrink's check on area losses. Then, as check_area_losses_above_noise does for
+// areas, throws at the line of the survey that lost the most unless it lost more than
+// kGainNoiseShare of the new lifter's area. Nothing is checked without a reference (a
 // pattern's surveys with no survey at the start) or without a later survey over the lifter.
 void check_surveys_show_wear(const std::vector<Survey>& surveys, const LinerUnit& new_unit, double radius_m,
                              double start_hours, const std::string& file, bool one_shape);
