@@ -448,6 +448,20 @@ TEST(HostileSurveys, CalibrateRefusesLossesWithinAGaugesNoise) {
   EXPECT_EQ(r.output.find("history"), r.output.find("history's start")) << "a history ran: " << r.output;
 }
 
+// validate's table printed the hours to a whole hour, so a survey at 0.5 h read 0 h, as the
+// survey at the start; the table keeps what the file says, as validation.csv does.
+TEST(HostileSurveys, ValidatePrintsASurveyWithinTheFirstHourAtItsHours) {
+  const TempDir dir("millwear-hostile-half-hour");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n0.5,418.5\n50,415\n");
+  const auto r = run_millwear("validate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                              quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("      2      3      0.5 "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("      3      4       50 "), std::string::npos) << r.output;
+  EXPECT_NE(read_text(dir / "out" / "validation.csv").find("\n2,3,0.5,418.5,"), std::string::npos);
+}
+
 // A survey too far out for the scene's stages: 999,999 h in 50 h stages is 20,000 stages, twice
 // what a scene may ask for (wear.stages); validate ran them all (hours of a lifter that hardly
 // wears), calibrate 1.6 times as many. Refused at the survey's line, with a stage_hours that would

@@ -15,6 +15,7 @@
 #include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
 #include "common/units.hpp"
+#include "io/csv.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "study/validation_run.hpp"
 
@@ -22,12 +23,16 @@ namespace millwear::app {
 
 namespace {
 
+// Hours (a survey's, a run's) as in its file's hours column, to six digits: surveys within the first hour
+// keep their fraction (0.5 h is not 0 h).
+std::string hours_text(double hours) { return io::format_number(hours, 6); }
+
 void print_history(const Scene& scene, const validation::Measurements& m, const validation::HistorySource& src,
                    const std::string& from) {
   const char* kind = m.areas_only ? "area" : "profile";
   if (src.from_run) {
-    std::printf("validate %s: %zu %s survey(s) against the run in %s (%d stage(s), %.0f h)\n", scene.name.c_str(),
-                m.count(), kind, from.c_str(), src.last_stage, src.reached_hours);
+    std::printf("validate %s: %zu %s survey(s) against the run in %s (%d stage(s), %s h)\n", scene.name.c_str(),
+                m.count(), kind, from.c_str(), src.last_stage, hours_text(src.reached_hours).c_str());
     if (src.histories > 1)
       std::printf("  the run holds %d histories of %s (--replicates); compared: the first, seed %llu, not their "
                   "mean in its summary.csv\n",
@@ -44,7 +49,7 @@ void print_profiles(const validation::ValidateOutcome& o) {
               "mean_%h", "max_%h", "meas_mm2", "sim_mm2", "err_%");
   for (std::size_t i = 0; i < o.profiles.size(); ++i) {
     const auto& c = o.profiles[i];
-    std::printf("%7zu %8.0f %9.3f %9.3f %9.3f %8.2f %8.2f %12.1f %12.1f %9.2f\n", i + 1, c.hours,
+    std::printf("%7zu %8s %9.3f %9.3f %9.3f %8.2f %8.2f %12.1f %12.1f %9.2f\n", i + 1, hours_text(c.hours).c_str(),
                 in_mm(c.mean_distance_m), in_mm(c.max_distance_m), in_mm(c.bias_m), c.mean_pct_height,
                 c.max_pct_height, in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2), c.area_error_pct);
   }
@@ -60,7 +65,7 @@ void print_areas(const validation::ValidateOutcome& o) {
     const auto& c = o.areas[i];
     char loss_pct[32] = "-";  // no measured loss (the survey at the start): no percentage of it
     if (!std::isnan(c.loss_error_pct)) std::snprintf(loss_pct, sizeof loss_pct, "%.2f", c.loss_error_pct);
-    std::printf("%7zu %6zu %8.0f %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8s\n", i + 1, c.line, c.hours,
+    std::printf("%7zu %6zu %8s %12.1f %12.1f %10.2f %8.2f %11.1f %11.1f %8s\n", i + 1, c.line, hours_text(c.hours).c_str(),
                 in_mm2(c.measured_area_m2), in_mm2(c.simulated_area_m2), in_mm2(c.area_error_m2), c.area_error_pct,
                 in_mm2(c.measured_loss_m2), in_mm2(c.simulated_loss_m2), loss_pct);
   }
