@@ -93,6 +93,26 @@ TEST(SweepVary, AListIsSweptInAscendingOrder) {
   for (std::size_t k = 0; k + 1 < a.values.size(); ++k) EXPECT_LT(a.values[k], a.values[k + 1]) << k;
 }
 
+// Seeds run to 2^63 - 1; past 2^53 two seeds one apart are one double: a list of them was
+// refused as a value listed twice, and a range of them ran other seeds than it said.
+TEST(SweepVary, SeedsPastWhatADoubleHoldsAreToldApartAndOrdered) {
+  const study::SweepAxis a = study::parse_vary("solver.seed=9007199254740993,9007199254740994,9007199254740992");
+  EXPECT_EQ(a.texts, (std::vector<std::string>{"9007199254740992", "9007199254740993", "9007199254740994"}));
+  // A range of them steps exactly (in doubles 9007199254740993 + 3 ran 9007199254740992 + 3).
+  EXPECT_EQ(study::parse_vary("solver.seed=9007199254740993:9007199254741002:3").texts,
+            (std::vector<std::string>{"9007199254740993", "9007199254740996", "9007199254740999", "9007199254741002"}));
+  EXPECT_EQ(study::parse_vary("solver.seed=9223372036854775805:9223372036854775807:1").texts.back(), "9223372036854775807");
+  EXPECT_EQ(study::parse_vary("solver.substeps=-2:2:2").texts, (std::vector<std::string>{"-2", "0", "2"}));
+  expect_speed_vary_refused("mill.speed=9007199254740993:9007199254740996:2",
+                            "the values go 9007199254740995, then 9007199254740997");
+  try {
+    study::parse_vary("solver.seed=9223372036854775806,9223372036854775806");
+    ADD_FAILURE() << "a seed listed twice was swept";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("each value once"), std::string::npos) << e.what();
+  }
+}
+
 // The same value twice would run the same charge twice: refused, naming both as written.
 TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");

@@ -271,6 +271,43 @@ bool SweepResult::failed() const {
   return std::any_of(points.begin(), points.end(), [](const SweepPoint& p) { return !p.error.empty(); });
 }
 
+namespace {
+
+// FIRST:LAST:STEP written as whole numbers ("+-" and digits only).
+bool all_whole_numbers(const std::vector<std::string>& parts) {
+  return std::all_of(parts.begin(), parts.end(), [](const std::string& t) {
+    return !t.empty() && t.find_first_not_of("+-0123456789") == std::string::npos;
+  });
+}
+
+// A range of whole numbers (seeds run to 2^63 - 1, past the 2^53 a double counts exactly)
+// stepped in extended precision, exact to 2^64, and written as the integers they are.
+SweepAxis whole_number_range(SweepAxis a, const std::vector<std::string>& parts, const std::string& rest) {
+  const long double first = std::strtold(parts[0].c_str(), nullptr), last = std::strtold(parts[1].c_str(), nullptr),
+                    step = std::strtold(parts[2].c_str(), nullptr);
+  const auto text = [](long double v) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.0Lf", v);
+    return std::string(buf);
+  };
+  if (last < first) throw InputError("", "--vary " + a.key, "expected LAST >= FIRST, got " + rest);
+  const long double n = std::floor((last - first) / step);
+  if (first + n * step != last)
+    throw InputError("", "--vary " + a.key,
+                     "expected LAST reached from FIRST in whole steps, got " + rest + ": the values go " +
+                         text(first + n * step) + ", then " + text(first + (n + 1) * step));
+  if (n + 1 > static_cast<long double>(kMaxSweepValues))
+    throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values, got " +
+                                                text(n + 1));
+  for (long double i = 0; i <= n; ++i) {
+    a.texts.push_back(text(first + i * step));
+    a.values.push_back(std::stod(a.texts.back()));
+  }
+  return a;
+}
+
+}  // namespace
+
 SweepAxis parse_vary(const std::string& text) {
   const std::string usage = "KEY=FIRST:LAST:STEP or KEY=V1,V2,... with numbers, e.g. --vary mill.speed=0.5:1.0:0.05";
   const std::size_t eq = text.find('=');
@@ -304,6 +341,7 @@ SweepAxis parse_vary(const std::string& text) {
         !parse_number(parts[2], step))
       throw InputError("", "--vary " + a.key, "expected FIRST:LAST:STEP, three numbers, got '" + rest + "'");
     if (!(step > 0.0)) throw InputError("", "--vary " + a.key, "expected a STEP > 0, got " + parts[2]);
+    if (all_whole_numbers(parts)) return whole_number_range(std::move(a), parts, rest);
     if (last < first) throw InputError("", "--vary " + a.key, "expected LAST >= FIRST, got " + rest);
     // A millionth of a step: 0.5:1.6:0.1 ends at 1.6, whatever the rounding of 11 x 0.1.
     const double n = std::floor((last - first) / step + 1e-6);
@@ -327,6 +365,9 @@ SweepAxis parse_vary(const std::string& text) {
       a.texts.push_back(io::format_shortest(v));
     }
   } else {
+    // The values as the scene reads them are compared and ordered in extended precision:
+    // seeds are integers up to 2^63 - 1, which a double tells apart only up to 2^53.
+    std::vector<long double> exact;
     std::size_t start = 0;
     for (std::size_t i = 0; i <= rest.size(); ++i) {
       if (i != rest.size() && rest[i] != ',') continue;
@@ -335,14 +376,16 @@ SweepAxis parse_vary(const std::string& text) {
       double v = 0;
       if (!parse_number(item, v))
         throw InputError("", "--vary " + a.key, "expected a number, got '" + item + "' (" + usage + ")");
+      const long double x = std::strtold(item.c_str(), nullptr);
       // A value twice would run the same charge twice (same scene, same seed).
-      for (std::size_t k = 0; k < a.values.size(); ++k)
-        if (a.values[k] == v)
+      for (std::size_t k = 0; k < exact.size(); ++k)
+        if (exact[k] == x)
           throw InputError("", "--vary " + a.key,
                            "expected each value once, got " + a.texts[k] + " and " + item + " (--replicates N runs more "
                            "seeds of a value)");
       a.values.push_back(v);
       a.texts.push_back(item);
+      exact.push_back(x);
     }
     if (a.values.size() > kMaxSweepValues)
       throw InputError("", "--vary " + a.key, "expected at most " + std::to_string(kMaxSweepValues) + " values");
@@ -350,7 +393,7 @@ SweepAxis parse_vary(const std::string& text) {
     // figures join them (0.8,0.5,0.65 drawn in the order typed would double back on itself).
     std::vector<std::size_t> order(a.values.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::stable_sort(order.begin(), order.end(), [&a](std::size_t i, std::size_t j) { return a.values[i] < a.values[j]; });
+    std::stable_sort(order.begin(), order.end(), [&exact](std::size_t i, std::size_t j) { return exact[i] < exact[j]; });
     SweepAxis sorted{a.key, {}, {}};
     for (std::size_t k : order) {
       sorted.values.push_back(a.values[k]);
