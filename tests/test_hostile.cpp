@@ -346,7 +346,7 @@ TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
 // A point typed onto another edge pinches the lifter into two parts joined at a point; in
 // metres the point rounds to one side of the edge or the other, and either way it is refused,
 // naming the point and the edge.
-TEST(HostileProfile, APointOnAnotherOfItsEdgesIsRefusedNamingBoth) {
+TEST(HostileProfile, APointOnAnotherOfItsEdgesOrGivenTwiceIsRefusedNamingBoth) {
   const TempDir dir("millwear-hostile-touch");
   // The line back from the leading face ends on the trailing face, y = 2 (x + 50).
   for (const std::string pt : {"-37.5, 25.0", "-37.65, 24.7", "-43.9, 12.2"}) {
@@ -357,10 +357,18 @@ TEST(HostileProfile, APointOnAnotherOfItsEdgesIsRefusedNamingBoth) {
     EXPECT_NE(r.output.find("touch.toml: points[4]"), std::string::npos) << pt << "\n" << r.output;
     EXPECT_NE(r.output.find("lies on the edge from points[0] to points[1]"), std::string::npos) << pt << "\n" << r.output;
   }
+  // A point given twice is named as the point it repeats (a foot repeated was said to be a
+  // point between the feet not above the shell).
+  write(dir / "twice.toml", "name = \"twice\"\nform = \"polyline\"\npoints = [[-50.0, 0.0], [-50.0, 0.0], "
+                            "[0.0, 40.0], [50.0, 0.0]]\n");
+  auto r = run_millwear("profile " + quoted(dir / "twice.toml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("twice.toml: points[1]: expected each point once; this point (-50, 0 mm) is points[0] again"),
+            std::string::npos) << r.output;
   // A micrometre and more off the edge is a lifter with a slot, as drawn.
   write(dir / "slot.toml", "name = \"slot\"\nform = \"polyline\"\npoints = [[-50.0, 0.0], [-25.0, 50.0], "
                            "[25.0, 50.0], [30.0, 25.0], [-37.49, 25.0], [50.0, 0.0]]\n");
-  const auto r = run_millwear("profile " + quoted(dir / "slot.toml"));
+  r = run_millwear("profile " + quoted(dir / "slot.toml"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 

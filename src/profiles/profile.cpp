@@ -150,17 +150,26 @@ Polyline read_points(const toml::table& t, const std::string& file) {
 // A point typed onto one of the line's other edges (within a micrometre) pinches the lifter
 // into two parts joined at a point. The exact test of validate_lifter_polyline sees such a
 // point on whichever side the conversion to metres rounded it, so it is found here first, by
-// distance, naming the point and the edge. A drawn profile has tens of points: every pair.
+// distance, naming the point and the edge (or the point it repeats). A drawn profile has tens
+// of points: every pair.
 void check_no_point_on_another_edge(const Polyline& pts, const std::string& file) {
   constexpr double kTouchM = 1e-6;  // far below any drawing's resolution, far above rounding
+  const auto mm = [](Vec2 p) { return "(" + short_number(p.x * 1e3) + ", " + short_number(p.y * 1e3) + " mm)"; };
+  // A point given twice (a foot copied, a corner pasted again) is named as such first.
+  for (std::size_t j = 1; j < pts.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i)
+      if (length(pts[j] - pts[i]) <= kTouchM)
+        throw InputError(file, "points[" + std::to_string(j) + "]",
+                         "expected each point once; this point " + mm(pts[j]) + " is points[" + std::to_string(i) +
+                             "] again");
   for (std::size_t i = 0; i < pts.size(); ++i)
     for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
       if (j == i || j + 1 == i) continue;  // the point's own edges
       if (distance_to_polyline(pts[i], Polyline{pts[j], pts[j + 1]}) > kTouchM) continue;
       throw InputError(file, "points[" + std::to_string(i) + "]",
-                       "expected a polyline that does not touch itself; this point (" + short_number(pts[i].x * 1e3) +
-                           ", " + short_number(pts[i].y * 1e3) + " mm) lies on the edge from points[" +
-                           std::to_string(j) + "] to points[" + std::to_string(j + 1) + "]");
+                       "expected a polyline that does not touch itself; this point " + mm(pts[i]) +
+                           " lies on the edge from points[" + std::to_string(j) + "] to points[" +
+                           std::to_string(j + 1) + "]");
     }
 }
 
