@@ -23,8 +23,8 @@ namespace millwear::app {
 
 namespace {
 
-// Hours (a survey's, a run's) as in its file's hours column, to six digits: surveys within the first hour
-// keep their fraction (0.5 h is not 0 h).
+// Hours (a survey's, a run's) to six digits, as a survey file gives them: a survey within
+// the first hour keeps its fraction (0.5 h is not 0 h, the start).
 std::string hours_text(double hours) { return io::format_number(hours, 6); }
 
 void print_history(const Scene& scene, const validation::Measurements& m, const validation::HistorySource& src,
