@@ -72,7 +72,8 @@ TEST(SceneEdit, TheProfilePathStillResolvesFromTheCopysFolder) {
 
 
 // Key edits (the view's controls and its saved scene): a key's line rewritten from the key to
-// the end of its value, a missing key added at the end of its table, a key removed, a new
+// the end of its value (to the end of the line, its comment too, where another key replaces it
+// or it is removed), a missing key added at the end of its table, a key removed, a new
 // top-level key and a new table; nothing else of the text changes.
 const char* kMillScene =
     "name = \"edit\"\n"
@@ -101,9 +102,9 @@ TEST(SceneEdit, KeyEditsRewriteAddAndRemoveKeysKeepingTheRest) {
             "name = \"edit\"\n"
             "fidelity = \"draft\"\n"
             "[mill]\n"
-            "speed = 0.8   # the plant's figure\n"
+            "speed = 0.8\n"
             "direction = \"reverse\"\n"
-            "   # h\n"
+            "\n"
             "[charge]\n"
             "filling = 0.3   # of the mill\n"
             "ball_filling = 0.1\n"

@@ -348,6 +348,36 @@ TEST(View, APatternOfLiftersIsDrawnFromEachRowsKind) {
   EXPECT_TRUE(fs::exists(shot)) << r.err;
 }
 
+// On a pattern scene a profile, or a lifter's height and faces, is every row's: it takes the
+// pattern's place (it was refused, the scene then naming both keys), the mill is rebuilt with
+// one kind, and the saved scene carries the one profile without the pattern or its comment.
+TEST(View, AProfileOrALifterOnAPatternSceneIsEveryRowsAndIsSaved) {
+  const TempDir dir("millwear-view-test-pattern-edit");
+  const std::string saved = (dir / "one.toml").string(), shaped = (dir / "shaped.toml").string();
+  write(dir / "s.txt",
+        "0 profile " + src("profiles/lab-lo.toml") + "\n"
+        "0.1 report\n"
+        "0.1 save_scene " + saved + "\n"
+        "0.2 lifter 18 25 25\n"
+        "0.3 save_scene " + shaped + "\n"
+        "0.3 quit\n");
+  const Result r = run_millwear("view " + q(src("scenarios/lab-hi-lo.toml")) + " --fidelity draft --size 640 400 --script " +
+                                    q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.err.find("refused"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("lost=0 finite=1"), std::string::npos) << r.out;
+  const std::string one = slurp(saved), lifter = slurp(dir / "shaped_lifter.toml");
+  EXPECT_EQ(one.find("pattern"), std::string::npos) << one;
+  EXPECT_EQ(one.find("kind k % 2"), std::string::npos) << one;
+  EXPECT_NE(one.find("lab-lo.toml"), std::string::npos) << one;
+  EXPECT_NE(slurp(shaped).find("profile = 'shaped_lifter.toml'"), std::string::npos) << slurp(shaped);
+  EXPECT_NE(lifter.find("height = 18"), std::string::npos) << lifter;
+  for (const std::string& scene : {saved, shaped}) {
+    const Result check = run_millwear("run --check " + q(scene) + " -o " + q((dir / "out").string()), dir);
+    EXPECT_EQ(check.exit_code, 0) << scene << "\n" << check.out << check.err;
+  }
+}
+
 // The lifter's shape and the direction change in the running mill, and the saved scene carries
 // them: `millwear run --check` accepts it, and its lifter file has the height set. A recording
 // writes a frame sequence.

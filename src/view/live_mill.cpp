@@ -172,7 +172,8 @@ std::string LiveMill::set_direction(bool reverse) {
 
 std::string LiveMill::set_profile(const std::string& file) {
   const std::string abs = fs::absolute(fs::path(file)).lexically_normal().string();
-  const std::string r = apply({"lifters", "profile", toml_string_value(abs), {}}, true, false);
+  // One profile for every row: on a scene with a pattern of kinds it takes the pattern's place.
+  const std::string r = apply({"lifters", "profile", toml_string_value(abs), {"pattern"}}, true, false);
   if (r.empty()) edited_profile_text_.clear();
   return r;
 }
@@ -190,7 +191,7 @@ std::string LiveMill::set_lifter_shape(double height_mm, double leading_deg, dou
   const std::string file = (fs::path(temp_dir_) / (scene_.name + "_lifter.toml")).string();
   const std::string before = fs::exists(file) ? read_text(file) : "";
   io::write_file_atomic(file, text);
-  const std::string r = apply({"lifters", "profile", toml_string_value(file), {}}, true, false);
+  const std::string r = apply({"lifters", "profile", toml_string_value(file), {"pattern"}}, true, false);
   if (r.empty()) edited_profile_text_ = text;
   else if (!before.empty()) io::write_file_atomic(file, before);  // the lifter in use stays
   return r;
