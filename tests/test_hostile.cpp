@@ -804,6 +804,43 @@ TEST(HostileScenes, TheWornOutStageReportsNoChargeFigures) {
     EXPECT_TRUE(std::isnan(sum.number(last, c))) << c << " = " << sum.number(last, c);
 }
 
+// A window that lost disks ends its history, and its stage is kept for a look at what
+// happened; but its charge is not the scene's: summary.csv and the comparison gave its power
+// and collision energy as the design's, and one verdict called a difference resolved. Its
+// charge figures are unknown now, as a worn-out stage's are, its liner's geometry stands, and
+// a `charge` that lost disks says in its manifest that it failed.
+TEST(HostileScenes, AWindowThatLostDisksGivesNoChargeFiguresToCompare) {
+  const TempDir dir("millwear-hostile-lost-window");
+  write(dir / "good.toml", lab_quick());
+  std::string bad = lab_quick();
+  bad.replace(bad.find("name = \"lab-quick\""), 18, "name = \"bad\"");
+  bad.replace(bad.find("[solver]"), 8, "[solver]\ncontact_hertz = 5.0");
+  write(dir / "bad.toml", bad);
+  const auto r = run_millwear("run " + quoted(dir / "good.toml") + " " + quoted(dir / "bad.toml") +
+                              " -q -j 1 --set mill.speed=1.2 -o " + quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 1) << r.output;
+  ASSERT_NE(r.output.find("bad: stage 0: disk"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("resolved:"), std::string::npos) << r.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "summary.csv").string());
+  bool seen = false;
+  for (std::size_t i = 0; i < sum.row_count(); ++i) {
+    if (sum.text(i, sum.column("design")) != "bad") continue;
+    seen = true;
+    EXPECT_TRUE(std::isfinite(sum.number(i, "area_mm2")));
+    for (const char* c : {"power_kw", "collision_kw", "utilization", "liner_shear_kw", "charge_t", "liner_wear_g_per_kwh"})
+      EXPECT_TRUE(std::isnan(sum.number(i, c))) << c << " = " << sum.number(i, c);
+  }
+  EXPECT_TRUE(seen) << read_text(dir / "out" / "summary.csv");
+  EXPECT_NE(read_text(dir / "out" / "summary.md").find("power_kw at stage 0: bad against lab-quick: not compared"),
+            std::string::npos);
+  const auto c = run_millwear("charge " + quoted(dir / "bad.toml") + " -q --revolutions 1 --set mill.speed=1.2 -o " +
+                              quoted(dir / "charge"));
+  ASSERT_EQ(c.exit_code, 1) << c.output;
+  const std::string manifest = read_text(dir / "charge" / "manifest.json");
+  EXPECT_NE(manifest.find("\"status\": \"failed\""), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("disks were lost"), std::string::npos) << manifest;
+}
+
 // Figure scripts that are not there: the results stand, the command exits 1 (0 on a machine
 // without gnuplot, where figures are not expected), and the warning lists each figure that
 // failed once, under one heading.

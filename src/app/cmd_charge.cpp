@@ -186,12 +186,19 @@ int run_charge(const ChargeArgs& args) {
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
   }
   for (const std::string& f : plots::figure_data_files(args.out, {scene.name})) record.files.push_back(f);
-  study::write_command_manifest(args.out, record);
-  // A disk lost at any time (settling and spin-up included) makes every figure suspect.
+  // A disk lost at any time (settling and spin-up included) makes every figure suspect: the
+  // files stay for a look at what happened, and the manifest says the run failed.
+  std::string failure;
   if (result.lost_disks > 0) {
-    std::cerr << "millwear: run failed: " << result.lost_disks << " of " << result.disks
-              << " disks were lost (escaped or non-finite; first: t=" << result.events.front().time_s
-              << " s: " << result.events.front().what << ")\n";
+    char why[512];
+    std::snprintf(why, sizeof why, "%lld of %lld disks were lost (escaped or non-finite; first: t=%g s: %s)",
+                  static_cast<long long>(result.lost_disks), static_cast<long long>(result.disks),
+                  result.events.front().time_s, result.events.front().what.c_str());
+    failure = why;
+  }
+  study::write_command_manifest(args.out, record, failure);
+  if (!failure.empty()) {
+    std::cerr << "millwear: run failed: " << failure << "\n";
     return 1;
   }
   return figures_failed ? 1 : 0;

@@ -13,7 +13,7 @@
 
 namespace millwear::study {
 
-void write_command_manifest(const std::string& out, const CommandRecord& r) {
+void write_command_manifest(const std::string& out, const CommandRecord& r, const std::string& failure) {
   nlohmann::ordered_json m;
   m["program"] = "millwear";
   m["version"] = MILLWEAR_VERSION;
@@ -26,6 +26,10 @@ void write_command_manifest(const std::string& out, const CommandRecord& r) {
   nlohmann::ordered_json settings = nlohmann::ordered_json::object();
   for (const auto& [key, value] : r.settings) settings[key] = value;
   m["settings"] = settings;
+  if (!failure.empty()) {
+    m["status"] = "failed";
+    m["failure"] = failure;
+  }
   std::vector<std::string> files{"manifest.json"};
   for (const std::string& f : r.files) {
     const std::string rel = io::relative_to(out, f);

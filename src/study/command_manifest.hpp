@@ -25,6 +25,8 @@ struct CommandRecord {
 // Writes OUT/manifest.json atomically. The files are listed relative to OUT, the manifest
 // itself with them; a file given that is not there (gnuplot's log of a run without
 // figures) is left out.
-void write_command_manifest(const std::string& out, const CommandRecord& r);
+// `failure`: why the figures written are not the scene's (a disk lost); the manifest then
+// says "status": "failed" and gives it as "failure". Empty: neither field.
+void write_command_manifest(const std::string& out, const CommandRecord& r, const std::string& failure = "");
 
 }  // namespace millwear::study

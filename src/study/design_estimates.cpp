@@ -160,9 +160,11 @@ DesignEstimate estimate_history(const std::string& name, const Scene& scene, con
     s.area_m2 = l.area_m2;
     s.area_loss_fraction = l.area_loss_fraction;
     s.height_m = l.height_m;
-    if (r.worn_out) {
+    if (r.worn_out || r.charge.summary.escaped > 0) {
       // The lifter worn to the shell ends the history: its geometry is measured, but no
       // charge ran on it, so its charge figures are left unknown (NaN), not the last stage's.
+      // So are those of a window that lost disks (which ends the history too): its liner is
+      // real, its charge is not the scene's, and its power would be compared as a design's.
       d.stages.push_back(s);
       continue;
     }
