@@ -978,6 +978,19 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   EXPECT_EQ(sc.exit_code, 2) << sc.output;
   EXPECT_NE(sc.output.find("--emit"), std::string::npos) << sc.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
+  // --resume goes on, --force starts over: run obeyed --force and deleted the run.
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const auto rf = run_millwear("run " + quoted(scene) + " -q --resume --force -o " + quoted(dir / "out"));
+  EXPECT_EQ(rf.exit_code, 2) << rf.output;
+  EXPECT_NE(rf.output.find("--resume excludes --force"), std::string::npos) << rf.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // --collect of one folder, named twice as two: the positional one was ignored.
+  fs::create_directories(dir / "a");
+  fs::create_directories(dir / "b");
+  const auto co = run_millwear("screen --collect " + quoted(dir / "a") + " -o " + quoted(dir / "b"));
+  EXPECT_EQ(co.exit_code, 2) << co.output;
+  EXPECT_NE(co.output.find("one output folder"), std::string::npos) << co.output;
 }
 
 // A charge's own earlier folder is its to rewrite, but a user's file put there under a name a

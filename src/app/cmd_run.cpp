@@ -225,9 +225,12 @@ void register_run(CLI::App& app, Action* action) {
   cmd->add_option("--fidelity", args->plan.fidelity, "draft | standard | reference (default: each scene's)")->check(fidelity_name());
   cmd->add_option("--reference", args->plan.reference, "design whose new stage normalises (default: the comparison's, else the first)")
       ->check(non_empty("a design name"));
-  cmd->add_flag("--resume", args->run.resume, "continue an interrupted run in OUT from its last finished stages");
+  CLI::Option* resume = cmd->add_flag("--resume", args->run.resume, "continue an interrupted run in OUT from its last finished stages");
+  // --force starts over, which --resume does not: the two together are refused, not one
+  // of them obeyed.
   cmd->add_flag("--force", args->run.force,
-               "OUT holds another run's results: delete the files its manifest lists, then run");
+               "OUT holds another run's results: delete the files its manifest lists, then run")
+      ->excludes(resume);
   cmd->add_flag("-q,--quiet", args->quiet, "no live progress, only the final summary");
   cmd->add_option("--progress-every", args->progress_every_s,
                   "without a terminal: a plain progress line every SECONDS and at each stage (" +

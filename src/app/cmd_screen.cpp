@@ -116,6 +116,11 @@ int screen_command(const ScreenArgs& args) {
       throw InputError("", "--set", "no --set with --collect (the candidates were written with the screen's overrides)");
     const std::string out = !args.request.out.empty() ? args.request.out : args.request.screen_file;
     if (out.empty()) throw InputError("", "--collect", "the screen's output folder: --collect -o OUT (or --collect OUT)");
+    // Two folders named: which one was meant is not for the command to guess.
+    if (!args.request.out.empty() && !args.request.screen_file.empty() &&
+        std::filesystem::weakly_canonical(args.request.out) != std::filesystem::weakly_canonical(args.request.screen_file))
+      throw InputError("", "--collect", "one output folder, as --collect OUT or --collect -o OUT; got " +
+                                            args.request.screen_file + " and -o " + args.request.out);
     return print_collected(out, collect_screen(out));
   }
   const std::string& out = args.request.out;
