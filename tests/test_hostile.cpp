@@ -841,6 +841,35 @@ TEST(HostileScenes, AWindowThatLostDisksGivesNoChargeFiguresToCompare) {
   EXPECT_NE(manifest.find("disks were lost"), std::string::npos) << manifest;
 }
 
+// contacts.csv keeps at most 200,000 records, the window's first: six revolutions of the lab
+// mill log more, and the file stopped at three quarters of the window without a word. The
+// summary says how far it reaches, and charge warns.
+TEST(HostileScenes, AContactLogCutAtItsLimitSaysWhereItStops) {
+  const TempDir dir("millwear-hostile-contact-log");
+  write(dir / "scene.toml", lab_quick());
+  const auto r = run_millwear("charge " + quoted(dir / "scene.toml") + " -q --revolutions 6 --set outputs.contact_log=true -o " +
+                              quoted(dir / "out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: contacts.csv holds the window's first 200000 liner contacts"), std::string::npos)
+      << r.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((dir / "out" / "charge_summary.csv").string());
+  double until = std::nan(""), window = std::nan("");
+  for (std::size_t i = 0; i < sum.row_count(); ++i) {
+    if (sum.text(i, 0) == "contact_log_until") until = sum.number(i, "value");
+    if (sum.text(i, 0) == "simulated_time") window = sum.number(i, "value");
+  }
+  ASSERT_TRUE(std::isfinite(until) && std::isfinite(window));
+  EXPECT_LT(until, 0.9 * window);
+  EXPECT_EQ(millwear::io::read_csv((dir / "out" / "contacts.csv").string()).row_count(), 200000u);
+  // A window the log holds whole: no warning, and the log reaches its end.
+  const auto whole = run_millwear("charge " + quoted(dir / "scene.toml") + " -q --revolutions 1 --set outputs.contact_log=true -o " +
+                                  quoted(dir / "one"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_EQ(whole.output.find("contacts.csv holds"), std::string::npos) << whole.output;
+  const std::string one = read_text(dir / "one" / "charge_summary.csv");
+  EXPECT_NE(one.find("contact_log_until,"), std::string::npos) << one;
+}
+
 // Figure scripts that are not there: the results stand, the command exits 1 (0 on a machine
 // without gnuplot, where figures are not expected), and the warning lists each figure that
 // failed once, under one heading.

@@ -139,6 +139,12 @@ int run_charge(const ChargeArgs& args) {
     std::cerr << "millwear: warning: " << unsteady << "\n";
   if (const std::string unsound = unsound_energy_split(f); !unsound.empty())
     std::cerr << "millwear: warning: " << unsound << "\n";
+  // contacts.csv keeps the window's first records only: say where it stops.
+  if (scene.outputs.contact_log && result.accounting.contact_log_time_s > 0.0)
+    std::cerr << "millwear: warning: contacts.csv holds the window's first " << result.accounting.contact_log.size()
+              << " liner contacts, its first " << result.accounting.contact_log_time_s << " s of "
+              << result.accounting.time_s << " s (the log keeps at most that many; charge_summary.csv: "
+                 "contact_log_until)\n";
   const double com_deg = f.summary.centre_of_mass_deg;
   if (f.summary.centrifuged)
     std::printf("  centrifuged: the charge covers the whole shell (no toe or shoulder); centre of mass %.0f deg\n",

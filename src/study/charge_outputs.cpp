@@ -44,6 +44,17 @@ std::string power_model_rows(const ChargeEstimates& e) {
   return rows.str();
 }
 
+// With outputs.contact_log: how much of the window contacts.csv holds (the log keeps at most
+// its limit of records, the window's first ones).
+std::string contact_log_rows(const Scene& scene, const ChargeRunResult& r) {
+  if (!scene.outputs.contact_log) return "";
+  const Accounting& a = r.accounting;
+  const double until_s = a.contact_log_time_s > 0.0 ? a.contact_log_time_s : a.time_s;
+  return "contact_log_records," + std::to_string(a.contact_log.size()) + ",in contacts.csv (at most " +
+         std::to_string(a.options.contact_log_limit) + ")\n" + "contact_log_until," + fmt(until_s) +
+         ",s of the window's " + fmt(a.time_s) + " s that contacts.csv covers\n";
+}
+
 // The rows of charge_summary.csv on the flights from the lifters: their rate, their impact
 // power, and the shares of it above the toe and on the bare liner there, with batch-means
 // errors ("centrifuged" where there is no toe, "none" without a landed flight).
@@ -175,6 +186,7 @@ std::vector<std::string> write_charge_outputs(const std::string& out, const Scen
       << "packed_disks," << fmt(s.mean_packed_disks) << ",mean disks in liner contact for over a revolution\n"
       << "packed_shear_share," << fmt(s.packed_shear_share) << ",of all liner slip work (packed included)\n"
       << impact_rows(scene, r, estimates.impacts)
+      << contact_log_rows(scene, r)
       << "escaped_disks," << s.escaped << ",in the measured window\n"
       << "lost_disks," << r.lost_disks << ",since the fill (settling and spin-up included); any fails the run\n"
       << "disk_steps_per_s," << fmt(r.window_wall_s > 0 ? r.disk_steps / r.window_wall_s : 0.0) << ",1/s\n"
