@@ -870,6 +870,20 @@ TEST(HostileScenes, AContactLogCutAtItsLimitSaysWhereItStops) {
   EXPECT_NE(one.find("contact_log_until,"), std::string::npos) << one;
 }
 
+// rule 1 and the tradeoff measure one lifter's worn profile: on a hi-lo pattern they judged
+// the high kind alone (rule1 recommended a factor from it; tradeoff's profile error was the high
+// kind's and its life the low kind's). Refused before any history, naming the pattern.
+TEST(HostileScenes, RuleOneAndTheTradeoffRefuseAPatternOfShapes) {
+  const TempDir dir("millwear-hostile-pattern-rule1");
+  const std::string scene = quoted(fs::path(kSource + "/scenarios/lab-hi-lo.toml"));
+  for (const std::string& cmd : {"rule1 " + scene + " --factors 5e4 1e5", "tradeoff " + scene + " --quick --stages 1"}) {
+    const auto r = run_millwear(cmd + " -o " + quoted(dir / "out"));
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("lab-hi-lo.toml: lifters.pattern: one lifter shape"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << cmd;
+  }
+}
+
 // Figure scripts that are not there: the results stand, the command exits 1 (0 on a machine
 // without gnuplot, where figures are not expected), and the warning lists each figure that
 // failed once, under one heading.

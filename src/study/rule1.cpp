@@ -157,6 +157,12 @@ Rule1Report rule1_check(const Scene& scene, const Rule1Options& options) {
   if (options.replicates < 1 || options.replicates > study::kMaxReplicates)
     throw InputError("", "--replicates", "1 to " + std::to_string(study::kMaxReplicates) + " histories per factor, got " +
                                              std::to_string(options.replicates));
+  // The profiles compared are one lifter's: a pattern's kinds of other shapes wear apart, and
+  // a factor that keeps one of them would be taken as keeping all.
+  if (!scene.mill.one_lifter_shape())
+    throw InputError(scene.source_file, "lifters.pattern",
+                     "one lifter shape: rule 1 compares one lifter's worn profile between factors, and the kinds of "
+                     "this pattern wear apart; check the factor on a scene of each kind (lifters.profile = its file)");
   const auto nrep = static_cast<std::uint64_t>(options.replicates);
   check_derived_seeds(scene, factors.size() * nrep, "rule 1 (one seed per factor and replicate)");
   // Every factor's run within the limits (steps of a continuous stage, updates) before any runs.

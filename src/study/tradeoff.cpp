@@ -286,6 +286,15 @@ KnobValues smoothing_values(const Scene& standard_scene) {
 
 TradeoffLadder tradeoff_ladder(const std::vector<Scene>& designs, const TradeoffOptions& o) {
   if (designs.empty()) throw InputError("", "SCENE", "at least one design");
+  // The errors of a setting are one lifter's profile, area and height against the reference
+  // setting's: a pattern's kinds of other shapes wear apart, and the one measured would speak
+  // for all of them.
+  for (const Scene& d : designs)
+    if (!d.mill.one_lifter_shape())
+      throw InputError(d.source_file, "lifters.pattern",
+                       "one lifter shape: tradeoff measures one lifter's profile, area and height against the "
+                       "reference setting, and the kinds of this pattern wear apart; measure a scene of each kind "
+                       "(lifters.profile = its file)");
   const std::vector<Scene> base = ladder_base(designs, o);
   TradeoffLadder ladder;
   add_presets(base, !o.quick, ladder);
