@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -43,6 +44,29 @@ inline std::string read_text(const std::filesystem::path& p) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// Every file under a folder, hidden ones included (relative path -> content).
+inline std::map<std::string, std::string> files_under(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[std::filesystem::relative(e.path(), dir).string()] = read_text(e.path());
+  return files;
+}
+
+// The files of two such listings that differ ("-NAME" gone, "+NAME" new, "~NAME" changed),
+// one a line; "" when they are the same.
+inline std::string changed_files(const std::map<std::string, std::string>& before,
+                                 const std::map<std::string, std::string>& after) {
+  std::string changes;
+  for (const auto& [name, text] : before) {
+    const auto it = after.find(name);
+    if (it == after.end()) changes += "-" + name + "\n";
+    else if (it->second != text) changes += "~" + name + "\n";
+  }
+  for (const auto& [name, text] : after)
+    if (!before.count(name)) changes += "+" + name + "\n";
+  return changes;
 }
 
 }  // namespace millwear::testing

@@ -74,6 +74,11 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
     }
   }
   o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
+  // A folder where a file goes stops the calibration now, not once its histories have run.
+  io::check_output_names(out_dir, {stem + "-calibrated.toml"}, "calibrate");
+  if (!a.out.empty())
+    io::check_output_names(a.out, {"calibration.csv", "calibration_surveys.csv", "calibration_result.csv"},
+                           "calibrate");
   // The calibrated copy replaces only an earlier calibrated copy, never a file of the user's.
   if (io::file_exists(o.scene_out) && io::read_file(o.scene_out).rfind(kCalibratedCopyHeader, 0) != 0)
     throw InputError(o.scene_out, a.out.empty() ? "" : "-o",

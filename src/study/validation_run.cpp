@@ -81,6 +81,19 @@ std::vector<StageRecord> fresh_history(const HistorySource& src, const ValidateC
   return h.stages;
 }
 
+// The files a validation writes into OUT, relative to it.
+std::vector<std::string> output_names(bool areas_only) {
+  const std::string figure = areas_only ? "validate_areas" : "validate_profiles";
+  std::vector<std::string> names = {"manifest.json", "validation.csv", "plots/gnuplot.log", figure + ".png",
+                                    figure + ".svg"};
+  if (areas_only)
+    names.insert(names.end(), {"simulated_areas.csv", "plots/validate_area_measured.csv",
+                               "plots/validate_area_simulated.csv"});
+  else
+    names.insert(names.end(), {"simulated_surveys.csv", "plots/validate_measured.dat", "plots/validate_simulated.dat"});
+  return names;
+}
+
 void check_covers(bool covers, double last_hours, double survey_hours) {
   if (!covers)
     throw RunError("the wear history ends at " + io::format_number(last_hours) +
@@ -225,6 +238,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
                        scene.wear.start_hours, a.measured_file, scene.mill.one_lifter_shape());
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
+  io::check_output_names(a.out, output_names(measured.areas_only), "validate");
   io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
   if (cb.on_history) cb.on_history(scene, measured, src);
   if (!src.from_run) stages = fresh_history(src, cb);

@@ -76,8 +76,9 @@ struct ValidateOutcome {
 };
 
 // Throws InputError for bad input (scene, or one outside the run limits, measured file, a
-// --from folder without the design or with surveys beyond its last stage), RunError when
-// the history fails (a lost disk or rule 1's stop included) or ends before the last survey.
+// --from folder without the design or with surveys beyond its last stage, a folder in OUT
+// where a file goes), RunError when the history fails (a lost disk or rule 1's stop
+// included) or ends before the last survey.
 ValidateOutcome validate_scene(const ValidateRequest& request, const ValidateCallbacks& callbacks = {});
 
 // A gnuplot data block: a title line "TITLE,-" then x_mm,y_mm rows; blocks are separated
