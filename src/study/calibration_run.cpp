@@ -101,6 +101,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   o.result = o.areas ? calibrate_wear_rate(scene, measured.areas, o.options, cb.on_run, history)
                      : calibrate_wear_rate(scene, measured.profiles, o.options, cb.on_run, history);
   const CalibrationResult& res = o.result;
+  // A stop heard after the last history: nothing is written (a stop within one is the
+  // history's RunError("interrupted")). Once writing begins the calibration finishes.
+  if (cb.wear.should_stop && cb.wear.should_stop()) throw RunError("interrupted");
 
   io::ensure_dir(out_dir);
   char note[200];
