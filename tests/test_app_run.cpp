@@ -337,6 +337,35 @@ TEST_F(AppRun, AnimateWritesAGifFromAFinishedRun) {
   EXPECT_GT(fs::file_size(gif), 1000u);
 }
 
+// SIGTERM while gnuplot draws the GIF (a gnuplot slowed by a second here, so that the stop
+// finds it drawing): animate waits for it, then removes its temporary frame folder and the GIF
+// it drew and ends 143 saying so, where it was killed and left the folder behind.
+TEST(AnimateSignals, ASigtermWhileTheGifIsDrawnLeavesNoTemporaryFolderAndNoGif) {
+  const TempDir dir("millwear-test-animate-stop");
+  const fs::path tmp = dir / "tmp", bin = dir / "bin", gif = dir / "gif" / "a.gif";
+  fs::create_directories(tmp);
+  fs::create_directories(gif.parent_path());
+  // The slow gnuplot: the real one (the next on PATH) a second late.
+  dir.write("bin/gnuplot", "#!/bin/sh\nsleep 1\nPATH=${PATH#*:} exec gnuplot \"$@\"\n");
+  fs::permissions(bin / "gnuplot", fs::perms::owner_all);
+  const fs::path log = dir / "animate.log";
+  const pid_t pid = millwear::testing::spawn_millwear(
+      "animate " + src("tests/data/lab-quick.toml") + " -o " + q(gif) + " --seconds 0.5 --frames 10 --size 200", log,
+      "TMPDIR=" + q(tmp) + " PATH=" + q(bin) + ":\"$PATH\"");
+  ASSERT_GT(pid, 0);
+  const fs::path frames = tmp / ("millwear-animate-" + std::to_string(pid)) / "frames_meta.gp";
+  const auto r = millwear::testing::stop_when(pid, [&] { return fs::exists(frames); }, SIGTERM);
+  const std::string out = slurp(log);
+  ASSERT_TRUE(r.sent) << "the frame files were not written within 30 s\n" << out;
+  ASSERT_TRUE(r.stopped_in_time) << out;
+  ASSERT_TRUE(WIFEXITED(r.status)) << "killed by signal " << WTERMSIG(r.status) << "\n" << out;
+  EXPECT_EQ(WEXITSTATUS(r.status), 128 + SIGTERM) << out;
+  EXPECT_NE(out.find("millwear animate: interrupted by SIGTERM; no GIF written"), std::string::npos) << out;
+  EXPECT_TRUE(fs::is_empty(tmp)) << "left in the temporary folder: " << fs::directory_iterator(tmp)->path();
+  EXPECT_TRUE(fs::is_empty(gif.parent_path())) << "left beside the GIF: "
+                                               << fs::directory_iterator(gif.parent_path())->path();
+}
+
 // ---- bad command lines: exit 2 and a message, before any work ----
 
 class AppRunCli : public ::testing::Test {

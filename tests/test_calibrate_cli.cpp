@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -258,6 +259,67 @@ TEST(WornStart, CalibrationAndValidationCountFromTheStart) {
       EXPECT_FALSE(fs::exists(out)) << cmd;
     }
   }
+}
+
+// ---- Ctrl-C and SIGTERM ----
+
+// Areas of the quick scene's history at its start and its two stage ends (within a few mm^2).
+fs::path quick_areas(const TempDir& dir) { return dir.write("areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n"); }
+
+// `millwear ARGS` told to settle its charge for 1000 simulated seconds (minutes of computing),
+// sent `sig` once it holds the lock of `out`: its wait status and output.
+struct Stopped {
+  testing::StopResult r;
+  std::string log;
+};
+Stopped stop_while_settling(const TempDir& dir, const std::string& args, const fs::path& out, int sig) {
+  Stopped s;
+  const fs::path log = dir / "stopped.log";
+  const pid_t pid = testing::spawn_millwear(args + " --set solver.settle_time=1000", log);
+  EXPECT_GT(pid, 0);
+  if (pid <= 0) return s;
+  const std::string holder = "pid=" + std::to_string(pid);
+  s.r = testing::stop_when(pid, [&] { return slurp(out / ".millwear.lock").find(holder) != std::string::npos; }, sig);
+  s.log = slurp(log);
+  return s;
+}
+
+// validate run again into its folder and stopped in its history (SIGTERM): it ends 143 saying
+// so, and the folder holds the earlier validation byte for byte, its staging folder gone: the
+// new results replace the earlier ones only once they are complete.
+TEST(StoppedCommands, AValidationStoppedInItsHistoryLeavesTheEarlierResults) {
+  const TempDir dir("millwear-stopped-validate");
+  const fs::path areas = quick_areas(dir), out = dir / "val";
+  const Result first = run("validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out));
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const auto before = millwear::testing::files_under(out);
+  ASSERT_EQ(before.count("validation.csv"), 1u);
+  ASSERT_EQ(before.count("simulated_areas.csv"), 1u);
+  const Stopped s =
+      stop_while_settling(dir, "validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out), out, SIGTERM);
+  ASSERT_TRUE(s.r.sent) << s.log;
+  ASSERT_TRUE(s.r.stopped_in_time) << s.log;
+  ASSERT_TRUE(WIFEXITED(s.r.status)) << "killed by signal " << WTERMSIG(s.r.status) << "\n" << s.log;
+  EXPECT_EQ(WEXITSTATUS(s.r.status), 128 + SIGTERM) << s.log;
+  EXPECT_NE(s.log.find("millwear validate: interrupted by SIGTERM"), std::string::npos) << s.log;
+  EXPECT_EQ(millwear::testing::changed_files(before, millwear::testing::files_under(out)), "");
+}
+
+// calibrate stopped in a history (Ctrl-C): it ends 130 saying so and writes nothing: the folder
+// its lock made is gone again, no calibrated copy.
+TEST(StoppedCommands, ACalibrationStoppedInAHistoryWritesNothing) {
+  const TempDir dir("millwear-stopped-calibrate");
+  const fs::path areas = quick_areas(dir), out = dir / "cal";
+  const Stopped s =
+      stop_while_settling(dir, "calibrate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out), out, SIGINT);
+  ASSERT_TRUE(s.r.sent) << s.log;
+  ASSERT_TRUE(s.r.stopped_in_time) << s.log;
+  ASSERT_TRUE(WIFEXITED(s.r.status)) << "killed by signal " << WTERMSIG(s.r.status) << "\n" << s.log;
+  EXPECT_EQ(WEXITSTATUS(s.r.status), 128 + SIGINT) << s.log;
+  EXPECT_NE(s.log.find("millwear calibrate: interrupted by SIGINT; nothing of this calibration is written"),
+            std::string::npos)
+      << s.log;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

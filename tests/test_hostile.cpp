@@ -526,6 +526,99 @@ TEST(HostileSurveys, CalibrateRefusesALossOfTheWholeLifter) {
   EXPECT_NE(r.output.find("smaller than the lifter's area"), std::string::npos) << r.output;
 }
 
+// ---- a folder where a file goes --------------------------------------------------------------
+
+namespace {
+
+// A folder (not empty) put where a command writes a file.
+void folder_in_place_of(const fs::path& file) {
+  fs::remove(file);
+  fs::create_directories(file);
+  write(file / "note.txt", "a user's folder\n");
+}
+
+}  // namespace
+
+// A folder named summary.csv in a run's folder: the same run again is refused before anything
+// is deleted or run (exit 2, naming the path and what was expected there), where it deleted
+// the earlier results and ran, then failed to write its table (exit 1).
+TEST(HostileOutputs, ARunRefusesAFolderWhereItWritesAFile) {
+  const TempDir dir("millwear-hostile-run-folder-file");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const fs::path out = dir / "out";
+  const auto first = run_millwear("run " + scene + " -o " + quoted(out) + " --quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  folder_in_place_of(out / "summary.csv");
+  const auto before = millwear::testing::files_under(out);
+  ASSERT_EQ(before.count("profiles/lab-quick_stage2.csv"), 1u);
+  for (const std::string extra : {" --check", ""}) {
+    const auto r = run_millwear("run " + scene + " -o " + quoted(out) + " --quiet" + extra);
+    EXPECT_EQ(r.exit_code, 2) << extra << "\n" << r.output;
+    EXPECT_NE(r.output.find((out / "summary.csv").string() + ": -o: a file, which `millwear run` writes there, but a "
+                            "folder of that name is there"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(millwear::testing::changed_files(before, millwear::testing::files_under(out)), "") << extra;
+  }
+}
+
+// validate into its earlier folder where one of its tables is now a folder: refused before the
+// history runs, the earlier results kept, where it deleted them, ran the history and failed.
+TEST(HostileOutputs, ValidateRefusesAFolderWhereItWritesAFile) {
+  const TempDir dir("millwear-hostile-validate-folder-file");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n");
+  const fs::path out = dir / "out";
+  const std::string args = "validate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " + quoted(out);
+  const auto first = run_millwear(args);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  folder_in_place_of(out / "simulated_areas.csv");
+  const auto before = millwear::testing::files_under(out);
+  const auto r = run_millwear(args);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find((out / "simulated_areas.csv").string() + ": -o: a file, which `millwear validate` writes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("stage 1"), std::string::npos) << "the history ran:\n" << r.output;
+  EXPECT_EQ(millwear::testing::changed_files(before, millwear::testing::files_under(out)), "");
+}
+
+// calibrate without -o writes its copy beside the scene: a folder of that name is refused
+// before any history, where the histories ran and the copy then failed (exit 1).
+TEST(HostileOutputs, CalibrateRefusesAFolderWhereTheCalibratedCopyGoes) {
+  const TempDir dir("millwear-hostile-calibrate-folder-file");
+  write(dir / "quick.toml", lab_quick());
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n");
+  folder_in_place_of(dir / "quick-calibrated.toml");
+  const auto r = run_millwear("calibrate " + quoted(dir / "quick.toml") + " --measured " + quoted(dir / "areas.csv") +
+                              " --max-runs 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find((dir / "quick-calibrated.toml").string() + ": -o: a file, which `millwear calibrate` writes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("run 1:"), std::string::npos) << "a history ran:\n" << r.output;
+}
+
+// A sweep whose point folder is a file: refused before any point runs, naming that path.
+TEST(HostileOutputs, ASweepRefusesAFileWhereAPointsFolderGoes) {
+  const TempDir dir("millwear-hostile-sweep-file-folder");
+  const std::string lab = quoted(fs::path(kSource + "/scenarios/lab-mill.toml"));
+  const fs::path out = dir / "out";
+  const std::string args = "sweep " + lab + " -o " + quoted(out) + " --vary mill.speed=0.7,0.8 --revolutions 1 " +
+                           "--fidelity draft -j 1 --no-plot -q";
+  const auto first = run_millwear(args);
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  fs::remove_all(out / "points" / "01");
+  write(out / "points" / "01", "a user's file\n");
+  const auto before = millwear::testing::files_under(out);
+  const auto r = run_millwear(args);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find((out / "points" / "01").string() + ": -o: a folder, where `millwear sweep` writes"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(millwear::testing::changed_files(before, millwear::testing::files_under(out)), "");
+}
+
 // ---- a full disk -----------------------------------------------------------------------------
 
 // A disk that fills while the figures are drawn: the run fails (exit 1) and says the file

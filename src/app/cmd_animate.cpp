@@ -1,6 +1,8 @@
 // `millwear animate SCENE -o FILE.gif`: a few seconds of the charge tumbling, for a lecture,
 // the liner coloured by its shear work rate or, with --history OUT, stage by stage by its
 // wear rate (study/animation.hpp).
+// Exit codes: 0 done; 1 gnuplot failed; 2 bad input; 130/143 interrupted (Ctrl-C, SIGTERM: no
+// GIF written, the temporary frame folder removed).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -12,14 +14,25 @@
 #include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
+#include "app/signals.hpp"
 #include "study/animation.hpp"
 
 namespace millwear::app {
 
 namespace {
 
-int run_animate(const study::AnimationRequest& a) {
+int run_animate(study::AnimationRequest a) {
+  // Ctrl-C or SIGTERM is heard between pieces of the simulation and once gnuplot has ended;
+  // the animation then removes what it made and ends here.
+  const SignalScope signals;
+  a.stop_signal = &g_signal;
   const study::AnimationOutcome o = study::make_animation(a);
+  if (o.stopped_by != 0) {
+    std::fprintf(stderr, "millwear animate: interrupted by %s; no GIF written (%s is as it was)%s\n",
+                 o.stopped_by == SIGTERM ? "SIGTERM" : "SIGINT", a.out.c_str(),
+                 o.data_dir.empty() ? "" : ("; the frame data is kept in " + o.data_dir).c_str());
+    return 128 + o.stopped_by;
+  }
   const std::string liner =
       o.from_history ? "stages 0-" + std::to_string(o.last_stage) + " by wear rate" : "liner by shear work rate";
   std::printf("%s: %zu frames, %.2f s of the charge (%zu disks), %s; wrote %s in %.1f s\n", o.scene_name.c_str(),

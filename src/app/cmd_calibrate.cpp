@@ -4,7 +4,8 @@
 // `wear.wear_rate` filled in (study/calibration_run.hpp: the outputs; study/calibration.hpp:
 // the method).
 // Exit codes: 0 converged; 1 a run failed or no convergence within --max-runs (the best
-// estimate is still written); 2 bad input.
+// estimate is still written); 2 bad input; 130/143 interrupted (Ctrl-C, SIGTERM: nothing is
+// written, an earlier calibration's files stay as they were).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "app/number_checks.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
+#include "app/signals.hpp"
 #include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
 #include "study/calibration_run.hpp"
@@ -59,7 +61,21 @@ int run_calibrate(CalibrateArgs a) {
     std::fflush(stdout);
   };
   cb.wear = progress_callbacks();
-  const validation::CalibrateOutcome o = validation::calibrate_scene(a.request, cb);
+  // Ctrl-C or SIGTERM stops the history that runs between pieces of its steps; the copy and
+  // the tables are written only after the last history, so a stop writes nothing.
+  const SignalScope signals;
+  cb.wear.should_stop = [] { return g_signal.load() != 0; };
+  validation::CalibrateOutcome o;
+  try {
+    o = validation::calibrate_scene(a.request, cb);
+  } catch (const RunError&) {
+    const int sig = g_signal.load();
+    if (sig == 0) throw;
+    const std::string where = a.request.out.empty() ? "the calibrated copy beside the scene is" : a.request.out + " is";
+    std::fprintf(stderr, "millwear calibrate: interrupted by %s; nothing of this calibration is written (%s as it "
+                 "was): run it again\n", sig == SIGTERM ? "SIGTERM" : "SIGINT", where.c_str());
+    return 128 + sig;
+  }
 
   const validation::CalibrationResult& res = o.result;
   char fit_sigma[32] = "unknown";

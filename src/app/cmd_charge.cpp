@@ -51,9 +51,12 @@ struct ChargeArgs {
 };
 
 // An earlier charge's folder is this one's to rewrite, but not a user's file in it under a name
-// this charge writes (another scene's snapshot, a contact log): refused, before anything is
-// deleted or run.
+// this charge writes (another scene's snapshot, a contact log), nor a folder under such a name,
+// which no file can replace: refused, before anything is deleted or run.
 void refuse_users_file(const std::string& out, const Scene& scene) {
+  std::vector<std::string> names = charge_output_names(scene);
+  names.push_back("manifest.json");
+  io::check_output_names(out, names, "charge");
   if (const std::string taken = io::unlisted_output(out, charge_output_names(scene)); !taken.empty())
     throw InputError(out, "-o",
                      "a folder that is new or holds an earlier charge's results, but " + taken +

@@ -14,6 +14,7 @@
 #include "app/output_folder.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
+#include "io/run_folder.hpp"
 #include "plots/plots.hpp"
 #include "study/hardness.hpp"
 
@@ -32,6 +33,8 @@ int run_hardness(const HardnessArgs& a) {
   const std::string unit = data.time_unit == "days" ? "day" : "h";
   // The folder before any result is printed: a refused folder is exit 2 with nothing shown.
   const io::FolderLock lock(a.out, "hardness");  // one writer per folder
+  io::check_output_names(a.out, {"hardness_periods.csv", "hardness_fit.csv", "hardness.png", "hardness.svg",
+                                 "plots/gnuplot.log"}, "hardness");
 
   std::printf("hardness correction CT = a * H^b from %zu periods in %s (wear: %s)\n", data.periods.size(),
               a.file.c_str(), data.wear_column.c_str());

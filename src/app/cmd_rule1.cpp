@@ -54,6 +54,8 @@ int run_rule1(const Rule1Args& a) {
   std::unique_ptr<io::FolderLock> lock;
   if (!a.out.empty()) {
     lock = std::make_unique<io::FolderLock>(a.out, "rule1");
+    io::check_output_names(a.out, {"manifest.json", "rule1.csv", "rule1_replicates.csv", "rule1_profiles.dat",
+                                   "plots/fig5_rule1.png", "plots/fig5_rule1.svg", "plots/gnuplot.log"}, "rule1");
     io::remove_listed_outputs(a.out);  // an earlier check's files
   }
   g_stop_note = "millwear rule1: interrupted; nothing of this check is kept: run it again\n";

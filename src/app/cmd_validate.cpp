@@ -2,7 +2,8 @@
 // (the paper's Fig. 4), or measured lifter areas alone, against the simulated wear history,
 // run here or read from a finished `millwear run` folder (study/validation_run.hpp: the
 // outputs in OUT).
-// Exit codes: 0 done; 1 the run or a figure failed; 2 bad input.
+// Exit codes: 0 done; 1 the run or a figure failed; 2 bad input; 130/143 interrupted (Ctrl-C,
+// SIGTERM: OUT keeps an earlier validation's results as they were).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -12,8 +13,10 @@
 #include "app/fidelity_option.hpp"
 #include "app/output_folder.hpp"
 #include "app/set_option.hpp"
+#include "app/signals.hpp"
 #include "app/threads_option.hpp"
 #include "app/validation_common.hpp"
+#include "common/errors.hpp"
 #include "common/units.hpp"
 #include "io/csv.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
@@ -83,7 +86,22 @@ int run_validate(const validation::ValidateRequest& a) {
   };
   cb.wear = progress_callbacks();
   cb.on_event = [](const std::string& e) { std::printf("  event: %s\n", e.c_str()); };
-  const validation::ValidateOutcome o = validation::validate_scene(a, cb);
+  // Ctrl-C or SIGTERM stops the history between pieces of its steps; the new results are
+  // drawn up aside and replace the earlier ones only once complete, so a stop leaves OUT as
+  // it was.
+  const SignalScope signals;
+  cb.wear.should_stop = [] { return g_signal.load() != 0; };
+  validation::ValidateOutcome o;
+  try {
+    o = validation::validate_scene(a, cb);
+  } catch (const RunError&) {
+    const int sig = g_signal.load();
+    if (sig == 0) throw;
+    std::fprintf(stderr, "millwear validate: interrupted by %s; nothing of this validation is written: %s is as "
+                 "it was before (an earlier validation's results in it stay): run it again\n",
+                 sig == SIGTERM ? "SIGTERM" : "SIGINT", a.out.c_str());
+    return 128 + sig;
+  }
   if (o.areas_only) print_areas(o);
   else print_profiles(o);
   if (o.figure_error.empty()) {

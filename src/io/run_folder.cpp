@@ -357,4 +357,26 @@ void check_folder_not_taken(const std::string& out, const std::string& command) 
                        holds + "`, which this command would partly overwrite: use another folder");
 }
 
+void check_output_names(const std::string& out, const std::vector<std::string>& files, const std::string& command) {
+  std::error_code ec;
+  for (const std::string& f : files) {
+    // The folders on the way first: OUT/plots a file refuses plots/x.png as that folder.
+    const fs::path rel = fs::path(f).lexically_normal();
+    fs::path on_the_way;
+    for (auto part = rel.begin(); part != rel.end() && std::next(part) != rel.end(); ++part) {
+      on_the_way /= *part;
+      const std::string dir = join_path(out, on_the_way.string());
+      if (fs::exists(fs::symlink_status(dir, ec)) && !fs::is_directory(dir, ec))
+        throw InputError(dir, "-o",
+                         "a folder, where `millwear " + command + "` writes " + f + ", but a file of that name is "
+                         "there: move it, or use another folder");
+    }
+    const std::string path = join_path(out, f);
+    if (fs::is_directory(fs::symlink_status(path, ec)))
+      throw InputError(path, "-o",
+                       "a file, which `millwear " + command + "` writes there, but a folder of that name is there "
+                       "(no file can replace it): move it, or use another folder");
+  }
+}
+
 }  // namespace millwear::io

@@ -137,4 +137,11 @@ std::string folder_results_command(const std::string& out);
 // replace; `run`, which tells its own files apart, keeps them beside its results).
 void check_folder_not_taken(const std::string& out, const std::string& command);
 
+// Before a command writes its files into OUT, ahead of any work: throws InputError(PATH, "-o",
+// ...) for the first of `files` (paths relative to OUT, "plots/x.png") that is a folder, since
+// a file is written by renaming a temporary over its name and no rename replaces a folder, or
+// whose folder on the way (OUT/plots) is a file (a link to a folder is one). `command` names
+// the writer in the message. Nothing is made or removed.
+void check_output_names(const std::string& out, const std::vector<std::string>& files, const std::string& command);
+
 }  // namespace millwear::io

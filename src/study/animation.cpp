@@ -5,11 +5,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <vector>
 
@@ -32,6 +35,9 @@ namespace millwear::study {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Thrown by the stop check: the animation ends where it is, nothing drawn.
+struct Stopped {};
 
 // One stretch of the animation on one liner.
 struct Segment {
@@ -98,12 +104,12 @@ std::vector<Segment> history_segments(const Scene& scene, const std::string& his
 // segment's liner in turn. Without a history the one segment gets the window's shear work
 // rate per unit liner area as its colour.
 std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& segments, const AnimationRequest& a,
-                                   std::size_t& disks, double& seconds) {
+                                   std::size_t& disks, double& seconds, const std::function<void()>& check_stop) {
   const ChargeState initial = fill_charge(scene, segments.front().mill);
   disks = initial.size();
   auto engine = make_engine(scene, segments.front().mill, initial, accounting_options_for(scene));
   double dir = direction_at(scene, segments.front().hours);
-  settle_and_spin_up(*engine, scene, dir);
+  settle_and_spin_up(*engine, scene, dir, check_stop);
   engine->reset_window();
   const double start_s = engine->state().time_s;
   const int nframes = a.frames;
@@ -124,10 +130,12 @@ std::vector<Frame> simulate_frames(const Scene& scene, std::vector<Segment>& seg
         // its new shape (the scene's spin-up) before the next frame is drawn.
         dir = d;
         engine->set_mill_speed(dir * scene.angular_speed_rad_s());
-        engine->step(steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), engine->time_step_s()));
+        step_checking_stop(*engine,
+                           steps_for(scene.solver.spinup_revolutions * scene.revolution_time_s(), engine->time_step_s()),
+                           check_stop);
       }
     }
-    engine->step(steps_per_frame);
+    step_checking_stop(*engine, steps_per_frame, check_stop);
     const ChargeState& st = engine->state();
     Frame fr;
     for (std::size_t i = 0; i < st.size(); ++i) {
@@ -288,27 +296,62 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Frame> frames = simulate_frames(scene, segments, a, o.disks, o.seconds);
+  const auto stop = [&a] { return a.stop_signal ? a.stop_signal->load() : 0; };
+  std::vector<Frame> frames;
+  try {
+    frames = simulate_frames(scene, segments, a, o.disks, o.seconds, [&stop] {
+      if (stop() != 0) throw Stopped{};
+    });
+  } catch (const Stopped&) {
+    o.stopped_by = stop();  // nothing written yet
+    return o;
+  }
   o.frames = frames.size();
   o.last_stage = segments.back().stage;
 
   const fs::path work = a.keep_data ? fs::path(outbase + "_frames")
                                     : fs::temp_directory_path() / ("millwear-animate-" + std::to_string(::getpid()));
-  fs::create_directories(work);
-  const std::string datafile = (work / "frames.dat").string(), metafile = (work / "frames_meta.gp").string();
-  write_frame_files(scene, segments, frames, cblabel, o.from_history, datafile, metafile);
-
-  const int delay = std::max(2, static_cast<int>(std::lround(100.0 * a.seconds / a.frames)));
-  const fs::path parent = fs::path(a.out).parent_path();
-  if (!parent.empty()) io::ensure_dir(parent.string());
-  try {
-    plots::render_figure(plots::script_path("animate"),
-                         {{"datafile", datafile}, {"metafile", metafile}, {"outbase", outbase}, {"formats", "gif"},
-                          {"delay", std::to_string(delay)}, {"size", std::to_string(a.size)}},
-                         (work / "gnuplot.log").string());
-  } catch (...) {
+  // The GIF is drawn to a temporary name beside FILE and renamed over it once gnuplot has
+  // ended and no stop came: a stop while gnuplot draws (Ctrl-C reaches it too) leaves no GIF
+  // in part, and an earlier FILE as it was. The temporary folder goes on every way out.
+  // (A short temporary name: FILE's own may be near the longest name a folder takes.)
+  const std::string drawn_base = io::temp_path_for((fs::path(a.out).parent_path() / "animation").string());
+  const std::string drawn = drawn_base + ".gif";
+  const auto clean_up = [&] {
+    fs::remove(drawn, ec);
     if (!a.keep_data) fs::remove_all(work, ec);
+  };
+  try {
+    fs::create_directories(work);
+    const std::string datafile = (work / "frames.dat").string(), metafile = (work / "frames_meta.gp").string();
+    write_frame_files(scene, segments, frames, cblabel, o.from_history, datafile, metafile);
+    const int delay = std::max(2, static_cast<int>(std::lround(100.0 * a.seconds / a.frames)));
+    const fs::path parent = fs::path(a.out).parent_path();
+    if (!parent.empty()) io::ensure_dir(parent.string());
+    if (stop() == 0)
+      plots::render_figure(plots::script_path("animate"),
+                           {{"datafile", datafile}, {"metafile", metafile}, {"outbase", drawn_base},
+                            {"formats", "gif"}, {"delay", std::to_string(delay)}, {"size", std::to_string(a.size)}},
+                           (work / "gnuplot.log").string());
+  } catch (...) {
+    clean_up();
+    if (stop() != 0) {  // gnuplot stopped by the same Ctrl-C: a stop, not a failure
+      o.stopped_by = stop();
+      if (a.keep_data && fs::exists(work / "frames_meta.gp", ec)) o.data_dir = work.string();
+      return o;
+    }
     throw;
+  }
+  if (stop() != 0) {
+    clean_up();
+    o.stopped_by = stop();
+    if (a.keep_data) o.data_dir = work.string();
+    return o;
+  }
+  if (::rename(drawn.c_str(), a.out.c_str()) != 0) {
+    const int err = errno;
+    clean_up();
+    throw RunError("cannot write " + a.out + ": rename from " + drawn + " failed (" + std::strerror(err) + ")");
   }
   if (!a.keep_data) fs::remove_all(work, ec);
   else o.data_dir = work.string();

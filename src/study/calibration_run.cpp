@@ -76,6 +76,11 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
     }
   }
   o.scene_out = io::join_path(out_dir, stem + "-calibrated.toml");
+  // A folder where a file goes stops the calibration now, not once its histories have run.
+  io::check_output_names(out_dir, {stem + "-calibrated.toml"}, "calibrate");
+  if (!a.out.empty())
+    io::check_output_names(a.out, {"calibration.csv", "calibration_surveys.csv", "calibration_result.csv"},
+                           "calibrate");
   // The calibrated copy replaces only an earlier calibrated copy, never a file of the user's.
   if (io::file_exists(o.scene_out) && io::read_file(o.scene_out).rfind(kCalibratedCopyHeader, 0) != 0)
     throw InputError(o.scene_out, a.out.empty() ? "" : "-o",
@@ -98,6 +103,9 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   o.result = o.areas ? calibrate_wear_rate(scene, measured.areas, o.options, cb.on_run, history)
                      : calibrate_wear_rate(scene, measured.profiles, o.options, cb.on_run, history);
   const CalibrationResult& res = o.result;
+  // A stop heard after the last history: nothing is written (a stop within one is the
+  // history's RunError("interrupted")). Once writing begins the calibration finishes.
+  if (cb.wear.should_stop && cb.wear.should_stop()) throw RunError("interrupted");
 
   io::ensure_dir(out_dir);
   char note[200];

@@ -34,7 +34,9 @@ struct CalibrateCallbacks {
   // Once the inputs are read and checked, before the first history.
   std::function<void(const Scene&, const Measurements&, const CalibrationOptions&)> on_start;
   std::function<void(const CalibrationRun&)> on_run;  // after every history
-  WearCallbacks wear;                                 // every history's stages
+  // Every history's stages. Its should_stop is also asked after the last history: a stop
+  // then throws RunError("interrupted") as a history's does, before anything is written.
+  WearCallbacks wear;
 };
 
 struct CalibrateOutcome {
@@ -45,8 +47,9 @@ struct CalibrateOutcome {
 };
 
 // Throws InputError for a bad scene (or one outside the run limits) or measured file, a file
-// with no survey after 0 h, or areas that do not shrink; RunError when a history fails (a
-// lost disk or rule 1's stop included) or the copy does not read back with the calibrated C.
+// with no survey after 0 h, areas that do not shrink, or a folder where an output file goes;
+// RunError when a history fails (a lost disk or rule 1's stop included) or is stopped
+// (wear.should_stop), or the copy does not read back with the calibrated C.
 CalibrateOutcome calibrate_scene(const CalibrateRequest& request, const CalibrateCallbacks& callbacks = {});
 
 // The three tables above, in `out`; rms in mm for profiles, mm^2 for areas.

@@ -482,10 +482,35 @@ std::string unlisted_output(const Plan& plan, const std::string& out) {
   return "";
 }
 
+// Every file a run of the plan writes into OUT whose name is known before it runs, relative
+// to OUT: the tables, the manifest, the run key, each design's snapshot, liner and stage
+// files, the figures and the inputs' copies.
+std::vector<std::string> run_output_names(const Plan& plan) {
+  std::vector<std::string> names = {"manifest.json", "summary.csv", "summary.md", "spectrum.csv", "kinds.csv",
+                                    "replicates.csv", "stages/run.key", "plots/gnuplot.log"};
+  std::vector<std::string> figures = {"fig6_profiles", "fig7_area", "fig8_power", "fig9_collision",
+                                      "fig10_utilization", "spectrum", "kinds_area"};
+  for (const std::string& f : plan.comparison_files) names.push_back("inputs/" + fs::path(f).filename().string());
+  for (const DesignInput& d : plan.designs) {
+    names.push_back("snapshot_" + d.name + ".csv");
+    names.push_back("liner_" + d.name + ".csv");
+    figures.push_back("snapshot_" + d.name);
+    for (const std::string& f : d.files) names.push_back("inputs/" + fs::path(f).filename().string());
+    for (int k = 0; k <= d.scene.wear.stages; ++k)
+      for (std::string& n : study::stage_file_names(d.name, k)) names.push_back(std::move(n));
+  }
+  for (const std::string& f : figures)
+    for (const char* ext : {".png", ".svg"}) names.push_back("plots/" + f + ext);
+  return names;
+}
+
 // What OUT holds, once the run may write there: throws InputError(OUT, "-o", ...) for a
 // folder of another command's results, of another run's (unless force), or holding a file
 // no run recorded under a name the run writes.
 Holds check_folder(const Plan& plan, const std::string& out, bool force, std::string* found = nullptr) {
+  // A folder where the run writes a file (a folder named summary.csv) is refused now, before
+  // anything is deleted or run, not when that file is written.
+  io::check_output_names(out, run_output_names(plan), "run");
   std::string holds_what;
   const Holds holds = folder_holds(plan, out, holds_what);
   if (found) *found = holds_what;

@@ -391,6 +391,15 @@ std::vector<std::string> stage_state_files(const std::string& out, const std::st
   return files;
 }
 
+std::vector<std::string> stage_file_names(const std::string& design, int stage) {
+  const std::string base = design + "_stage" + std::to_string(stage);
+  std::vector<std::string> names;
+  for (const char* ext : kStateExtensions) names.push_back("stages/" + base + ext);
+  names.push_back("stages/" + base + ".done");
+  names.push_back("profiles/" + base + ".csv");
+  return names;
+}
+
 namespace {
 
 // What follows DESIGN_stage<digits> in a name ("" if it is not one): not another design whose

@@ -38,6 +38,8 @@ void check_stage_of_scene(const StageRecord& rec, const Scene& scene, const std:
                           const std::string& option);
 // The state files and marker of stage K of a design that are on disk (paths under OUT).
 std::vector<std::string> stage_state_files(const std::string& out, const std::string& design, int stage);
+// Every file stage K of a design writes (state files, marker, stage profile), relative to OUT.
+std::vector<std::string> stage_file_names(const std::string& design, int stage);
 // Whether a file name in OUT/stages is one of a design's stage state files or markers
 // (DESIGN_stageN followed by one of their extensions); a user's other file there is not.
 bool is_stage_state_name(const std::string& name, const std::string& design);

@@ -76,6 +76,20 @@ std::string point_dir(const std::string& out, int index, int k = 0) {
   return io::join_path(io::join_path(out, "points"), buf);
 }
 
+// Every file a sweep of these points writes into OUT, relative to it: its table, manifest and
+// figures, and each point's charge files in its folder.
+std::vector<std::string> sweep_output_names(const std::vector<Scene>& scenes, int reps) {
+  std::vector<std::string> names = {"manifest.json", "sweep.csv", "plots/gnuplot.log"};
+  for (const char* figure : {"power", "toe_shoulder", "collision_shear"})
+    for (const char* ext : {".png", ".svg"}) names.push_back(std::string("plots/sweep_") + figure + ext);
+  for (std::size_t i = 0; i < scenes.size(); ++i)
+    for (int k = 0; k < reps; ++k) {
+      const std::string dir = point_dir("", static_cast<int>(i), k);  // points/NN
+      for (const std::string& f : charge_output_names(scenes[i])) names.push_back(dir + "/" + f);
+    }
+  return names;
+}
+
 // One point: `millwear charge` of its scene, its figures per mill with batch-means errors.
 // One point's replicate K, run and written into its folder; `written` gets the files.
 SweepPoint measure_point(const Scene& scene, int index, int k, const SweepAxis& axis, const std::string& out,
@@ -503,6 +517,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const int tasks = n * reps;
   r.jobs = jobs_for(q.jobs, static_cast<std::size_t>(tasks));
   const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
+  io::check_output_names(q.out, sweep_output_names(scenes, reps), "sweep");  // before anything is deleted
   io::remove_listed_outputs(q.out);  // an earlier sweep's points and figures
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 

@@ -104,6 +104,9 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   const std::vector<Scene> designs = study::load_designs(request.scene_file, request.overrides);
   const TradeoffLadder ladder = tradeoff_ladder(designs, request.options);
   const io::FolderLock lock(request.out, "tradeoff");  // one writer per folder, for the whole run
+  io::check_output_names(request.out, {"manifest.json", "tradeoff.csv", "tradeoff_designs.csv", "tradeoff_front.csv",
+                                       "tradeoff_profiles.csv", "tradeoff.md", "tradeoff.png", "tradeoff.svg",
+                                       "gnuplot.log"}, "tradeoff");
   io::remove_listed_outputs(request.out);               // an earlier ladder's files
   if (cb.on_ladder) cb.on_ladder(ladder);
   TradeoffStudy study;

@@ -12,6 +12,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
 #include "study/calibration.hpp"
@@ -81,6 +82,21 @@ std::vector<StageRecord> fresh_history(const HistorySource& src, const ValidateC
   return h.stages;
 }
 
+// The files a validation writes into OUT, relative to it.
+std::vector<std::string> output_names(bool areas_only) {
+  const std::string figure = areas_only ? "validate_areas" : "validate_profiles";
+  std::vector<std::string> names = {"manifest.json", "validation.csv", "plots/gnuplot.log", figure + ".png",
+                                    figure + ".svg"};
+  if (areas_only)
+    names.insert(names.end(), {"simulated_areas.csv", "plots/validate_area_measured.csv",
+                               "plots/validate_area_simulated.csv"});
+  else
+    names.insert(names.end(), {"simulated_surveys.csv", "plots/validate_measured.dat", "plots/validate_simulated.dat"});
+  return names;
+}
+
+bool stop_requested(const ValidateCallbacks& cb) { return cb.wear.should_stop && cb.wear.should_stop(); }
+
 void check_covers(bool covers, double last_hours, double survey_hours) {
   if (!covers)
     throw RunError("the wear history ends at " + io::format_number(last_hours) +
@@ -98,16 +114,16 @@ void render(const std::string& script, const std::map<std::string, std::string>&
   }
 }
 
+// The tables, the figure's data and the figure into `dir` (the staging folder of OUT).
 void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::vector<Survey>& surveys,
-                       const std::vector<StageRecord>& stages, ValidateOutcome& o) {
+                       const std::vector<StageRecord>& stages, const std::string& dir, ValidateOutcome& o) {
   const ProfileHistory history = profile_history(stages);
   for (const auto& v : surveys) check_covers(history.covers(v.hours), history.last_hours(), v.hours);
   o.new_height_m = stages.front().lifter.height_m;
   const Polyline& new_surface = stages.front().units.front().surface;
   const double half_base = stages.front().units.front().lifter_half_base_m;
 
-  io::ensure_dir(a.out);
-  io::ensure_dir(io::join_path(a.out, "plots"));
+  io::ensure_dir(io::join_path(dir, "plots"));
   io::CsvTable table({"survey", "hours", "points", "mean_mm", "max_mm", "bias_mm", "mean_pct_height",
                       "max_pct_height", "measured_area_mm2", "simulated_area_mm2", "area_error_mm2",
                       "area_error_pct"});
@@ -133,32 +149,31 @@ void validate_profiles(const Scene& scene, const ValidateRequest& a, const std::
     measured_dat += profile_block(title, v.profile_m, i == 0);
     simulated_dat += profile_block(title, s.profile_m, i == 0);
   }
-  table.write(io::join_path(a.out, "validation.csv"));
-  io::write_file_atomic(io::join_path(a.out, "simulated_surveys.csv"),
+  table.write(io::join_path(dir, "validation.csv"));
+  io::write_file_atomic(io::join_path(dir, "simulated_surveys.csv"),
                         format_surveys(simulated, "simulated by millwear validate: scene " + scene.name +
                                                       ", at the hours of " + a.measured_file));
-  const std::string mfile = io::join_path(a.out, "plots/validate_measured.dat");
-  const std::string sfile = io::join_path(a.out, "plots/validate_simulated.dat");
+  const std::string mfile = io::join_path(dir, "plots/validate_measured.dat");
+  const std::string sfile = io::join_path(dir, "plots/validate_simulated.dat");
   io::write_file_atomic(mfile, measured_dat);
   io::write_file_atomic(sfile, simulated_dat);
   o.files = {"validation.csv", "simulated_surveys.csv", mfile, sfile};
   o.files_note = "manifest.json, validation.csv, simulated_surveys.csv";
   render("validate_profiles",
-         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_profiles")},
+         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(dir, "validate_profiles")},
           {"title", "Measured (dashed) and simulated (solid) profiles: " + scene.name}},
-         a.out, o);
+         dir, o);
 }
 
 void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurveys& surveys,
-                    const std::vector<StageRecord>& stages, ValidateOutcome& o) {
+                    const std::vector<StageRecord>& stages, const std::string& dir, ValidateOutcome& o) {
   const AreaHistory history = area_history(stages);
   for (const auto& v : surveys.surveys) check_covers(history.covers(v.hours), history.last_hours(), v.hours);
   o.areas = compare_areas(surveys, history);
   o.new_area_m2 = history.new_area_m2();
   o.measured_areas = measured_areas(surveys, history.new_area_m2(), history.start_hours());
 
-  io::ensure_dir(a.out);
-  io::ensure_dir(io::join_path(a.out, "plots"));
+  io::ensure_dir(io::join_path(dir, "plots"));
   io::CsvTable table({"survey", "line", "hours", "measured_area_mm2", "simulated_area_mm2", "area_error_mm2",
                       "area_error_pct", "measured_loss_mm2", "simulated_loss_mm2", "loss_error_mm2",
                       "loss_error_pct"});
@@ -176,20 +191,20 @@ void validate_areas(const Scene& scene, const ValidateRequest& a, const AreaSurv
   }
   for (std::size_t k = 0; k < history.hours.size(); ++k)
     simulated_plot.add_row({history.hours[k], history.area_m2[k] * 1e6});
-  table.write(io::join_path(a.out, "validation.csv"));
-  io::write_file_atomic(io::join_path(a.out, "simulated_areas.csv"),
+  table.write(io::join_path(dir, "validation.csv"));
+  io::write_file_atomic(io::join_path(dir, "simulated_areas.csv"),
                         format_area_surveys(simulated, "simulated by millwear validate: scene " + scene.name +
                                                            ", at the hours of " + a.measured_file));
-  const std::string mfile = io::join_path(a.out, "plots/validate_area_measured.csv");
-  const std::string sfile = io::join_path(a.out, "plots/validate_area_simulated.csv");
+  const std::string mfile = io::join_path(dir, "plots/validate_area_measured.csv");
+  const std::string sfile = io::join_path(dir, "plots/validate_area_simulated.csv");
   measured_plot.write(mfile);
   simulated_plot.write(sfile);
   o.files = {"validation.csv", "simulated_areas.csv", mfile, sfile};
   o.files_note = "manifest.json, validation.csv, simulated_areas.csv";
   render("validate_areas",
-         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(a.out, "validate_areas")},
+         {{"measured", mfile}, {"simulated", sfile}, {"outbase", io::join_path(dir, "validate_areas")},
           {"title", "Measured (points) and simulated (line) lifter area: " + scene.name}},
-         a.out, o);
+         dir, o);
 }
 
 }  // namespace
@@ -225,21 +240,32 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
     check_areas_shrink(measured.areas, measure_lifter(new_liner_unit(scene), scene.radius_m()).area_m2,
                        scene.wear.start_hours, a.measured_file, scene.mill.one_lifter_shape());
   const io::FolderLock lock(a.out, "validate");  // one writer per folder, for the whole run
-  io::remove_listed_outputs(a.out, {a.measured_file, a.scene_file});  // an earlier validation's files
+  io::check_output_names(a.out, output_names(measured.areas_only), "validate");
+  // The new results are drawn up beside an earlier validation's, which stay in OUT as they
+  // were until every new file is complete (a history that fails or is stopped leaves them).
+  io::StagedOutputs staged(a.out);
   if (cb.on_history) cb.on_history(scene, measured, src);
   if (!src.from_run) stages = fresh_history(src, cb);
   ValidateOutcome o;
   o.areas_only = measured.areas_only;
-  if (o.areas_only) validate_areas(scene, a, measured.areas, stages, o);
-  else validate_profiles(scene, a, measured.profiles, stages, o);
+  if (o.areas_only) validate_areas(scene, a, measured.areas, stages, staged.dir(), o);
+  else validate_profiles(scene, a, measured.profiles, stages, staged.dir(), o);
   study::CommandRecord record{"validate", a.commit, a.scene_file, a.overrides, scene.fidelity, scene.solver.seed,
                               {{"measured", a.measured_file}, {"from", a.from}}, o.files};
   if (src.histories > 1)
     record.settings.push_back({"from_history", "1 of " + std::to_string(src.histories) + " (seed " +
                                                    std::to_string(scene.solver.seed) + ")"});
   record.files.insert(record.files.end(), o.figure_files.begin(), o.figure_files.end());
-  record.files.push_back(io::join_path(a.out, "plots/gnuplot.log"));
-  study::write_command_manifest(a.out, record);
+  record.files.push_back(io::join_path(staged.dir(), "plots/gnuplot.log"));
+  study::write_command_manifest(staged.dir(), record);
+  // A stop heard while the figure was drawn (Ctrl-C reaches gnuplot too) leaves the earlier
+  // results; once the move into OUT begins, the validation finishes.
+  if (stop_requested(cb)) throw RunError("interrupted");
+  staged.commit({a.measured_file, a.scene_file});
+  for (std::string& f : o.files) f = staged.in_out(f);
+  for (std::string& f : o.figure_files) f = staged.in_out(f);
+  for (std::size_t at; (at = o.figure_error.find(staged.dir())) != std::string::npos;)
+    o.figure_error.replace(at, staged.dir().size(), a.out);
   return o;
 }
 

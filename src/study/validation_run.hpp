@@ -21,8 +21,10 @@
 //   simulated_areas.csv          the simulated areas at the survey hours (hours,area_mm2)
 //   plots/validate_area_measured.csv, plots/validate_area_simulated.csv (every stage)
 //   validate_areas.png/.svg      measured points on the simulated area history
-// OUT is locked (io/folder_lock.hpp) from the history to the figure. Nothing here prints:
-// the history's progress comes through the callbacks, the comparison in the outcome.
+// OUT is locked (io/folder_lock.hpp) from the history to the figure. The files are drawn up in
+// OUT/.millwear-staging and moved into OUT once all are complete (io/staging.hpp): until then
+// an earlier validation's files stay as they were. Nothing here prints: the history's
+// progress comes through the callbacks, the comparison in the outcome.
 #include <functional>
 #include <string>
 #include <vector>
@@ -57,7 +59,9 @@ struct HistorySource {
 
 struct ValidateCallbacks {
   std::function<void(const Scene&, const Measurements&, const HistorySource&)> on_history;
-  WearCallbacks wear;                               // a fresh history's stages
+  // A fresh history's stages. Its should_stop is also asked once the files are drawn up: a
+  // stop then throws RunError("interrupted") as the history's does, before OUT is touched.
+  WearCallbacks wear;
   std::function<void(const std::string&)> on_event;  // a fresh history's events, once it ran
 };
 
@@ -76,8 +80,9 @@ struct ValidateOutcome {
 };
 
 // Throws InputError for bad input (scene, or one outside the run limits, measured file, a
-// --from folder without the design or with surveys beyond its last stage), RunError when
-// the history fails (a lost disk or rule 1's stop included) or ends before the last survey.
+// --from folder without the design or with surveys beyond its last stage, a folder in OUT
+// where a file goes), RunError when the history fails (a lost disk or rule 1's stop
+// included), ends before the last survey, or is stopped (wear.should_stop).
 ValidateOutcome validate_scene(const ValidateRequest& request, const ValidateCallbacks& callbacks = {});
 
 // A gnuplot data block: a title line "TITLE,-" then x_mm,y_mm rows; blocks are separated
