@@ -95,7 +95,7 @@ TEST_F(CalibrateCli, ValidateFindsZeroAreaErrorOnAreasMadeFromTheRun) {
 
 // A run's figures stand for the scene only as the run ran it: the scene with another speed
 // (--set) or fidelity is refused, the differences named, and nothing is written: no folder
-// made, and an earlier validation in the folder kept (it was deleted before the refusal).
+// made, and an earlier validation in the folder kept as it was.
 TEST_F(CalibrateCli, ValidateRefusesARunOfOtherSettings) {
   const fs::path areas = areas_from_run();
   const fs::path earlier = dir_ / "earlier";
