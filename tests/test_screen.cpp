@@ -301,6 +301,37 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughASlurmJobArray) {
   EXPECT_EQ(logs, 2);
 }
 
+// A task stopped by Ctrl-C writes `interrupted` in its task.status: --collect reports it as
+// missing with that reason, where it called the status unknown.
+TEST_F(ScreenRun, AnInterruptedTaskIsReportedMissingWithItsReason) {
+  const fs::path out = root_ / "interrupted";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove_all(out / "designs/d002");
+  fs::remove(out / "ranking.csv");
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(MILLWEAR_BINARY, MILLWEAR_BINARY, "screen-task", out.c_str(), "2", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int i = 0; i < 100 && !fs::exists(out / "designs/d002/task.status"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << "the task finished before it was stopped";
+  ASSERT_NE(slurp(out / "designs/d002/task.status").find("status=interrupted"), std::string::npos);
+  const Result r = millwear_cmd("screen --collect " + q(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("design d002 missing"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("run it again to continue"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("unknown task status"), std::string::npos) << r.output;
+}
+
 TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   const fs::path out = root_ / "killed";
   fs::copy(ref_, out, fs::copy_options::recursive);

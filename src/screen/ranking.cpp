@@ -32,6 +32,10 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
       r.reason = "started but did not finish (killed, crashed, or still running)";
       return r;
     }
+    if (status == "interrupted") {  // Ctrl-C or SIGTERM: its finished stages wait for it
+      r.reason = io::find_value(kv, "reason", "interrupted; run it again to continue");
+      return r;
+    }
     if (status == "failed") {
       r.status = "failed";
       r.reason = io::find_value(kv, "reason", "failed (no reason recorded)");
