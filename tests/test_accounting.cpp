@@ -258,6 +258,22 @@ TEST(ChargeEnergy, AWindowIsUnsoundWhenCollisionsGiveEnergyOrTheBooksDoNotClose)
   EXPECT_EQ(unsound_energy_split(f), "");
 }
 
+// A window is unsteady when the charge's energy changes by more than a tenth of the drive's
+// power either way; a charge losing energy was said to take in a negative share of the power.
+TEST(ChargeEnergy, AnUnsteadyWindowSaysWhichWayTheChargesEnergyWent) {
+  ChargeSummary s;
+  s.power_W = 1000.0;
+  s.kinetic_change_W = 50.0;
+  EXPECT_EQ(unsteady_window(s), "");
+  s.kinetic_change_W = 130.0;
+  EXPECT_NE(unsteady_window(s).find("13% of the drive's power went into its kinetic and potential energy"),
+            std::string::npos) << unsteady_window(s);
+  s.kinetic_change_W = -890.0;
+  EXPECT_NE(unsteady_window(s).find("its kinetic and potential energy fell by 89% of the drive's power"),
+            std::string::npos) << unsteady_window(s);
+  EXPECT_EQ(unsteady_window(s).find("-89"), std::string::npos) << unsteady_window(s);
+}
+
 TEST(MillEnergy, SliceFiguresScaleToTheMillAndSetLinerLossAgainstEnergy) {
   ChargeSummary s;
   s.mass_kg = 200.0;

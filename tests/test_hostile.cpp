@@ -118,6 +118,13 @@ TEST(HostileSteps, ChargeRevolutionsPastTheLimitAreRefused) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--revolutions"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
+  // Too few: the revolutions given are named as revolutions, and the steps they make as steps
+  // ("got 1" read as one revolution).
+  const auto few = run_millwear("charge " + quoted(fs::path(kSource + "/scenarios/lab-mill.toml")) + " -o " +
+                                quoted(dir / "out") + " --revolutions 1e-6");
+  EXPECT_EQ(few.exit_code, 2) << few.output;
+  EXPECT_NE(few.output.find("got 1e-06 revolutions: 1 time step of "), std::string::npos) << few.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(HostileSteps, HugeOrTinyTimesInTheSceneAreRefusedNamingTheKey) {

@@ -112,11 +112,20 @@ double energy_share_of_power(const ChargeSummary& s) {
 std::string unsteady_window(const ChargeSummary& s) {
   const double into_energy = energy_share_of_power(s);
   if (!(std::fabs(into_energy) > kSteadyEnergyShare)) return "";
+  // Energy gained is drawn from the drive; energy lost (a charge slowing or settling) comes out
+  // on top of it.
   char buf[300];
+  char part[120];
+  if (into_energy > 0.0)
+    std::snprintf(part, sizeof part, "%.0f%% of the drive's power went into its kinetic and potential energy",
+                  100.0 * into_energy);
+  else
+    std::snprintf(part, sizeof part, "its kinetic and potential energy fell by %.0f%% of the drive's power",
+                  -100.0 * into_energy);
   std::snprintf(buf, sizeof buf,
-                "the charge was not steady in the window: %.0f%% of the drive's power went into its kinetic and "
-                "potential energy; spin it up longer (solver.spinup_revolutions) or measure more revolutions",
-                100.0 * into_energy);
+                "the charge was not steady in the window: %s; spin it up longer (solver.spinup_revolutions) or "
+                "measure more revolutions",
+                part);
   return buf;
 }
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "common/units.hpp"
 #include "geometry/polyline.hpp"
 #include "scene/filling.hpp"
@@ -68,6 +69,9 @@ std::int64_t steps_in(double seconds, double dt_s) {
   if (!(n < 9.2e18)) return std::numeric_limits<std::int64_t>::max();
   return static_cast<std::int64_t>(n);
 }
+
+// "1 time step", "3 time steps".
+std::string steps_text(std::int64_t n) { return std::to_string(n) + (n == 1 ? " time step" : " time steps"); }
 
 double particle_mass_ratio(const Scene& scene) {
   double lightest = 0.0, heaviest = 0.0;
@@ -220,7 +224,8 @@ void check_step_counts(const Scene& scene, const std::string& file) {
     throw InputError(file, "run.revolutions",
                      "expected measured revolutions (run.revolutions, or --revolutions) of at least " +
                          std::to_string(kWindowBatches) + " time steps (one per batch of the errors), got " +
-                         std::to_string(steps_in(scene.run.revolutions * rev_s, dt)));
+                         short_number(scene.run.revolutions) + " revolutions: " + steps_text(steps_in(scene.run.revolutions * rev_s, dt)) +
+                         " of " + short_number(dt) + " s");
 
   const double stage_sim_s = w.stage_hours * kSecondsPerHour / w.factor;  // continuous mode
   if (w.mode == WearMode::Staged) {
