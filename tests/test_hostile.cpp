@@ -337,6 +337,19 @@ TEST(HostileProfile, ASawtoothFinerThanTheParticlesIsRefused) {
   }
 }
 
+// Faces near 90 degrees put the centred base's feet kilometres out on both sides: the reach is
+// given as +-, where the trailing foot's -5.7e+08 mm read as the leading face's.
+TEST(HostileProfile, FacesThatThrowTheFeetOutNameTheirReachBothWays) {
+  const TempDir dir("millwear-hostile-reach");
+  write(dir / "steep.toml", "name = \"steep\"\nform = \"trapezoid\"\nheight = 20.0\ntop_width = 10.0\n"
+                            "leading_face_angle = 89.999999\ntrailing_face_angle = 30.0\n");
+  const auto r = run_millwear("profile " + quoted(dir / "steep.toml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("steep.toml: leading_face_angle:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("its feet reach x = +-"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("x = -"), std::string::npos) << r.output;
+}
+
 // A lifter wider than the whole shell was reported as "at most -1 rows".
 TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
   const TempDir dir("millwear-hostile-wide");

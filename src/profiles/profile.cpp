@@ -284,13 +284,16 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
     prof.points = trapezoid_points(t);
     // Faces near 90 degrees lean a base kilometres wide out of a few millimetres of height:
     // held to the bounds of a drawn polyline's points.
+    // The base is centred: its feet reach out by the same half-width on both sides.
+    double reach_m = 0.0;
     for (const Vec2& p : prof.points)
-      if (!(std::abs(p.x) * 1e3 <= kMaxPointMm))
-        throw InputError(path, t.leading_face_angle_rad >= t.trailing_face_angle_rad ? "leading_face_angle"
-                                                                                      : "trailing_face_angle",
-                         "expected face angles that keep the base within +-" + short_number(kMaxPointMm) +
-                             " mm of the centre; at " + short_number(in_mm(t.height_m)) + " mm high they reach x = " +
-                             short_number(p.x * 1e3) + " mm");
+      if (!(std::abs(p.x) <= reach_m)) reach_m = std::isnan(p.x) ? HUGE_VAL : std::abs(p.x);
+    if (!(reach_m * 1e3 <= kMaxPointMm))
+      throw InputError(path, t.leading_face_angle_rad >= t.trailing_face_angle_rad ? "leading_face_angle"
+                                                                                    : "trailing_face_angle",
+                       "expected face angles that keep the base within +-" + short_number(kMaxPointMm) +
+                           " mm of the centre; at " + short_number(in_mm(t.height_m)) + " mm high its feet reach x = +-" +
+                           short_number(reach_m * 1e3) + " mm");
     check_points_span(prof.points, path, "height");  // a lifter drawn in metres
     validate_lifter_polyline(prof.points, path, "top_width");
   } else {
