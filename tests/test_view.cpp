@@ -409,3 +409,72 @@ TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
   const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 }
+
+namespace {
+// A copy of the lab scene in `dir` whose profile path points at the shipped profile.
+fs::path lab_copy(const fs::path& dir, const std::string& name) {
+  std::string text = slurp(kLab);
+  const auto prof = text.find("../profiles/");
+  text.replace(prof, 12, src("profiles/"));
+  write(dir / name, text);
+  return dir / name;
+}
+}  // namespace
+
+// A scene save and a screenshot write over no file the view did not write: the scene on
+// screen, the script being run and a user's own files are refused (exit 2, naming the file
+// and the script's line, or --screenshot) and stay as they were.
+TEST(View, ASceneSaveOrAScreenshotReplacesNoFileTheViewDidNotWrite) {
+  const TempDir dir("millwear-view-test-not-ours");
+  const std::string scene = (dir / "scene.toml").string(), script = (dir / "s.txt").string();
+  const std::string notes = "the user's own notes\n";
+  for (const std::string& line : {"0 save_scene " + scene, "0 screenshot " + scene, "0 save_scene " + script,
+                                  "0 screenshot " + script, "0 screenshot " + (dir / "notes.png").string(),
+                                  "0 save_scene " + (dir / "notes.toml").string()}) {
+    // Each case from the same files: the scene, the script and the user's notes.
+    const std::string scene_text = slurp(lab_copy(dir, "scene.toml"));
+    write(dir / "notes.png", notes);
+    write(dir / "notes.toml", notes);
+    const std::string text = "0 report\n" + line + "\n0.2 quit\n";
+    write(script, text);
+    const Result r = run_millwear("view " + q(scene) + " --size 640 400 --script " + q(script), dir);
+    EXPECT_EQ(r.exit_code, 2) << line << "\n" << r.err;
+    const std::string target = line.substr(line.rfind(' ') + 1);
+    EXPECT_NE(r.err.find(target), std::string::npos) << line << "\n" << r.err;
+    EXPECT_NE(r.err.find("script line 2"), std::string::npos) << line << "\n" << r.err;
+    EXPECT_EQ(slurp(script), text) << line;
+    EXPECT_EQ(slurp(scene), scene_text) << line;
+    EXPECT_EQ(slurp(dir / "notes.png"), notes) << line;
+    EXPECT_EQ(slurp(dir / "notes.toml"), notes) << line;
+  }
+  // --screenshot: refused before the window opens.
+  const Result shot = run_millwear("view " + q(scene) + " --size 640 400 --frames 2 --screenshot " +
+                                       q((dir / "notes.png").string()), dir);
+  EXPECT_EQ(shot.exit_code, 2) << shot.err;
+  EXPECT_NE(shot.err.find((dir / "notes.png").string()), std::string::npos) << shot.err;
+  EXPECT_EQ(slurp(dir / "notes.png"), notes);
+}
+
+// The files the view wrote are its own to write again: a script run twice, and --screenshot
+// given twice, write the same names both times.
+TEST(View, TheFilesAScriptWroteAreWrittenAgainWhenItRunsAgain) {
+  const TempDir dir("millwear-view-test-run-again");
+  const std::string saved = (dir / "saved.toml").string(), shot = (dir / "shot.png").string();
+  write(dir / "s.txt", "0 lifter 25 20 25\n0.1 save_scene " + saved + "\n0.1 screenshot " + shot +
+                           "\n0.2 screenshot " + shot + "\n0.2 quit\n");
+  for (int run = 0; run < 2; ++run) {
+    const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " +
+                                      q((dir / "s.txt").string()) + " --screenshot " + q((dir / "end.png").string()),
+                                  dir);
+    EXPECT_EQ(r.exit_code, 0) << "run " << run << "\n" << r.err;
+  }
+  EXPECT_TRUE(fs::exists(dir / "saved_lifter.toml"));
+  int w = 0, h = 0, n = 0;
+  for (const std::string& png : {shot, (dir / "end.png").string()}) {
+    unsigned char* px = stbi_load(png.c_str(), &w, &h, &n, 3);
+    EXPECT_NE(px, nullptr) << "not a PNG: " << png;
+    stbi_image_free(px);
+  }
+  const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}

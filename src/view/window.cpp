@@ -76,6 +76,7 @@ struct UiState {
   int record_index = 0;
   std::string record_to;
   std::vector<std::string> shipped_profiles;
+  std::vector<RunInput> inputs;  // the scene on screen and the script: never written over
 };
 
 void sync_ui(UiState& ui, const LiveMill& s) {
@@ -212,6 +213,14 @@ std::string recording_refusal(const std::string& dir) {
   return "";
 }
 
+// A screenshot goes to a free name or over a PNG the view wrote (own_files.hpp): else
+// InputError naming the file (and `where`, the option).
+void check_screenshot(const std::string& file, const std::vector<RunInput>& inputs, const std::string& where) {
+  if (const std::string r = png_refusal(file, inputs); !r.empty())
+    throw InputError(file, where, "a free name for the screenshot, or a PNG millwear view wrote there: " + r +
+                                      "; write the screenshot under another name");
+}
+
 void refuse_or_clear(UiState& ui, const std::string& r, LiveMill& s) {
   ui.message = r;
   if (!r.empty()) sync_ui(ui, s);  // the panel shows the values in use again
@@ -312,7 +321,7 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
     if (ImGui::Button("save scene"))
       actions.push_back([&s, &ui, f = std::string(ui.save_path)] {
         try {
-          s.save_scene(f);
+          s.save_scene(f, ui.inputs);
           ui.message = "saved " + f;
         } catch (const std::exception& x) {
           ui.message = x.what();
@@ -437,12 +446,15 @@ std::string run_script_command(const ScriptCommand& c, LiveMill& live, UiState& 
     else if (c.name == "wear") refused = live.start_wear(num(0));
     else if (c.name == "wait_wear") live.wait_wear();
     else if (c.name == "save_scene") {
-      for (const auto& f : live.save_scene(c.args[0]))
+      for (const auto& f : live.save_scene(c.args[0], ui.inputs))
         if (hooks.notice) hooks.notice("wrote " + f);
     } else if (c.name == "save_profiles") {
       live.write_wear_profiles(c.args[0]);
       if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
-    } else if (c.name == "screenshot") shot = c.args[0];
+    } else if (c.name == "screenshot") {
+      check_screenshot(c.args[0], ui.inputs, "");
+      shot = c.args[0];
+    }
     else if (c.name == "record") {
       if (const std::string r = recording_refusal(c.args[0]); !r.empty()) throw InputError(c.args[0], "", r);
       ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
@@ -467,6 +479,7 @@ void capture_frame(const ViewRequest& req, const ViewHooks& hooks, bool headless
   const std::vector<std::uint8_t> px = read_window(fw, fh);
   if (!shot.empty()) {
     try {
+      check_screenshot(shot, ui.inputs, "");
       write_png(shot, fw, fh, px);
       ui.message = "wrote " + shot;
     } catch (const std::exception& x) {
@@ -475,7 +488,10 @@ void capture_frame(const ViewRequest& req, const ViewHooks& hooks, bool headless
     }
     if (hooks.notice) hooks.notice(ui.message);
   }
-  if (last_frame && !req.screenshot.empty()) write_png(req.screenshot, fw, fh, px);
+  if (last_frame && !req.screenshot.empty()) {
+    check_screenshot(req.screenshot, ui.inputs, "--screenshot");
+    write_png(req.screenshot, fw, fh, px);
+  }
   if (ui.recording) {
     fs::create_directories(ui.record_to);
     char name[32];
@@ -509,11 +525,15 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   // Everything the run reads is checked before a window opens.
   std::vector<ScriptCommand> script;
   if (!req.script.empty()) script = read_script(req.script);
+  std::vector<RunInput> inputs{{req.scene_file, "the scene on screen"}};
+  if (!req.script.empty()) inputs.push_back({req.script, "the script being run"});
+  if (!req.screenshot.empty()) check_screenshot(req.screenshot, inputs, "--screenshot");
   LiveMill live(req.scene_file, req.fidelity);
   const bool headless = req.frames > 0 || !req.script.empty();
   ViewWindow window(req.width, req.height, "millwear view: " + live.scene().name, headless);
 
   UiState ui;
+  ui.inputs = std::move(inputs);
   sync_ui(ui, live);
   ui.shipped_profiles = profiles_beside(live.profile_file());
   ViewOutcome out;
