@@ -478,3 +478,19 @@ TEST(View, TheFilesAScriptWroteAreWrittenAgainWhenItRunsAgain) {
   const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
 }
+
+// A pattern scene saved into another folder names its pattern's profiles from there (as it
+// names a single profile): `millwear run --check` accepts the saved scene.
+TEST(View, APatternSceneSavedIntoAnotherFolderNamesItsProfilesFromThere) {
+  const TempDir dir("millwear-view-test-pattern-save");
+  const std::string saved = (dir / "sub" / "hi-lo.toml").string();
+  write(dir / "s.txt", "0 speed 0.8\n0 save_scene " + saved + "\n0.1 quit\n");
+  const Result r = run_millwear("view " + q(src("scenarios/lab-hi-lo.toml")) + " --fidelity draft --size 640 400 --script " +
+                                    q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = slurp(saved);
+  EXPECT_NE(text.find("pattern = ["), std::string::npos) << text;
+  EXPECT_NE(text.find("row k: kind k % 2"), std::string::npos) << text;  // the line's comment stays
+  const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}

@@ -332,8 +332,6 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file, const std
       !r.empty())
     throw InputError(file, "", "a free name for the saved scene, or a scene millwear view saved there: " + r +
                                    "; save the scene under another name");
-  std::vector<KeyEdit> edits;
-  for (const auto& [k, e] : edits_) edits.push_back(e);
   std::string lifter_file;
   if (!edited_profile_text_.empty()) {
     lifter_file = (target.parent_path() / (target.stem().string() + "_lifter.toml")).string();
@@ -344,22 +342,30 @@ std::vector<std::string> LiveMill::save_scene(const std::string& file, const std
                        "a name free for the edited lifter of " + target.filename().string() +
                            " (a scene save writes its lifter as FILE_lifter.toml), or a lifter a scene save wrote: " + r +
                            "; save the scene under another name, or move that file");
-    for (auto& e : edits)
-      if (e.table == "lifters" && e.key == "profile") e.value = toml_string_value(target.stem().string() + "_lifter.toml");
   }
+  std::vector<KeyEdit> edits;
+  for (const auto& [k, e] : edits_) edits.push_back(e);
   if (!fidelity_.empty()) edits.push_back({"", "fidelity", "\"" + fidelity_ + "\"", {}});
   // The header goes in as the mark's text: edited_scene_text writes it after "# ".
-  const std::string text = edited_scene_text(text_, scene_file_, edits, out_dir,
-                                             std::string(kSavedSceneMark).substr(2) + " from " + scene_file_);
+  const std::string header = std::string(kSavedSceneMark).substr(2) + " from " + scene_file_;
+  // What is written reads back as the scene on screen: the checker reads it from the folder it
+  // goes to before anything is written (the folder neither). An edited lifter is read from the
+  // view's own file of it, which the one written beside the scene repeats below its mark.
+  const std::string checked = edited_scene_text(text_, scene_file_, edits, out_dir, header);
+  Scene check = load_scene_text(checked, target.string());
+  check_run_limits(check, target.string());
+  std::string text = checked;
+  if (!lifter_file.empty()) {
+    for (auto& e : edits)
+      if (e.table == "lifters" && e.key == "profile") e.value = toml_string_value(target.stem().string() + "_lifter.toml");
+    text = edited_scene_text(text_, scene_file_, edits, out_dir, header);
+  }
   io::ensure_dir(out_dir);  // `save_scene out/lab-edited.toml` makes out/, as a recording does
   if (!lifter_file.empty()) {
     io::write_file_atomic(lifter_file, std::string(kSavedLifterMark) + " with " + target.filename().string() + "\n" +
                                            edited_profile_text_);
     written.push_back(lifter_file);
   }
-  // What is written reads back as the scene on screen (the checker runs on it first).
-  Scene check = load_scene_text(text, target.string());
-  check_run_limits(check, target.string());
   io::write_file_atomic(target.string(), text);
   written.push_back(target.string());
   return written;
