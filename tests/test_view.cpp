@@ -151,7 +151,7 @@ TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
 // the message is the one `millwear charge` gives for a scene file with that value.
 TEST(View, RefusesAValueWithTheCheckersMessage) {
   const TempDir dir("millwear-view-test-refuse");
-  write(dir / "s.txt", "0 filling 1.5\n0.5 report\n0.5 quit\n");
+  write(dir / "s.txt", "0 report\n0 filling 1.5\n0.5 report\n0.5 quit\n");
   const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   // The same value in a copy of the scene, checked by `millwear charge`.
@@ -168,9 +168,9 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
   const std::string want = c.err.substr(c.err.find("charge.filling"));
   const std::string first_line = want.substr(0, want.find('\n'));
   EXPECT_NE(r.err.find(first_line), std::string::npos) << "view: " << r.err << "\ncharge: " << c.err;
-  // Nothing changed: the report shows the scene's disks still turning.
+  // The run ended at the refused line: the report before it ran, the one after it did not.
   const auto rep = reports(r.out);
-  ASSERT_EQ(rep.size(), 1u);
+  ASSERT_EQ(rep.size(), 1u) << r.out;
   EXPECT_GT(num(rep[0], "disks"), 100);
 }
 
@@ -493,4 +493,21 @@ TEST(View, APatternSceneSavedIntoAnotherFolderNamesItsProfilesFromThere) {
   EXPECT_NE(text.find("row k: kind k % 2"), std::string::npos) << text;  // the line's comment stays
   const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+// A control refused while a script runs ends the run at its line (exit 2): no later line runs
+// and nothing more is written, --screenshot's last frame included.
+TEST(View, AScriptStopsAtARefusedControl) {
+  const TempDir dir("millwear-view-test-stop");
+  write(dir / "s.txt", "0 report\n0 filling 1.5\n1 save_scene " + (dir / "after.toml").string() + "\n1 screenshot " +
+                           (dir / "after.png").string() + "\n2 report\n2 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()) +
+                                    " --screenshot " + q((dir / "end.png").string()),
+                                dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("refused at line 2"), std::string::npos) << r.err;
+  EXPECT_EQ(reports(r.out).size(), 1u) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "after.toml"));
+  EXPECT_FALSE(fs::exists(dir / "after.png"));
+  EXPECT_FALSE(fs::exists(dir / "end.png"));
 }

@@ -554,7 +554,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     std::string shot = ui.shot_pending;
     ui.shot_pending.clear();
     const double script_clock = static_cast<double>(out.frames) * kFrameSimS;
-    while (next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
+    while (out.refused == 0 && next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
       const ScriptCommand& c = script[next_command++];
       const std::string refused = run_script_command(c, live, ui, hooks, shot, quit);
       if (!refused.empty()) {
@@ -563,6 +563,15 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
         if (hooks.notice) hooks.notice("refused at line " + std::to_string(c.line) + ": " + refused);
       }
       sync_ui(ui, live);
+    }
+    if (out.refused > 0) {
+      // A refused control ends the run at its line: the screenshot a line before it asked for
+      // at this time is taken, and nothing more is written (no recorded frame, no --screenshot).
+      ui.recording = false;
+      std::vector<std::function<void()>> ignored;
+      draw_frame(live, ui, fw, fh, fps, ratio, ignored);
+      capture_frame(req, hooks, headless, false, shot, fw, fh, ui);
+      break;
     }
     const auto now = Clock::now();
     const double wall_dt = std::chrono::duration<double>(now - last).count();
