@@ -511,3 +511,41 @@ TEST(View, AScriptStopsAtARefusedControl) {
   EXPECT_FALSE(fs::exists(dir / "after.png"));
   EXPECT_FALSE(fs::exists(dir / "end.png"));
 }
+
+// A report gives nan for what is not measured yet: the power before the first batch, the
+// steady mean before its first batch, its standard error under two batches. Every field
+// stays key=value.
+TEST(View, AReportGivesNanForWhatIsNotMeasuredYet) {
+  const TempDir dir("millwear-view-test-report-nan");
+  std::string script;
+  for (int k = 0; k <= 14; ++k) script += std::to_string(0.25 * k) + " report\n";
+  write(dir / "s.txt", script + "3.5 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 15u) << r.out;
+  int unread = 0, one_batch = 0, more = 0;
+  for (const auto& f : rep) {
+    const double batches = num(f, "steady_batches");
+    if (f.at("shape") == "no readout yet") {
+      ++unread;
+      EXPECT_TRUE(std::isnan(num(f, "power_kW_per_m"))) << r.out;
+    } else {
+      EXPECT_GT(num(f, "power_kW_per_m"), 0.0) << r.out;
+    }
+    if (batches == 0) EXPECT_TRUE(std::isnan(num(f, "steady_kW_per_m"))) << r.out;
+    else EXPECT_GT(num(f, "steady_kW_per_m"), 0.0) << r.out;
+    if (batches < 2) {
+      EXPECT_TRUE(std::isnan(num(f, "steady_sem_kW_per_m"))) << r.out;
+    } else {
+      EXPECT_GT(num(f, "steady_sem_kW_per_m"), 0.0) << r.out;
+      ++more;
+    }
+    one_batch += batches == 1;
+  }
+  // The lab mill settles 0.5 s, turns a revolution (1.47 s at 0.75 of critical) before its
+  // steady window, then closes a batch every half revolution: 3.5 s sees all three cases.
+  EXPECT_GT(unread, 0) << r.out;
+  EXPECT_GT(one_batch, 0) << r.out;
+  EXPECT_GT(more, 0) << r.out;
+}

@@ -294,8 +294,9 @@ SteadyPower LiveMill::steady_power() const {
   SteadyPower p;
   p.batches = static_cast<int>(steady_batches_.size());
   const BatchMeans b = batch_means(steady_batches_);
-  p.mean_kW_per_m = b.mean;
-  p.sem_kW_per_m = b.rel_sem * b.mean;
+  // One batch has no spread to give an error by; none, no mean.
+  p.mean_kW_per_m = p.batches > 0 ? b.mean : std::nan("");
+  p.sem_kW_per_m = p.batches > 1 ? b.sem : std::nan("");
   return p;
 }
 

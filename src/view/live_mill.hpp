@@ -44,11 +44,11 @@ struct Readout {
 };
 
 // The mean of the batches since the last change, once the charge has turned for a
-// revolution after it (the change's transient is left out).
+// revolution after it (the change's transient is left out). NaN for what is not measured yet.
 struct SteadyPower {
   int batches = 0;
-  double mean_kW_per_m = 0.0;
-  double sem_kW_per_m = 0.0;         // batch-means standard error (0 under two batches)
+  double mean_kW_per_m = 0.0;        // NaN before the first batch
+  double sem_kW_per_m = 0.0;         // batch-means standard error (NaN under two batches)
 };
 
 // The wear mode as the window draws it.

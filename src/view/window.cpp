@@ -296,7 +296,8 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
       if (r.centrifuged) ImGui::TextUnformatted("centrifuged: no toe or shoulder");
       else ImGui::Text("toe %.0f deg  shoulder %.0f deg (from 6 o'clock)", r.toe_deg, r.shoulder_deg);
       const SteadyPower p = s.steady_power();
-      if (p.batches > 0) ImGui::Text("since the last change: %.2f +- %.2f kW/m (%d batches)", p.mean_kW_per_m, p.sem_kW_per_m, p.batches);
+      if (p.batches > 1) ImGui::Text("since the last change: %.2f +- %.2f kW/m (%d batches)", p.mean_kW_per_m, p.sem_kW_per_m, p.batches);
+      else if (p.batches == 1) ImGui::Text("since the last change: %.2f kW/m (1 batch: no error yet)", p.mean_kW_per_m);
       std::vector<float> power;
       for (const Readout& x : s.readouts()) power.push_back(static_cast<float>(x.power_kW_per_m));
       ImGui::PlotLines("kW/m", power.data(), static_cast<int>(power.size()), 0, nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 60));
@@ -360,8 +361,10 @@ std::vector<std::uint8_t> read_window(int w, int h) {
 std::string report_line(const LiveMill& s) {
   char buf[512];
   const SteadyPower p = s.steady_power();
+  // What is not measured yet is nan (the power before the first batch; the steady mean and
+  // its error, steady_power's), so that no one reads it as a measured zero.
   std::string shape = "no readout yet";
-  double power = 0.0;
+  double power = std::nan("");
   if (!s.readouts().empty()) {
     const Readout& r = s.readouts().back();
     power = r.power_kW_per_m;
