@@ -178,12 +178,15 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
 // window opens (a time scale of 1e9 hung the first frame; wear of 1e12 h overflowed a count).
 TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
   const TempDir dir("millwear-view-test-script-range");
-  for (const char* bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12"}) {
-    write(dir / "s.txt", std::string("0 report\n") + bad + "\n1 quit\n");
+  for (const std::string bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12",
+                                 "0 speed 0", "0 speed 2.5"}) {
+    write(dir / "s.txt", "0 report\n" + bad + "\n1 quit\n");
     const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find("line 2"), std::string::npos) << bad << "\n" << r.err;
     EXPECT_TRUE(reports(r.out).empty()) << bad << ": the window ran";
+    // The speed's bounds are the slider's and the scene checker's (mill.speed), named.
+    if (bad.find("speed") != std::string::npos) EXPECT_NE(r.err.find("[0.01, 2]"), std::string::npos) << r.err;
   }
   // A script saved with a byte-order mark reads.
   write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");

@@ -17,6 +17,7 @@
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
+#include "scene/limits.hpp"
 #include "study/charge_run.hpp"
 #include "view/live_mill.hpp"
 #include "view/png.hpp"
@@ -239,7 +240,9 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
   if (!ui.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.message.c_str()), ImGui::Separator();
 
   if (ImGui::CollapsingHeader("Mill", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::SliderFloat("speed (x critical)", &ui.speed, 0.0f, 1.6f, "%.2f");
+    // The scene checker's bounds (a script's speed is held to them too), typed values clamped.
+    ImGui::SliderFloat("speed (x critical)", &ui.speed, static_cast<float>(kMinSpeedFraction),
+                       static_cast<float>(kMaxSpeedFraction), "%.2f", ImGuiSliderFlags_AlwaysClamp);
     if (ImGui::IsItemDeactivatedAfterEdit()) actions.push_back([&s, &ui, v = ui.speed] { refuse_or_clear(ui, s.set_speed(v), s); });
     ImGui::SliderFloat("filling", &ui.filling, 0.0f, 0.6f, "%.3f");
     if (ImGui::IsItemDeactivatedAfterEdit())
