@@ -71,6 +71,24 @@ TEST(SceneEdit, TheProfilePathStillResolvesFromTheCopysFolder) {
 }
 
 
+// A pattern of profiles (hi-lo) is re-pointed as one profile is: each of its paths resolves
+// from the copy's folder to the same file, with the line's comment kept.
+TEST(SceneEdit, APatternsProfilePathsStillResolveFromTheCopysFolder) {
+  const std::string scene = testing::source_path("scenarios/lab-hi-lo.toml");
+  const testing::TempDir dir("millwear-scene-edit-pattern");
+  fs::create_directories(dir / "sub");
+  const std::string copy = (dir / "sub" / "hi-lo.toml").string();
+  io::write_file_atomic(copy, edited_scene_text(io::read_file(scene), scene, {{"mill", "speed", "0.8", {}}},
+                                                (dir / "sub").string(), "saved"));
+  EXPECT_NE(io::read_file(copy).find("# row k: kind k % 2"), std::string::npos) << io::read_file(copy);
+  const Scene a = load_scene(scene), b = load_scene(copy);
+  ASSERT_EQ(b.mill.pattern.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k)
+    EXPECT_EQ(fs::weakly_canonical(b.mill.pattern[k].source_file), fs::weakly_canonical(a.mill.pattern[k].source_file));
+  EXPECT_EQ(b.mill.speed_fraction_critical, 0.8);
+}
+
+
 // Key edits (the view's controls and its saved scene): a key's line rewritten from the key to
 // the end of its value (to the end of the line, its comment too, where another key replaces it
 // or it is removed), a missing key added at the end of its table, a key removed, a new

@@ -151,7 +151,7 @@ TEST(View, ScriptCentrifugesCascadesAgainAndAddsFilling) {
 // the message is the one `millwear charge` gives for a scene file with that value.
 TEST(View, RefusesAValueWithTheCheckersMessage) {
   const TempDir dir("millwear-view-test-refuse");
-  write(dir / "s.txt", "0 filling 1.5\n0.5 report\n0.5 quit\n");
+  write(dir / "s.txt", "0 report\n0 filling 1.5\n0.5 report\n0.5 quit\n");
   const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   // The same value in a copy of the scene, checked by `millwear charge`.
@@ -168,9 +168,9 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
   const std::string want = c.err.substr(c.err.find("charge.filling"));
   const std::string first_line = want.substr(0, want.find('\n'));
   EXPECT_NE(r.err.find(first_line), std::string::npos) << "view: " << r.err << "\ncharge: " << c.err;
-  // Nothing changed: the report shows the scene's disks still turning.
+  // The run ended at the refused line: the report before it ran, the one after it did not.
   const auto rep = reports(r.out);
-  ASSERT_EQ(rep.size(), 1u);
+  ASSERT_EQ(rep.size(), 1u) << r.out;
   EXPECT_GT(num(rep[0], "disks"), 100);
 }
 
@@ -178,12 +178,15 @@ TEST(View, RefusesAValueWithTheCheckersMessage) {
 // window opens (a time scale of 1e9 hung the first frame; wear of 1e12 h overflowed a count).
 TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
   const TempDir dir("millwear-view-test-script-range");
-  for (const char* bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12"}) {
-    write(dir / "s.txt", std::string("0 report\n") + bad + "\n1 quit\n");
+  for (const std::string bad : {"0 time_scale 1e9", "0 time_scale 0", "0 trails 100000", "0 trails 2.5", "0 wear 1e12",
+                                 "0 speed 0", "0 speed 2.5"}) {
+    write(dir / "s.txt", "0 report\n" + bad + "\n1 quit\n");
     const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find("line 2"), std::string::npos) << bad << "\n" << r.err;
     EXPECT_TRUE(reports(r.out).empty()) << bad << ": the window ran";
+    // The speed's bounds are the slider's and the scene checker's (mill.speed), named.
+    if (bad.find("speed") != std::string::npos) EXPECT_NE(r.err.find("[0.01, 2]"), std::string::npos) << r.err;
   }
   // A script saved with a byte-order mark reads.
   write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");
@@ -408,4 +411,144 @@ TEST(View, ShapeAndDirectionEditsAreSavedAsAScene) {
   EXPECT_LE(frames, 31);
   const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
   EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+namespace {
+// A copy of the lab scene in `dir` whose profile path points at the shipped profile.
+fs::path lab_copy(const fs::path& dir, const std::string& name) {
+  std::string text = slurp(kLab);
+  const auto prof = text.find("../profiles/");
+  text.replace(prof, 12, src("profiles/"));
+  write(dir / name, text);
+  return dir / name;
+}
+}  // namespace
+
+// A scene save and a screenshot write over no file the view did not write: the scene on
+// screen, the script being run and a user's own files are refused (exit 2, naming the file
+// and the script's line, or --screenshot) and stay as they were.
+TEST(View, ASceneSaveOrAScreenshotReplacesNoFileTheViewDidNotWrite) {
+  const TempDir dir("millwear-view-test-not-ours");
+  const std::string scene = (dir / "scene.toml").string(), script = (dir / "s.txt").string();
+  const std::string notes = "the user's own notes\n";
+  for (const std::string& line : {"0 save_scene " + scene, "0 screenshot " + scene, "0 save_scene " + script,
+                                  "0 screenshot " + script, "0 screenshot " + (dir / "notes.png").string(),
+                                  "0 save_scene " + (dir / "notes.toml").string()}) {
+    // Each case from the same files: the scene, the script and the user's notes.
+    const std::string scene_text = slurp(lab_copy(dir, "scene.toml"));
+    write(dir / "notes.png", notes);
+    write(dir / "notes.toml", notes);
+    const std::string text = "0 report\n" + line + "\n0.2 quit\n";
+    write(script, text);
+    const Result r = run_millwear("view " + q(scene) + " --size 640 400 --script " + q(script), dir);
+    EXPECT_EQ(r.exit_code, 2) << line << "\n" << r.err;
+    const std::string target = line.substr(line.rfind(' ') + 1);
+    EXPECT_NE(r.err.find(target), std::string::npos) << line << "\n" << r.err;
+    EXPECT_NE(r.err.find("script line 2"), std::string::npos) << line << "\n" << r.err;
+    EXPECT_EQ(slurp(script), text) << line;
+    EXPECT_EQ(slurp(scene), scene_text) << line;
+    EXPECT_EQ(slurp(dir / "notes.png"), notes) << line;
+    EXPECT_EQ(slurp(dir / "notes.toml"), notes) << line;
+  }
+  // --screenshot: refused before the window opens.
+  const Result shot = run_millwear("view " + q(scene) + " --size 640 400 --frames 2 --screenshot " +
+                                       q((dir / "notes.png").string()), dir);
+  EXPECT_EQ(shot.exit_code, 2) << shot.err;
+  EXPECT_NE(shot.err.find((dir / "notes.png").string()), std::string::npos) << shot.err;
+  EXPECT_EQ(slurp(dir / "notes.png"), notes);
+}
+
+// The files the view wrote are its own to write again: a script run twice, and --screenshot
+// given twice, write the same names both times.
+TEST(View, TheFilesAScriptWroteAreWrittenAgainWhenItRunsAgain) {
+  const TempDir dir("millwear-view-test-run-again");
+  const std::string saved = (dir / "saved.toml").string(), shot = (dir / "shot.png").string();
+  write(dir / "s.txt", "0 lifter 25 20 25\n0.1 save_scene " + saved + "\n0.1 screenshot " + shot +
+                           "\n0.2 screenshot " + shot + "\n0.2 quit\n");
+  for (int run = 0; run < 2; ++run) {
+    const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " +
+                                      q((dir / "s.txt").string()) + " --screenshot " + q((dir / "end.png").string()),
+                                  dir);
+    EXPECT_EQ(r.exit_code, 0) << "run " << run << "\n" << r.err;
+  }
+  EXPECT_TRUE(fs::exists(dir / "saved_lifter.toml"));
+  int w = 0, h = 0, n = 0;
+  for (const std::string& png : {shot, (dir / "end.png").string()}) {
+    unsigned char* px = stbi_load(png.c_str(), &w, &h, &n, 3);
+    EXPECT_NE(px, nullptr) << "not a PNG: " << png;
+    stbi_image_free(px);
+  }
+  const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+// A pattern scene saved into another folder names its pattern's profiles from there (as it
+// names a single profile): `millwear run --check` accepts the saved scene.
+TEST(View, APatternSceneSavedIntoAnotherFolderNamesItsProfilesFromThere) {
+  const TempDir dir("millwear-view-test-pattern-save");
+  const std::string saved = (dir / "sub" / "hi-lo.toml").string();
+  write(dir / "s.txt", "0 speed 0.8\n0 save_scene " + saved + "\n0.1 quit\n");
+  const Result r = run_millwear("view " + q(src("scenarios/lab-hi-lo.toml")) + " --fidelity draft --size 640 400 --script " +
+                                    q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = slurp(saved);
+  EXPECT_NE(text.find("pattern = ["), std::string::npos) << text;
+  EXPECT_NE(text.find("row k: kind k % 2"), std::string::npos) << text;  // the line's comment stays
+  const Result check = run_millwear("run --check " + q(saved) + " -o " + q((dir / "out").string()), dir);
+  EXPECT_EQ(check.exit_code, 0) << check.out << check.err;
+}
+
+// A control refused while a script runs ends the run at its line (exit 2): no later line runs
+// and nothing more is written, --screenshot's last frame included.
+TEST(View, AScriptStopsAtARefusedControl) {
+  const TempDir dir("millwear-view-test-stop");
+  write(dir / "s.txt", "0 report\n0 filling 1.5\n1 save_scene " + (dir / "after.toml").string() + "\n1 screenshot " +
+                           (dir / "after.png").string() + "\n2 report\n2 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()) +
+                                    " --screenshot " + q((dir / "end.png").string()),
+                                dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("refused at line 2"), std::string::npos) << r.err;
+  EXPECT_EQ(reports(r.out).size(), 1u) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "after.toml"));
+  EXPECT_FALSE(fs::exists(dir / "after.png"));
+  EXPECT_FALSE(fs::exists(dir / "end.png"));
+}
+
+// A report gives nan for what is not measured yet: the power before the first batch, the
+// steady mean before its first batch, its standard error under two batches. Every field
+// stays key=value.
+TEST(View, AReportGivesNanForWhatIsNotMeasuredYet) {
+  const TempDir dir("millwear-view-test-report-nan");
+  std::string script;
+  for (int k = 0; k <= 14; ++k) script += std::to_string(0.25 * k) + " report\n";
+  write(dir / "s.txt", script + "3.5 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --fidelity draft --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 15u) << r.out;
+  int unread = 0, one_batch = 0, more = 0;
+  for (const auto& f : rep) {
+    const double batches = num(f, "steady_batches");
+    if (f.at("shape") == "no readout yet") {
+      ++unread;
+      EXPECT_TRUE(std::isnan(num(f, "power_kW_per_m"))) << r.out;
+    } else {
+      EXPECT_GT(num(f, "power_kW_per_m"), 0.0) << r.out;
+    }
+    if (batches == 0) EXPECT_TRUE(std::isnan(num(f, "steady_kW_per_m"))) << r.out;
+    else EXPECT_GT(num(f, "steady_kW_per_m"), 0.0) << r.out;
+    if (batches < 2) {
+      EXPECT_TRUE(std::isnan(num(f, "steady_sem_kW_per_m"))) << r.out;
+    } else {
+      EXPECT_GT(num(f, "steady_sem_kW_per_m"), 0.0) << r.out;
+      ++more;
+    }
+    one_batch += batches == 1;
+  }
+  // The lab mill settles 0.5 s, turns a revolution (1.47 s at 0.75 of critical) before its
+  // steady window, then closes a batch every half revolution: 3.5 s sees all three cases.
+  EXPECT_GT(unread, 0) << r.out;
+  EXPECT_GT(one_batch, 0) << r.out;
+  EXPECT_GT(more, 0) << r.out;
 }

@@ -46,6 +46,12 @@ constexpr double kMaxStepTravelRadii = 1.6;
 // runs at 10: the limit sits at the clean edge.
 constexpr double kMaxSoftStepTravelRadii = 8.0;
 
+// The mill speed as a fraction of critical (mill.speed; mill.speed_rpm the same in rpm), and
+// the view's speed control. 0.01: a mill turning slower hardly lifts its charge (and one
+// revolution takes hours of simulated time in a large mill); 2: far past centrifuging.
+constexpr double kMinSpeedFraction = 0.01;
+constexpr double kMaxSpeedFraction = 2.0;
+
 // Every time in hours, in files and on the command line, is at most 1e6 h (over a century of
 // operation).
 constexpr double kMaxHours = 1e6;

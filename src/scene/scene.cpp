@@ -226,13 +226,11 @@ void read_mill(const TableReader& r, Scene& s) {
   if (auto v = r.number("slice_thickness", closed(0.0, 50.0), "m; 0 = largest particle diameter"))
     m.slice_thickness_m = *v;
   exactly_one(r, "speed", "speed_rpm", "mill speed");
-  // 0.01: a mill turning slower hardly lifts its charge (and one revolution takes hours of
-  // simulated time in a large mill).
-  if (auto v = r.number("speed", closed(0.01, 2.0), "fraction of critical speed"))
+  if (auto v = r.number("speed", closed(kMinSpeedFraction, kMaxSpeedFraction), "fraction of critical speed"))
     m.speed_fraction_critical = *v;
   if (r.has("speed_rpm")) {
     const double crit_rpm = rpm_from_rad_s(std::sqrt(kGravity / (0.5 * m.diameter_m)));
-    const double rpm = *r.number("speed_rpm", closed(0.01 * crit_rpm, 2.0 * crit_rpm),
+    const double rpm = *r.number("speed_rpm", closed(kMinSpeedFraction * crit_rpm, kMaxSpeedFraction * crit_rpm),
                                  "rpm; critical speed of this mill is " + num_text(crit_rpm) + " rpm");
     m.speed_fraction_critical = rpm / crit_rpm;
   }

@@ -9,7 +9,6 @@
 #include <utility>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -77,22 +76,30 @@ void apply_spans(std::vector<SpanEdit> spans, std::vector<std::string>& lines, c
   for (const SpanEdit& e : spans) replace_span(lines, e.line, e.from, e.to, e.with, scene_path);
 }
 
-// lifters.profile rewritten to resolve from out_dir (relative when the copy stays near the
-// scene, else absolute); nothing when out_dir is the scene's folder or there is no profile.
-std::optional<SpanEdit> profile_repoint(toml::table& t, const std::string& scene_path, const std::string& out_dir) {
+// lifters.profile, or each profile of lifters.pattern, rewritten to resolve from out_dir
+// (relative when the copy stays near the scene, else absolute); nothing when out_dir is the
+// scene's folder or the scene names no profile.
+std::vector<SpanEdit> profile_repoint(toml::table& t, const std::string& scene_path, const std::string& out_dir) {
   const fs::path scene_dir = fs::absolute(fs::path(scene_path)).parent_path();
   const fs::path target_dir = fs::absolute(fs::path(out_dir));
   toml::table* lifters = t["lifters"].as_table();
-  if (!lifters) return std::nullopt;
-  toml::node* prof = lifters->get("profile");
-  if (!prof || !prof->is_string() || fs::weakly_canonical(scene_dir) == fs::weakly_canonical(target_dir))
-    return std::nullopt;
-  const fs::path resolved = (scene_dir / fs::path(prof->as_string()->get())).lexically_normal();
-  std::string rel = fs::relative(resolved, fs::weakly_canonical(target_dir)).string();
-  if (rel.rfind("../../", 0) == 0) rel = resolved.string();
-  const auto vs = prof->source();
-  if (vs.begin.line != vs.end.line) throw RunError(scene_path + ": lifters.profile spans lines");
-  return SpanEdit{vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)};
+  if (!lifters || fs::weakly_canonical(scene_dir) == fs::weakly_canonical(target_dir)) return {};
+  std::vector<std::pair<std::string, toml::node*>> paths;  // key, value
+  if (toml::node* prof = lifters->get("profile"); prof && prof->is_string()) paths.push_back({"lifters.profile", prof});
+  if (toml::array* pattern = lifters->get_as<toml::array>("pattern"))
+    for (std::size_t k = 0; k < pattern->size(); ++k)
+      if (toml::node* e = pattern->get(k); e->is_string())
+        paths.push_back({"lifters.pattern[" + std::to_string(k) + "]", e});
+  std::vector<SpanEdit> spans;
+  for (const auto& [key, node] : paths) {
+    const fs::path resolved = (scene_dir / fs::path(node->as_string()->get())).lexically_normal();
+    std::string rel = fs::relative(resolved, fs::weakly_canonical(target_dir)).string();
+    if (rel.rfind("../../", 0) == 0) rel = resolved.string();
+    const auto vs = node->source();
+    if (vs.begin.line != vs.end.line) throw RunError(scene_path + ": " + key + " spans lines");
+    spans.push_back({vs.begin.line, vs.begin.column, vs.end.column, toml_path_string(rel.empty() ? resolved.string() : rel)});
+  }
+  return spans;
 }
 
 // The scene's text parsed, or an InputError naming the file.
@@ -130,7 +137,7 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
     throw InputError(scene_path, "wear.wear_rate",
                      "a wear-rate key to replace (wear_rate, area_loss_rate or height_loss_rate)");
 
-  if (auto e = profile_repoint(t, scene_path, edit.out_dir)) edits.push_back(*e);
+  for (SpanEdit& e : profile_repoint(t, scene_path, edit.out_dir)) edits.push_back(std::move(e));
   apply_spans(std::move(edits), lines, scene_path);
 
   std::string out = std::string(kCalibratedCopyHeader) + " " + scene_path + " written by millwear calibrate (" + edit.note + ").\n";
@@ -184,7 +191,7 @@ std::string edited_scene_text(const std::string& text, const std::string& scene_
     else inserts.push_back({last_line, k.key + " = " + k.value});
   }
   if (!profile_edited)
-    if (auto e = profile_repoint(t, scene_path, out_dir)) spans.push_back(*e);
+    for (SpanEdit& e : profile_repoint(t, scene_path, out_dir)) spans.push_back(std::move(e));
   apply_spans(std::move(spans), lines, scene_path);
   // Insertions bottom-up, so the line numbers above stay valid; end-of-file ones last.
   std::stable_sort(inserts.begin(), inserts.end(), [](const auto& a, const auto& b) {

@@ -20,9 +20,10 @@ constexpr const char* kCalibratedCopyHeader = "# Calibrated copy of";
 
 // The text of a scene file with its wear-rate key (wear.wear_rate, wear.area_loss_rate or
 // wear.height_loss_rate, whichever it has) replaced by `wear_rate = C   # m^3/J, NOTE`, the
-// key's line from the key to the line end (its old comment too); lifters.profile, when
-// the copy goes to another folder than the scene, rewritten relative to out_dir (absolute
-// when that climbs out more than one folder); and a first comment line naming the source
+// key's line from the key to the line end (its old comment too); lifters.profile (or each
+// profile of lifters.pattern), when the copy goes to another folder than the scene, rewritten
+// relative to out_dir (absolute when that climbs out more than one folder); and a first
+// comment line naming the source
 // and the note. `scene_path` names the file in errors and resolves the profile path.
 // Throws InputError: the text is not TOML, or it has no [wear] table or no wear-rate key in
 // it. Throws RunError when a key sits where a one-line edit cannot reach it.
@@ -41,8 +42,8 @@ struct KeyEdit {
 // The text of a scene file with each edit applied: the key's line (or the line of a key it
 // replaces) from the key to the end of its value rewritten, or `key = value` added at the
 // end of its table (a new table at the end of the file when there is none). Comments and
-// every other key stay. lifters.profile, unless edited, is re-pointed to resolve from
-// out_dir as in calibrated_scene_text. A non-empty header goes first as a comment line.
+// every other key stay. lifters.profile or lifters.pattern, unless the profile is edited, is
+// re-pointed to resolve from out_dir as in calibrated_scene_text. A non-empty header goes first as a comment line.
 // Throws InputError: the text is not TOML; RunError: a key sits where a one-line edit
 // cannot reach it (value over several lines, an inline table).
 std::string edited_scene_text(const std::string& text, const std::string& scene_path,

@@ -34,8 +34,9 @@ namespace {
 
 constexpr std::size_t kReadoutsKept = 240;  // batches in the rolling plot
 constexpr std::size_t kTrailPoints = 180;   // frames a trail keeps (3 s at 60 frames/s)
-// The first line of a lifter file a scene save writes beside the scene: a file of that name
-// without it is not the view's to replace.
+// The first lines of the files a scene save writes, the scene's and the lifter's beside it: a
+// file of their name without it is not the view's to replace (own_files.hpp).
+constexpr const char* kSavedSceneMark = "# Scene saved by millwear view";
 constexpr const char* kSavedLifterMark = "# Lifter saved by millwear view";
 
 std::string number(double v) {
@@ -293,8 +294,9 @@ SteadyPower LiveMill::steady_power() const {
   SteadyPower p;
   p.batches = static_cast<int>(steady_batches_.size());
   const BatchMeans b = batch_means(steady_batches_);
-  p.mean_kW_per_m = b.mean;
-  p.sem_kW_per_m = b.rel_sem * b.mean;
+  // One batch has no spread to give an error by; none, no mean.
+  p.mean_kW_per_m = p.batches > 0 ? b.mean : std::nan("");
+  p.sem_kW_per_m = p.batches > 1 ? b.sem : std::nan("");
   return p;
 }
 
@@ -320,36 +322,51 @@ void LiveMill::record_trails() {
   }
 }
 
-std::vector<std::string> LiveMill::save_scene(const std::string& file) const {
+std::vector<std::string> LiveMill::save_scene(const std::string& file, const std::vector<RunInput>& inputs) const {
   std::vector<std::string> written;
   const fs::path target = fs::absolute(fs::path(file)).lexically_normal();
   const std::string out_dir = target.parent_path().string();
-  std::vector<KeyEdit> edits;
-  for (const auto& [k, e] : edits_) edits.push_back(e);
+  std::vector<RunInput> kept = inputs;
+  kept.push_back({scene_file_, "the scene on screen"});
+  if (const std::string r = overwrite_refusal(target.string(), kSavedSceneMark, 0,
+                                              "its first line is not \"" + std::string(kSavedSceneMark) + " ...\"", kept);
+      !r.empty())
+    throw InputError(file, "", "a free name for the saved scene, or a scene millwear view saved there: " + r +
+                                   "; save the scene under another name");
   std::string lifter_file;
   if (!edited_profile_text_.empty()) {
     lifter_file = (target.parent_path() / (target.stem().string() + "_lifter.toml")).string();
-    std::error_code ec;
-    if (fs::exists(fs::symlink_status(lifter_file, ec)) && read_text(lifter_file).rfind(kSavedLifterMark, 0) != 0)
+    if (const std::string r = overwrite_refusal(lifter_file, kSavedLifterMark, 0,
+                                                "its first line is not \"" + std::string(kSavedLifterMark) + " ...\"", kept);
+        !r.empty())
       throw InputError(lifter_file, "",
                        "a name free for the edited lifter of " + target.filename().string() +
-                           " (a scene save writes its lifter as FILE_lifter.toml): a file there that no scene save "
-                           "wrote is left as it is; save the scene under another name, or move that file");
+                           " (a scene save writes its lifter as FILE_lifter.toml), or a lifter a scene save wrote: " + r +
+                           "; save the scene under another name, or move that file");
+  }
+  std::vector<KeyEdit> edits;
+  for (const auto& [k, e] : edits_) edits.push_back(e);
+  if (!fidelity_.empty()) edits.push_back({"", "fidelity", "\"" + fidelity_ + "\"", {}});
+  // The header goes in as the mark's text: edited_scene_text writes it after "# ".
+  const std::string header = std::string(kSavedSceneMark).substr(2) + " from " + scene_file_;
+  // What is written reads back as the scene on screen: the checker reads it from the folder it
+  // goes to before anything is written (the folder neither). An edited lifter is read from the
+  // view's own file of it, which the one written beside the scene repeats below its mark.
+  const std::string checked = edited_scene_text(text_, scene_file_, edits, out_dir, header);
+  Scene check = load_scene_text(checked, target.string());
+  check_run_limits(check, target.string());
+  std::string text = checked;
+  if (!lifter_file.empty()) {
     for (auto& e : edits)
       if (e.table == "lifters" && e.key == "profile") e.value = toml_string_value(target.stem().string() + "_lifter.toml");
+    text = edited_scene_text(text_, scene_file_, edits, out_dir, header);
   }
-  if (!fidelity_.empty()) edits.push_back({"", "fidelity", "\"" + fidelity_ + "\"", {}});
-  const std::string text = edited_scene_text(text_, scene_file_, edits, out_dir,
-                                             "Scene saved by millwear view from " + scene_file_);
   io::ensure_dir(out_dir);  // `save_scene out/lab-edited.toml` makes out/, as a recording does
   if (!lifter_file.empty()) {
     io::write_file_atomic(lifter_file, std::string(kSavedLifterMark) + " with " + target.filename().string() + "\n" +
                                            edited_profile_text_);
     written.push_back(lifter_file);
   }
-  // What is written reads back as the scene on screen (the checker runs on it first).
-  Scene check = load_scene_text(text, target.string());
-  check_run_limits(check, target.string());
   io::write_file_atomic(target.string(), text);
   written.push_back(target.string());
   return written;

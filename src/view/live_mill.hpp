@@ -23,6 +23,7 @@
 #include "metrics/charge_summary.hpp"
 #include "scene/scene.hpp"
 #include "scene/scene_edit.hpp"
+#include "view/own_files.hpp"
 #include "wear/history.hpp"
 
 namespace millwear::view {
@@ -43,11 +44,11 @@ struct Readout {
 };
 
 // The mean of the batches since the last change, once the charge has turned for a
-// revolution after it (the change's transient is left out).
+// revolution after it (the change's transient is left out). NaN for what is not measured yet.
 struct SteadyPower {
   int batches = 0;
-  double mean_kW_per_m = 0.0;
-  double sem_kW_per_m = 0.0;         // batch-means standard error (0 under two batches)
+  double mean_kW_per_m = 0.0;        // NaN before the first batch
+  double sem_kW_per_m = 0.0;         // batch-means standard error (NaN under two batches)
 };
 
 // The wear mode as the window draws it.
@@ -104,10 +105,11 @@ class LiveMill {
   // file there of other points.
   void write_wear_profiles(const std::string& out) const;
 
-  // The scene as edited, as a TOML file `millwear run` accepts (an edited lifter goes beside
-  // it as FILE_lifter.toml, marked as the view's; a FILE_lifter.toml without that mark is
-  // refused, InputError, and nothing is written). Written atomically. Returns the files written.
-  std::vector<std::string> save_scene(const std::string& file) const;
+  // The scene as edited, as a TOML file `millwear run` accepts, its first line marking it as
+  // the view's (an edited lifter goes beside it as FILE_lifter.toml, marked too). A file of
+  // either name without the mark, the scene on screen or one of `inputs` (the script) is
+  // refused, InputError, and nothing is written. Written atomically. Returns the files written.
+  std::vector<std::string> save_scene(const std::string& file, const std::vector<RunInput>& inputs = {}) const;
 
   const Scene& scene() const { return scene_; }
   const MillGeometry& mill() const { return mill_; }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/errors.hpp"
+#include "scene/limits.hpp"
 
 namespace millwear::view {
 
@@ -32,15 +33,18 @@ const std::map<std::string, Shape>& commands() {
   return c;
 }
 
-// The ranges of the numbers the panel's controls also bound: the time-scale slider, the trail
-// count, the wear mode's hours (the scene's operating-hours bound).
+// The ranges of the numbers the panel's controls also bound: the speed slider (the scene
+// checker's mill.speed), the time-scale slider, the trail count, the wear mode's hours (the
+// scene's operating-hours bound).
 struct Range {
   double lo, hi;
   bool integer;
 };
 const std::map<std::string, Range>& ranges() {
-  static const std::map<std::string, Range> r{
-      {"time_scale", {0.05, 4.0, false}}, {"trails", {0.0, 16.0, true}}, {"wear", {1e-6, 1e6, false}}};
+  static const std::map<std::string, Range> r{{"speed", {kMinSpeedFraction, kMaxSpeedFraction, false}},
+                                              {"time_scale", {0.05, 4.0, false}},
+                                              {"trails", {0.0, 16.0, true}},
+                                              {"wear", {1e-6, 1e6, false}}};
   return r;
 }
 

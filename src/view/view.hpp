@@ -30,7 +30,7 @@ struct ViewOutcome {
   double physics_wall_s = 0.0;  // of which the charge's steps (the rest draws the frames)
   std::size_t disks = 0;        // active at the end
   std::size_t lost_disks = 0;
-  int refused = 0;              // script controls the checker refused
+  int refused = 0;              // 1 when a script control was refused: the run ended at its line
 };
 
 // Throws InputError for a bad scene or script (before a window opens); RunError when no

@@ -17,6 +17,7 @@
 
 #include "common/errors.hpp"
 #include "common/units.hpp"
+#include "scene/limits.hpp"
 #include "study/charge_run.hpp"
 #include "view/live_mill.hpp"
 #include "view/png.hpp"
@@ -76,6 +77,7 @@ struct UiState {
   int record_index = 0;
   std::string record_to;
   std::vector<std::string> shipped_profiles;
+  std::vector<RunInput> inputs;  // the scene on screen and the script: never written over
 };
 
 void sync_ui(UiState& ui, const LiveMill& s) {
@@ -212,6 +214,14 @@ std::string recording_refusal(const std::string& dir) {
   return "";
 }
 
+// A screenshot goes to a free name or over a PNG the view wrote (own_files.hpp): else
+// InputError naming the file (and `where`, the option).
+void check_screenshot(const std::string& file, const std::vector<RunInput>& inputs, const std::string& where) {
+  if (const std::string r = png_refusal(file, inputs); !r.empty())
+    throw InputError(file, where, "a free name for the screenshot, or a PNG millwear view wrote there: " + r +
+                                      "; write the screenshot under another name");
+}
+
 void refuse_or_clear(UiState& ui, const std::string& r, LiveMill& s) {
   ui.message = r;
   if (!r.empty()) sync_ui(ui, s);  // the panel shows the values in use again
@@ -230,7 +240,9 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
   if (!ui.message.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.message.c_str()), ImGui::Separator();
 
   if (ImGui::CollapsingHeader("Mill", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::SliderFloat("speed (x critical)", &ui.speed, 0.0f, 1.6f, "%.2f");
+    // The scene checker's bounds (a script's speed is held to them too), typed values clamped.
+    ImGui::SliderFloat("speed (x critical)", &ui.speed, static_cast<float>(kMinSpeedFraction),
+                       static_cast<float>(kMaxSpeedFraction), "%.2f", ImGuiSliderFlags_AlwaysClamp);
     if (ImGui::IsItemDeactivatedAfterEdit()) actions.push_back([&s, &ui, v = ui.speed] { refuse_or_clear(ui, s.set_speed(v), s); });
     ImGui::SliderFloat("filling", &ui.filling, 0.0f, 0.6f, "%.3f");
     if (ImGui::IsItemDeactivatedAfterEdit())
@@ -287,7 +299,8 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
       if (r.centrifuged) ImGui::TextUnformatted("centrifuged: no toe or shoulder");
       else ImGui::Text("toe %.0f deg  shoulder %.0f deg (from 6 o'clock)", r.toe_deg, r.shoulder_deg);
       const SteadyPower p = s.steady_power();
-      if (p.batches > 0) ImGui::Text("since the last change: %.2f +- %.2f kW/m (%d batches)", p.mean_kW_per_m, p.sem_kW_per_m, p.batches);
+      if (p.batches > 1) ImGui::Text("since the last change: %.2f +- %.2f kW/m (%d batches)", p.mean_kW_per_m, p.sem_kW_per_m, p.batches);
+      else if (p.batches == 1) ImGui::Text("since the last change: %.2f kW/m (1 batch: no error yet)", p.mean_kW_per_m);
       std::vector<float> power;
       for (const Readout& x : s.readouts()) power.push_back(static_cast<float>(x.power_kW_per_m));
       ImGui::PlotLines("kW/m", power.data(), static_cast<int>(power.size()), 0, nullptr, FLT_MAX, FLT_MAX, ImVec2(0, 60));
@@ -312,7 +325,7 @@ void draw_panel(LiveMill& s, UiState& ui, float x0, float w, float h, double fps
     if (ImGui::Button("save scene"))
       actions.push_back([&s, &ui, f = std::string(ui.save_path)] {
         try {
-          s.save_scene(f);
+          s.save_scene(f, ui.inputs);
           ui.message = "saved " + f;
         } catch (const std::exception& x) {
           ui.message = x.what();
@@ -351,8 +364,10 @@ std::vector<std::uint8_t> read_window(int w, int h) {
 std::string report_line(const LiveMill& s) {
   char buf[512];
   const SteadyPower p = s.steady_power();
+  // What is not measured yet is nan (the power before the first batch; the steady mean and
+  // its error, steady_power's), so that no one reads it as a measured zero.
   std::string shape = "no readout yet";
-  double power = 0.0;
+  double power = std::nan("");
   if (!s.readouts().empty()) {
     const Readout& r = s.readouts().back();
     power = r.power_kW_per_m;
@@ -437,12 +452,15 @@ std::string run_script_command(const ScriptCommand& c, LiveMill& live, UiState& 
     else if (c.name == "wear") refused = live.start_wear(num(0));
     else if (c.name == "wait_wear") live.wait_wear();
     else if (c.name == "save_scene") {
-      for (const auto& f : live.save_scene(c.args[0]))
+      for (const auto& f : live.save_scene(c.args[0], ui.inputs))
         if (hooks.notice) hooks.notice("wrote " + f);
     } else if (c.name == "save_profiles") {
       live.write_wear_profiles(c.args[0]);
       if (hooks.notice) hooks.notice("wrote the wear history's profiles into " + c.args[0]);
-    } else if (c.name == "screenshot") shot = c.args[0];
+    } else if (c.name == "screenshot") {
+      check_screenshot(c.args[0], ui.inputs, "");
+      shot = c.args[0];
+    }
     else if (c.name == "record") {
       if (const std::string r = recording_refusal(c.args[0]); !r.empty()) throw InputError(c.args[0], "", r);
       ui.recording = true, ui.record_to = c.args[0], ui.record_index = 0;
@@ -467,6 +485,7 @@ void capture_frame(const ViewRequest& req, const ViewHooks& hooks, bool headless
   const std::vector<std::uint8_t> px = read_window(fw, fh);
   if (!shot.empty()) {
     try {
+      check_screenshot(shot, ui.inputs, "");
       write_png(shot, fw, fh, px);
       ui.message = "wrote " + shot;
     } catch (const std::exception& x) {
@@ -475,7 +494,10 @@ void capture_frame(const ViewRequest& req, const ViewHooks& hooks, bool headless
     }
     if (hooks.notice) hooks.notice(ui.message);
   }
-  if (last_frame && !req.screenshot.empty()) write_png(req.screenshot, fw, fh, px);
+  if (last_frame && !req.screenshot.empty()) {
+    check_screenshot(req.screenshot, ui.inputs, "--screenshot");
+    write_png(req.screenshot, fw, fh, px);
+  }
   if (ui.recording) {
     fs::create_directories(ui.record_to);
     char name[32];
@@ -509,11 +531,15 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
   // Everything the run reads is checked before a window opens.
   std::vector<ScriptCommand> script;
   if (!req.script.empty()) script = read_script(req.script);
+  std::vector<RunInput> inputs{{req.scene_file, "the scene on screen"}};
+  if (!req.script.empty()) inputs.push_back({req.script, "the script being run"});
+  if (!req.screenshot.empty()) check_screenshot(req.screenshot, inputs, "--screenshot");
   LiveMill live(req.scene_file, req.fidelity);
   const bool headless = req.frames > 0 || !req.script.empty();
   ViewWindow window(req.width, req.height, "millwear view: " + live.scene().name, headless);
 
   UiState ui;
+  ui.inputs = std::move(inputs);
   sync_ui(ui, live);
   ui.shipped_profiles = profiles_beside(live.profile_file());
   ViewOutcome out;
@@ -534,7 +560,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     std::string shot = ui.shot_pending;
     ui.shot_pending.clear();
     const double script_clock = static_cast<double>(out.frames) * kFrameSimS;
-    while (next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
+    while (out.refused == 0 && next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
       const ScriptCommand& c = script[next_command++];
       const std::string refused = run_script_command(c, live, ui, hooks, shot, quit);
       if (!refused.empty()) {
@@ -543,6 +569,15 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
         if (hooks.notice) hooks.notice("refused at line " + std::to_string(c.line) + ": " + refused);
       }
       sync_ui(ui, live);
+    }
+    if (out.refused > 0) {
+      // A refused control ends the run at its line: the screenshot a line before it asked for
+      // at this time is taken, and nothing more is written (no recorded frame, no --screenshot).
+      ui.recording = false;
+      std::vector<std::function<void()>> ignored;
+      draw_frame(live, ui, fw, fh, fps, ratio, ignored);
+      capture_frame(req, hooks, headless, false, shot, fw, fh, ui);
+      break;
     }
     const auto now = Clock::now();
     const double wall_dt = std::chrono::duration<double>(now - last).count();
