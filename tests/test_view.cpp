@@ -186,7 +186,9 @@ TEST(View, ScriptValuesPastTheControlsAreRefusedBeforeTheWindow) {
     EXPECT_NE(r.err.find("line 2"), std::string::npos) << bad << "\n" << r.err;
     EXPECT_TRUE(reports(r.out).empty()) << bad << ": the window ran";
     // The speed's bounds are the slider's and the scene checker's (mill.speed), named.
-    if (bad.find("speed") != std::string::npos) EXPECT_NE(r.err.find("[0.01, 2]"), std::string::npos) << r.err;
+    if (bad.find("speed") != std::string::npos) {
+      EXPECT_NE(r.err.find("[0.01, 2]"), std::string::npos) << r.err;
+    }
   }
   // A script saved with a byte-order mark reads.
   write(dir / "bom.txt", "\xEF\xBB\xBF" "0 report\n0 quit\n");
