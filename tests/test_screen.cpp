@@ -106,6 +106,34 @@ class ScreenRun : public ::testing::Test {
   static void TearDownTestSuite() { fs::remove_all(root_); }
   void SetUp() override { ASSERT_EQ(ref_result_.exit_code, 0) << ref_result_.output; }
 
+  // The finished screen copied to OUT without design d002 and the ranking; then
+  // `screen-task OUT 2` started, sent `sig` once it has written its task.status and run
+  // `after_ms` more, and waited for. Its wait status.
+  static int task_two_stopped(const fs::path& out, int sig, int after_ms) {
+    fs::copy(ref_, out, fs::copy_options::recursive);
+    fs::remove_all(out / "designs/d002");
+    fs::remove(out / "ranking.csv");
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      ::dup2(null, 1);
+      ::dup2(null, 2);
+      ::execl(MILLWEAR_BINARY, MILLWEAR_BINARY, "screen-task", out.c_str(), "2", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    if (pid < 0) {
+      ADD_FAILURE() << "fork failed";
+      return 0;
+    }
+    for (int i = 0; i < 100 && !fs::exists(out / "designs/d002/task.status"); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::this_thread::sleep_for(std::chrono::milliseconds(after_ms));
+    ::kill(pid, sig);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return status;
+  }
+
   static fs::path root_, ref_;
   static Result ref_result_;
 };
@@ -305,24 +333,7 @@ TEST_F(ScreenRun, RankingIsIdenticalThroughASlurmJobArray) {
 // missing with that reason, where it called the status unknown.
 TEST_F(ScreenRun, AnInterruptedTaskIsReportedMissingWithItsReason) {
   const fs::path out = root_ / "interrupted";
-  fs::copy(ref_, out, fs::copy_options::recursive);
-  fs::remove_all(out / "designs/d002");
-  fs::remove(out / "ranking.csv");
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, 1);
-    ::dup2(null, 2);
-    ::execl(MILLWEAR_BINARY, MILLWEAR_BINARY, "screen-task", out.c_str(), "2", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  for (int i = 0; i < 100 && !fs::exists(out / "designs/d002/task.status"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGINT);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  const int status = task_two_stopped(out, SIGINT, 300);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << "the task finished before it was stopped";
   ASSERT_NE(slurp(out / "designs/d002/task.status").find("status=interrupted"), std::string::npos);
   const Result r = millwear_cmd("screen --collect " + q(out));
@@ -334,25 +345,8 @@ TEST_F(ScreenRun, AnInterruptedTaskIsReportedMissingWithItsReason) {
 
 TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   const fs::path out = root_ / "killed";
-  fs::copy(ref_, out, fs::copy_options::recursive);
-  fs::remove_all(out / "designs/d002");
-  fs::remove(out / "ranking.csv");
-  // Start task 2 and kill it (SIGKILL: no chance to clean up) while it runs.
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, 1);
-    ::dup2(null, 2);
-    ::execl(MILLWEAR_BINARY, MILLWEAR_BINARY, "screen-task", out.c_str(), "2", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  for (int i = 0; i < 100 && !fs::exists(out / "designs/d002/task.status"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  ::kill(pid, SIGKILL);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
+  // Task 2 killed (SIGKILL: no chance to clean up) while it runs.
+  const int status = task_two_stopped(out, SIGKILL, 500);
   ASSERT_TRUE(WIFSIGNALED(status)) << "the task finished before it was killed";
 
   Result r = millwear_cmd("screen --collect " + q(out));
