@@ -1147,6 +1147,11 @@ TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const auto co = run_millwear("screen --collect " + quoted(dir / "a") + " -o " + quoted(dir / "b"));
   EXPECT_EQ(co.exit_code, 2) << co.output;
   EXPECT_NE(co.output.find("one output folder"), std::string::npos) << co.output;
+  // One scene named twice is the same design twice, not two designs of one name.
+  const auto twice = run_millwear("run " + quoted(scene) + " " + quoted(dir / "." / "scene.toml") + " --check -o " +
+                                  quoted(dir / "out"));
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("each scene once"), std::string::npos) << twice.output;
 }
 
 // A charge's own earlier folder is its to rewrite, but a user's file put there under a name a

@@ -971,6 +971,13 @@ TEST(Continue, AnOutputFolderInsideTheRunIsRefused) {
   r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "first-next") + " --continue " +
                    quoted(first) + " --set wear.stages=2 --check");
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  // More replicates than the run had: the replicate it lacks is named as one, where the message
+  // asked for a design called 'NAME.r2' as if it were the scene's name.
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "first-next") + " --continue " +
+                   quoted(first) + " --set wear.stages=2 --replicates 2 --check");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("a run with replicate 2 of design"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("(the scene's name)"), std::string::npos) << r.output;
 }
 
 // A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the

@@ -72,11 +72,18 @@ void add_profile_files(const LifterProfile& p, std::vector<std::string>& files) 
 void add_design(Plan& plan, const std::string& scene_file, const std::string& fidelity_override,
                 const std::vector<std::string>& overrides) {
   Scene scene = load_checked_scene(scene_file, overrides, fidelity_override);
-  for (const auto& d : plan.designs)
-    if (d.name == scene.name)
-      throw InputError(scene_file, "name",
-                       "a design name different from that of " + d.scene.source_file + " ('" +
-                           scene.name + "'): each design names its output files");
+  for (const auto& d : plan.designs) {
+    if (d.name != scene.name) continue;
+    // One file given twice (q.toml and ./q.toml) is one design run twice, not a name clash.
+    std::error_code ec;
+    if (std::filesystem::equivalent(d.scene.source_file, scene_file, ec))
+      throw InputError(scene_file, "",
+                       "each scene once; this is " + d.scene.source_file + " again (the same design twice would "
+                       "run the same history: --replicates N runs more seeds of it)");
+    throw InputError(scene_file, "name",
+                     "a design name different from that of " + d.scene.source_file + " ('" +
+                         scene.name + "'): each design names its output files");
+  }
   DesignInput d;
   d.name = scene.name;
   d.design = scene.name;
@@ -202,6 +209,11 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
                                             " holds its lock; wait for it to end");
   for (DesignInput& d : plan.designs) {
     const int last = io::last_finished_stage(run, d.name);
+    if (last < 0 && d.replicate > 1)  // the run had fewer replicates: say so, not a name
+      throw InputError(run, "--continue",
+                       "a run with replicate " + std::to_string(d.replicate) + " of design '" + d.design +
+                           "' (--replicates " + std::to_string(plan.replicates) + "), but it holds no finished "
+                           "stage of '" + d.name + "': continue it with --replicates at most the run's");
     if (last < 0)
       throw InputError(run, "--continue", "finished stages of design '" + d.name + "' (the scene's name)");
     const int k = args.continue_stage >= 0 ? args.continue_stage : last;
