@@ -419,10 +419,18 @@ TEST_F(AppRunCli, ComparisonWithMissingDesignFileExits2) {
   expect_bad("run " + q(f) + " -o " + q(dir_ / "out"), "comparison.designs[0]");
 }
 
+// Two scene files of one name would write one design's files twice: refused naming the key.
+// One file given twice is the same design twice: refused as such.
 TEST_F(AppRunCli, TwoDesignsWithOneNameExit2) {
+  std::string copy = slurp(fs::path(MILLWEAR_SOURCE_DIR) / "scenarios/lab-mill.toml");
+  const std::string profile = "\"../profiles/lab-2x30.toml\"";
+  copy.replace(copy.find(profile), profile.size(), "\"" + std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-2x30.toml\"");
+  std::ofstream(dir_ / "copy.toml") << copy;
+  expect_bad("run " + src("scenarios/lab-mill.toml") + " " + q(dir_ / "copy.toml") + " -o " + q(dir_ / "out"),
+             "copy.toml: name: a design name different from that of");
   expect_bad("run " + src("scenarios/lab-mill.toml") + " " + src("scenarios/lab-mill.toml") + " -o " +
                  q(dir_ / "out"),
-             "name");
+             "each scene once");
 }
 
 // A scene outside a measured numerical limit stops before any work too (exit 2, nothing
