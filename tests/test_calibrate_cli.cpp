@@ -284,6 +284,14 @@ Stopped stop_while_settling(const TempDir& dir, const std::string& args, const f
   return s;
 }
 
+// The command heard the stop in time and ended 128 + sig on its own, not killed by it.
+void expect_exit_by_stop(const Stopped& s, int sig) {
+  ASSERT_TRUE(s.r.sent) << s.log;
+  ASSERT_TRUE(s.r.stopped_in_time) << s.log;
+  ASSERT_TRUE(WIFEXITED(s.r.status)) << "killed by signal " << WTERMSIG(s.r.status) << "\n" << s.log;
+  EXPECT_EQ(WEXITSTATUS(s.r.status), 128 + sig) << s.log;
+}
+
 // validate run again into its folder and stopped in its history (SIGTERM): it ends 143 saying
 // so, and the folder holds the earlier validation byte for byte, its staging folder gone: the
 // new results replace the earlier ones only once they are complete.
@@ -297,10 +305,7 @@ TEST(StoppedCommands, AValidationStoppedInItsHistoryLeavesTheEarlierResults) {
   ASSERT_EQ(before.count("simulated_areas.csv"), 1u);
   const Stopped s =
       stop_while_settling(dir, "validate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out), out, SIGTERM);
-  ASSERT_TRUE(s.r.sent) << s.log;
-  ASSERT_TRUE(s.r.stopped_in_time) << s.log;
-  ASSERT_TRUE(WIFEXITED(s.r.status)) << "killed by signal " << WTERMSIG(s.r.status) << "\n" << s.log;
-  EXPECT_EQ(WEXITSTATUS(s.r.status), 128 + SIGTERM) << s.log;
+  ASSERT_NO_FATAL_FAILURE(expect_exit_by_stop(s, SIGTERM));
   EXPECT_NE(s.log.find("millwear validate: interrupted by SIGTERM"), std::string::npos) << s.log;
   EXPECT_EQ(millwear::testing::changed_files(before, millwear::testing::files_under(out)), "");
 }
@@ -312,10 +317,7 @@ TEST(StoppedCommands, ACalibrationStoppedInAHistoryWritesNothing) {
   const fs::path areas = quick_areas(dir), out = dir / "cal";
   const Stopped s =
       stop_while_settling(dir, "calibrate " + q(kScene) + " --measured " + q(areas) + " -o " + q(out), out, SIGINT);
-  ASSERT_TRUE(s.r.sent) << s.log;
-  ASSERT_TRUE(s.r.stopped_in_time) << s.log;
-  ASSERT_TRUE(WIFEXITED(s.r.status)) << "killed by signal " << WTERMSIG(s.r.status) << "\n" << s.log;
-  EXPECT_EQ(WEXITSTATUS(s.r.status), 128 + SIGINT) << s.log;
+  ASSERT_NO_FATAL_FAILURE(expect_exit_by_stop(s, SIGINT));
   EXPECT_NE(s.log.find("millwear calibrate: interrupted by SIGINT; nothing of this calibration is written"),
             std::string::npos)
       << s.log;

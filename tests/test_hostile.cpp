@@ -63,6 +63,13 @@ std::string lab_quick() {
   return s;
 }
 
+// One survey of the lab lifter (tests/data/lab-quick.toml) at `hours`: its feet on the shell
+// and its 10 mm top at top_mm, as rows of hours,x_mm,y_mm.
+std::string lab_survey_block(const std::string& hours, double top_mm) {
+  const std::string top = std::to_string(top_mm);
+  return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
+}
+
 // The lab mill scene with `profile` (a file in dir) as its lifter, written as dir/scene.toml.
 fs::path lab_mill_with_profile(const fs::path& dir, const std::string& profile) {
   std::string s = lab_mill_with("", "");
@@ -433,12 +440,9 @@ TEST(HostileSurveys, CalibrateRefusesAreasThatGrow) {
 TEST(HostileSurveys, CalibrateRefusesProfilesThatLostNoMetal) {
   const TempDir dir("millwear-hostile-no-wear");
   const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
-  const auto block = [](const std::string& hours, double top_mm) {
-    const std::string top = std::to_string(top_mm);
-    return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
-  };
-  const std::string start = "hours,x_mm,y_mm\n" + block("0", 20.0);
-  for (const std::string& later : {block("50", 20.0) + block("100", 20.0), block("50", 20.01) + block("100", 20.02)}) {
+  const std::string start = "hours,x_mm,y_mm\n" + lab_survey_block("0", 20.0);
+  for (const std::string& later : {lab_survey_block("50", 20.0) + lab_survey_block("100", 20.0),
+                                   lab_survey_block("50", 20.01) + lab_survey_block("100", 20.02)}) {
     write(dir / "profiles.csv", start + later);
     const auto r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "profiles.csv") + " -o " +
                                 quoted(dir / "out"));
@@ -465,11 +469,8 @@ TEST(HostileSurveys, CalibrateRefusesLossesWithinAGaugesNoise) {
                    " --max-runs 1");
   EXPECT_NE(r.exit_code, 2) << r.output;
   // Profiles: a lifter 20 mm high, 10 mm across its top, lowered by 0.01 mm loses about 0.3 mm^2.
-  const auto block = [](const std::string& hours, double top_mm) {
-    const std::string top = std::to_string(top_mm);
-    return hours + ",-16.547,0\n" + hours + ",-5," + top + "\n" + hours + ",5," + top + "\n" + hours + ",16.547,0\n";
-  };
-  write(dir / "profiles.csv", "hours,x_mm,y_mm\n" + block("0", 20.0) + block("50", 19.99) + block("100", 19.995));
+  write(dir / "profiles.csv", "hours,x_mm,y_mm\n" + lab_survey_block("0", 20.0) + lab_survey_block("50", 19.99) +
+                                  lab_survey_block("100", 19.995));
   r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "profiles.csv") + " -o " + quoted(dir / "out2"));
   expect_refused(r, (dir / "profiles.csv").string(), "line 6", dir / "out2");
   EXPECT_NE(r.output.find("the survey that lost the most, at 50 h"), std::string::npos) << r.output;
