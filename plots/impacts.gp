@@ -45,7 +45,8 @@ do for [fmt in formats] {
   set multiplot layout 2, 1 title sprintf("First impacts of the flights from the lifters: %s\nimpact energy above the toe %s, on the bare liner above the toe %s", \
       design, above_toe_share_text, liner_share_text) font ",12"
   unset object; unset arrow; unset label
-  if (have_marks && is_centrifuged == 0) {
+  # NaN (no disk reached the shell band) is not equal to itself: then no marks.
+  if (have_marks && is_centrifuged == 0 && real(toe_deg) == real(toe_deg) && real(shoulder_deg) == real(shoulder_deg)) {
     # The arc above the toe (outside the bed) tinted; toe and shoulder drawn.
     set object 1 rect from -180, graph 0 to real(toe_deg), graph 1 fc rgb '#f6e3d4' fs solid 0.6 noborder behind
     set object 2 rect from real(shoulder_deg), graph 0 to 180, graph 1 fc rgb '#f6e3d4' fs solid 0.6 noborder behind

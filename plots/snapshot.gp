@@ -69,12 +69,15 @@ if (have_marks) {
   if (int(real(centrifuged)) == 1) {
     set label 11 "centrifuged: no toe or shoulder" at 0, 1.06 * R center front font ",11"
   } else {
-    set arrow 11 from mark_x(real(toe_deg), 1.10 * R), mark_y(real(toe_deg), 1.10 * R) \
-              to mark_x(real(toe_deg), 0.96 * R), mark_y(real(toe_deg), 0.96 * R) head filled lw 2 lc rgb '#000000' front
-    set label 11 "toe" at mark_x(real(toe_deg), 1.13 * R), mark_y(real(toe_deg), 1.13 * R) center front
-    set arrow 12 from mark_x(real(shoulder_deg), 1.10 * R), mark_y(real(shoulder_deg), 1.10 * R) \
-              to mark_x(real(shoulder_deg), 0.96 * R), mark_y(real(shoulder_deg), 0.96 * R) head filled lw 2 lc rgb '#000000' front
-    set label 12 "shoulder" at mark_x(real(shoulder_deg), 1.13 * R), mark_y(real(shoulder_deg), 1.13 * R) center front
+    # NaN (no disk reached the shell band) is not equal to itself: then no toe or shoulder.
+    if (real(toe_deg) == real(toe_deg) && real(shoulder_deg) == real(shoulder_deg)) {
+      set arrow 11 from mark_x(real(toe_deg), 1.10 * R), mark_y(real(toe_deg), 1.10 * R) \
+                to mark_x(real(toe_deg), 0.96 * R), mark_y(real(toe_deg), 0.96 * R) head filled lw 2 lc rgb '#000000' front
+      set label 11 "toe" at mark_x(real(toe_deg), 1.13 * R), mark_y(real(toe_deg), 1.13 * R) center front
+      set arrow 12 from mark_x(real(shoulder_deg), 1.10 * R), mark_y(real(shoulder_deg), 1.10 * R) \
+                to mark_x(real(shoulder_deg), 0.96 * R), mark_y(real(shoulder_deg), 0.96 * R) head filled lw 2 lc rgb '#000000' front
+      set label 12 "shoulder" at mark_x(real(shoulder_deg), 1.13 * R), mark_y(real(shoulder_deg), 1.13 * R) center front
+    }
   }
   set label 13 "+" at real(com_x_m), real(com_y_m) center front font ",16" tc rgb '#000000'
   set label 14 "centre of mass" at real(com_x_m), real(com_y_m) offset 0, -1 center front font ",9"

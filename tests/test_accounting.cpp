@@ -1,4 +1,6 @@
 // The shared contact accounting, record by record (no engine).
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "common/units.hpp"
@@ -207,6 +209,41 @@ TEST(ChargeShape, TheRisingSideFollowsTheDirectionOfRotation) {
   const ChargeSummary s = summarize(bed_occupancy(0.0), -1.0, 9.81);
   EXPECT_DOUBLE_EQ(s.shoulder_deg, 60.0);
   EXPECT_DOUBLE_EQ(s.toe_deg, -120.0);
+}
+
+TEST(ChargeShape, ABedOffTheBottomIsWalkedFromItsFullestBin) {
+  // Solids from 20 to 120 deg up the rising side and none at 6 o'clock: the bed rode up the
+  // shell. Its edges are those of the run around the fullest bin, the toe on the rising side.
+  Accounting acc;
+  acc.time_s = 1.0;
+  for (int k = 4; k < 24; ++k) acc.shell_band_occupancy[k] = 0.8;
+  acc.shell_band_occupancy[10] = 1.0;  // the fullest bin: half of it is 0.5
+  // 0.8 at the centres of the bed's end bins (22.5 and 117.5 deg), 0 at the next ones': half
+  // of the peak is crossed 5 x 0.3 / 0.8 deg beyond.
+  const double beyond = 5.0 * 0.3 / 0.8;
+  ChargeSummary s = summarize(acc, 1.0, 9.81);
+  EXPECT_FALSE(s.centrifuged);
+  EXPECT_NEAR(s.shoulder_deg, 117.5 + beyond, 1e-12);
+  EXPECT_NEAR(s.toe_deg, 22.5 - beyond, 1e-12);
+  // Turning the other way the same bed sits on the falling side.
+  s = summarize(acc, -1.0, 9.81);
+  EXPECT_NEAR(s.shoulder_deg, -(22.5 - beyond), 1e-12);
+  EXPECT_NEAR(s.toe_deg, -(117.5 + beyond), 1e-12);
+  // Across 180 deg (from 150 to 210 deg): the angles stay in (-180, 180].
+  acc.shell_band_occupancy.fill(0.0);
+  for (int k = 30; k < 42; ++k) acc.shell_band_occupancy[k] = 1.0;
+  s = summarize(acc, 1.0, 9.81);
+  EXPECT_NEAR(s.toe_deg, 150.0, 1e-12);
+  EXPECT_NEAR(s.shoulder_deg, -150.0, 1e-12);
+}
+
+TEST(ChargeShape, AWindowInWhichNoDiskReachedTheBandHasNoToeOrShoulder) {
+  Accounting acc;
+  acc.time_s = 1.0;
+  const ChargeSummary s = summarize(acc, 1.0, 9.81);
+  EXPECT_TRUE(std::isnan(s.toe_deg));
+  EXPECT_TRUE(std::isnan(s.shoulder_deg));
+  EXPECT_FALSE(s.centrifuged);
 }
 
 TEST(ChargeShape, ABandFullAllRoundIsCentrifuged) {

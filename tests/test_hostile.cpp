@@ -1525,6 +1525,31 @@ TEST(HostileOptions, AnEmptyFidelityOrReferenceIsRefused) {
 // A stage file that says "nan" is a damaged file: refused on --resume naming file and key,
 // not carried into summary.csv as a figure. The marker's content hashes are taken out (a
 // marker without hashes is taken as it is): the numbers themselves are checked too.
+// Stage 1's record of a finished run of the lab scene with each key set to its value, its
+// marker's content hashes dropped (as a run written before the hashes): what a resume then
+// reads. Returns the record.
+fs::path edit_stage_one_record(const fs::path& out, const std::vector<std::pair<std::string, std::string>>& edits) {
+  fs::path record;
+  for (const auto& e : fs::directory_iterator(out / "stages"))
+    if (e.path().extension() == ".record" && e.path().string().find("stage1") != std::string::npos) record = e.path();
+  EXPECT_FALSE(record.empty());
+  std::string text = read_text(record);
+  for (const auto& [key, value] : edits) {
+    const auto at = text.find(key + "=");
+    EXPECT_NE(at, std::string::npos) << text;
+    if (at == std::string::npos) return record;
+    text.replace(at, text.find('\n', at) - at, key + "=" + value);
+  }
+  write(record, text);
+  const fs::path marker = out / "stages" / (record.stem().string() + ".done");
+  std::string kv = read_text(marker);
+  EXPECT_NE(kv.find("hash.record="), std::string::npos) << kv;
+  for (auto hash = kv.find("hash."); hash != std::string::npos; hash = kv.find("hash."))
+    kv.erase(hash, kv.find('\n', hash) + 1 - hash);
+  write(marker, kv);
+  return record;
+}
+
 TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   const TempDir dir("millwear-hostile-stage-nan");
   std::string s = lab_quick();
@@ -1533,25 +1558,31 @@ TEST(HostileStageFiles, ANotANumberInAFinishedStageIsRefusedOnResume) {
   const fs::path out = dir / "out";
   const auto first = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet");
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  fs::path record;
-  for (const auto& e : fs::directory_iterator(out / "stages"))
-    if (e.path().extension() == ".record" && e.path().string().find("stage1") != std::string::npos) record = e.path();
-  ASSERT_FALSE(record.empty());
-  std::string text = read_text(record);
-  const auto at = text.find("lifter.area_m2=");
-  ASSERT_NE(at, std::string::npos) << text;
-  text.replace(at, text.find('\n', at) - at, "lifter.area_m2=nan");
-  write(record, text);
-  const fs::path marker = out / "stages" / (record.stem().string() + ".done");
-  std::string kv = read_text(marker);
-  ASSERT_NE(kv.find("hash.record="), std::string::npos) << kv;
-  for (auto hash = kv.find("hash."); hash != std::string::npos; hash = kv.find("hash."))
-    kv.erase(hash, kv.find('\n', hash) + 1 - hash);
-  write(marker, kv);
+  const fs::path record = edit_stage_one_record(out, {{"lifter.area_m2", "nan"}});
   const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
   EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find(record.filename().string()), std::string::npos) << again.output;
   EXPECT_NE(again.output.find("lifter.area_m2"), std::string::npos) << again.output;
+}
+
+// A window in which no disk reached the shell band has no toe or shoulder (NaN): such a
+// stage resumes, and the run's summary says `nan` for them.
+TEST(HostileStageFiles, AStageWithoutAToeOrShoulderResumes) {
+  const TempDir dir("millwear-hostile-stage-no-toe");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_quick());
+  const fs::path out = dir / "out";
+  const auto first = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  edit_stage_one_record(out, {{"summary.toe_deg", "nan"}, {"summary.shoulder_deg", "nan"}});
+  const auto again = run_millwear("run " + quoted(scene) + " -o " + quoted(out) + " --quiet --resume");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  const millwear::io::CsvData sum = millwear::io::read_csv((out / "summary.csv").string());
+  ASSERT_EQ(sum.row_count(), 3u);  // stages 0, 1 and 2
+  for (const char* c : {"toe_deg", "shoulder_deg"}) {
+    EXPECT_TRUE(std::isfinite(sum.number(0, sum.column(c)))) << c;
+    EXPECT_TRUE(std::isnan(sum.number(1, sum.column(c)))) << c;
+  }
 }
 
 // A state file cut at a line end still parses (fewer disks, fewer liner points) and would

@@ -166,6 +166,11 @@ TEST(ImpactShares, EnergyAboveTheToeAndOnTheBareLiner) {
   EXPECT_DOUBLE_EQ(s.liner_share, 6.0 / 8.0);
   EXPECT_DOUBLE_EQ(impact_shares(impacts, -40.0, 60.0, false, 0).liner_share, 2.0 / 3.0);
   EXPECT_TRUE(std::isnan(impact_shares(impacts, -40.0, 60.0, true).liner_share));
+  // No toe or shoulder (no disk reached the shell band): no share, where every impact would
+  // otherwise count as landing in the bed.
+  const double none = std::nan("");
+  EXPECT_TRUE(std::isnan(impact_shares(impacts, none, none, false).liner_share));
+  EXPECT_TRUE(std::isnan(impact_shares(impacts, none, none, false).above_toe_share));
   const ImpactDistribution d = bin_impacts(impacts, 1);
   EXPECT_DOUBLE_EQ(d.count[16], 2.0);  // -100 deg: bin [-100, -95)
   EXPECT_DOUBLE_EQ(d.liner_energy_J[16], 2.0);

@@ -16,20 +16,46 @@ namespace {
 // A bin is part of the bed while its solids are at least this share of the fullest bin's.
 constexpr double kBedThreshold = 0.5;
 
-// Walk from the bottom bin in direction dir (+1 rising side) until occupancy drops under
-// half the peak; returns the angle (deg from 6 o'clock, signed by dir) of that edge: where the
-// occupancy, taken at each bin's centre and linear between centres, crosses the threshold.
+// Where the occupancy, taken at each bin's centre and linear between centres, crosses the
+// threshold on a walk in direction dir (+1 counter-clockwise) from the centre of bin `from`
+// (at or above it); deg counter-clockwise from 6 o'clock, in (-180, 180]. dir x 180 when no
+// bin is under it.
+double edge_from_bin(const std::array<double, kShapeAngleBins>& occ, double threshold, int from, int dir) {
+  const double bin_deg = 360.0 / kShapeAngleBins;
+  double previous = occ[static_cast<std::size_t>(from)];
+  for (int k = 1; k < kShapeAngleBins; ++k) {
+    const int bin = ((from + dir * k) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
+    const double o = occ[static_cast<std::size_t>(bin)];
+    if (o < threshold) {
+      const double edge = std::remainder((from + 0.5) * bin_deg +
+                                             dir * ((k - 1) * bin_deg + bin_deg * (previous - threshold) / (previous - o)),
+                                         360.0);
+      return edge == -180.0 ? 180.0 : edge;
+    }
+    previous = o;
+  }
+  return dir * 180.0;
+}
+
+// The bed's edge on the side dir of 6 o'clock (+1: the counter-clockwise side), deg from 6
+// o'clock signed as above: a walk from the bottom bin of that side until the occupancy drops
+// under half the peak. A bed that does not reach 6 o'clock on either side (one riding up
+// the shell, or a short window's few samples) is the run of bins around the fullest one,
+// walked from there. NaN when nothing reached the band.
 double charge_edge_deg(const std::array<double, kShapeAngleBins>& occ, int dir) {
-  const double peak = *std::max_element(occ.begin(), occ.end());
-  if (!(peak > 0.0)) return 0.0;
-  const double threshold = kBedThreshold * peak;
+  const auto peak = std::max_element(occ.begin(), occ.end());
+  if (!(*peak > 0.0)) return std::nan("");
+  const double threshold = kBedThreshold * *peak;
+  if (occ.front() < threshold && occ.back() < threshold)
+    return edge_from_bin(occ, threshold, static_cast<int>(peak - occ.begin()), dir);
   const double bin_deg = 360.0 / kShapeAngleBins;
   double previous = 0.0;  // the occupancy of the bin before on the walk
   for (int k = 0; k < kShapeAngleBins; ++k) {
     const int bin = ((dir > 0 ? k : -k - 1) % kShapeAngleBins + kShapeAngleBins) % kShapeAngleBins;
     if (occ[bin] < threshold) {
       // Between the centres of the last bin at or above the threshold (k - 1) and this one;
-      // a bottom bin already under it puts the edge at 6 o'clock.
+      // a bottom bin already under it (the bed starts on the other side) puts the edge at
+      // 6 o'clock.
       const double edge = k == 0 ? 0.0
                                  : (k - 0.5) * bin_deg + bin_deg * (previous - threshold) / (previous - occ[bin]);
       return dir > 0 ? edge : -edge;

@@ -10,7 +10,10 @@
 // 6 o'clock up the rising side, the shoulder is where the solids fall under half the bed's
 // value: between the centres of the last bin at or above it and the first below it, by linear
 // interpolation (so it moves continuously, not in 5 deg steps); walking down the falling side,
-// the toe likewise. A charge whose band holds more
+// the toe likewise. A bed that reaches 6 o'clock on neither side (it rides up the shell, or a
+// window of a few steps caught it so) is walked from its fullest bin both ways instead, so
+// its toe may lie on the rising side (> 0). A window in which no disk reached the band has
+// no toe or shoulder: NaN. A charge whose band holds more
 // than half the bed's value all the way round covers the whole shell: it is centrifuged, and
 // has no toe or shoulder (toe_deg and shoulder_deg then read -180 and 180 in the rising-side
 // frame, and `centrifuged` says why).
@@ -39,8 +42,8 @@ struct ChargeSummary {
   double mass_kg = 0.0;                 // mean active charge mass
   Vec2 centre_of_mass_m;
   double centre_of_mass_deg = 0.0;  // its angle from 6 o'clock, + toward the rising side
-  double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side
-  double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side
+  double toe_deg = 0.0;       // from 6 o'clock, + toward the rising side (NaN: none, see above)
+  double shoulder_deg = 0.0;  // from 6 o'clock, + toward the rising side (NaN: none)
   bool centrifuged = false;   // the band is full all round: no toe or shoulder
   double shear_work_rate_W = 0.0;       // total on the liner
   double packed_shear_share = 0.0;      // of all liner slip work (packed included), packed disks'

@@ -259,7 +259,8 @@ ImpactShares impact_shares(const std::vector<Impact>& impacts, double toe_deg, d
     s.above_toe_energy_J += m.energy_J;
     if (m.on_liner) s.liner_energy_J += m.energy_J;
   }
-  const bool defined = !centrifuged && s.energy_J > 0.0;
+  // No toe or shoulder (nothing reached the shell band): nothing tells above the toe from in the bed.
+  const bool defined = !centrifuged && std::isfinite(toe_deg) && std::isfinite(shoulder_deg) && s.energy_J > 0.0;
   s.liner_share = defined ? s.liner_energy_J / s.energy_J : kNaN;
   s.above_toe_share = defined ? s.above_toe_energy_J / s.energy_J : kNaN;
   return s;

@@ -113,13 +113,15 @@ struct Reader {
     char* end = nullptr;
     const double d = std::strtod(v.c_str(), &end);
     // A stage's figures are finite: a NaN here is a damaged file, not a result ...
-    const bool undefined_error = std::isnan(d) && key.compare(0, kErrorPrefix.size(), kErrorPrefix) == 0;
-    if (v.empty() || *end != '\0' || !(std::isfinite(d) || undefined_error))
+    const bool undefined = std::isnan(d) && (key.compare(0, kErrorPrefix.size(), kErrorPrefix) == 0 ||
+                                             key == "summary.toe_deg" || key == "summary.shoulder_deg");
+    if (v.empty() || *end != '\0' || !(std::isfinite(d) || undefined))
       throw InputError(path, key, "a finite number, found '" + v + "'");
     return d;
   }
   // ... but for the standard errors of the charge's figures, which are NaN where a figure has
-  // none (the toe and shoulder of a window in which the charge centrifuged).
+  // none (the toe and shoulder of a window in which the charge centrifuged), and for the toe
+  // and shoulder of a window in which no disk reached the shell band.
   static constexpr std::string_view kErrorPrefix = "charge_se.";
   long long integer(const std::string& key) const {
     const std::string v = get(key);

@@ -188,7 +188,7 @@ void draw_mill(const LiveMill& s, const WearView& wear, bool show_wear, const Pa
   // Toe, shoulder (outside the shell) and the centre of mass, from the last batch.
   if (!show_wear && !s.readouts().empty()) {
     const Readout& r = s.readouts().back();
-    if (!r.centrifuged) {
+    if (!r.centrifuged && std::isfinite(r.toe_deg) && std::isfinite(r.shoulder_deg)) {
       dl->AddCircleFilled(pane.at(shell_point(r.toe_deg, dir, 1.06 * R)), 6.0f, kToe);
       dl->AddCircleFilled(pane.at(shell_point(r.shoulder_deg, dir, 1.06 * R)), 6.0f, kShoulder);
     }
