@@ -1062,14 +1062,20 @@ TEST(HostileScenes, SweepFiguresThatFailExitOneWithTheTableWritten) {
 // A point whose charge the fill cannot place (disks of one size at a filling under the 60%
 // limit, past what random placement reaches) is that point's error: the other points are
 // kept, sweep.csv written, exit 1. It stopped the sweep part-way, exit 2, no table.
-TEST(HostileScenes, ASweepPointTheFillCannotPlaceIsThatPointsError) {
-  const TempDir dir("millwear-hostile-sweep-unplaceable");
+// The lab scene with balls and rocks of one size, 20 mm: at a filling of 0.59 (ball filling
+// 0.1), under the 60% limit, past what random placement reaches.
+std::string lab_of_one_size() {
   std::string s = lab_quick();
   const std::string range = "size_range = [15.0, 25.0]";
   s.replace(s.find(range), range.size(), "sizes = [20.0]");
   s += "\n[[charge.species]]\nname = \"rock\"\ndensity = 2700.0\nsizes = [20.0]\n";
+  return s;
+}
+
+TEST(HostileScenes, ASweepPointTheFillCannotPlaceIsThatPointsError) {
+  const TempDir dir("millwear-hostile-sweep-unplaceable");
   const fs::path scene = dir / "scene.toml";
-  write(scene, s);
+  write(scene, lab_of_one_size());
   const auto r = run_millwear("sweep " + quoted(scene) + " --vary charge.filling=0.3,0.59 --set charge.ball_filling=0.1 " +
                               "--revolutions 0.2 -j 1 -q --no-plot -o " + quoted(dir / "out"));
   EXPECT_EQ(r.exit_code, 1) << r.output;
@@ -1079,6 +1085,26 @@ TEST(HostileScenes, ASweepPointTheFillCannotPlaceIsThatPointsError) {
   ASSERT_EQ(t.row_count(), 2u);
   EXPECT_EQ(t.text(0, t.column("error")), "");
   EXPECT_NE(t.text(1, t.column("error")).find("charge.filling"), std::string::npos);
+}
+
+// A run of two designs whose second one's charge the fill cannot place: refused as a wrong
+// input naming that scene and charge.filling, before the first design runs and before
+// anything is written, and by --check too. It ran the first design and failed the second
+// (exit 1).
+TEST(HostileScenes, ARunRefusesAFillingTheFillCannotPlaceBeforeAnyDesignRuns) {
+  const TempDir dir("millwear-hostile-run-unplaceable");
+  const fs::path good = dir / "good.toml", jam = dir / "jam.toml";
+  write(good, lab_quick());
+  std::string s = lab_of_one_size();
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"name = \"lab-quick\"", "name = \"jam\""},
+                                 {"filling = 0.3", "filling = 0.59"}, {"ball_filling = 0.3", "ball_filling = 0.1"}})
+    s.replace(s.find(from), from.size(), to);
+  write(jam, s);
+  const std::string designs = "run " + quoted(good) + " " + quoted(jam) + " -q -o " + quoted(dir / "out");
+  expect_refused(run_millwear(designs + " --check"), jam.string(), "charge.filling", dir / "out");
+  const auto r = run_millwear(designs);
+  expect_refused(r, jam.string(), "charge.filling", dir / "out");
+  EXPECT_NE(r.output.find("random placement put"), std::string::npos) << r.output;
 }
 
 // No friction between charge and liner: no shear work, no wear, so no life. The run's table

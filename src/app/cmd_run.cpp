@@ -144,6 +144,7 @@ int run_command(const RunArgs& args) {
   if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");
   const study::Plan plan = study::make_plan(plan_args);
   check_stop_stage(plan, args.run.stop_after_stage);
+  study::check_fills(plan);
   if (args.check) {
     const std::string folder = study::check_run_folder(plan, args.plan.out, args.run.force, args.run.resume);
     for (const auto& d : plan.designs) {

@@ -23,6 +23,7 @@
 #include "scene/fidelity.hpp"
 #include "study/run_outputs.hpp"
 #include "study/stage_files.hpp"
+#include "wear/history.hpp"
 #include "wear/reshape.hpp"
 
 namespace millwear::study {
@@ -345,6 +346,11 @@ Plan make_plan(const PlanArgs& args) {
   if (args.replicates > 1) add_replicates(plan, args.replicates);
   if (!args.continue_from.empty()) continue_designs(plan, args);
   return plan;
+}
+
+void check_fills(const Plan& plan) {
+  for (const DesignInput& d : plan.designs)
+    if (d.continue_run.empty()) fill_charge(d.scene, starting_mill(d.scene));
 }
 
 std::vector<std::string> design_names(const Plan& plan) {

@@ -76,6 +76,13 @@ std::vector<std::string> design_names(const Plan& plan);
 // Throws InputError naming the file and key for anything wrong; nothing is written.
 Plan make_plan(const PlanArgs& args);
 
+// Every design that starts a history from stage 0 filled as its run fills it (its starting
+// mill, its seed), before any design runs: a filling the fill cannot place is refused as a
+// wrong input (InputError naming the scene file and charge.filling), where it would have
+// failed that design with the others run. (A design continuing another run with a new charge
+// is filled by make_plan.)
+void check_fills(const Plan& plan);
+
 // The designs a scene or comparison file names, loaded and checked as make_plan does. Their
 // own fidelity is kept.
 std::vector<Scene> load_designs(const std::string& path, const std::vector<std::string>& overrides = {});

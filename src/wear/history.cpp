@@ -419,6 +419,8 @@ bool wear_on(const Scene& scene, const NewLiner& liner, StageRun& run, double c_
 
 }  // namespace
 
+MillGeometry starting_mill(const Scene& scene) { return new_liner(scene).mill; }
+
 WearHistory run_wear_history(const Scene& scene, const WearCallbacks& cb,
                              const std::vector<StageRecord>& resume_from) {
   check_smoothing_radius(scene, scene.source_file);

@@ -125,6 +125,10 @@ struct WearCallbacks {
 // within a billionth of a stage of `hours` reaches it (sums of stage lengths round).
 int stages_to_reach(double hours, double stage_hours);
 
+// The mill a history's stage 0 turns: every row's liner as it starts (new, or the measured
+// profile resampled and re-smoothed), the geometry its charge is filled into.
+MillGeometry starting_mill(const Scene& scene);
+
 // Run a scene's wear history (scene.wear.mode: staged or continuous). `resume_from` holds
 // the stages already finished by an earlier run (stage 0..K, exact geometry); the loop
 // continues from K and gives the same results as an uninterrupted run.
