@@ -90,14 +90,15 @@ TEST(SceneEdit, APatternsProfilePathsStillResolveFromTheCopysFolder) {
 
 
 // Key edits (the view's controls and its saved scene): a key's line rewritten from the key to
-// the end of its value (to the end of the line, its comment too, where another key replaces it
-// or it is removed), a missing key added at the end of its table, a key removed, a new
-// top-level key and a new table; nothing else of the text changes.
+// the end of its value (to the end of the line, its comment too, where another key replaces it,
+// it is removed, or its value is not a number: the comment named the old choice), a missing
+// key added at the end of its table, a key removed, a new top-level key and a new table;
+// nothing else of the text changes.
 const char* kMillScene =
     "name = \"edit\"\n"
     "[mill]\n"
     "speed_rpm = 30.0   # the plant's figure\n"
-    "direction = \"bidirectional\"\n"
+    "direction = \"bidirectional\"   # as the plant runs it\n"
     "reverse_every = 100.0   # h\n"
     "[charge]\n"
     "filling = 0.3   # of the mill\n"
@@ -112,6 +113,7 @@ TEST(SceneEdit, KeyEditsRewriteAddAndRemoveKeysKeepingTheRest) {
        {"mill", "direction", "\"reverse\"", {}},
        {"mill", "reverse_every", "", {}},
        {"charge", "ball_filling", "0.1", {}},
+       {"charge", "filling", "0.35", {}},
        {"", "fidelity", "\"draft\"", {}},
        {"run", "revolutions", "4", {}}},
       dir, "saved");
@@ -124,7 +126,7 @@ TEST(SceneEdit, KeyEditsRewriteAddAndRemoveKeysKeepingTheRest) {
             "direction = \"reverse\"\n"
             "\n"
             "[charge]\n"
-            "filling = 0.3   # of the mill\n"
+            "filling = 0.35   # of the mill\n"
             "ball_filling = 0.1\n"
             "[[charge.species]]\n"
             "name = \"ball\"\n"

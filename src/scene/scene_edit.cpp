@@ -180,9 +180,12 @@ std::string edited_scene_text(const std::string& text, const std::string& scene_
       if (!match) continue;
       if (ks.begin.line != vs.end.line || vs.begin.line == 0)
         throw RunError(scene_path + ": " + k.table + "." + name + " does not sit on one line; set it by hand");
-      // A comment after the value was said of it: it stays with an edited value of the same key,
-      // and goes with a key removed or replaced by another (an rpm's note is not a fraction's).
-      const std::size_t end = name == k.key && !remove ? vs.end.column : lines[vs.end.line - 1].size() + 1;
+      // A comment after a number was said of its unit or meaning: it stays with an edited value
+      // of the same key, and goes with a key removed or replaced by another (an rpm's note is
+      // not a fraction's). One after a string or any other value was said of the old choice
+      // (the profile a path named): it goes with the value.
+      const bool keeps_comment = name == k.key && !remove && value.is_number();
+      const std::size_t end = keeps_comment ? vs.end.column : lines[vs.end.line - 1].size() + 1;
       spans.push_back({ks.begin.line, ks.begin.column, end, remove ? "" : k.key + " = " + k.value});
       done = true;
     }

@@ -42,7 +42,8 @@ struct KeyEdit {
 // The text of a scene file with each edit applied: the key's line (or the line of a key it
 // replaces) from the key to the end of its value rewritten, or `key = value` added at the
 // end of its table (a new table at the end of the file when there is none). Comments and
-// every other key stay. lifters.profile or lifters.pattern, unless the profile is edited, is
+// every other key stay, but for the comment of an edited line whose old value was not a
+// number (it named the old choice) or whose key was removed or replaced. lifters.profile or lifters.pattern, unless the profile is edited, is
 // re-pointed to resolve from out_dir as in calibrated_scene_text. A non-empty header goes first as a comment line.
 // Throws InputError: the text is not TOML; RunError: a key sits where a one-line edit
 // cannot reach it (value over several lines, an inline table).
