@@ -22,6 +22,7 @@
 #include "io/folder_lock.hpp"
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -695,4 +696,34 @@ TEST(IoHash, StableHashMatchesTheFnv1aCheckValues) {
   EXPECT_EQ(millwear::io::stable_hash_hex("a"), "af63dc4c8601ec8c");
   EXPECT_EQ(millwear::io::stable_hash_hex("foobar"), "85944171f73967e8");
   EXPECT_NE(millwear::io::stable_hash_hex("scene\n--\nprofile"), millwear::io::stable_hash_hex("scene\n--\nprofilf"));
+}
+
+// A message naming a staged file (a figure's error) names it where commit puts it, in OUT;
+// until commit OUT holds the earlier run's files as they were; commit moves the new ones in,
+// deletes the earlier run's listed files that no new one replaced (not a user's, not one of
+// `keep`) and the staging folder.
+TEST(StagedOutputs, AMessageNamesTheStagedFileWhereCommitPutsIt) {
+  const TempDir dir("millwear-staged-outputs");
+  const std::string out = (dir / "out").string();
+  dir.write("out/manifest.json", "{\"files\": [\"manifest.json\", \"a.csv\", \"old/b.csv\", \"scene.toml\"]}\n");
+  dir.write("out/a.csv", "earlier a\n");
+  dir.write("out/old/b.csv", "earlier b\n");
+  dir.write("out/scene.toml", "the input\n");
+  dir.write("out/notes.txt", "the user's\n");
+  {
+    io::StagedOutputs staged(out);
+    const std::string a = io::join_path(staged.dir(), "a.csv");
+    io::write_file_atomic(a, "new a\n");
+    io::write_file_atomic(io::join_path(staged.dir(), "manifest.json"), "{\"files\": [\"manifest.json\", \"a.csv\"]}\n");
+    EXPECT_EQ(staged.in_out(a), io::join_path(out, "a.csv"));
+    EXPECT_EQ(staged.in_out_text("cannot read " + a + " nor " + a), "cannot read " + io::join_path(out, "a.csv") +
+                                                                        " nor " + io::join_path(out, "a.csv"));
+    EXPECT_EQ(io::read_file((dir / "out/a.csv").string()), "earlier a\n");  // not yet
+    staged.commit({(dir / "out/scene.toml").string()});
+  }
+  EXPECT_EQ(io::read_file((dir / "out/a.csv").string()), "new a\n");
+  EXPECT_FALSE(fs::exists(dir / "out/old")) << "the earlier run's file, and the folder it leaves empty";
+  EXPECT_TRUE(fs::exists(dir / "out/scene.toml"));
+  EXPECT_TRUE(fs::exists(dir / "out/notes.txt"));
+  EXPECT_FALSE(fs::exists(dir / "out" / io::kStagingName));
 }

@@ -16,6 +16,8 @@
 #include "cli_support.hpp"
 #include "common/errors.hpp"
 #include "io/csv.hpp"
+#include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "scene/scene.hpp"
 #include "study/charge_run.hpp"
 #include "study/sweep.hpp"
@@ -389,12 +391,13 @@ TEST(SweepFolder, ASweepAgainRemovesTheEarlierSweepsPointsAndKeepsTheUsersFiles)
   EXPECT_NE(manifest.find("points/01/charge_summary.csv"), std::string::npos) << manifest;
 }
 
-// A sweep killed part-way (SIGKILL: no chance to clean up) has listed what it wrote as each
-// point ended, so the next sweep into the folder removes those points: none of the first
-// sweep's stays beside the new results.
+// A sweep killed part-way (SIGKILL: no chance to clean up) writes nothing into OUT: the points
+// it finished are in its staging folder, which the next sweep into the folder clears, so none
+// of them stays beside the new results.
 TEST(SweepFolder, ThePointsOfASweepKilledPartWayDoNotOutliveIt) {
   const TempDir dir("millwear-sweep-killed");
   const fs::path out = dir / "out";
+  const fs::path staging = out / io::kStagingName;
   const std::string lab = millwear::testing::quoted(shipped("scenarios/lab-mill.toml"));
   const std::string cmd = "exec \"" + std::string(MILLWEAR_BINARY) + "\" sweep " + lab + " -o " +
                           millwear::testing::quoted(out) + " --vary mill.speed=0.5:1.0:0.1 -j 1 --revolutions 2 -q "
@@ -405,27 +408,25 @@ TEST(SweepFolder, ThePointsOfASweepKilledPartWayDoNotOutliveIt) {
     ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
-  // Killed once its manifest lists two finished points (of six).
-  bool listed = false;
-  for (int i = 0; i < 1200 && !listed; ++i) {
-    std::ifstream m(out / "manifest.json");
-    const std::string text((std::istreambuf_iterator<char>(m)), std::istreambuf_iterator<char>());
-    const auto first = text.find("\"folder\"");
-    listed = first != std::string::npos && text.find("\"folder\"", first + 1) != std::string::npos;
-    if (!listed) ::usleep(20000);
+  // Killed once two points (of six) are written.
+  bool written = false;
+  for (int i = 0; i < 1200 && !written; ++i) {
+    written = fs::exists(staging / "points/01/charge_summary.csv");
+    if (!written) ::usleep(20000);
   }
   ::kill(pid, SIGKILL);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(listed) << "two points were not listed within 24 s";
+  ASSERT_TRUE(written) << "two points were not written within 24 s";
   ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep finished before it was killed";
-  ASSERT_TRUE(fs::exists(out / "points" / "01"));
+  EXPECT_EQ(io::visible_entries(out.string()), std::vector<std::string>{}) << "nothing in OUT";
 
   const auto r = millwear::testing::run_millwear("sweep " + lab + " -o " + millwear::testing::quoted(out) +
                                                  " --vary mill.speed=0.8 -j 1 --revolutions 2 -q --no-plot");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "points" / "00" / "charge_summary.csv"));
   for (const char* stale : {"01", "02", "03", "04", "05"}) EXPECT_FALSE(fs::exists(out / "points" / stale)) << stale;
+  EXPECT_FALSE(fs::exists(staging));
   EXPECT_EQ(io::read_csv((out / "sweep.csv").string()).row_count(), 1u);
 }
 
@@ -445,7 +446,7 @@ TEST(SweepFolder, ValuesOneRoundingApartAreWrittenApart) {
 }
 
 // Ctrl-C (here `timeout`'s SIGINT) stops a sweep as the signal does (exit 130), saying first
-// what it leaves: the points it finished, listed for the next sweep to remove.
+// what it leaves: nothing of its own in OUT.
 TEST(SweepFolder, AnInterruptedSweepSaysWhatItLeaves) {
   const TempDir dir("millwear-sweep-interrupted");
   const auto r = millwear::testing::run_shell(
@@ -453,7 +454,9 @@ TEST(SweepFolder, AnInterruptedSweepSaysWhatItLeaves) {
       millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " + millwear::testing::quoted(dir / "out") +
       " --vary mill.speed=0.5:1.6:0.1 -j 1 --revolutions 2 -q --no-plot");
   EXPECT_EQ(r.exit_code, 128 + SIGINT) << r.output;
-  EXPECT_NE(r.output.find("millwear sweep: interrupted; the points it finished are listed in"), std::string::npos)
+  EXPECT_NE(r.output.find("millwear sweep: interrupted; nothing of this sweep is kept, " + (dir / "out").string() +
+                          " is as it was"),
+            std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(dir / "out" / "sweep.csv"));
 }

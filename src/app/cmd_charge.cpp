@@ -21,6 +21,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "metrics/trajectories.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "plots/plots.hpp"
@@ -52,7 +53,7 @@ struct ChargeArgs {
 
 // An earlier charge's folder is this one's to rewrite, but not a user's file in it under a name
 // this charge writes (another scene's snapshot, a contact log), nor a folder under such a name,
-// which no file can replace: refused, before anything is deleted or run.
+// which no file can replace: refused, before anything is run.
 void refuse_users_file(const std::string& out, const Scene& scene) {
   std::vector<std::string> names = charge_output_names(scene);
   names.push_back("manifest.json");
@@ -90,7 +91,10 @@ int run_charge(const ChargeArgs& args) {
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   refuse_users_file(args.out, scene);
-  io::remove_listed_outputs(args.out);               // an earlier charge's files (its manifest's list)
+  // The new files are drawn up beside an earlier charge's, which stay in OUT as they were
+  // until every new file is complete (a charge that fails or is stopped leaves them); then
+  // the earlier charge's files that no new one replaces go (its manifest's list).
+  io::StagedOutputs staged(args.out);
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   if (!args.quiet)
     for (const std::string& note : limit_notes(scene)) std::fprintf(stderr, "  %s\n", note.c_str());
@@ -110,7 +114,7 @@ int run_charge(const ChargeArgs& args) {
   const ChargeEstimates est = charge_estimates(scene, result);
   study::CommandRecord record{"charge", MILLWEAR_COMMIT, args.scene, scene.overrides, scene.fidelity,
                               scene.solver.seed, {{"revolutions", io::format_number(scene.run.revolutions)}}, {}};
-  record.files = write_charge_outputs(args.out, scene, result, est, wall);
+  record.files = write_charge_outputs(staged.dir(), scene, result, est, wall);
   const ChargeFigures& f = result.figures;
   for (const auto& e : result.events) std::cerr << "millwear: warning: t=" << e.time_s << " s: " << e.what << "\n";
   std::printf("%s: %zu disks, %.1f revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
@@ -177,7 +181,7 @@ int run_charge(const ChargeArgs& args) {
               args.out.c_str());
   bool figures_failed = false;
   try {
-    const auto figs = render_charge_figures(args.out, scene);
+    const auto figs = render_charge_figures(staged.dir(), scene);
     record.files.insert(record.files.end(), figs.begin(), figs.end());
     // The figures drawn, by name: those of an output the scene turns off (outputs.snapshot,
     // outputs.collision_spectrum) are not.
@@ -191,10 +195,10 @@ int run_charge(const ChargeArgs& args) {
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
     if (!names.empty()) std::printf("  figures in %s/plots (%s)\n", args.out.c_str(), list.c_str());
   } catch (const std::exception& e) {
-    std::cerr << "millwear: warning: figures: " << e.what() << "\n";
+    std::cerr << "millwear: warning: figures: " << staged.in_out_text(e.what()) << "\n";
     figures_failed = plots::gnuplot_available();  // without gnuplot the results stand alone
   }
-  for (const std::string& f : plots::figure_data_files(args.out, {scene.name})) record.files.push_back(f);
+  for (const std::string& f : plots::figure_data_files(staged.dir(), {scene.name})) record.files.push_back(f);
   // A disk lost at any time (settling and spin-up included) makes every figure suspect: the
   // files stay for a look at what happened, and the manifest says the run failed.
   std::string failure;
@@ -205,7 +209,10 @@ int run_charge(const ChargeArgs& args) {
                   result.events.front().time_s, result.events.front().what.c_str());
     failure = why;
   }
-  study::write_command_manifest(args.out, record, failure);
+  study::write_command_manifest(staged.dir(), record, failure);
+  // A charge that lost disks is moved in too: its files are there for a look at what
+  // happened, and its manifest says that it failed.
+  staged.commit({args.scene});
   if (!failure.empty()) {
     std::cerr << "millwear: run failed: " << failure << "\n";
     return 1;

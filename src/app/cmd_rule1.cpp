@@ -19,6 +19,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "millwear_commit.hpp"  // generated at build time: MILLWEAR_COMMIT
 #include "plots/plots.hpp"
 #include "scene/fidelity.hpp"
@@ -52,13 +53,18 @@ int run_rule1(const Rule1Args& a) {
     s.solver.threads_fit_size = a.threads == 0;
   });
   std::unique_ptr<io::FolderLock> lock;
+  // The new files are drawn up beside an earlier check's, which stay in OUT as they were until
+  // every new file is complete (a check that fails or is stopped leaves them).
+  std::unique_ptr<io::StagedOutputs> staged;
   if (!a.out.empty()) {
     lock = std::make_unique<io::FolderLock>(a.out, "rule1");
     io::check_output_names(a.out, {"manifest.json", "rule1.csv", "rule1_replicates.csv", "rule1_profiles.dat",
                                    "plots/fig5_rule1.png", "plots/fig5_rule1.svg", "plots/gnuplot.log"}, "rule1");
-    io::remove_listed_outputs(a.out);  // an earlier check's files
+    staged = std::make_unique<io::StagedOutputs>(a.out);
   }
-  g_stop_note = "millwear rule1: interrupted; nothing of this check is kept: run it again\n";
+  g_stop_note = a.out.empty() ? "millwear rule1: interrupted; nothing of this check is kept: run it again\n"
+                              : "millwear rule1: interrupted; nothing of this check is kept, " + a.out +
+                                    " is as it was: run it again\n";
   const SignalScope stop(note_and_die);
   const Rule1Report r = rule1_check(scene, opt);
 
@@ -112,22 +118,22 @@ int run_rule1(const Rule1Args& a) {
                        {"replicates", std::to_string(opt.replicates)},
                        {"tolerance_pct_height", io::format_number(opt.tolerance_pct_height)},
                        {"stages", std::to_string(a.stages)}};
-    record.files = write_rule1_outputs(a.out, scene, r);
+    const std::string& dir = staged->dir();
+    record.files = write_rule1_outputs(dir, scene, r);
     bool figure_failed = false;
     try {
-      const std::vector<std::string> figures = render_rule1_figure(a.out, scene, r);
+      const std::vector<std::string> figures = render_rule1_figure(dir, scene, r);
       record.files.insert(record.files.end(), figures.begin(), figures.end());
-      std::printf("results in %s (manifest.json, rule1.csv, rule1_replicates.csv, rule1_profiles.dat, "
-                  "plots/fig5_rule1)\n", a.out.c_str());
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "millwear: warning: figure: %s\n", e.what());
-      std::printf("results in %s (manifest.json, rule1.csv, rule1_replicates.csv, rule1_profiles.dat)\n",
-                  a.out.c_str());
-      figure_failed = plots::gnuplot_available();
+      std::fprintf(stderr, "millwear: warning: figure: %s\n", staged->in_out_text(e.what()).c_str());
+      figure_failed = true;
     }
-    record.files.push_back(io::join_path(a.out, "plots/gnuplot.log"));
-    study::write_command_manifest(a.out, record);
-    if (figure_failed) return 1;
+    record.files.push_back(io::join_path(dir, "plots/gnuplot.log"));
+    study::write_command_manifest(dir, record);
+    staged->commit({a.scene});
+    std::printf("results in %s (manifest.json, rule1.csv, rule1_replicates.csv, rule1_profiles.dat%s)\n",
+                a.out.c_str(), figure_failed ? "" : ", plots/fig5_rule1");
+    if (figure_failed && plots::gnuplot_available()) return 1;
   }
   return r.recommended_factor > 0.0 ? 0 : 1;
 }

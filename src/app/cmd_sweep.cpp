@@ -31,8 +31,9 @@ int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
       std::fprintf(stderr, "  [%d/%d] %s = %s: %.4g kW in %.1f s wall%s%s\n", done, total, q.vary.substr(0, q.vary.find('=')).c_str(),
                    p.text.c_str(), p.power_kW, p.wall_s, p.error.empty() ? "" : " FAILED: ", p.error.c_str());
   };
-  g_stop_note = "millwear sweep: interrupted; the points it finished are listed in " + q.out +
-                "/manifest.json, and the next sweep into that folder removes them: run the sweep again\n";
+  g_stop_note = "millwear sweep: interrupted; nothing of this sweep is kept, " + q.out +
+                " is as it was (the points it finished, in its staging folder, go with the next sweep into "
+                "it): run the sweep again\n";
   const SignalScope stop(note_and_die);
   const study::SweepResult r = study::run_sweep(q, cb);
   std::printf("%s: %s over %zu values (%d job(s), %.1f s wall); per mill, +- one standard error (%s)\n",

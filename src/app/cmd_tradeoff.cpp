@@ -63,8 +63,8 @@ int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
       std::printf("  failed %-24s %8.1f s  %s  %s\n", s.label.c_str(), wall, error.c_str(), when.c_str());
     std::fflush(stdout);
   };
-  g_stop_note = "millwear tradeoff: interrupted; nothing of this ladder is kept: run it again (--only LABELS "
-                "runs fewer settings)\n";
+  g_stop_note = "millwear tradeoff: interrupted; nothing of this ladder is kept, " + out +
+                " is as it was: run it again (--only LABELS runs fewer settings)\n";
   const SignalScope stop(note_and_die);
   const TradeoffStudy study = run_tradeoff_study(a, cb);
   const TradeoffReport& report = study.report;

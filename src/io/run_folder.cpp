@@ -130,12 +130,6 @@ int remove_run_files(const std::string& out, const std::vector<std::string>& fil
   return removed;
 }
 
-int remove_listed_outputs(const std::string& out, const std::vector<std::string>& keep) {
-  std::error_code ec;
-  if (!fs::is_directory(out, ec)) return 0;
-  return remove_run_files(out, manifest_files(out), keep);
-}
-
 std::string unlisted_output(const std::string& out, const std::vector<std::string>& names) {
   std::error_code ec;
   // Without a manifest (an older millwear's folder, or none) nothing tells its files apart.

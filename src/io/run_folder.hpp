@@ -71,16 +71,10 @@ bool is_one_of(const std::string& path, const std::vector<std::string>& files);
 int remove_run_files(const std::string& out, const std::vector<std::string>& files,
                      const std::vector<std::string>& keep = {});
 
-// Before a command that does not resume writes OUT again: the files its earlier run listed in
-// OUT/manifest.json removed (remove_run_files), so that no output of that run stands beside
-// the new one's (a sweep's points it no longer has, a figure an interrupted run did not draw
-// again). A user's own files in OUT are not listed and stay.
-int remove_listed_outputs(const std::string& out, const std::vector<std::string>& keep = {});
-
-// Before such a command writes OUT again: the first of `names` (paths relative to OUT) that is
-// there though its earlier run's manifest does not list it, as OUT/NAME; "" if none, or if OUT
-// has no manifest. That file is a user's, which the command would overwrite under its own
-// output's name.
+// Before a command that does not resume writes OUT again (io/staging.hpp): the first of
+// `names` (paths relative to OUT) that is there though its earlier run's manifest does not
+// list it, as OUT/NAME; "" if none, or if OUT has no manifest. That file is a user's, which the
+// command would overwrite under its own output's name.
 std::string unlisted_output(const std::string& out, const std::vector<std::string>& names);
 
 // ---- key=value files ----

@@ -8,6 +8,9 @@
 #include <set>
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "common/errors.hpp"
@@ -28,6 +31,36 @@ void sync_folder(const std::string& dir) {
   ::close(fd);
 }
 
+// Ctrl-C and SIGTERM held off while the files move: a command that died of one then would
+// leave OUT with some files new and others earlier. One that comes meanwhile is dropped
+// unless they were held off before: the command has done its work and ends as without it.
+// By the move the command's worker threads have ended, so this thread is the one a signal
+// reaches.
+class HeldStops {
+ public:
+  HeldStops() {
+    sigemptyset(&stops_);
+    sigaddset(&stops_, SIGINT);
+    sigaddset(&stops_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stops_, &before_);
+  }
+  ~HeldStops() {
+    const timespec none{0, 0};
+    sigset_t drop;
+    sigemptyset(&drop);
+    for (int sig : {SIGINT, SIGTERM})
+      if (!sigismember(&before_, sig)) sigaddset(&drop, sig);
+    while (sigtimedwait(&drop, nullptr, &none) > 0) {
+    }
+    pthread_sigmask(SIG_SETMASK, &before_, nullptr);
+  }
+  HeldStops(const HeldStops&) = delete;
+  HeldStops& operator=(const HeldStops&) = delete;
+
+ private:
+  sigset_t stops_{}, before_{};
+};
+
 }  // namespace
 
 StagedOutputs::StagedOutputs(const std::string& out) : out_(out), dir_(join_path(out, kStagingName)) {
@@ -47,6 +80,12 @@ std::string StagedOutputs::in_out(const std::string& staged_path) const {
   return rel.empty() ? staged_path : join_path(out_, rel);
 }
 
+std::string StagedOutputs::in_out_text(std::string text) const {
+  for (std::size_t at = 0; (at = text.find(dir_, at)) != std::string::npos; at += out_.size())
+    text.replace(at, dir_.size(), out_);
+  return text;
+}
+
 void StagedOutputs::commit(const std::vector<std::string>& keep) {
   const std::vector<std::string> earlier = manifest_files(out_);
   std::vector<std::string> staged;
@@ -58,6 +97,7 @@ void StagedOutputs::commit(const std::vector<std::string>& keep) {
   std::sort(staged.begin(), staged.end(), [](const std::string& a, const std::string& b) {
     return std::make_pair(a == "manifest.json", a) < std::make_pair(b == "manifest.json", b);
   });
+  const HeldStops held;
   std::set<std::string> folders;
   for (const std::string& f : staged) {
     const std::string from = join_path(dir_, f), to = join_path(out_, f);

@@ -26,12 +26,16 @@ class StagedOutputs {
   const std::string& out() const { return out_; }
   // A path under the staging folder as it will be in OUT (any other path unchanged).
   std::string in_out(const std::string& staged_path) const;
+  // A message (a figure's error, a warning) with every mention of the staging folder read as
+  // OUT, where its files are once committed.
+  std::string in_out_text(std::string text) const;
 
   // Moves every staged file to the same place in OUT, each by one rename over the earlier
   // file of its name (a reader finds the earlier file or the new one, never none or a part),
   // manifest.json last; then deletes the files the earlier OUT/manifest.json listed that no
   // new file replaced (remove_run_files: never one of `keep`, the command's inputs) and the
-  // staging folder. Throws RunError naming the file that could not be moved.
+  // staging folder. Ctrl-C and SIGTERM are held off meanwhile, and one that came is dropped:
+  // the command ends as without it. Throws RunError naming the file that could not be moved.
   void commit(const std::vector<std::string>& keep = {});
 
  private:

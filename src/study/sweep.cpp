@@ -20,6 +20,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "metrics/batch_means.hpp"
 #include "metrics/estimates.hpp"
 #include "metrics/trajectories.hpp"
@@ -181,12 +182,10 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
   t.write(io::join_path(out, "sweep.csv"));
 }
 
-// finished = false: written as each point ends, with the points done so far (point_done) and
-// their files, so that a sweep stopped part-way leaves a list of what it wrote, which the next
-// sweep into the folder removes (io::remove_listed_outputs).
+// Written once every point has ended, into the staging folder `out` with the sweep's other
+// files (run_sweep).
 void write_sweep_manifest(const std::string& out, const SweepRequest& q, const SweepResult& r,
-                          const Scene& first, const std::vector<std::string>& files,
-                          const std::vector<char>& point_done, bool finished) {
+                          const Scene& first, const std::vector<std::string>& files) {
   nlohmann::ordered_json m;
   m["program"] = "millwear";
   m["version"] = MILLWEAR_VERSION;
@@ -204,11 +203,9 @@ void write_sweep_manifest(const std::string& out, const SweepRequest& q, const S
   m["error_source"] = error_source_name(q.replicates > 1 ? ErrorSource::Replicates : ErrorSource::BatchMeans);
   m["jobs"] = r.jobs;
   m["wall_s"] = r.wall_s;
-  m["finished"] = finished;
+  m["finished"] = true;  // every point ended: a stopped sweep writes no manifest into OUT
   nlohmann::ordered_json points = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < r.points.size(); ++i) {
-    if (!point_done[i]) continue;
-    const SweepPoint& p = r.points[i];
+  for (const SweepPoint& p : r.points) {
     nlohmann::ordered_json j;
     j["value"] = p.text;
     j["folder"] = io::relative_to(out, point_dir(out, p.index));
@@ -517,8 +514,12 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   const int tasks = n * reps;
   r.jobs = jobs_for(q.jobs, static_cast<std::size_t>(tasks));
   const io::FolderLock lock(q.out, "sweep");  // one writer per folder, for the whole sweep
-  io::check_output_names(q.out, sweep_output_names(scenes, reps), "sweep");  // before anything is deleted
-  io::remove_listed_outputs(q.out);  // an earlier sweep's points and figures
+  io::check_output_names(q.out, sweep_output_names(scenes, reps), "sweep");  // before any work
+  // The points and figures are drawn up beside an earlier sweep's, which stay in OUT as they
+  // were until the sweep has ended (a sweep stopped part-way, or one that fails, leaves them);
+  // then the earlier sweep's files that no new one replaces go (a point it no longer has).
+  io::StagedOutputs staged(q.out);
+  const std::string& out = staged.dir();
   if (cb.on_start) cb.on_start(r.axis, r.jobs);
 
   // Threads take the next (point, replicate); each is independent (its own engine, its own
@@ -529,8 +530,6 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
   r.points.resize(static_cast<std::size_t>(n));
   std::mutex mutex;
   int done = 0;
-  std::vector<char> point_done(static_cast<std::size_t>(n), 0);
-  std::vector<std::string> files{"manifest.json"};  // as the tasks end
   // A numerical failure, or a charge the fill cannot place at this point's value (the up-front
   // check cannot see it), is the point's result; anything else (an I/O failure) stops the sweep.
   for_each_index_parallel(static_cast<std::size_t>(tasks), r.jobs, [&](std::size_t t) {
@@ -540,7 +539,7 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
     try {
       Scene scene = scenes[iu];
       scene.solver.seed += static_cast<std::uint64_t>(k);
-      p = measure_point(scene, i, k, r.axis, q.out, written[t]);
+      p = measure_point(scene, i, k, r.axis, out, written[t]);
     } catch (const NumericalError& e) {
       p.index = i, p.text = r.axis.texts[iu], p.value = r.axis.values[iu];
       p.error = e.what();
@@ -551,36 +550,35 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
     }
     std::lock_guard<std::mutex> g(mutex);
     measured[iu][static_cast<std::size_t>(k)] = p;
-    for (const std::string& f : written[t]) files.push_back(io::relative_to(q.out, f));
     if (--left[iu] == 0) {
       r.points[iu] = fold_replicates(measured[iu]);
-      point_done[iu] = 1;
       ++done;
       if (cb.on_point) cb.on_point(r.points[iu], done, n);
     }
-    write_sweep_manifest(q.out, q, r, scenes.front(), files, point_done, false);
   });
 
-  write_sweep_csv(q.out, r);
+  write_sweep_csv(out, r);
   // The files in task order (the order they ended in depends on the threads).
-  files = {"manifest.json", "sweep.csv"};
+  std::vector<std::string> files = {"manifest.json", "sweep.csv"};
   for (const std::vector<std::string>& task_files : written) {
     std::vector<std::string> in_point;
-    for (const std::string& f : task_files) in_point.push_back(io::relative_to(q.out, f));
+    for (const std::string& f : task_files) in_point.push_back(io::relative_to(out, f));
     std::sort(in_point.begin(), in_point.end());
     files.insert(files.end(), in_point.begin(), in_point.end());
   }
   if (q.figures) {
     try {
-      r.figure_files = render_sweep_figures(q.out, r.axis.key);
+      r.figure_files = render_sweep_figures(out, r.axis.key);
     } catch (const std::exception& e) {
-      r.figure_error = e.what();
+      r.figure_error = staged.in_out_text(e.what());
       r.figures_failed = plots::gnuplot_available();
     }
-    for (const auto& f : r.figure_files) files.push_back(io::relative_to(q.out, f));
+    for (const auto& f : r.figure_files) files.push_back(io::relative_to(out, f));
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_sweep_manifest(q.out, q, r, scenes.front(), files, point_done, true);
+  write_sweep_manifest(out, q, r, scenes.front(), files);
+  staged.commit({q.scene_file});
+  for (std::string& f : r.figure_files) f = staged.in_out(f);
   return r;
 }
 

@@ -100,8 +100,9 @@ struct SweepCallbacks {
 };
 
 // Validates (InputError, nothing written), locks OUT (io/folder_lock.hpp), runs the points,
-// writes the files above atomically. Figures need gnuplot; their failure is reported in
-// figure_error, never thrown.
+// writes the files above into OUT's staging folder and moves them into OUT once the sweep has
+// ended (io/staging.hpp): until then an earlier sweep's files stay as they were. Figures need
+// gnuplot; their failure is reported in figure_error, never thrown.
 SweepResult run_sweep(const SweepRequest& request, const SweepCallbacks& callbacks = {});
 
 // The scenes of a sweep's points, checked as run_sweep checks them (InputError naming

@@ -11,6 +11,7 @@
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
 #include "io/run_folder.hpp"
+#include "io/staging.hpp"
 #include "plots/plots.hpp"
 #include "study/command_manifest.hpp"
 #include "study/plan.hpp"
@@ -107,18 +108,21 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   io::check_output_names(request.out, {"manifest.json", "tradeoff.csv", "tradeoff_designs.csv", "tradeoff_front.csv",
                                        "tradeoff_profiles.csv", "tradeoff.md", "tradeoff.png", "tradeoff.svg",
                                        "gnuplot.log"}, "tradeoff");
-  io::remove_listed_outputs(request.out);               // an earlier ladder's files
+  // The new files are drawn up beside an earlier ladder's, which stay in OUT as they were until
+  // every new file is complete (a ladder whose reference fails, or one stopped, leaves them).
+  io::StagedOutputs staged(request.out);
+  const std::string& out = staged.dir();
   if (cb.on_ladder) cb.on_ladder(ladder);
   TradeoffStudy study;
   study.report = run_tradeoff(ladder, request.jobs, cb.runs);
-  write_tradeoff_files(study.report, request.out);
+  write_tradeoff_files(study.report, out);
   // One setting (--only reference) has nothing to trade off: a figure of one point is none.
   study.figure_skipped = request.figure && study.report.rows.size() < 2;
   if (request.figure && !study.figure_skipped) {
     try {
-      study.figure_files = render_tradeoff_figure(request.out);
+      study.figure_files = render_tradeoff_figure(out);
     } catch (const RunError& e) {
-      study.figure_error = e.what();
+      study.figure_error = staged.in_out_text(e.what());
     }
   }
   const TradeoffOptions& o = request.options;
@@ -142,8 +146,10 @@ TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const Trad
   record.files = {"tradeoff.csv", "tradeoff_designs.csv", "tradeoff_front.csv", "tradeoff_profiles.csv",
                   "tradeoff.md"};
   record.files.insert(record.files.end(), study.figure_files.begin(), study.figure_files.end());
-  record.files.push_back(io::join_path(request.out, "gnuplot.log"));
-  study::write_command_manifest(request.out, record);
+  record.files.push_back(io::join_path(out, "gnuplot.log"));
+  study::write_command_manifest(out, record);
+  staged.commit({request.scene_file});
+  for (std::string& f : study.figure_files) f = staged.in_out(f);
   return study;
 }
 

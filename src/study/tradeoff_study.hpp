@@ -42,7 +42,9 @@ struct TradeoffStudy {
 
 // Loads and checks the designs (InputError before anything is written), builds the ladder,
 // creates and locks OUT (io/folder_lock.hpp) for the whole study, runs the ladder
-// (run_tradeoff) and writes the files above.
+// (run_tradeoff) and writes the files above into OUT's staging folder, moved into OUT once all
+// are written (io/staging.hpp): a ladder that fails or is stopped leaves an earlier one's files
+// as they were.
 TradeoffStudy run_tradeoff_study(const TradeoffStudyRequest& request, const TradeoffStudyCallbacks& callbacks = {});
 
 // The CSV and Markdown files of a report in `out` (an existing folder), atomically.

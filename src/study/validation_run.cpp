@@ -264,8 +264,7 @@ ValidateOutcome validate_scene(const ValidateRequest& a, const ValidateCallbacks
   staged.commit({a.measured_file, a.scene_file});
   for (std::string& f : o.files) f = staged.in_out(f);
   for (std::string& f : o.figure_files) f = staged.in_out(f);
-  for (std::size_t at; (at = o.figure_error.find(staged.dir())) != std::string::npos;)
-    o.figure_error.replace(at, staged.dir().size(), a.out);
+  o.figure_error = staged.in_out_text(o.figure_error);
   return o;
 }
 
