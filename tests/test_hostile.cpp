@@ -695,6 +695,12 @@ TEST(HostileMeasured, ASurfaceCrossingOverItsLifterIsRefusedNotReshaped) {
   const auto ok = run_millwear("profile " + quoted(noisy));
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_NE(ok.output.find("(1 repeated or looping dropped)"), std::string::npos) << ok.output;
+  // Its extent is the points' leftmost and rightmost x, not the first and last point's.
+  const fs::path back = dir / "back.csv";
+  write(back, "x_mm,y_mm\n-20,-1\n-16.55,0\n-5,20\n5,20\n16.55,0\n20,-1\n19.9,-1\n");
+  const auto extent = run_millwear("profile " + quoted(back));
+  EXPECT_EQ(extent.exit_code, 0) << extent.output;
+  EXPECT_NE(extent.output.find("x from -20.0 to 20.0 mm"), std::string::npos) << extent.output;
 }
 
 TEST(HostileMeasured, HexadecimalCellsAreRefused) {

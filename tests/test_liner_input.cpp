@@ -166,6 +166,16 @@ TEST(MeasuredProfile, BadScansAreRefusedNamingTheProblem) {
   // A lifter drawn as a closed polygon (the base back to the first point) is all loop.
   EXPECT_NE(message("x_mm,y_mm\n-20,0\n-10,20\n10,20\n20,0\n20,0\n-20,0\n").find("close on themselves"),
             std::string::npos);
+  // A closed outline (the plates' underside drawn back to the start) and a surface drawn back
+  // along its base cross nothing, or cross at no loop the reader cuts: refused at the point
+  // beyond their ends, where `profile` took the first and `run` refused both with no place.
+  const std::string outline = message("x_mm,y_mm\n-60,0\n-20,0\n-10,20\n5,20\n10,0\n60,0\n60,-1\n-60,-1\n");
+  EXPECT_NE(outline.find("line 7: a surface from one side of the lifter to the other"), std::string::npos) << outline;
+  EXPECT_NE(outline.find("x = 60 mm, lies 120 mm beyond both ends (x = -60 and -60 mm)"), std::string::npos) << outline;
+  const std::string back = message("x_mm,y_mm\n-60,0\n-20,0\n-10,20\n5,20\n10,0\n60,0\n-60,0\n");
+  EXPECT_NE(back.find("line 7: a surface from one side of the lifter to the other"), std::string::npos) << back;
+  // A last reading a little back from the one before is still a scan.
+  EXPECT_EQ(message("x_mm,y_mm\n-40,-1\n-16.5,0\n-5,20\n5,20\n16.5,0\n40,-1\n39.5,-1\n"), "accepted");
   // A second lifter in the scan would wear as shell plate.
   EXPECT_NE(message("x_mm,y_mm\n-40,-1\n-16.5,0\n-5,20\n5,20\n16.5,0\n23,-1\n23.5,0\n35,12\n45,12\n56.5,0\n75,-1\n")
                 .find("one lifter per surface"),
@@ -338,6 +348,13 @@ TEST(MeasuredProfile, PitchLineMakesTheScanAWholeUnitCheckedAgainstItsPointsAndT
   EXPECT_NE(m.find("pitch_mm = 140"), std::string::npos) << m;
   m = message([] { parse_measured_profile(whole_unit_scan("# pitch_mm = wide\n"), "bad.csv"); });
   EXPECT_NE(m.find("line 2"), std::string::npos) << m;
+  // A near miss (a colon for the '=', another case) is refused as a pitch line written wrong,
+  // where it read as a comment and the whole unit as one lifter with its plates.
+  m = message([] { parse_measured_profile(whole_unit_scan("# pitch_mm: 157.08\n"), "near.csv"); });
+  EXPECT_NE(m.find("near.csv: line 2"), std::string::npos) << m;
+  EXPECT_NE(m.find("'# pitch_mm = P'"), std::string::npos) << m;
+  for (const char* line : {"# Pitch_mm = 157.08\n", "# PITCH_MM=157.08\n"})
+    EXPECT_NEAR(parse_measured_profile(whole_unit_scan(line), "case.csv").unit_pitch_m * 1e3, lab_pitch_mm(), 0.01) << line;
   // Ends at two heights cannot repeat round the mill: the step is named, not a crossing.
   m = message([&] {
     std::string text = whole_unit_scan(pitch);

@@ -68,12 +68,20 @@ TEST(CalibrationTables, TheResidualUnitFollowsWhatWasFitted) {
   res.runs = {run};
   res.survey_hours = {50.0, 100.0};
   res.survey_c = {1e-10, 1.1e-10};
+  res.fit_error_known = false;
   validation::write_calibration_tables(out, res, true);
   const io::CsvData areas = io::read_csv(out + "/calibration.csv");
   EXPECT_DOUBLE_EQ(areas.number(0, "rms_mm2"), 2.0);
   EXPECT_EQ(io::read_csv(out + "/calibration_surveys.csv").row_count(), 2u);
   const io::CsvData result = io::read_csv(out + "/calibration_result.csv");
   EXPECT_EQ(result.text(0, result.column("fit_on")), "area_loss");
+  // One worn area: the fit's error unknown, an empty cell (a 0 would say the fit has none).
+  EXPECT_EQ(result.text(0, result.column("fit_error_known")), "0");
+  EXPECT_EQ(result.text(0, result.column("sigma_fit_m3_per_J")), "");
+  res.fit_error_known = true;
+  res.sigma_fit_m3_per_J = 3e-12;
+  validation::write_calibration_tables(out, res, true);
+  EXPECT_DOUBLE_EQ(io::read_csv(out + "/calibration_result.csv").number(0, "sigma_fit_m3_per_J"), 3e-12);
   validation::write_calibration_tables(out, res, false);
   EXPECT_NEAR(io::read_csv(out + "/calibration.csv").number(0, "rms_mm"), 0.002, 1e-15);
 }

@@ -115,6 +115,21 @@ TEST(SweepVary, SeedsPastWhatADoubleHoldsAreToldApartAndOrdered) {
   }
 }
 
+// sweep.csv names each point by the seed it ran, where a double cannot hold the seed: two seeds
+// one apart past 2^53 read as one (the second's), so one seed had two results.
+TEST(SweepCharge, TheTableNamesSeedsPastWhatADoubleHoldsAsTheyRan) {
+  const TempDir out("millwear-sweep-big-seeds");
+  const auto r = millwear::testing::run_millwear(
+      "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+      millwear::testing::quoted(out) + " --vary solver.seed=12345678901234567,12345678901234568 " +
+      "--revolutions 0.2 --fidelity draft -j 2 --no-plot -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData t = io::read_csv((out / "sweep.csv").string());
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.text(0, t.column("value")), "12345678901234567");
+  EXPECT_EQ(t.text(1, t.column("value")), "12345678901234568");
+}
+
 // The same value twice would run the same charge twice: refused, naming both as written.
 TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");

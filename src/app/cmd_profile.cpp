@@ -47,13 +47,15 @@ int run_profile(const ProfileArgs& args) {
   // Measured profiles: what was read, and what lies outside the lifter.
   for (const LifterProfile& p : profiles) {
     if (p.measured.empty()) continue;
-    double lowest = 0.0;
-    for (const Vec2& v : p.measured) lowest = std::min(lowest, v.y);
+    double lowest = 0.0, left = p.measured.front().x, right = left;
+    for (const Vec2& v : p.measured) {
+      lowest = std::min(lowest, v.y);
+      left = std::min(left, v.x), right = std::max(right, v.x);
+    }
     std::snprintf(row, sizeof row,
                   "%s: measured surface of %zu points (%d repeated or looping dropped), x from %.1f to %.1f mm, "
                   "lowest y %.1f mm; the lifter is its part above y = 0\n",
-                  p.name.c_str(), p.measured.size(), p.dropped_points, p.measured.front().x * 1e3,
-                  p.measured.back().x * 1e3, lowest * 1e3);
+                  p.name.c_str(), p.measured.size(), p.dropped_points, left * 1e3, right * 1e3, lowest * 1e3);
     std::cout << row;
     if (p.unit_pitch_m > 0.0) {
       std::snprintf(row, sizeof row, "%s: one whole liner unit, pitch %.1f mm (line %d)\n", p.name.c_str(),

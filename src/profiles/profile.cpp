@@ -472,7 +472,11 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
     pos = end + 1;
     if (l.empty() || l[0] != '#') continue;
     l = trim(l.substr(1));
-    if (l.compare(0, 8, "pitch_mm") != 0 || (l.size() > 8 && l[8] != ' ' && l[8] != '\t' && l[8] != '=')) continue;
+    // Any case, and a ':' for the '=' (a near miss that would otherwise read as a comment and
+    // the scan as one lifter): both then refused below unless written as the line asks.
+    std::string head = l.substr(0, 8);
+    std::transform(head.begin(), head.end(), head.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (head != "pitch_mm" || (l.size() > 8 && l[8] != ' ' && l[8] != '\t' && l[8] != '=' && l[8] != ':')) continue;
     const std::string where = "line " + std::to_string(line);
     if (found.second != 0)
       throw InputError(name, where, "one pitch_mm line (line " + std::to_string(found.second) + " gives it already)");
@@ -492,6 +496,32 @@ std::pair<double, int> pitch_comment(const std::string& text, const std::string&
     if (end == text.size()) break;
   }
   return found;
+}
+
+// A scan runs from one side of the lifter to the other: its ends are its leftmost and
+// rightmost points (within kScanEndTolerance of its width; a gauge's last reading may step
+// back a little). A closed outline (the plate's underside drawn back to the start) or a
+// surface written back to its first point ends inside its width: refused at the point that
+// lies beyond its ends, where it was later taken for a surface crossing itself, unplaced.
+constexpr double kScanEndTolerance = 0.01;
+void check_scan_ends(const Polyline& raw, const io::CsvData& d, const std::string& name) {
+  std::size_t lo = 0, hi = 0;
+  for (std::size_t i = 1; i < raw.size(); ++i) {
+    if (raw[i].x < raw[lo].x) lo = i;
+    if (raw[i].x > raw[hi].x) hi = i;
+  }
+  const double tol = kScanEndTolerance * (raw[hi].x - raw[lo].x);
+  const double left = std::min(raw.front().x, raw.back().x), right = std::max(raw.front().x, raw.back().x);
+  const bool left_out = left - raw[lo].x > tol;
+  if (!left_out && raw[hi].x - right <= tol) return;
+  const std::size_t at = left_out ? lo : hi;
+  throw InputError(name, "line " + std::to_string(d.row_line[at]),
+                   "a surface from one side of the lifter to the other, its first and last points its leftmost and "
+                   "rightmost: the point here, at x = " + short_number(raw[at].x * 1e3) + " mm, lies " +
+                       short_number(std::abs(raw[at].x - (left_out ? left : right)) * 1e3) +
+                       " mm beyond both ends (x = " + short_number(raw.front().x * 1e3) + " and " +
+                       short_number(raw.back().x * 1e3) +
+                       " mm). Is it a closed outline, or the base written back to the start? Give the surface alone");
 }
 
 }  // namespace
@@ -531,6 +561,7 @@ LifterProfile parse_measured_profile(const std::string& text, const std::string&
                      "an open surface from one foot to the other; the points close on themselves around a loop of " +
                          short_number(std::abs(signed_area(loop)) * 1e6) + " mm^2 and leave " + std::to_string(s.size()) +
                          (s.size() == 1 ? " point" : " points") + " of surface (is the base written back to the first point?)");
+  check_scan_ends(raw, d, name);
   if (!is_simple_open(s))
     throw InputError(name, "x_mm,y_mm", "expected a surface that does not cross itself");
   prof.measured = s;

@@ -151,7 +151,10 @@ void write_calibration_tables(const std::string& out, const CalibrationResult& r
   per.write(io::join_path(out, "calibration_surveys.csv"));
   io::CsvTable sum({"c_m3_per_J", "sigma_m3_per_J", "sigma_fit_m3_per_J", "sigma_simulation_m3_per_J",
                     "expanded_m3_per_J", "converged", "runs", "histories_averaged", "fit_on", "fit_error_known"});
-  sum.add_row({res.c_m3_per_J, res.sigma_m3_per_J, res.sigma_fit_m3_per_J, res.sigma_model_m3_per_J,
+  // The fit's error is empty where one residual leaves it unknown (U then counts the
+  // simulation's statistics alone), as calibration.csv leaves its curvature scale.
+  sum.add_row({res.c_m3_per_J, res.sigma_m3_per_J,
+               res.fit_error_known ? io::CsvCell(res.sigma_fit_m3_per_J) : io::CsvCell(""), res.sigma_model_m3_per_J,
                res.expanded_m3_per_J, res.converged, static_cast<int>(res.runs.size()), res.histories_averaged,
                areas ? "area_loss" : "profiles", res.fit_error_known});
   sum.write(io::join_path(out, "calibration_result.csv"));

@@ -171,8 +171,14 @@ void write_sweep_csv(const std::string& out, const SweepResult& r) {
   const auto share_sem = [](const SweepPoint& p) {
     return std::isfinite(p.liner_impact_share) ? io::CsvCell(p.liner_impact_share_sem) : io::CsvCell("");
   };
+  // The value as the scene took it where a double does not hold it (whole numbers past 2^53,
+  // seeds): its shortest double would name another value, or the same for two points.
+  const auto value = [](const SweepPoint& p) {
+    return std::strtold(p.text.c_str(), nullptr) == static_cast<long double>(p.value) ? io::format_shortest(p.value)
+                                                                                      : p.text;
+  };
   for (const SweepPoint& p : r.points)
-    t.add_row({r.axis.key, io::format_shortest(p.value), p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
+    t.add_row({r.axis.key, value(p), p.speed_fraction_critical, p.speed_rpm, p.filling, p.disks, p.charge_t,
                p.power_kW, p.power_kW_sem, p.specific_kW_per_t, p.specific_kW_per_t_sem, p.collision_kW,
                p.collision_kW_sem, p.shear_kW, p.shear_kW_sem, angle(p, p.toe_deg), angle_sem(p, p.toe_deg_sem),
                angle(p, p.shoulder_deg), angle_sem(p, p.shoulder_deg_sem), p.centrifuged, share(p), share_sem(p),
