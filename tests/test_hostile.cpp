@@ -563,6 +563,36 @@ void folder_in_place_of(const fs::path& file) {
 // A folder named summary.csv in a run's folder: the same run again is refused before anything
 // is deleted or run (exit 2, naming the path and what was expected there), where it deleted
 // the earlier results and ran, then failed to write its table (exit 1).
+// More ParaView frames than the window has steps: a frame a step, each at its own time, where
+// a thousand frames repeated 16 states (each time in the index a hundred times over).
+TEST(HostileOutputs, FramesPastTheWindowsStepsAreOneAStep) {
+  const TempDir dir("millwear-hostile-vtk-frames");
+  const fs::path scene = dir / "scene.toml";
+  write(scene, lab_mill_with("", ""));
+  const auto r = run_millwear("charge " + quoted(scene) + " -o " + quoted(dir / "out") +
+                              " --revolutions 0.01 -q --vtk --set outputs.vtk_frames=1000");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // A run's stage window likewise (a window of 0.02 revolutions).
+  write(dir / "quick.toml", lab_quick());
+  const auto history = run_millwear("run " + quoted(dir / "quick.toml") + " -o " + quoted(dir / "run") +
+                                    " -q --vtk --set outputs.vtk_frames=1000 --set wear.window_revolutions=0.02");
+  ASSERT_EQ(history.exit_code, 0) << history.output;
+  for (const fs::path& index : {dir / "out" / "vtk" / "lab-mill.pvd", dir / "run" / "vtk" / "lab-quick_stage0.pvd"}) {
+    const std::string pvd = read_text(index);
+    std::vector<double> particle_times;
+    for (std::size_t at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1)) {
+      const std::string tag = pvd.substr(at, pvd.find('>', at) - at);
+      if (tag.find("part=\"0\"") == std::string::npos) continue;
+      const auto t = tag.find("timestep=\"") + 10;
+      particle_times.push_back(std::stod(tag.substr(t, tag.find('"', t) - t)));
+    }
+    ASSERT_GT(particle_times.size(), 1u) << index << pvd;
+    EXPECT_LT(particle_times.size(), 1000u) << index;
+    for (std::size_t k = 1; k < particle_times.size(); ++k)
+      EXPECT_LT(particle_times[k - 1], particle_times[k]) << index << " frame " << k;
+  }
+}
+
 TEST(HostileOutputs, ARunRefusesAFolderWhereItWritesAFile) {
   const TempDir dir("millwear-hostile-run-folder-file");
   const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));

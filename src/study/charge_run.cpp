@@ -43,9 +43,13 @@ ChargeRunResult run_charge_only(const Scene& scene, const std::function<void(con
   const long long report_every =
       std::max<long long>(1, kStopCheckDiskSteps / std::max<long long>(1, static_cast<long long>(initial.size())));
   const double dt_s = engine->time_step_s();
-  // Pieces: kWindowBatches batches, each cut into frames_per_batch when frames are kept.
+  // Pieces: kWindowBatches batches, each cut into frames_per_batch when frames are kept, at
+  // most a frame a step (more would repeat a state under several times).
   const int frames_per_batch =
-      scene.outputs.vtk ? (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches : 1;
+      scene.outputs.vtk ? static_cast<int>(std::max<long long>(
+                              1, std::min<long long>((scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches,
+                                                     steps / kWindowBatches)))
+                        : 1;
   const long long pieces = static_cast<long long>(kWindowBatches) * frames_per_batch;
   // Flights: the charge at every step; the paths of the last half revolution's launches.
   FlightOptions flight;
@@ -66,7 +70,9 @@ ChargeRunResult run_charge_only(const Scene& scene, const std::function<void(con
       engine->step(1);
       tracker.observe(engine->state());
     }
-    if (scene.outputs.vtk) r.frames.push_back(engine->state());
+    // A piece without a step (a window of fewer steps than batches) has no frame of its own.
+    if (scene.outputs.vtk && (r.frames.empty() || r.frames.back().time_s != engine->state().time_s))
+      r.frames.push_back(engine->state());
     if (k % frames_per_batch != 0) continue;
     r.batches.push_back(charge_figures(accounting_since(engine->accounting(), batch_start), scene,
                                        sign * scene.angular_speed_rad_s()));

@@ -62,8 +62,9 @@ WindowWork simulate_window(Engine& engine, const Scene& scene, const MillGeometr
     check_stop();
     engine.reset_window();
     if (scene.outputs.vtk) {
-      // The batch's steps in pieces, a frame after each: the same steps as in one piece.
-      const int pieces = (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches;
+      // The batch's steps in pieces, a frame after each: the same steps as in one piece. At
+      // most a frame a step: more would repeat a state under several times.
+      const int pieces = std::min(batch_steps, (scene.outputs.vtk_frames + kWindowBatches - 1) / kWindowBatches);
       for (int k = 1, done = 0; k <= pieces; ++k) {
         const int upto = static_cast<int>(static_cast<long long>(batch_steps) * k / pieces);
         step_checking_stop(engine, upto - done, check_stop);
