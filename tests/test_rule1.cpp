@@ -8,6 +8,7 @@
 
 #include "cli_support.hpp"
 #include "engine_fixtures.hpp"
+#include "io/csv.hpp"
 #include "study/rule1.hpp"
 #include "temp_dir.hpp"
 
@@ -118,6 +119,19 @@ TEST(Rule1Statistics, TheSameFactorTwiceIsNoiseAndTheLargestIsRecommended) {
   double deepest = 0.0;
   for (double d : r.rows[0].depth_mean_m) deepest = std::max(deepest, d);
   EXPECT_GT(deepest, 0.1 * r.lifter_height_m);
+  // The tables tell the two entries of one factor apart: each history says which it ran for.
+  const TempDir out("millwear-test-rule1-twice");
+  write_rule1_outputs(out.path().string(), s, r);
+  const io::CsvData table = io::read_csv((out.path() / "rule1.csv").string());
+  ASSERT_EQ(table.row_count(), 2u);
+  EXPECT_EQ(table.text(0, table.column("entry")), "1");
+  EXPECT_EQ(table.text(1, table.column("entry")), "2");
+  const io::CsvData reps = io::read_csv((out.path() / "rule1_replicates.csv").string());
+  ASSERT_EQ(reps.row_count(), 6u);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(reps.text(k, reps.column("entry")), k < 3 ? "1" : "2") << k;
+    EXPECT_EQ(reps.text(k, reps.column("seed")), std::to_string(r.rows[k / 3].replicates[k % 3].seed)) << k;
+  }
 }
 
 // A factor that wears more than a quarter of the lifter in one update fails and is never

@@ -245,9 +245,10 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
   io::ensure_dir(out);
   const double height = r.lifter_height_m;
   std::ostringstream csv;
+  // `entry` (last): the factor's place in --factors (from 1), which tells a factor given twice apart.
   csv << "scene,factor,replicates,simulated_s,verdict,deviation_mm,deviation_se_mm,deviation_pct_height,"
          "deviation_se_pct_height,max_deviation_mm,noise_floor_mm,scatter_ratio,scatter_p,tolerance_pct_height,"
-         "chance_within,recommended\n";
+         "chance_within,recommended,entry\n";
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const Rule1Row& row = r.rows[i];
     csv << scene.name << ',' << fmt(row.factor) << ',' << row.replicates.size() << ','
@@ -262,18 +263,19 @@ std::vector<std::string> write_rule1_outputs(const std::string& out, const Scene
     else
       csv << ",,,,,,,,";
     csv << fmt(r.tolerance_pct_height) << ',' << fmt(row.chance_within) << ','
-        << (static_cast<int>(i) == r.recommended_row ? 1 : 0) << '\n';
+        << (static_cast<int>(i) == r.recommended_row ? 1 : 0) << ',' << i + 1 << '\n';
   }
   std::ostringstream reps;
-  reps << "factor,seed,simulated_s,wall_s,events\n";
-  for (const Rule1Row& row : r.rows)
-    for (const auto& rep : row.replicates) {
+  reps << "factor,seed,simulated_s,wall_s,events,entry\n";
+  for (std::size_t i = 0; i < r.rows.size(); ++i)
+    for (const auto& rep : r.rows[i].replicates) {
+      const Rule1Row& row = r.rows[i];
       std::string ev;
       for (const auto& e : rep.events) ev += (ev.empty() ? "" : "; ") + e;
       for (char& c : ev)
         if (c == '"' || c == '\n' || c == '\r') c = ' ';
       reps << fmt(row.factor) << ',' << rep.seed << ',' << fmt(rep.simulated_s) << ',' << fmt(rep.wall_s) << ",\""
-           << ev << "\"\n";
+           << ev << "\"," << i + 1 << '\n';
     }
   // gnuplot blocks (two blank lines apart): the new profile, then one block per factor with
   // a line per replicate (one blank line apart). Lifter-local mm.
