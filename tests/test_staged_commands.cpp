@@ -80,6 +80,7 @@ TEST(StagedCommands, AStoppedChargeLeavesTheEarlierChargeAndOneThatEndsReplacesI
   int status = 0;
   const std::string log = stop_at_work(dir, base, out, status);
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << log;
+  EXPECT_NE(log.find("millwear charge: interrupted; nothing of this charge is kept"), std::string::npos) << log;
   EXPECT_EQ(millwear::testing::changed_files(before, results_in(out)), "");
 
   r = run(base + " --set solver.seed=2");

@@ -16,6 +16,7 @@
 #include "app/output_folder.hpp"
 #include "app/plain_progress.hpp"
 #include "app/set_option.hpp"
+#include "app/signals.hpp"
 #include "app/threads_option.hpp"
 #include "common/text.hpp"
 #include "io/csv.hpp"
@@ -95,6 +96,10 @@ int run_charge(const ChargeArgs& args) {
   // until every new file is complete (a charge that fails or is stopped leaves them); then
   // the earlier charge's files that no new one replaces go (its manifest's list).
   io::StagedOutputs staged(args.out);
+  // Ctrl-C or SIGTERM ends the charge at once (exit 128 + signal), first saying what it leaves.
+  g_stop_note = "millwear charge: interrupted; nothing of this charge is kept, " + args.out +
+                " is as it was (an earlier charge's results in it stay): run the charge again\n";
+  const SignalScope stop(note_and_die);
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   if (!args.quiet)
     for (const std::string& note : limit_notes(scene)) std::fprintf(stderr, "  %s\n", note.c_str());
