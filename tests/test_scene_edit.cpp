@@ -133,6 +133,17 @@ TEST(SceneEdit, KeyEditsRewriteAddAndRemoveKeysKeepingTheRest) {
             "\n[run]\nrevolutions = 4\n");
 }
 
+// A number's comment that states numbers of the old value goes with it; one of its unit or
+// meaning alone stays.
+TEST(SceneEdit, ANumbersCommentStatingTheOldValuesFiguresGoesWithIt) {
+  const std::string dir = ::testing::TempDir();
+  const std::vector<KeyEdit> faster{{"mill", "speed", "2", {}}};
+  EXPECT_EQ(edited_scene_text("[mill]\nspeed = 0.75   # fraction of critical (41 rpm)\n", dir + "/e.toml", faster, dir, ""),
+            "[mill]\nspeed = 2\n");
+  EXPECT_EQ(edited_scene_text("[mill]\nspeed = 0.75   # fraction of critical\n", dir + "/e.toml", faster, dir, ""),
+            "[mill]\nspeed = 2   # fraction of critical\n");
+}
+
 TEST(SceneEdit, AKeyValueOverSeveralLinesIsNotEditedByGuess) {
   const std::string dir = ::testing::TempDir();
   EXPECT_THROW(edited_scene_text("[mill]\nspeed = [\n0.5]\n", dir + "/e.toml", {{"mill", "speed", "0.8", {}}}, dir, ""),

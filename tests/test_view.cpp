@@ -517,6 +517,36 @@ TEST(View, AScriptStopsAtARefusedControl) {
   EXPECT_FALSE(fs::exists(dir / "end.png"));
 }
 
+// Screenshots asked for at one script time are each written, each of the frame after the
+// lines before it: only the last of a frame's was.
+TEST(View, EveryScreenshotOfAScriptTimeIsWritten) {
+  const TempDir dir("millwear-view-test-shots");
+  const auto png = [&](const char* f) { return (dir / f).string(); };
+  write(dir / "s.txt", "0.05 screenshot " + png("c1.png") + "\n0.05 screenshot " + png("c2.png") + "\n0.05 pause\n" +
+                           "0.05 screenshot " + png("c3.png") + "\n0.1 screenshot " + png("c4.png") + "\n0.1 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* f : {"c1.png", "c2.png", "c3.png", "c4.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f << r.err;
+}
+
+// After a change the steady mean takes the batches that began one revolution (the lab scene's
+// spin-up) after it, not those that only ended then: the one that straddles that time holds
+// half a revolution of the transient.
+TEST(View, TheSteadyMeanLeavesOutEveryBatchThatBeganInTheTransient) {
+  const TempDir dir("millwear-view-test-steady");
+  write(dir / "s.txt", "0 time_scale 4\n1.5 speed 0.9\n2.5 report\n2.5 quit\n");  // the change at 6 s
+  const Result r = run_millwear("view " + q(kLab) + " --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rep = reports(r.out);
+  ASSERT_EQ(rep.size(), 1u) << r.out;
+  ASSERT_EQ(num(rep[0], "t"), 10.0) << r.out;
+  // The lab mill, 0.6 m across, at 0.9 of critical: a revolution of 2 pi / (0.9 sqrt(g / 0.3 m)),
+  // batches of half of it from the change on.
+  const double revolution_s = 2.0 * M_PI / (0.9 * std::sqrt(9.81 / 0.3));
+  const int closed = static_cast<int>(std::floor(4.0 / (0.5 * revolution_s)));  // 6 in the 4 s since
+  EXPECT_EQ(num(rep[0], "steady_batches"), closed - 2) << r.out;
+}
+
 // A report gives nan for what is not measured yet: the power before the first batch, the
 // steady mean before its first batch, its standard error under two batches. Every field
 // stays key=value.

@@ -6,6 +6,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <utility>
 #include <cstdio>
 #include <filesystem>
@@ -183,8 +184,12 @@ std::string edited_scene_text(const std::string& text, const std::string& scene_
       // A comment after a number was said of its unit or meaning: it stays with an edited value
       // of the same key, and goes with a key removed or replaced by another (an rpm's note is
       // not a fraction's). One after a string or any other value was said of the old choice
-      // (the profile a path named): it goes with the value.
-      const bool keeps_comment = name == k.key && !remove && value.is_number();
+      // (the profile a path named), and one that states numbers of its own of the old value
+      // ("fraction of critical (41 rpm)"): it goes with the value.
+      const std::string& line = lines[vs.end.line - 1];
+      const std::string after = vs.end.column - 1 < line.size() ? line.substr(vs.end.column - 1) : "";
+      const bool keeps_comment = name == k.key && !remove && value.is_number() &&
+                                 std::none_of(after.begin(), after.end(), [](unsigned char c) { return std::isdigit(c); });
       const std::size_t end = keeps_comment ? vs.end.column : lines[vs.end.line - 1].size() + 1;
       spans.push_back({ks.begin.line, ks.begin.column, end, remove ? "" : k.key + " = " + k.value});
       done = true;

@@ -236,7 +236,9 @@ void LiveMill::close_batch() {
   r.centre_of_mass_m = f.summary.centre_of_mass_m;
   readouts_.push_back(r);
   if (readouts_.size() > kReadoutsKept) readouts_.pop_front();
-  if (clock_s_ >= steady_from_s_ - 1e-9) steady_batches_.push_back(r.power_kW_per_m);
+  // A batch counts toward the steady mean when it began after the change's spin-up: one that
+  // ended after it but began before holds part of the transient.
+  if (clock_s_ - batch_elapsed_s_ >= steady_from_s_ - 1e-9) steady_batches_.push_back(r.power_kW_per_m);
   // Liner colour: shear power per unit area, averaged over the last few batches.
   const double t = scene_.slice_thickness();
   const bool fresh = edge_shear_.size() != acc.shear_work_J.size();

@@ -560,7 +560,10 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
     std::string shot = ui.shot_pending;
     ui.shot_pending.clear();
     const double script_clock = static_cast<double>(out.frames) * kFrameSimS;
+    // One screenshot a frame, of the state the lines before it left: the lines after a
+    // `screenshot` (another screenshot among them) run from the next frame on.
     while (out.refused == 0 && next_command < script.size() && script[next_command].time_s <= script_clock + 1e-9) {
+      if (script[next_command].name == "screenshot" && !shot.empty()) break;
       const ScriptCommand& c = script[next_command++];
       const std::string refused = run_script_command(c, live, ui, hooks, shot, quit);
       if (!refused.empty()) {
@@ -569,6 +572,7 @@ ViewOutcome run_view(const ViewRequest& req, const ViewHooks& hooks) {
         if (hooks.notice) hooks.notice("refused at line " + std::to_string(c.line) + ": " + refused);
       }
       sync_ui(ui, live);
+      if (c.name == "screenshot") break;
     }
     if (out.refused > 0) {
       // A refused control ends the run at its line: the screenshot a line before it asked for
