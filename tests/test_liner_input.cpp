@@ -997,6 +997,30 @@ TEST(Continue, AnOutputFolderInsideTheRunIsRefused) {
   EXPECT_EQ(r.output.find("(the scene's name)"), std::string::npos) << r.output;
 }
 
+// A continuation lists what it changes and nothing it did not: other stage hours move the
+// start the run's clock sets, which is not listed (it read `wear.start_hours: 0.0 -> -50.0`);
+// and from a run of two histories per design, one continued says its rows are the first
+// history's, not the run's mean (it said nothing), where --replicates 2 continues both.
+TEST(Continue, TheChangesListedAreTheScenesAndAHistoryLeftBehindIsNamed) {
+  TempDir dir("millwear-liner-input-cont-listed");
+  const std::string lab = source_path("profiles/lab-2x30.toml");
+  const std::string scene = dir.write("lab.toml", lab_scene_text("rows = 12\nprofile = \"" + lab + "\"", "", 1));
+  const fs::path first = dir.path() / "first";
+  auto quoted = [](const fs::path& p) { return millwear::testing::quoted(p); };
+  using millwear::testing::run_millwear;
+  auto r = run_millwear("run " + quoted(scene) + " -o " + quoted(first) + " -q --replicates 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string next = " -o " + quoted(dir.path() / "next") + " --continue " + quoted(first) + " --stage 1";
+  r = run_millwear("run " + quoted(scene) + next + " --set wear.stages=3 --set wear.stage_hours=250 --check");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("wear.stage_hours:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("wear.start_hours"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("replicates: 2 histories of"), std::string::npos) << r.output;
+  r = run_millwear("run " + quoted(scene) + next + " --set wear.stages=3 --replicates 2 --check");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("replicates:"), std::string::npos) << r.output;
+}
+
 // A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the
 // run's kinds in the other order (which also changes the first kind, the manifest's
 // lifter_profile) is refused naming lifters.pattern, the key the scene has; and a kind under

@@ -242,6 +242,21 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     // Stage k at the hours RUN recorded: stage j is then at start + j * stage_hours.
     d.scene.wear.start_hours = d.continue_hours - k * d.scene.wear.stage_hours;
     d.changes = study::settings_changes(run, d.name, d.scene);
+    // That start follows from the run's clock and the stage length (checked above against the
+    // scene's own): not a change the scene made, though other stage hours move it.
+    d.changes.erase(std::remove_if(d.changes.begin(), d.changes.end(),
+                                   [](const std::string& c) { return c.rfind("wear.start_hours: ", 0) == 0; }),
+                    d.changes.end());
+    // A run of more histories per design than this continuation takes on: the rows copied and
+    // continued are the first ones' alone, not the run's mean over its histories.
+    int run_replicates = 1;
+    while (io::last_finished_stage(run, d.design + ".r" + std::to_string(run_replicates + 1)) >= 0) ++run_replicates;
+    if (d.replicate == 1 && run_replicates > plan.replicates)
+      d.changes.push_back("replicates: " + std::to_string(run_replicates) + " histories of '" + d.design + "' in the run -> " +
+                          std::to_string(plan.replicates) + " continued (its rows are the first " +
+                          (plan.replicates == 1 ? std::string("history's") : std::to_string(plan.replicates) + "'s") +
+                          ", not the run's mean over " + std::to_string(run_replicates) + "; --replicates " +
+                          std::to_string(run_replicates) + " continues them all)");
     // The liner goes on from the run's stage as it is: a mill of another size or other lifters
     // would wear a liner that does not fit it. Nor may the mill's length, the slice's
     // thickness or the liner's density change: the copied stages' figures per mill and their
