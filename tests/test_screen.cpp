@@ -373,6 +373,25 @@ TEST_F(ScreenRun, KilledTaskIsReportedMissingAndRerunCompletesTheRanking) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// A task of several designs runs each of them whatever the others did: a candidate made
+// unreadable is that design's (exit 2 at the end), where the task stopped at it and left the
+// designs after it never run.
+TEST_F(ScreenRun, ATaskOfSeveralDesignsRunsThoseAfterOneThatIsRefused) {
+  const fs::path out = root_ / "chunk";
+  Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --emit parallel --chunk 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path bad = out / "candidates" / "d001.toml";
+  std::string text = slurp(bad);
+  const auto at = text.find("\nspeed = ");
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at + 1, text.find('\n', at + 1) - at - 1, "speed = 5.0");
+  std::ofstream(bad, std::ios::binary) << text;
+  r = millwear_cmd("screen-task " + q(out) + " 0 1 2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* d : {"d000", "d002"})
+    EXPECT_NE(slurp(out / "designs" / d / "task.status").find("finished"), std::string::npos) << d << "\n" << r.output;
+}
+
 // Task numbers are checked before any task runs: an empty one (an unset array index) is not
 // task 0, and a bad one after a good one runs neither.
 TEST_F(ScreenRun, TaskNumbersAreCheckedBeforeAnyTaskRuns) {

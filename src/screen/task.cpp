@@ -129,7 +129,9 @@ int run_screen_tasks(const std::string& out, const std::vector<int>& indices, co
   for (int i : indices) {
     const TaskOutcome o = run_screen_task(out, designs, i, options);
     if (on_task) on_task(o);
-    if (o.exit_code > 1) return o.exit_code;  // bad input or interrupted: stop here
+    // Interrupted: stop here (run the task again to continue). A design that failed or whose
+    // inputs are bad is that design's: the task's other designs still run.
+    if (o.exit_code >= 128) return o.exit_code;
     worst = std::max(worst, o.exit_code);
   }
   return worst;
