@@ -517,6 +517,18 @@ TEST(View, AScriptStopsAtARefusedControl) {
   EXPECT_FALSE(fs::exists(dir / "end.png"));
 }
 
+// A lifter shape the checker refuses is named by the values the line gave, where the refusal
+// named the view's temporary lifter file and the scene's profile line.
+TEST(View, ARefusedLifterShapeIsNamedByItsValues) {
+  const TempDir dir("millwear-view-test-lifter");
+  write(dir / "s.txt", "0 lifter 20 -10 30\n0.1 quit\n");
+  const Result r = run_millwear("view " + q(kLab) + " --size 640 400 --script " + q((dir / "s.txt").string()), dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("refused at line 1: lifter 20 -10 30: leading_face_angle: expected"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("millwear-view-"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("the profile named by"), std::string::npos) << r.err;
+}
+
 // Screenshots asked for at one script time are each written, each of the frame after the
 // lines before it: only the last of a frame's was.
 TEST(View, EveryScreenshotOfAScriptTimeIsWritten) {

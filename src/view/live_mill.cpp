@@ -192,9 +192,18 @@ std::string LiveMill::set_lifter_shape(double height_mm, double leading_deg, dou
   const std::string file = (fs::path(temp_dir_) / (scene_.name + "_lifter.toml")).string();
   const std::string before = fs::exists(file) ? read_text(file) : "";
   io::write_file_atomic(file, text);
-  const std::string r = apply({"lifters", "profile", toml_string_value(file), {"pattern"}}, true, false);
-  if (r.empty()) edited_profile_text_ = text;
-  else if (!before.empty()) io::write_file_atomic(file, before);  // the lifter in use stays
+  std::string r = apply({"lifters", "profile", toml_string_value(file), {"pattern"}}, true, false);
+  if (r.empty()) {
+    edited_profile_text_ = text;
+    return r;
+  }
+  if (!before.empty()) io::write_file_atomic(file, before);  // the lifter in use stays
+  // Said of the lifter asked for, by its three values: the file it went into is the view's
+  // own, and the scene's profile line that names that file is no value the user gave.
+  const std::string asked = "lifter " + number(height_mm) + " " + number(leading_deg) + " " + number(trailing_deg);
+  if (const auto at = r.find(file); at != std::string::npos) r.replace(at, file.size(), asked);
+  const auto named = r.rfind(" (the profile named by lifters.profile in ");
+  if (named != std::string::npos && r.back() == ')') r.erase(named);
   return r;
 }
 
