@@ -405,6 +405,23 @@ TEST_F(ScreenRun, TaskNumbersAreCheckedBeforeAnyTaskRuns) {
   }
 }
 
+// A finished design whose results went missing is failed with the file named as it lies in
+// OUT, so the ranking is the same bytes whatever OUT was called on the command line; the
+// reason says the file is not there (it said "a readable file").
+TEST_F(ScreenRun, AFinishedDesignsLostResultsAreNamedWithinTheScreensFolder) {
+  const fs::path out = root_ / "lost";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove(out / "designs" / "d000" / "summary.csv");
+  Result r = shell("cd " + q(root_) + " && " + q(MILLWEAR_BINARY) + " screen --collect lost");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const std::string relative = slurp(out / "ranking.csv");
+  EXPECT_NE(relative.find("results unreadable: designs/d000/summary.csv: a file there (not found)"), std::string::npos)
+      << relative;
+  r = millwear_cmd("screen --collect " + q(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(slurp(out / "ranking.csv"), relative);
+}
+
 // A damaged designs.csv is refused naming it; the ranking already there is left as it was.
 TEST_F(ScreenRun, CollectRefusesADamagedDesignsListAndKeepsTheRanking) {
   const fs::path out = root_ / "damaged";

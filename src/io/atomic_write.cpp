@@ -141,8 +141,9 @@ std::string read_file(const std::string& path) {
     throw InputError(path, "", "a file of at most " + std::to_string(kMaxInputFileBytes >> 20) +
                                    " MB (a liner scan of ten million points), found " +
                                    std::to_string(bytes >> 20) + " MB");
+  if (!fs::exists(st)) throw InputError(path, "", "a file there (not found)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "a readable file");
+  if (!in) throw InputError(path, "", "a readable file (it cannot be opened: its permissions?)");
   std::ostringstream s;
   s << in.rdbuf();
   if (in.bad()) throw InputError(path, "", "a readable file (read failed)");

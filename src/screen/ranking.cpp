@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <map>
 
+#include "common/errors.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/run_folder.hpp"
@@ -15,6 +17,8 @@
 #include "metrics/pareto.hpp"
 
 namespace millwear::screen {
+
+namespace fs = std::filesystem;
 
 DesignResult read_design_result(const std::string& out, const Candidate& c) {
   DesignResult r;
@@ -85,6 +89,13 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     r.life_sigma_h = s.number(first, "life_h_se");
     if (s.has_column("error_source")) r.error_source = s.text(first, s.column("error_source"));
     r.status = "finished";
+  } catch (const InputError& e) {
+    // The file named as it lies in OUT: the ranking holds no path of OUT's own (the same bytes
+    // whatever OUT was called on the command line).
+    r.status = "failed";
+    const fs::path rel = fs::path(e.file).lexically_relative(out);
+    const std::string file = e.file.empty() || rel.empty() || *rel.begin() == ".." ? e.file : rel.generic_string();
+    r.reason = "results unreadable: " + InputError::format(file, e.where, e.expected);
   } catch (const std::exception& e) {
     r.status = "failed";
     r.reason = std::string("results unreadable: ") + e.what();
