@@ -420,6 +420,12 @@ TEST_F(ScreenRun, AFinishedDesignsLostResultsAreNamedWithinTheScreensFolder) {
   r = millwear_cmd("screen --collect " + q(out));
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(slurp(out / "ranking.csv"), relative);
+  // The command to finish it names a folder with a space as one shell word.
+  const fs::path spaced = root_ / "lost results";
+  fs::copy(out, spaced, fs::copy_options::recursive);
+  r = millwear_cmd("screen --collect " + q(spaced));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("millwear screen-task '" + spaced.string() + "' I"), std::string::npos) << r.output;
 }
 
 // A damaged designs.csv is refused naming it; the ranking already there is left as it was.

@@ -88,7 +88,7 @@ int print_collected(const std::string& out, const CollectOutcome& o) {
               o.ranked.size(), o.ranked.size() - o.failed - o.missing, o.failed, o.missing);
   if (o.missing + o.failed > 0)
     std::printf("to finish: run the missing/failed tasks again (millwear screen-task %s I), or re-emit them "
-                "with --emit, then --collect\n", out.c_str());
+                "with --emit, then --collect\n", shell_word(out).c_str());
   if (o.figures_failed)
     std::printf("to draw the figures: run the screen again with --resume (a finished design's task only redraws "
                 "them), then --collect\n");
