@@ -1019,6 +1019,16 @@ TEST(Continue, TheChangesListedAreTheScenesAndAHistoryLeftBehindIsNamed) {
   r = run_millwear("run " + quoted(scene) + next + " --set wear.stages=3 --replicates 2 --check");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("replicates:"), std::string::npos) << r.output;
+  // A continuation from another stage into that folder is refused naming the two stages, where
+  // it blamed other scene or profile files.
+  r = run_millwear("run " + quoted(scene) + next + " --set wear.stages=2 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_millwear("run " + quoted(scene) + " -o " + quoted(dir.path() / "next") + " --continue " + quoted(first) +
+                   " --stage 0 --set wear.stages=2 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--continue: " + first.string() + " stage 1 then, " + first.string() + " stage 0 now"),
+            std::string::npos)
+      << r.output;
 }
 
 // A pattern's kinds are the scene's lifters.pattern: a continued run whose pattern lists the

@@ -349,11 +349,14 @@ io::KeyValues resume_key(const Plan& plan) {
 }
 
 // What differs between the plan's designs and those the run in OUT recorded in its manifest:
-// the --set overrides, the fidelity (each named with the run's and this one's), else the
-// scene or profile files' contents.
+// the --set overrides, the fidelity, the run and stage a continuation goes on from (each named
+// with the run's and this one's), else the scene or profile files' contents.
 std::string changed_inputs(const Plan& plan, const std::string& out) {
   std::vector<std::string> sets_then, sets_now;
-  std::string fidelity_then, fidelity_now;
+  std::string fidelity_then, fidelity_now, from_then = "none", from_now = "none";
+  const auto from_text = [](const std::string& run, long long stage) {
+    return run.empty() ? std::string("none") : run + " stage " + std::to_string(stage);
+  };
   try {
     const nlohmann::json m = nlohmann::json::parse(io::read_file(io::manifest_path(out)));
     bool found = false;
@@ -365,6 +368,10 @@ std::string changed_inputs(const Plan& plan, const std::string& out) {
           sets_now = p.scene.overrides;
           fidelity_then = d.at("fidelity").get<std::string>();
           fidelity_now = p.scene.fidelity;
+          if (d.contains("continued_from"))
+            from_then = from_text(d.at("continued_from").at("run").get<std::string>(),
+                                  d.at("continued_from").at("stage").get<long long>());
+          from_now = from_text(p.continue_run, p.continue_stage);
         }
     }
     if (!found) throw std::runtime_error("no design of this run in the manifest");
@@ -379,6 +386,7 @@ std::string changed_inputs(const Plan& plan, const std::string& out) {
   std::vector<std::string> reasons;
   if (sets_then != sets_now) reasons.push_back("--set overrides: " + joined(sets_then) + " then, " + joined(sets_now) + " now");
   if (fidelity_then != fidelity_now) reasons.push_back("fidelity: " + fidelity_then + " then, " + fidelity_now + " now");
+  if (from_then != from_now) reasons.push_back("--continue: " + from_then + " then, " + from_now + " now");
   if (reasons.empty()) return "other scene or profile files";
   std::string text;
   for (const auto& r : reasons) text += (text.empty() ? "" : "; ") + r;
