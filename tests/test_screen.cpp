@@ -814,6 +814,29 @@ TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
       << bad.text(0, bad.column("reason"));
 }
 
+// A folder of a screen whose file changed since is refused naming that file's contents as
+// what changed (it said only that one of the screen file, base scene or profiles, or the
+// version did); another screen file of other contents is named then and now.
+TEST(ScreenSet, AFolderOfAScreenWhoseFileChangedNamesTheFile) {
+  const TempDir dir("millwear-screen-changed");
+  const fs::path out = dir / "out", screen = dir / "screen.toml", other = dir / "other.toml";
+  std::string text = slurp(src(kScreen));
+  const std::string base = "\"../../scenarios/lab-mill.toml\"";
+  text.replace(text.find(base), base.size(), "\"" + src("scenarios/lab-mill.toml") + "\"");
+  std::ofstream(screen, std::ios::binary) << text;
+  Result r = millwear_cmd("screen " + q(screen) + " -o " + q(out) + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ofstream(screen, std::ios::binary) << text + "\n# a note\n";
+  r = millwear_cmd("screen " + q(screen) + " -o " + q(out) + " --emit parallel");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("(the contents of " + screen.string() + " changed)"), std::string::npos) << r.output;
+  std::ofstream(other, std::ios::binary) << text + "\n# another note\n";
+  r = millwear_cmd("screen " + q(other) + " -o " + q(out) + " --emit parallel");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("input 1 (" + screen.string() + " then, " + other.string() + " now)"), std::string::npos)
+      << r.output;
+}
+
 // --set KEY=VALUE over the base scene: in every candidate's scene file (what the pool, GNU
 // parallel and Slurm tasks read), recorded in screen.key, part of the fingerprint; a task run
 // from the emitted list runs the overridden scene.

@@ -169,15 +169,38 @@ ScreenInputs read_screen_inputs(const ScreenRequest& a) {
   return in;
 }
 
-// What of a screen's inputs differs from those its key recorded: the --set overrides or
-// --replicates; otherwise the contents of its files (or the program's version).
+// The key's record of an input file: its absolute path and a hash of its contents.
+std::string input_record(const std::string& file) {
+  return abs_path(file) + " " + io::stable_hash_hex(io::read_file(file));
+}
+
+// What of a screen's inputs differs from those its key recorded: the --set overrides,
+// --replicates, the program's version, each input file (another file, or its contents);
+// a key without those records says only that something did.
 std::string key_changes(const io::KeyValues& have, const ScreenRequest& a, const ScreenDef& def) {
-  std::vector<std::string> sets;
-  for (const auto& [k, v] : have)
+  std::vector<std::string> sets, inputs_then;
+  for (const auto& [k, v] : have) {
     if (k == "set") sets.push_back(v);
+    if (k == "input") inputs_then.push_back(v);
+  }
   std::vector<std::string> changed;
   if (sets != def.overrides) changed.push_back("--set overrides");
   if (io::find_value(have, "replicates") != std::to_string(a.replicates)) changed.push_back("--replicates");
+  const std::string version = io::find_value(have, "version");
+  if (!version.empty() && version != MILLWEAR_VERSION)
+    changed.push_back("the millwear version (" + version + " then, " + MILLWEAR_VERSION + " now)");
+  if (!inputs_then.empty()) {
+    const std::vector<std::string> files = screen_inputs(a.screen_file, def);
+    const auto path_of = [](const std::string& record) { return record.substr(0, record.rfind(' ')); };
+    for (std::size_t i = 0; i < std::max(files.size(), inputs_then.size()); ++i) {
+      const std::string now = i < files.size() ? input_record(files[i]) : "";
+      const std::string then = i < inputs_then.size() ? inputs_then[i] : "";
+      if (now == then) continue;
+      if (!now.empty() && !then.empty() && path_of(now) == path_of(then)) changed.push_back("the contents of " + path_of(now));
+      else changed.push_back("input " + std::to_string(i + 1) + " (" + (then.empty() ? "none" : path_of(then)) + " then, " +
+                             (now.empty() ? "none" : path_of(now)) + " now)");
+    }
+  }
   std::string text;
   for (const auto& c : changed) text += (text.empty() ? "" : ", ") + c;
   return text.empty() ? "the contents of the screen file, base scene or profiles, or the millwear version, changed"
@@ -229,6 +252,9 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                     {"varying", vary},
                     {"replicates", std::to_string(a.replicates)}};
   for (const auto& o : def.overrides) key.emplace_back("set", o);  // in order, as given
+  // What the fingerprint holds, each on its own: a folder of another screen says what changed.
+  key.emplace_back("version", MILLWEAR_VERSION);
+  for (const std::string& f : screen_inputs(a.screen_file, def)) key.emplace_back("input", input_record(f));
   io::write_file_atomic(key_file, io::format_key_values(key, "millwear screen (for --resume, --emit, --collect)"));
   ScreenSetup s;
   s.name = def.name;
