@@ -250,8 +250,9 @@ void continue_designs(Plan& plan, const PlanArgs& args) {
     // A run of more histories per design than this continuation takes on: the rows copied and
     // continued are the first ones' alone, not the run's mean over its histories.
     int run_replicates = 1;
-    while (io::last_finished_stage(run, d.design + ".r" + std::to_string(run_replicates + 1)) >= 0) ++run_replicates;
-    if (d.replicate == 1 && run_replicates > plan.replicates)
+    while (d.replicate == 1 && io::last_finished_stage(run, d.design + ".r" + std::to_string(run_replicates + 1)) >= 0)
+      ++run_replicates;
+    if (run_replicates > plan.replicates)
       d.changes.push_back("replicates: " + std::to_string(run_replicates) + " histories of '" + d.design + "' in the run -> " +
                           std::to_string(plan.replicates) + " continued (its rows are the first " +
                           (plan.replicates == 1 ? std::string("history's") : std::to_string(plan.replicates) + "'s") +
