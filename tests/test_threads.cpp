@@ -2,17 +2,25 @@
 // cores included), on the lab mill and on a charge of about 10k disks.
 #include <gtest/gtest.h>
 
+#include <sched.h>
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <vector>
 
 #include "../bench/probe_scene.hpp"
+#include "cli_support.hpp"
 #include "common/parallel.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/workers.hpp"
 #include "engine_fixtures.hpp"
 #include "study/charge_run.hpp"
+#include "temp_dir.hpp"
 
 using namespace millwear;
 
@@ -64,6 +72,78 @@ void expect_same_bits(const ChargeState& s1, const Accounting& a1, const ChargeS
 }
 
 }  // namespace
+
+// The default counts of threads and jobs are the CPUs the process may run on: under
+// `taskset` or a Slurm allocation of one CPU, one, not the machine's cores.
+TEST(ParallelTasks, TheCoresCountedAreThoseTheProcessMayRunOn) {
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+  int first = 0;
+  while (!CPU_ISSET(first, &all)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+  const int cores = core_count(), jobs = jobs_for(0, 8), threads = step_threads_beside(0, 1);
+  ASSERT_EQ(sched_setaffinity(0, sizeof all, &all), 0);
+  EXPECT_EQ(cores, 1);
+  EXPECT_EQ(jobs, 1);
+  EXPECT_EQ(threads, 1);
+  EXPECT_EQ(core_count(), CPU_COUNT(&all));
+}
+
+// A thread the system cannot start (here an address-space limit a few thread stacks above
+// what the process has mapped) is left out: start_threads returns those it started, and the
+// parallel loop does every index on them and the caller.
+TEST(ParallelTasks, ThreadsTheSystemCannotStartAreLeftOut) {
+  long mapped_kb = 0;
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmSize:", 0) == 0) mapped_kb = std::stol(line.substr(7));
+  ASSERT_GT(mapped_kb, 0);
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &old), 0);
+  rlimit tight = old;
+  tight.rlim_cur = static_cast<rlim_t>(mapped_kb + 48 * 1024) * 1024;
+  if (old.rlim_cur != RLIM_INFINITY) tight.rlim_cur = std::min(tight.rlim_cur, old.rlim_cur);
+  std::atomic<bool> go{false};
+  std::atomic<int> ran{0};
+  std::vector<int> done(4000, 0);
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &tight), 0);
+  std::vector<std::thread> started = start_threads(256, [&](int) {
+    while (!go.load()) std::this_thread::yield();
+    ++ran;
+  });
+  for_each_index_parallel(done.size(), 256, [&](std::size_t i) { ++done[i]; });
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &old), 0);
+  go = true;
+  for (std::thread& t : started) t.join();
+  EXPECT_LT(started.size(), 256u);
+  EXPECT_EQ(ran.load(), static_cast<int>(started.size()));
+  for (std::size_t i = 0; i < done.size(); ++i) ASSERT_EQ(done[i], 1) << i;
+}
+
+// Where the system cannot start every thread asked for (here an address-space limit that
+// leaves room for a few thread stacks), the step runs on those it started, with the same
+// results; a thread that failed to start aborted the program (exit 134).
+TEST(SoftThreads, ThreadsTheSystemCannotStartLeaveTheSameResults) {
+  namespace fs = std::filesystem;
+  const millwear::testing::TempDir dir("millwear-threads-limit");
+  const std::string scene = millwear::testing::source_path("scenarios/lab-mill.toml");
+  const std::string args = " --revolutions 0.01 --set solver.settle_time=0.01 --set solver.spinup_revolutions=0.01 -q";
+  // Without gnuplot on the PATH (the results stand alone): the limit would hold it too.
+  const std::string bin = "PATH=/nonexistent \"" + std::string(MILLWEAR_BINARY) + "\" charge \"" + scene + "\" -o ";
+  const auto one = millwear::testing::run_shell(bin + "\"" + (dir / "one").string() + "\" --threads 1" + args);
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const auto many =
+      millwear::testing::run_shell("ulimit -v 300000; " + bin + "\"" + (dir / "many").string() + "\" --threads 256" + args);
+  ASSERT_EQ(many.exit_code, 0) << many.output;
+  for (const char* f : {"snapshot_lab-mill.csv", "liner_work.csv", "spectrum.csv", "impacts.csv"}) {
+    const std::string a = millwear::testing::read_text(dir / "one" / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, millwear::testing::read_text(dir / "many" / f)) << f;
+  }
+}
 
 TEST(SoftThreads, ThreadCountDoesNotChangeTheBitsOnTheLabMill) {
   Scene scene = millwear::testing::lab_mill();

@@ -6,13 +6,36 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
+#include <sched.h>
+
 namespace millwear {
 
-// The machine's cores (at least 1).
-inline int core_count() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
+// The CPUs this process may run on (at least 1): its affinity mask, which `taskset`, Slurm's
+// allocation or a container's CPU set narrow; the machine's cores where the mask cannot be read.
+inline int core_count() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// Up to `count` threads, thread t running fn(t); fewer when the system cannot start more (a
+// process or memory limit): the caller shares the work among those started, or does it
+// itself when none started. Every task's result is the same whichever thread runs it.
+template <class F>
+std::vector<std::thread> start_threads(int count, const F& fn) {
+  std::vector<std::thread> threads;
+  threads.reserve(static_cast<std::size_t>(std::max(count, 0)));
+  try {
+    for (int t = 0; t < count; ++t) threads.emplace_back(fn, t);
+  } catch (const std::system_error&) {
+  }
+  return threads;
+}
 
 // How many of `tasks` run at once: `requested` when given (> 0), else the cores; never more
 // than the tasks, at least 1.
@@ -51,12 +74,7 @@ void for_each_index_parallel(std::size_t n, int jobs, const F& fn) {
     }
   };
   const int threads = static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(std::max(jobs, 1), n)));
-  std::vector<std::thread> pool;
-  pool.reserve(static_cast<std::size_t>(threads) - 1);
-  try {
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  } catch (...) {  // a thread that cannot start: the caller and those started do the work
-  }
+  std::vector<std::thread> pool = start_threads(threads - 1, [&worker](int) { worker(); });
   worker();
   for (auto& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);

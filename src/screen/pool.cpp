@@ -89,36 +89,38 @@ PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& 
 
   const auto t0 = std::chrono::steady_clock::now();
   std::atomic<std::size_t> next{0};
-  std::atomic<int> workers_left{outcome.jobs};
-  std::vector<std::thread> workers;
-  if (options.on_start) options.on_start(outcome.jobs);
-  for (int j = 0; j < outcome.jobs; ++j)
-    workers.emplace_back([&] {
-      for (std::size_t k; (k = next.fetch_add(1)) < todo.size();) {
-        if (stop() != 0) break;
-        const int i = todo[k];
-        {
-          std::lock_guard<std::mutex> lock(pool.mutex);
-          ++pool.running;
-        }
-        const Candidate& c = designs[static_cast<std::size_t>(i)];
-        const int rc = spawn_task(pool, exe, out, i, io::join_path(logs, c.name + ".log"));
-        const bool crashed = rc > 128 && stop() == 0;
-        if (crashed) {
-          // The task died without a word (a crash, the OOM killer): say so in its status.
-          try {
-            write_task_status(out, c, "failed", rc,
-                              "the task died with signal " + std::to_string(rc - 128) + " (see logs/" + c.name + ".log)");
-          } catch (const std::exception&) {
-          }
-        }
+  std::atomic<std::size_t> finished{0};
+  const auto work = [&](int) {
+    for (std::size_t k; (k = next.fetch_add(1)) < todo.size();) {
+      if (stop() != 0) break;
+      const int i = todo[k];
+      {
         std::lock_guard<std::mutex> lock(pool.mutex);
-        --pool.running;
-        if (rc == 0 || (rc == 1 && design_finished(out, c))) ++pool.done;  // 1: its figures failed
-        else if (rc == 1 || rc == 2 || crashed) ++pool.failed;
+        ++pool.running;
       }
-      workers_left.fetch_sub(1);
-    });
+      const Candidate& c = designs[static_cast<std::size_t>(i)];
+      const int rc = spawn_task(pool, exe, out, i, io::join_path(logs, c.name + ".log"));
+      const bool crashed = rc > 128 && stop() == 0;
+      if (crashed) {
+        // The task died without a word (a crash, the OOM killer): say so in its status.
+        try {
+          write_task_status(out, c, "failed", rc,
+                            "the task died with signal " + std::to_string(rc - 128) + " (see logs/" + c.name + ".log)");
+        } catch (const std::exception&) {
+        }
+      }
+      std::lock_guard<std::mutex> lock(pool.mutex);
+      --pool.running;
+      if (rc == 0 || (rc == 1 && design_finished(out, c))) ++pool.done;  // 1: its figures failed
+      else if (rc == 1 || rc == 2 || crashed) ++pool.failed;
+    }
+    finished.fetch_add(1);
+  };
+  // As many of the jobs as the system starts; none started, the tasks run here in turn.
+  std::vector<std::thread> workers = start_threads(outcome.jobs, work);
+  outcome.jobs = std::max(1, static_cast<int>(workers.size()));
+  if (options.on_start) options.on_start(outcome.jobs);
+  if (workers.empty()) work(0);
   auto tick = [&] {
     if (!options.on_tick) return;
     std::lock_guard<std::mutex> lock(pool.mutex);
@@ -134,7 +136,7 @@ PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& 
     options.on_tick(p);
   };
   int last_signal = 0;
-  while (workers_left.load() > 0) {
+  while (finished.load() < workers.size()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     const int sig = stop();
     if (sig != 0 && sig != last_signal) {

@@ -685,21 +685,22 @@ void prepare_folder(RunState& ctx, const std::string& out, bool resuming) {
 void run_all(RunState& ctx, const RunOptions& opt, const std::vector<std::vector<StageRecord>>& earlier) {
   const std::size_t n = ctx.plan.designs.size();
   std::atomic<std::size_t> next{0};
-  std::atomic<int> running{ctx.jobs};
-  std::vector<std::thread> workers;
-  for (int j = 0; j < ctx.jobs; ++j)
-    workers.emplace_back([&] {
-      for (std::size_t i; (i = next.fetch_add(1)) < n;) {
-        if (stop_requested(opt)) {
-          std::lock_guard<std::mutex> lock(ctx.mutex);
-          ctx.designs[i]->status = DesignStatus::Interrupted;
-          continue;
-        }
-        run_design(ctx, opt, i, earlier[i]);
+  std::atomic<std::size_t> finished{0};
+  const auto work = [&](int) {
+    for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+      if (stop_requested(opt)) {
+        std::lock_guard<std::mutex> lock(ctx.mutex);
+        ctx.designs[i]->status = DesignStatus::Interrupted;
+        continue;
       }
-      running.fetch_sub(1);
-    });
-  while (running.load() > 0) {
+      run_design(ctx, opt, i, earlier[i]);
+    }
+    finished.fetch_add(1);
+  };
+  // As many of ctx.jobs as the system starts; none started, the designs run here in turn.
+  std::vector<std::thread> workers = start_threads(ctx.jobs, work);
+  if (workers.empty()) work(0);
+  while (finished.load() < workers.size()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     std::lock_guard<std::mutex> lock(ctx.mutex);
     tick(opt);

@@ -10,6 +10,8 @@
 #define MW_PAUSE() ((void)0)
 #endif
 
+#include "common/parallel.hpp"
+
 namespace millwear::soft {
 
 namespace {
@@ -39,8 +41,8 @@ Workers::Workers(int threads) {
   const int helpers = std::max(1, threads) - 1;
   claims_ = std::make_unique<Claim[]>(static_cast<std::size_t>(helpers) + 1);
   begins_.assign(static_cast<std::size_t>(helpers) + 2, 0);
-  helpers_.reserve(static_cast<std::size_t>(helpers));
-  for (int t = 0; t < helpers; ++t) helpers_.emplace_back([this, t] { helper_loop(t + 1); });
+  // Fewer helpers when the system cannot start them all: the same bits on fewer threads.
+  helpers_ = start_threads(helpers, [this](int t) { helper_loop(t + 1); });
 }
 
 Workers::~Workers() {
