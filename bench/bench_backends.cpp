@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "common/errors.hpp"
 #include "engine/engine.hpp"
 #include "engine/soft/workers.hpp"
 #include "probe_scene.hpp"
@@ -201,14 +202,14 @@ struct Stat {
 };
 
 int compare(const std::string& path, double revolutions, int batches, const char* only) {
-  Scene base = load_scene(path);
-  base.mill.direction = Direction::Forward;
   std::printf("%s: %d batches of %.2f revolutions after settle and spin-up (mean +- batch-means SE)\n",
               path.c_str(), batches, revolutions / batches);
   for (Backend b : {Backend::Box2D, Backend::Soft}) {
-    if (only && std::strcmp(only, b == Backend::Box2D ? "box2d" : "soft") != 0) continue;
-    Scene scene = base;
-    scene.solver.backend = b;
+    const char* name = b == Backend::Box2D ? "box2d" : "soft";
+    if (only && std::strcmp(only, name) != 0) continue;
+    // Each backend as the scene file naming it: the fidelity preset's time step is the backend's.
+    Scene scene = load_scene(path, {std::string("solver.backend=") + name});
+    scene.mill.direction = Direction::Forward;
     const MillGeometry mill = build_scene_mill(scene);
     auto engine = make_engine(scene, mill, fill_charge(scene, mill), accounting_options_for(scene));
     settle_and_spin_up(*engine, scene, 1.0);
@@ -471,9 +472,15 @@ int main(int argc, char** argv) {
   if (argc > 3 && std::strcmp(argv[1], "--snapshot") == 0) return snapshot(argv[2], argv[3]);
   if (argc > 3 && std::strcmp(argv[1], "--run") == 0)
     return run_snapshot(argv[2], std::atoi(argv[3]), argc > 4 ? argv[4] : nullptr);
-  if (argc > 2 && std::strcmp(argv[1], "--compare") == 0)
-    return compare(argv[2], argc > 3 ? std::atof(argv[3]) : 6.0, argc > 4 ? std::atoi(argv[4]) : 6,
-                   argc > 5 ? argv[5] : nullptr);
+  if (argc > 2 && std::strcmp(argv[1], "--compare") == 0) {
+    try {
+      return compare(argv[2], argc > 3 ? std::atof(argv[3]) : 6.0, argc > 4 ? std::atoi(argv[4]) : 6,
+                     argc > 5 ? argv[5] : nullptr);
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "bench_backends: error: %s\n", e.what());
+      return 2;
+    }
+  }
   if (argc > 1 && std::strcmp(argv[1], "--pool") == 0) return pool_table();
   if (argc > 1 && std::strcmp(argv[1], "--equal-size") == 0) return equal_size_table(argc > 2 ? std::atof(argv[2]) : 1.0);
   const char* usage =

@@ -15,6 +15,7 @@
 #include "common/errors.hpp"
 #include "common/units.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/filling.hpp"
 #include "scene/scene.hpp"
 #include "temp_dir.hpp"
 #include "tiny_scene.hpp"
@@ -178,4 +179,51 @@ TEST_F(Overrides, TheCommandLineExitsTwoNamingTheKeyBeforeWritingAnything) {
         << cmd << ": " << c.output;
   }
   EXPECT_FALSE(fs::exists(out));
+}
+
+// A species' size keys switch it between a uniform range, listed fractions and a size
+// distribution, and a distribution between its two forms, from the command line: each drops
+// the file's keys of the other kind (setting size_range on a distribution was refused as a
+// distribution without sizes, and fractions as fractions beside a distribution).
+TEST(OverridesSpecies, ASpeciesSwitchesBetweenARangeFractionsAndADistribution) {
+  const std::string fine = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/sag-2x30-fine.toml";
+  const std::string sp = "charge.species[1].";
+  const Scene range = load_scene(fine, {sp + "size_range=[100.0, 250.0]"});
+  EXPECT_TRUE(range.charge.species[1].diameters_m.empty());
+  EXPECT_DOUBLE_EQ(range.charge.species[1].d_max_m, 0.25);
+  const Scene listed = load_scene(fine, {sp + "mass_fractions=[0.125,0.125,0.125,0.125,0.125,0.125,0.125,0.125]"});
+  EXPECT_EQ(listed.charge.species[1].distribution_held, 0.0);
+  EXPECT_EQ(listed.charge.species[1].mass_fractions.front(), 0.125);
+  const Scene rr = load_scene(fine, {sp + "distribution=rosin-rammler", sp + "size_63=100"});
+  const SpeciesDef& rock = rr.charge.species[1];
+  const std::vector<double> want =
+      distribution_mass_fractions(SizeForm::RosinRammler, rock.diameters_m, 0.1, 0.8);
+  ASSERT_EQ(rock.mass_fractions.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_DOUBLE_EQ(rock.mass_fractions[i], want[i]) << i;
+  // And back: a Rosin-Rammler species given the other form drops its size_63.
+  const Scene ggs = load_scene(fine, {sp + "distribution=rosin-rammler", sp + "size_63=100",
+                                      sp + "distribution=gates-gaudin-schuhmann", sp + "top_size=300"});
+  EXPECT_DOUBLE_EQ(ggs.charge.species[1].mass_fractions.front(),
+                   distribution_mass_fractions(SizeForm::GatesGaudinSchuhmann, rock.diameters_m, 0.3, 0.8).front());
+  // A range becomes a distribution.
+  const std::string sag = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/sag-2x30.toml";
+  const Scene from_range = load_scene(sag, {sp + "sizes=[200.0, 100.0]", sp + "distribution=gates-gaudin-schuhmann",
+                                            sp + "top_size=250", sp + "exponent=0.8"});
+  EXPECT_EQ(from_range.charge.species[1].diameters_m.size(), 2u);
+  EXPECT_GT(from_range.charge.species[1].distribution_held, 0.0);
+}
+
+// A cut-off within a billionth above the largest size keeps that size, as the fill keeps a
+// class at the cut-off; one further above is refused, printed so that the two sizes differ
+// (nine digits printed 225.0000003 as 225, and refused 225.0000001, whose class the fill keeps).
+TEST(OverridesSpecies, ACutOffAHairAboveTheLargestSizeKeepsItAndOneBeyondIsRefusedReadably) {
+  const std::string fine = std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/sag-2x30-fine.toml";
+  const Scene s = load_scene(fine, {"solver.size_cutoff=225.0000001"});
+  EXPECT_EQ(s.species_as_placed()[1].diameters_m, std::vector<double>{0.225});
+  try {
+    load_scene(fine, {"solver.size_cutoff=225.0000003"});
+    ADD_FAILURE() << "a cut-off above the largest size was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.expected.find("largest size with mass 225 mm), got 225.0000003 mm"), std::string::npos) << e.what();
+  }
 }

@@ -122,7 +122,7 @@ int run_charge(const ChargeArgs& args) {
   record.files = write_charge_outputs(staged.dir(), scene, result, est, wall);
   const ChargeFigures& f = result.figures;
   for (const auto& e : result.events) std::cerr << "millwear: warning: t=" << e.time_s << " s: " << e.what << "\n";
-  std::printf("%s: %zu disks, %.1f revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
+  std::printf("%s: %zu disks, %g revolutions in %.1f s wall (%.2f M disk-steps/s)\n",
               scene.name.c_str(), result.disks, scene.run.revolutions, wall,
               result.window_wall_s > 0 ? result.disk_steps / result.window_wall_s / 1e6 : 0.0);
   // Four significant digits: a lab mill turning slowly draws some 0.02 kW/m, a SAG mill 2000.

@@ -50,30 +50,34 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k) {
   std::vector<std::int64_t> count(given.diameters_m.size(), 0);
   if (given.diameters_m.empty() || sp.diameters_m.empty()) return count;
   const double area = species_area_m2(scene, k);
-  // Real-valued counts of the sizes kept, in the order given.
-  std::vector<double> exact(given.diameters_m.size(), 0.0);
+  // Real-valued counts of the sizes kept, in the order given, and their disks' areas.
+  std::vector<double> exact(given.diameters_m.size(), 0.0), disk_m2(given.diameters_m.size(), 0.0);
   std::size_t kept = 0;
   for (std::size_t j = 0; j < given.diameters_m.size(); ++j) {
     if (kept == sp.diameters_m.size() || given.diameters_m[j] != sp.diameters_m[kept]) continue;
     const double d = sp.diameters_m[kept];
-    exact[j] = area * sp.mass_fractions[kept] / (0.25 * kPi * d * d);
+    disk_m2[j] = 0.25 * kPi * d * d;
+    exact[j] = area * sp.mass_fractions[kept] / disk_m2[j];
     ++kept;
   }
-  double total = 0.0;
-  std::int64_t whole = 0;
+  double left_m2 = area;
   for (std::size_t j = 0; j < exact.size(); ++j) {
     count[j] = static_cast<std::int64_t>(std::floor(exact[j]));
-    whole += count[j];
-    total += exact[j];
+    left_m2 -= static_cast<double>(count[j]) * disk_m2[j];
   }
-  // The disks left over go to the largest remainders; ties to the earlier size.
-  std::int64_t left = std::llround(total) - whole;
+  // One more disk for the sizes of the largest remainders (ties to the earlier size), each
+  // while the area left holds at least half of it: the species' area ends within half its
+  // largest disk of its share, however many sizes hold less than a disk.
   std::vector<std::size_t> order(exact.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return exact[a] - std::floor(exact[a]) > exact[b] - std::floor(exact[b]);
   });
-  for (std::size_t i = 0; i < order.size() && left > 0; ++i, --left) ++count[order[i]];
+  for (std::size_t j : order)
+    if (exact[j] > std::floor(exact[j]) && left_m2 >= 0.5 * disk_m2[j]) {
+      ++count[j];
+      left_m2 -= disk_m2[j];
+    }
   return count;
 }
 
@@ -87,6 +91,23 @@ double expected_disks(const Scene& scene, std::size_t k) {
   const double lo = sp.d_min_m, hi = sp.d_max_m;
   const double mean_area = 0.25 * kPi * (lo * lo + lo * hi + hi * hi) / 3.0;
   return species_area_m2(scene, k) / mean_area;
+}
+
+double share_in_disks(const Scene& scene, std::size_t k) {
+  const SpeciesDef sp = scene.species_as_placed()[k];
+  if (sp.diameters_m.empty()) return expected_disks(scene, k);
+  double disks = 0.0;
+  for (std::size_t j = 0; j < sp.diameters_m.size(); ++j)
+    disks += species_area_m2(scene, k) * sp.mass_fractions[j] / (0.25 * kPi * sp.diameters_m[j] * sp.diameters_m[j]);
+  return disks;
+}
+
+bool species_gets_a_disk(const Scene& scene, std::size_t k) {
+  const SpeciesDef sp = scene.species_as_placed()[k];
+  if (!sp.diameters_m.empty()) return expected_disks(scene, k) >= 1.0;
+  // The draw stops before a disk whose half overfills the share (engine/fill.cpp): the first
+  // disk is placed whatever it draws when the share holds half the largest.
+  return species_area_m2(scene, k) >= 0.125 * kPi * sp.d_max_m * sp.d_max_m;
 }
 
 double expected_charge_disks(const Scene& scene) {
@@ -120,7 +141,7 @@ std::vector<std::string> distribution_notes(const Scene& scene) {
   const std::vector<SpeciesDef> placed = scene.species_as_placed();
   for (std::size_t k = 0; k < scene.charge.species.size(); ++k) {
     const SpeciesDef& sp = scene.charge.species[k];
-    if (sp.diameters_m.empty()) continue;
+    if (sp.diameters_m.empty() || !scene.species_in_use(placed[k])) continue;
     // What the classes the cut-off keeps hold of the classes' mass (all of it without one).
     double listed = 0.0, kept = 0.0;
     const std::vector<double>& kept_sizes = placed[k].diameters_m;

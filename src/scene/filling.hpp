@@ -3,9 +3,10 @@
 // filling times the bulk packing, of the mill's area) goes to the ball and rock species in
 // equal shares within each kind, and within a species to its sizes by mass fraction (area
 // fraction in a slice of one density). Counts are whole disks: each size gets the whole
-// part of its share, and the disks left over (the species' total, rounded) go to the sizes
-// with the largest remainders, so a species matches its share within one disk however many
-// sizes it has. The filling (engine/fill.cpp) places exactly these counts; the limits
+// part of its share, and then one more disk goes to each size in order of the largest
+// remainders while the species' area left holds at least half of it. Each size is within one
+// disk of its share, and the species' area within half its largest disk of its own, however
+// many sizes hold less than a disk. The filling (engine/fill.cpp) places exactly these counts; the limits
 // (scene/limits.hpp) bound them before anything is placed.
 #include <cstdint>
 #include <string>
@@ -41,9 +42,15 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
 // The disks species k will get: exact for discrete sizes; for a uniform range, the share
 // over the mean disk area (the draw stops within half a disk of the share).
 double expected_disks(const Scene& scene, std::size_t k);
+// What species k's share holds in disks, real-valued (before the rounding to whole disks;
+// for a uniform range, of its mean disk).
+double share_in_disks(const Scene& scene, std::size_t k);
+// Whether species k gets at least one disk: for discrete sizes, whole disks are placed; for a
+// uniform range, whatever size the draw's first disk takes (its share holds half the largest).
+bool species_gets_a_disk(const Scene& scene, std::size_t k);
 // The disks of the whole charge: expected_disks summed over the species in use.
 double expected_charge_disks(const Scene& scene);
-// For each species (balls too) with a size distribution, what its classes hold of the
+// For each species in use (balls too) with a size distribution, what its classes hold of the
 // distribution's mass: "charge.species[1] ('rock'): its classes hold 84.2% of its
 // distribution's mass; the 15.8% finer than 25 mm goes to them"; with a size cut-off that
 // leaves classes out (of a distribution or of listed sizes), what the classes it keeps hold

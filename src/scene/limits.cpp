@@ -43,6 +43,13 @@ std::string size_text(double mm) {
   return buf;
 }
 
+// A size class in mm to four digits: 112.5 mm, 31.25 mm.
+std::string fine_size_text(double mm) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", mm);
+  return buf;
+}
+
 void check_steps(const std::string& file, const std::string& key, std::int64_t steps, const std::string& what) {
   if (steps <= kMaxPhaseSteps) return;
   throw InputError(file, key,
@@ -274,16 +281,32 @@ void check_filling(const Scene& scene, const std::string& file) {
                          std::to_string(scene.charge.species.size()));
   const auto placed = scene.species_as_placed();
   for (std::size_t k = 0; k < placed.size(); ++k) {
-    if (!scene.species_in_use(placed[k])) continue;
-    const double n = expected_disks(scene, k);
-    if (!(n >= 0.5)) {
-      char buf[400];
-      std::snprintf(buf, sizeof buf,
-                    "a filling that gives charge.species[%zu] ('%s') at least one disk: its share (%.3g m^2 of "
-                    "the slice) holds %.2f of its disks; raise the filling or use smaller sizes",
-                    k, placed[k].name.c_str(), species_area_m2(scene, k), n);
-      throw InputError(file, placed[k].is_ball ? "charge.ball_filling" : "charge.filling", buf);
-    }
+    if (!scene.species_in_use(placed[k]) || species_gets_a_disk(scene, k)) continue;
+    const SpeciesDef& sp = placed[k];
+    const std::string name = "charge.species[" + std::to_string(k) + "] ('" + sp.name + "')";
+    char why[300];
+    if (sp.diameters_m.empty())
+      std::snprintf(why, sizeof why,
+                    "its share (%.3g m^2 of the slice) holds %.2f of its mean disk, and the draw places its first "
+                    "disk whatever size it takes only with half the largest's area (%s mm, %.3g m^2)",
+                    species_area_m2(scene, k), share_in_disks(scene, k), fine_size_text(in_mm(sp.d_max_m)).c_str(),
+                    0.25 * kPi * sp.d_max_m * sp.d_max_m);
+    else
+      std::snprintf(why, sizeof why,
+                    "its share (%.3g m^2 of the slice) holds %.2f disks of its sizes, none of them half a disk or more",
+                    species_area_m2(scene, k), share_in_disks(scene, k));
+    // A cut-off that leaves the species only its coarser sizes is what takes its last disk.
+    Scene every_size = scene;
+    every_size.solver.size_cutoff_m = 0.0;
+    if (scene.solver.size_cutoff_m > 0.0 && species_gets_a_disk(every_size, k))
+      throw InputError(file, "solver.size_cutoff",
+                       "a cut-off that leaves " + name + " at least one disk: with its sizes from " +
+                           fine_size_text(in_mm(sp.smallest_diameter_m())) + " mm only, " + why +
+                           " (with every size it gets " + count_text(expected_disks(every_size, k)) +
+                           "); lower the cut-off or raise the filling");
+    throw InputError(file, sp.is_ball ? "charge.ball_filling" : "charge.filling",
+                     "a filling that gives " + name + " at least one disk: " + why +
+                         "; raise the filling or use smaller sizes");
   }
   const double total = expected_charge_disks(scene);
   if (!(total <= double(kMaxDisks)))

@@ -73,11 +73,8 @@ SpeciesDef SpeciesDef::without_sizes_below(double cutoff_m) const {
   out.diameters_m.clear();
   out.mass_fractions.clear();
   double kept = 0.0;
-  // A class at the cut-off stays, to rounding: 1.5 x 25 mm reached by arithmetic is a hair
-  // above a 37.5 mm class read from a file.
-  const double below = cutoff_m * (1.0 - 1e-9);
   for (std::size_t i = 0; i < diameters_m.size(); ++i) {
-    if (diameters_m[i] < below) continue;
+    if (!size_kept(diameters_m[i], cutoff_m)) continue;
     out.diameters_m.push_back(diameters_m[i]);
     out.mass_fractions.push_back(mass_fractions[i]);
     kept += mass_fractions[i];
@@ -596,10 +593,11 @@ void check_across_sections(const Scene& s, const std::string& file) {
     if (!s.mill.kind(kind).measured.empty()) new_liner_unit(s, kind);
   }
   }
-  // Nine digits: a cut-off a hair above the largest size must not print as equal to it.
-  const auto digits9 = [](double v) {
+  // Twelve digits: a cut-off refused as above the largest size (by more than a billionth of
+  // it) must not print as equal to it.
+  const auto digits12 = [](double v) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", v);
+    std::snprintf(buf, sizeof buf, "%.12g", v);
     return std::string(buf);
   };
   for (std::size_t i = 0; i < s.charge.species.size(); ++i) {
@@ -612,11 +610,11 @@ void check_across_sections(const Scene& s, const std::string& file) {
                            num_text(0.25 * s.mill.diameter_m / kMm) + " mm)");
     // The cut-off must keep a class with mass (largest_diameter_m: the largest that has some;
     // the fractions of the classes kept are what the cut-off renormalises).
-    if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && sp.largest_diameter_m() < s.solver.size_cutoff_m)
+    if (!sp.is_ball && s.solver.size_cutoff_m > 0.0 && !SpeciesDef::size_kept(sp.largest_diameter_m(), s.solver.size_cutoff_m))
       throw InputError(file, "solver.size_cutoff",
                        "expected a cut-off that keeps some of the mass of " + key + " ('" + sp.name +
-                           "', largest size with mass " + digits9(sp.largest_diameter_m() / kMm) + " mm), got " +
-                           digits9(s.solver.size_cutoff_m / kMm) + " mm");
+                           "', largest size with mass " + digits12(sp.largest_diameter_m() / kMm) + " mm), got " +
+                           digits12(s.solver.size_cutoff_m / kMm) + " mm");
   }
 }
 
@@ -728,7 +726,19 @@ const std::vector<std::vector<std::string>>& alternatives(const std::string& tab
       {"mill", {{"speed", "speed_rpm"}}},
       {"solver", {{"time_step", "steps_per_second"}}},
       {"wear", {{"wear_rate", "area_loss_rate", "height_loss_rate"}}},
-      {"charge.species", {{"sizes", "size_range"}, {"mass_fractions", "size_range"}}},
+      // A species takes discrete sizes or a range; discrete sizes take fractions or a
+      // distribution, and a distribution its form's keys.
+      {"charge.species",
+       {{"sizes", "size_range"},
+        {"mass_fractions", "size_range"},
+        {"distribution", "size_range"},
+        {"top_size", "size_range"},
+        {"size_63", "size_range"},
+        {"exponent", "size_range"},
+        {"distribution", "mass_fractions"},
+        {"top_size", "mass_fractions"},
+        {"size_63", "mass_fractions"},
+        {"exponent", "mass_fractions"}}},
   };
   static const std::vector<std::vector<std::string>> none;
   const auto it = groups.find(table);
@@ -760,6 +770,11 @@ void apply_override(toml::table& root, const std::string& text) {
       // reverse_every belongs to a bidirectional mill only: a one-way direction drops it.
       if (plain == "mill" && p.name == "direction" && value != "bidirectional" && value != "\"bidirectional\"")
         table->erase("reverse_every");
+      // A distribution's form has its own scale: the other form's goes.
+      if (plain == "charge.species" && p.name == "distribution") {
+        if (value == "rosin-rammler" || value == "\"rosin-rammler\"") table->erase("top_size");
+        if (value == "gates-gaudin-schuhmann" || value == "\"gates-gaudin-schuhmann\"") table->erase("size_63");
+      }
       toml::table holder = value_holder(value, set_where(text) + ": " + here);
       table->insert_or_assign(p.name, std::move(*holder.get("v")));
       return;

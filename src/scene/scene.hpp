@@ -43,8 +43,11 @@ struct SpeciesDef {
   // The same species with every size below cutoff_m left out: discrete sizes are dropped
   // and the remaining mass fractions renormalised; a uniform range starts at the cut-off.
   // The species' share of the filling is unchanged (its mass goes to the sizes kept).
-  // Precondition: largest_diameter_m() >= cutoff_m (load_scene checks it).
+  // A size within a billionth below the cut-off counts as at it (1.5 x 25 mm reached by
+  // arithmetic is a hair above a 37.5 mm class read from a file): size_kept.
+  // Precondition: size_kept(largest_diameter_m(), cutoff_m) (load_scene checks it).
   SpeciesDef without_sizes_below(double cutoff_m) const;
+  static bool size_kept(double diameter_m, double cutoff_m) { return diameter_m >= cutoff_m * (1.0 - 1e-9); }
 };
 
 struct MillDef {
@@ -213,8 +216,9 @@ struct Scene {
 // put into the file's table before anything is read, so it is typed, range-checked and
 // cross-checked by the same readers as the file; an error in it names "--set KEY". Setting
 // one of a pair of alternatives removes the file's other one (mill.speed / speed_rpm,
-// solver.time_step / steps_per_second, the three wear-rate keys, a species' sizes /
-// size_range).
+// solver.time_step / steps_per_second, the three wear-rate keys; a species' size_range
+// removes its sizes, mass_fractions and distribution keys, and a distribution key its
+// mass_fractions and size_range; a distribution's form removes the other form's scale).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 // The seeds s .. s + count - 1 a command derives from the scene's solver.seed s (replicates,
 // rule 1's factors, a reseeded run) within what a scene file's seed holds (0 to 2^63 - 1), so

@@ -18,6 +18,7 @@
 #include "io/csv.hpp"
 #include "metrics/pareto.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/filling.hpp"
 #include "scene/limits.hpp"
 
 namespace millwear {
@@ -213,7 +214,7 @@ KnobValues factor_values(const FidelityDef& draft, const FidelityDef& reference)
 // Size cut-offs relative to the smallest rock, as an absolute size means nothing across
 // scenes; and, for a fine charge (rocks finer than 50 mm, e.g. a size distribution down to
 // 25 mm), the cut-offs 25 and 50 mm that SAG scenes use. Only values that cut something and
-// keep part of every rock species of every design, and of values that leave the same charge
+// keep part of every rock species of every design (and a disk of it), and of values that leave the same charge
 // (size classes: 31.25 and 37.5 mm both drop only a 25 mm class) the first.
 KnobValues size_cutoff_values(const std::vector<Scene>& standard_scenes) {
   double smallest_rock = INFINITY, largest_rock_min = INFINITY;
@@ -231,16 +232,20 @@ KnobValues size_cutoff_values(const std::vector<Scene>& standard_scenes) {
   for (double f : {1.25, 1.5}) cuts.push_back(f * smallest_rock);
   std::sort(cuts.begin(), cuts.end());
   // The charge a cut-off leaves: every design's rock species' smallest size kept; none where
-  // a species' kept classes hold none of its listed mass (no charge at all).
+  // a species' kept classes hold none of its listed mass, or too little of the filling for a
+  // disk (the run would be refused).
   auto charge_left = [&standard_scenes](double cut) -> std::optional<std::vector<double>> {
     std::vector<double> smallest;
     for (Scene d : standard_scenes) {
       d.solver.size_cutoff_m = cut;
-      for (const auto& sp : d.species_as_placed()) {
+      const std::vector<SpeciesDef> placed = d.species_as_placed();
+      for (std::size_t k = 0; k < placed.size(); ++k) {
+        const SpeciesDef& sp = placed[k];
         if (sp.is_ball) continue;
         double kept = 0.0;
         for (double f : sp.mass_fractions) kept += f;
         if (!sp.diameters_m.empty() && !(kept > 0.0)) return std::nullopt;
+        if (d.species_in_use(sp) && !species_gets_a_disk(d, k)) return std::nullopt;
         smallest.push_back(sp.smallest_diameter_m());
       }
     }
