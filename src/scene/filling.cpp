@@ -93,15 +93,6 @@ double expected_disks(const Scene& scene, std::size_t k) {
   return species_area_m2(scene, k) / mean_area;
 }
 
-double share_in_disks(const Scene& scene, std::size_t k) {
-  const SpeciesDef sp = scene.species_as_placed()[k];
-  if (sp.diameters_m.empty()) return expected_disks(scene, k);
-  double disks = 0.0;
-  for (std::size_t j = 0; j < sp.diameters_m.size(); ++j)
-    disks += species_area_m2(scene, k) * sp.mass_fractions[j] / (0.25 * kPi * sp.diameters_m[j] * sp.diameters_m[j]);
-  return disks;
-}
-
 bool species_gets_a_disk(const Scene& scene, std::size_t k) {
   const SpeciesDef sp = scene.species_as_placed()[k];
   if (!sp.diameters_m.empty()) return expected_disks(scene, k) >= 1.0;

@@ -42,9 +42,6 @@ std::vector<std::int64_t> disks_per_size(const Scene& scene, std::size_t k);
 // The disks species k will get: exact for discrete sizes; for a uniform range, the share
 // over the mean disk area (the draw stops within half a disk of the share).
 double expected_disks(const Scene& scene, std::size_t k);
-// What species k's share holds in disks, real-valued (before the rounding to whole disks;
-// for a uniform range, of its mean disk).
-double share_in_disks(const Scene& scene, std::size_t k);
 // Whether species k gets at least one disk: for discrete sizes, whole disks are placed; for a
 // uniform range, whatever size the draw's first disk takes (its share holds half the largest).
 bool species_gets_a_disk(const Scene& scene, std::size_t k);

@@ -289,12 +289,13 @@ void check_filling(const Scene& scene, const std::string& file) {
       std::snprintf(why, sizeof why,
                     "its share (%.3g m^2 of the slice) holds %.2f of its mean disk, and the draw places its first "
                     "disk whatever size it takes only with half the largest's area (%s mm, %.3g m^2)",
-                    species_area_m2(scene, k), share_in_disks(scene, k), fine_size_text(in_mm(sp.d_max_m)).c_str(),
+                    species_area_m2(scene, k), expected_disks(scene, k), fine_size_text(in_mm(sp.d_max_m)).c_str(),
                     0.25 * kPi * sp.d_max_m * sp.d_max_m);
     else
       std::snprintf(why, sizeof why,
-                    "its share (%.3g m^2 of the slice) holds %.2f disks of its sizes, none of them half a disk or more",
-                    species_area_m2(scene, k), share_in_disks(scene, k));
+                    "its share (%.3g m^2 of the slice) is under half a disk of its smallest size (%s mm, %.3g m^2)",
+                    species_area_m2(scene, k), fine_size_text(in_mm(sp.smallest_diameter_m())).c_str(),
+                    0.25 * kPi * sp.smallest_diameter_m() * sp.smallest_diameter_m());
     // A cut-off that leaves the species only its coarser sizes is what takes its last disk.
     Scene every_size = scene;
     every_size.solver.size_cutoff_m = 0.0;
