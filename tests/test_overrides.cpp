@@ -200,9 +200,10 @@ TEST(OverridesSpecies, ASpeciesSwitchesBetweenARangeFractionsAndADistribution) {
       distribution_mass_fractions(SizeForm::RosinRammler, rock.diameters_m, 0.1, 0.8);
   ASSERT_EQ(rock.mass_fractions.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i) EXPECT_DOUBLE_EQ(rock.mass_fractions[i], want[i]) << i;
-  // And back: a Rosin-Rammler species given the other form drops its size_63.
+  // And back (the form as a TOML literal string): a Rosin-Rammler species given the other
+  // form drops its size_63.
   const Scene ggs = load_scene(fine, {sp + "distribution=rosin-rammler", sp + "size_63=100",
-                                      sp + "distribution=gates-gaudin-schuhmann", sp + "top_size=300"});
+                                      sp + "distribution='gates-gaudin-schuhmann'", sp + "top_size=300"});
   EXPECT_DOUBLE_EQ(ggs.charge.species[1].mass_fractions.front(),
                    distribution_mass_fractions(SizeForm::GatesGaudinSchuhmann, rock.diameters_m, 0.3, 0.8).front());
   // A range becomes a distribution.

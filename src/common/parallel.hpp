@@ -6,7 +6,6 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
-#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -32,7 +31,7 @@ std::vector<std::thread> start_threads(int count, const F& fn) {
   threads.reserve(static_cast<std::size_t>(std::max(count, 0)));
   try {
     for (int t = 0; t < count; ++t) threads.emplace_back(fn, t);
-  } catch (const std::system_error&) {
+  } catch (...) {  // std::system_error, or std::bad_alloc for the thread's state
   }
   return threads;
 }

@@ -772,8 +772,11 @@ void apply_override(toml::table& root, const std::string& text) {
         table->erase("reverse_every");
       // A distribution's form has its own scale: the other form's goes.
       if (plain == "charge.species" && p.name == "distribution") {
-        if (value == "rosin-rammler" || value == "\"rosin-rammler\"") table->erase("top_size");
-        if (value == "gates-gaudin-schuhmann" || value == "\"gates-gaudin-schuhmann\"") table->erase("size_63");
+        std::string form = value;
+        if (form.size() >= 2 && (form.front() == '"' || form.front() == '\'') && form.back() == form.front())
+          form = form.substr(1, form.size() - 2);
+        if (form == "rosin-rammler") table->erase("top_size");
+        if (form == "gates-gaudin-schuhmann") table->erase("size_63");
       }
       toml::table holder = value_holder(value, set_where(text) + ": " + here);
       table->insert_or_assign(p.name, std::move(*holder.get("v")));

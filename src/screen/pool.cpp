@@ -90,7 +90,9 @@ PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& 
   const auto t0 = std::chrono::steady_clock::now();
   std::atomic<std::size_t> next{0};
   std::atomic<std::size_t> finished{0};
+  std::atomic<bool> go{false};  // the tasks start once on_start has run (it installs the signal handlers)
   const auto work = [&](int) {
+    while (!go.load()) std::this_thread::yield();
     for (std::size_t k; (k = next.fetch_add(1)) < todo.size();) {
       if (stop() != 0) break;
       const int i = todo[k];
@@ -120,6 +122,7 @@ PoolOutcome run_task_pool(const std::string& out, const std::vector<Candidate>& 
   std::vector<std::thread> workers = start_threads(outcome.jobs, work);
   outcome.jobs = std::max(1, static_cast<int>(workers.size()));
   if (options.on_start) options.on_start(outcome.jobs);
+  go = true;
   if (workers.empty()) work(0);
   auto tick = [&] {
     if (!options.on_tick) return;
