@@ -337,6 +337,29 @@ TEST_F(AppRun, AnimateWritesAGifFromAFinishedRun) {
   EXPECT_GT(fs::file_size(gif), 1000u);
 }
 
+// With --history every finished stage gets a frame: 10 frames over 13 stages skipped stages 4,
+// 8 and 12 (the most worn liner) and said "stages 0-12". Fewer frames than stages is refused
+// before anything is simulated; as many shows each stage once.
+TEST_F(AppRun, AnimateFromAHistoryShowsEveryFinishedStage) {
+  const fs::path history = root_ / "history13";
+  const std::string set = " --set wear.stages=12 --set wear.stage_hours=5";
+  const Result done = run("run " + src("tests/data/lab-quick.toml") + " -o " + q(history) + set + " --quiet");
+  ASSERT_EQ(done.exit_code, 0) << done.output;
+  const fs::path gif = root_ / "history13.gif";
+  const std::string animate = "animate " + src("tests/data/lab-quick.toml") + " -o " + q(gif) + set +
+                              " --seconds 0.5 --size 200 --keep-data --history " + q(history);
+  const Result few = run(animate + " --frames 10");
+  EXPECT_EQ(few.exit_code, 2) << few.output;
+  EXPECT_NE(few.output.find("--frames: at least one frame per finished stage"), std::string::npos) << few.output;
+  EXPECT_NE(few.output.find("(13 stages) with --history, got 10"), std::string::npos) << few.output;
+  EXPECT_FALSE(fs::exists(gif));
+  const Result every = run(animate + " --frames 13");
+  ASSERT_EQ(every.exit_code, 0) << every.output;
+  const std::string meta = slurp(root_ / "history13_frames" / "frames_meta.gp");
+  for (int stage = 0; stage <= 12; ++stage)
+    EXPECT_NE(meta.find("after stage " + std::to_string(stage) + " ("), std::string::npos) << stage << "\n" << meta;
+}
+
 // SIGTERM while gnuplot draws the GIF (a gnuplot slowed by a second here, so that the stop
 // finds it drawing): animate waits for it, then removes its temporary frame folder and the GIF
 // it drew and ends 143 saying so, where it was killed and left the folder behind.
@@ -364,6 +387,27 @@ TEST(AnimateSignals, ASigtermWhileTheGifIsDrawnLeavesNoTemporaryFolderAndNoGif) 
   EXPECT_TRUE(fs::is_empty(tmp)) << "left in the temporary folder: " << fs::directory_iterator(tmp)->path();
   EXPECT_TRUE(fs::is_empty(gif.parent_path())) << "left beside the GIF: "
                                                << fs::directory_iterator(gif.parent_path())->path();
+}
+
+// A gnuplot that ends without drawing the GIF fails the command (exit 1), and the gnuplot.log
+// its message points to is still there to read (the temporary folder holding it was removed
+// on the way out).
+TEST(AnimateSignals, AGnuplotThatDrawsNothingLeavesTheLogItsMessageNames) {
+  const TempDir dir("millwear-test-animate-nogif");
+  const fs::path tmp = dir / "tmp", bin = dir / "bin", gif = dir / "gif" / "a.gif";
+  fs::create_directories(tmp);
+  fs::create_directories(gif.parent_path());
+  dir.write("bin/gnuplot", "#!/bin/sh\necho 'no gif terminal here' >&2\nexit 0\n");
+  fs::permissions(bin / "gnuplot", fs::perms::owner_all);
+  const auto r = millwear::testing::run_shell("TMPDIR=" + q(tmp) + " PATH=" + q(bin) + ":\"$PATH\" \"" +
+                                              MILLWEAR_BINARY + "\" animate " + src("tests/data/lab-quick.toml") +
+                                              " -o " + q(gif) + " --seconds 0.5 --frames 10 --size 200");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const std::size_t see = r.output.find("; see ");
+  ASSERT_NE(see, std::string::npos) << r.output;
+  const std::string log = r.output.substr(see + 6, r.output.find("gnuplot.log", see) + 11 - see - 6);
+  EXPECT_TRUE(fs::is_regular_file(log)) << log << "\n" << r.output;
+  EXPECT_FALSE(fs::exists(gif));
 }
 
 // ---- bad command lines: exit 2 and a message, before any work ----

@@ -406,6 +406,22 @@ TEST(SweepFolder, ASweepAgainRemovesTheEarlierSweepsPointsAndKeepsTheUsersFiles)
   EXPECT_NE(manifest.find("points/01/charge_summary.csv"), std::string::npos) << manifest;
 }
 
+// A sweep with figures lists gnuplot's log in its manifest, so a sweep without figures into the
+// folder removes it with the earlier figures (it stayed, unlisted).
+TEST(SweepFolder, ASweepWithoutFiguresRemovesTheEarlierSweepsGnuplotLog) {
+  const TempDir out("millwear-sweep-log");
+  const std::string base = "sweep " + millwear::testing::quoted(shipped("scenarios/lab-mill.toml")) + " -o " +
+                           millwear::testing::quoted(out) + " --revolutions 0.1 --fidelity draft -q --vary mill.speed=0.6,0.7";
+  auto r = millwear::testing::run_millwear(base);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(out / "plots/gnuplot.log"));
+  EXPECT_NE(millwear::testing::read_text(out / "manifest.json").find("plots/gnuplot.log"), std::string::npos);
+  r = millwear::testing::run_millwear(base + " --no-plot");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(out / "plots/sweep_power.png"));
+  EXPECT_FALSE(fs::exists(out / "plots/gnuplot.log"));
+}
+
 // A sweep killed part-way (SIGKILL: no chance to clean up) writes nothing into OUT: the points
 // it finished are in its staging folder, which the next sweep into the folder clears, so none
 // of them stays beside the new results.

@@ -288,6 +288,13 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
   if (o.from_history) {
     segments = history_segments(scene, a.history);
     cblabel = "Liner wear rate (mm per 1000 h)";
+    // A frame per finished stage at least: with fewer, stages (the last, most worn one among
+    // them) would be skipped.
+    if (static_cast<std::size_t>(a.frames) < segments.size())
+      throw InputError("", "--frames",
+                       "at least one frame per finished stage of " + a.history + " (" +
+                           std::to_string(segments.size()) + " stages) with --history, got " +
+                           std::to_string(a.frames));
   } else {
     Segment s;
     s.mill = build_scene_mill(scene);
@@ -313,7 +320,8 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
                                     : fs::temp_directory_path() / ("millwear-animate-" + std::to_string(::getpid()));
   // The GIF is drawn to a temporary name beside FILE and renamed over it once gnuplot has
   // ended and no stop came: a stop while gnuplot draws (Ctrl-C reaches it too) leaves no GIF
-  // in part, and an earlier FILE as it was. The temporary folder goes on every way out.
+  // in part, and an earlier FILE as it was. The temporary folder goes on every way out but a
+  // failure, whose message names its gnuplot.log.
   // (A short temporary name: FILE's own may be near the longest name a folder takes.)
   const std::string drawn_base = io::temp_path_for((fs::path(a.out).parent_path() / "animation").string());
   const std::string drawn = drawn_base + ".gif";
@@ -334,12 +342,14 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
                             {"formats", "gif"}, {"delay", std::to_string(delay)}, {"size", std::to_string(a.size)}},
                            (work / "gnuplot.log").string());
   } catch (...) {
-    clean_up();
     if (stop() != 0) {  // gnuplot stopped by the same Ctrl-C: a stop, not a failure
+      clean_up();
       o.stopped_by = stop();
       if (a.keep_data && fs::exists(work / "frames_meta.gp", ec)) o.data_dir = work.string();
       return o;
     }
+    // A failure: the frame data and gnuplot's log stay where the message points.
+    fs::remove(drawn, ec);
     throw;
   }
   if (stop() != 0) {

@@ -580,6 +580,10 @@ SweepResult run_sweep(const SweepRequest& q, const SweepCallbacks& cb) {
       r.figures_failed = plots::gnuplot_available();
     }
     for (const auto& f : r.figure_files) files.push_back(io::relative_to(out, f));
+    // gnuplot's messages, listed so that a sweep without figures into the folder removes them.
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(io::join_path(io::plots_out_dir(out), "gnuplot.log"), ec))
+      files.push_back("plots/gnuplot.log");
   }
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_sweep_manifest(out, q, r, scenes.front(), files);
