@@ -228,3 +228,27 @@ TEST(OverridesSpecies, ACutOffAHairAboveTheLargestSizeKeepsItAndOneBeyondIsRefus
     EXPECT_NE(e.expected.find("largest size with mass 225 mm), got 225.0000003 mm"), std::string::npos) << e.what();
   }
 }
+
+// Which of two overrides the later leaves nothing of: the same key (however its index is
+// written), a key of its alternatives, a key its value removes, or a key inside the table or
+// element it sets; not a neighbouring key, nor the later one's alternative in another table.
+TEST(OverridesOrder, ALaterOverrideReplacesTheSameKeyItsAlternativesAndWhatItHolds) {
+  EXPECT_TRUE(override_replaces("mill.speed=0.7", "mill.speed=0.6"));
+  EXPECT_TRUE(override_replaces("mill.speed=0.7", "mill.speed =abc"));
+  EXPECT_TRUE(override_replaces("mill.speed=0.7", "mill.speed_rpm=10"));
+  EXPECT_TRUE(override_replaces("solver.steps_per_second=2000", "solver.time_step=0.001"));
+  EXPECT_TRUE(override_replaces("wear.area_loss_rate=1", "wear.height_loss_rate=2"));
+  EXPECT_TRUE(override_replaces("charge.species[1].density=2800", "charge.species[01].density=2700"));
+  EXPECT_TRUE(override_replaces("charge.species[1].size_range=[100.0, 200.0]", "charge.species[1].sizes=[150.0]"));
+  EXPECT_TRUE(override_replaces("charge.species[1].distribution=rosin-rammler", "charge.species[1].top_size=300"));
+  EXPECT_TRUE(override_replaces("mill.direction=forward", "mill.reverse_every=10"));
+  EXPECT_TRUE(override_replaces("charge.species[1]={density=2700}", "charge.species[1].density=2800"));
+
+  EXPECT_FALSE(override_replaces("mill.speed=0.7", "mill.diameter=5"));
+  EXPECT_FALSE(override_replaces("charge.species[0].density=2800", "charge.species[1].density=2800"));
+  EXPECT_FALSE(override_replaces("charge.species[1].distribution=rosin-rammler", "charge.species[1].size_63=100"));
+  EXPECT_FALSE(override_replaces("mill.direction=bidirectional", "mill.reverse_every=10"));
+  EXPECT_FALSE(override_replaces("charge.species[1].density=2800", "charge.species[1]={density=2700}"));
+  EXPECT_FALSE(override_replaces("solver.speed_rpm=1", "mill.speed=0.7"));
+  EXPECT_FALSE(override_replaces("mill.speed=0.7", "no equals sign"));
+}

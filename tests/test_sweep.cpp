@@ -184,6 +184,34 @@ TEST(SweepVary, AKeyTheSweepsChargeDoesNotReadIsRefused) {
   EXPECT_EQ(refused("run.revolutions=1,2", 0.0, {}), "");
 }
 
+// The varied value goes in after the --set overrides, so one of the same key, or of a key the
+// value replaces, would be dropped at every point while the manifest still lists it: refused
+// before any point runs, naming the --set.
+TEST(SweepVary, ASetTheVariedValueReplacesIsRefused) {
+  const auto refused = [](const std::string& vary, const std::vector<std::string>& sets) {
+    study::SweepRequest q;
+    q.scene_file = shipped("scenarios/lab-mill.toml");
+    q.vary = vary;
+    q.overrides = sets;
+    try {
+      study::sweep_scenes(q, study::parse_vary(q.vary));
+    } catch (const InputError& e) {
+      return e.where + ": " + e.expected;
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refused("mill.speed=0.6,0.7", {"mill.speed=0.9"}),
+            "--set mill.speed=0.9: a key --vary mill.speed leaves in place: the varied value replaces it at every point");
+  EXPECT_EQ(refused("mill.speed=0.6,0.7", {"mill.diameter=0.5", "mill.speed_rpm=40"}).substr(0, 23),
+            "--set mill.speed_rpm=40");
+  EXPECT_EQ(refused("solver.steps_per_second=2000,4000", {"solver.time_step=abc"}).substr(0, 25),
+            "--set solver.time_step=ab");
+  EXPECT_EQ(refused("charge.species[0].density=7000,7800", {"charge.species[0].density=7500"}).substr(0, 36),
+            "--set charge.species[0].density=7500");
+  // Other keys are kept, whatever their order.
+  EXPECT_EQ(refused("mill.speed=0.6,0.7", {"charge.species[0].density=7500", "mill.diameter=0.5"}), "");
+}
+
 // Replicate K of a point runs seed + K - 1: seeds swept closer than the replicates would run
 // one charge in two points, and are refused naming the pair; seeds that far apart are swept.
 TEST(SweepVary, SeedsCloserThanTheReplicatesAreRefused) {

@@ -745,15 +745,48 @@ const std::vector<std::vector<std::string>>& alternatives(const std::string& tab
   return it == groups.end() ? none : it->second;
 }
 
-void apply_override(toml::table& root, const std::string& text) {
+// The keys of table `plain` (dotted, without indexes) that setting its key `name` to `value`
+// removes: the other keys of its alternatives, a one-way mill's reverse_every, the other
+// distribution form's scale.
+std::vector<std::string> keys_removed_by(const std::string& plain, const std::string& name, const std::string& value) {
+  std::vector<std::string> out;
+  for (const auto& group : alternatives(plain))
+    if (std::find(group.begin(), group.end(), name) != group.end())
+      for (const auto& other : group)
+        if (other != name) out.push_back(other);
+  // reverse_every belongs to a bidirectional mill only: a one-way direction drops it.
+  if (plain == "mill" && name == "direction" && value != "bidirectional" && value != "\"bidirectional\"")
+    out.push_back("reverse_every");
+  // A distribution's form has its own scale: the other form's goes.
+  if (plain == "charge.species" && name == "distribution") {
+    std::string form = value;
+    if (form.size() >= 2 && (form.front() == '"' || form.front() == '\'') && form.back() == form.front())
+      form = form.substr(1, form.size() - 2);
+    if (form == "rosin-rammler") out.push_back("top_size");
+    if (form == "gates-gaudin-schuhmann") out.push_back("size_63");
+  }
+  return out;
+}
+
+struct OverrideText {
+  std::string key;
+  std::string value;
+};
+
+OverrideText split_override(const std::string& text) {
   const std::size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("", set_where(text), "expected KEY=VALUE, e.g. --set mill.speed=0.8");
-  std::string key = text.substr(0, eq);
-  while (!key.empty() && key.back() == ' ') key.pop_back();
-  std::string value = text.substr(eq + 1);
-  while (!value.empty() && value.front() == ' ') value.erase(value.begin());
-  const std::vector<KeyPart> parts = split_key(key, text);
+  OverrideText o{text.substr(0, eq), text.substr(eq + 1)};
+  while (!o.key.empty() && o.key.back() == ' ') o.key.pop_back();
+  while (!o.value.empty() && o.value.front() == ' ') o.value.erase(o.value.begin());
+  return o;
+}
+
+void apply_override(toml::table& root, const std::string& text) {
+  const OverrideText o = split_override(text);
+  const std::string& value = o.value;
+  const std::vector<KeyPart> parts = split_key(o.key, text);
 
   toml::table* table = &root;
   std::string path;    // dotted, with indexes: for messages
@@ -763,21 +796,7 @@ void apply_override(toml::table& root, const std::string& text) {
     const bool last = k + 1 == parts.size();
     const std::string here = path.empty() ? p.name : path + "." + p.name;
     if (last && !p.index) {
-      for (const auto& group : alternatives(plain))
-        if (std::find(group.begin(), group.end(), p.name) != group.end())
-          for (const auto& other : group)
-            if (other != p.name) table->erase(other);
-      // reverse_every belongs to a bidirectional mill only: a one-way direction drops it.
-      if (plain == "mill" && p.name == "direction" && value != "bidirectional" && value != "\"bidirectional\"")
-        table->erase("reverse_every");
-      // A distribution's form has its own scale: the other form's goes.
-      if (plain == "charge.species" && p.name == "distribution") {
-        std::string form = value;
-        if (form.size() >= 2 && (form.front() == '"' || form.front() == '\'') && form.back() == form.front())
-          form = form.substr(1, form.size() - 2);
-        if (form == "rosin-rammler") table->erase("top_size");
-        if (form == "gates-gaudin-schuhmann") table->erase("size_63");
-      }
+      for (const std::string& other : keys_removed_by(plain, p.name, value)) table->erase(other);
       toml::table holder = value_holder(value, set_where(text) + ": " + here);
       table->insert_or_assign(p.name, std::move(*holder.get("v")));
       return;
@@ -913,6 +932,27 @@ toml::table overridden_table(const std::string& path, const std::vector<std::str
 }
 
 }  // namespace
+
+bool override_replaces(const std::string& later, const std::string& earlier) {
+  std::vector<KeyPart> l, e;
+  OverrideText lo;
+  try {
+    lo = split_override(later);
+    l = split_key(lo.key, later);
+    e = split_key(split_override(earlier).key, earlier);
+  } catch (const InputError&) {
+    return false;  // load_scene names a malformed override
+  }
+  const auto same = [](const KeyPart& a, const KeyPart& b) { return a.name == b.name && a.index == b.index; };
+  std::size_t n = 0;
+  while (n < l.size() && n < e.size() && same(l[n], e[n])) ++n;
+  if (n == l.size()) return true;  // the same key, or a table or element that holds the earlier one
+  if (n + 1 != l.size() || n + 1 != e.size() || l.back().index || e.back().index) return false;
+  std::string plain;
+  for (std::size_t k = 0; k < n; ++k) plain += (k ? "." : "") + l[k].name;
+  const std::vector<std::string> removed = keys_removed_by(plain, l.back().name, lo.value);
+  return std::find(removed.begin(), removed.end(), e.back().name) != removed.end();
+}
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::error_code ec;

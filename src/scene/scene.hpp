@@ -220,6 +220,10 @@ struct Scene {
 // removes its sizes, mass_fractions and distribution keys, and a distribution key its
 // mass_fractions and size_range; a distribution's form removes the other form's scale).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// Whether the override `later` (KEY=VALUE), put in after `earlier`, leaves nothing of it: the
+// same key, a table or element that holds it, or a key whose setting removes it (above).
+// False for a malformed override, which load_scene names.
+bool override_replaces(const std::string& later, const std::string& earlier);
 // The seeds s .. s + count - 1 a command derives from the scene's solver.seed s (replicates,
 // rule 1's factors, a reseeded run) within what a scene file's seed holds (0 to 2^63 - 1), so
 // that every seed a manifest records can be given back in a scene: throws

@@ -472,6 +472,12 @@ void check_seeds_apart(const SweepRequest& q, const SweepAxis& axis, const std::
 
 std::vector<Scene> sweep_scenes(const SweepRequest& q, const SweepAxis& axis) {
   if (!q.fidelity.empty()) fidelity_preset(q.fidelity);  // InputError for a bad name
+  // The varied value goes in after the --set overrides: one it replaces would be dropped at
+  // every point.
+  for (const std::string& set : q.overrides)
+    if (!axis.texts.empty() && override_replaces(axis.key + "=" + axis.texts.front(), set))
+      throw InputError("", "--set " + printable(set, 80),
+                       "a key --vary " + axis.key + " leaves in place: the varied value replaces it at every point");
   std::vector<Scene> scenes;
   for (const std::string& text : axis.texts) {
     std::vector<std::string> overrides = q.overrides;
