@@ -1349,6 +1349,10 @@ TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLe
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
   }
+  // The message blames the file on the way, not the GIF.
+  const auto in_file = run_millwear("animate " + lab + " -o " + quoted(dir / "afile" / "a.gif"));
+  EXPECT_NE(in_file.output.find((dir / "afile").string() + " is a file"), std::string::npos) << in_file.output;
+  EXPECT_EQ(in_file.output.find("a file of that name exists"), std::string::npos) << in_file.output;
   // A folder that takes no files whoever asks (a virtual file system; access() passes root
   // there) is refused by trying it, not blamed on a full disk after the simulation.
   for (const std::string& cmd : {"animate " + lab + " -o /proc/millwear-test.gif", "charge " + lab + " -o /proc/millwear-test"}) {

@@ -39,6 +39,8 @@ inline CLI::Validator output_file() {
           return path + ": " + e.expected;
         }
         const std::string folder = std::filesystem::path(path).parent_path().string();
+        if (!folder.empty() && std::filesystem::exists(folder, ec) && !std::filesystem::is_directory(folder, ec))
+          return path + ": an output file in a folder, but " + folder + " is a file";
         try {
           io::check_output_folder(folder.empty() ? "." : folder);
         } catch (const InputError& e) {
