@@ -583,6 +583,24 @@ TEST(HostileSurveys, ASurveyPastTheStagesAHistoryMayRunIsRefused) {
   EXPECT_NE(near.output.find("wear removes metal"), std::string::npos) << near.output;
 }
 
+// calibrate finds the rate: a wear rate on its command line is refused however the override
+// is written (a space before '=' passed the check and then failed the copy's read-back after
+// every history), or set through the [wear] table that holds it.
+TEST(HostileSurveys, CalibrateRefusesAWearRateOverrideInAnySpelling) {
+  const TempDir dir("millwear-hostile-calibrate-rate");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,390\n100,360\n");
+  for (const std::string set : {"'wear.wear_rate =2e-10'", "'wear.area_loss_rate= 100'", "'wear={wear_rate=2e-10}'",
+                                "wear.height_loss_rate=1"}) {
+    const auto r = run_millwear("calibrate " + scene + " --measured " + quoted(dir / "areas.csv") + " -o " +
+                                quoted(dir / "out") + " --set " + set);
+    EXPECT_EQ(r.exit_code, 2) << set << ": " << r.output;
+    EXPECT_NE(r.output.find("no wear rate on the command line of calibrate"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stage 0 at"), std::string::npos) << "a history ran: " << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << set;
+  }
+}
+
 // A run of --replicates 2 holds two histories of the design; validate --from compares the
 // first (the scene's seed), while the run's summary.csv gives their mean: it says which
 // history it compared, on the screen and in its manifest.

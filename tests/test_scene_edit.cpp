@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 #include "common/errors.hpp"
@@ -38,6 +39,43 @@ TEST(SceneEdit, TheWearRateKeyIsReplacedAndEverythingElseKept) {
             "mode = \"staged\"\n"
             "wear_rate = 1.23457e-10   # m^3/J, fitted\n"
             "stage_hours = 50.0       # h\n");
+}
+
+// A [wear] given as an inline table has its other keys after the rate on the same line: the
+// key and value alone are replaced, and the copy reads back with every key (the whole line
+// replaced left the table unclosed: not TOML).
+TEST(SceneEdit, AnInlineWearTableKeepsTheKeysAfterTheRate) {
+  const std::string scene = testing::source_path("tests/data/lab-quick.toml");
+  std::string text = io::read_file(scene);
+  const std::size_t from = text.find("[wear]\n");
+  ASSERT_NE(from, std::string::npos);
+  const std::size_t to = text.find("\n[", from + 1);
+  const Scene original = load_scene(scene);
+  // The section's keys, comments dropped, as one inline table: a key of the root table,
+  // before the first table's header.
+  std::string inline_wear = "wear = { ";
+  std::istringstream section(text.substr(from + 7, (to == std::string::npos ? text.size() : to) - from - 7));
+  for (std::string line; std::getline(section, line);) {
+    line = line.substr(0, line.find('#'));
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    if (!line.empty()) inline_wear += (inline_wear.size() > 9 ? ", " : "") + line;
+  }
+  inline_wear += " }";
+  ASSERT_NE(inline_wear.find("wear_rate = 1e-10, factor"), std::string::npos) << inline_wear;
+  text.erase(from, (to == std::string::npos ? text.size() : to) - from);
+  text.insert(text.find("\n[") + 1, inline_wear + "\n");
+  const testing::TempDir dir("millwear-scene-edit-inline");
+  const std::string copy = (dir / "inline-calibrated.toml").string();
+  const std::string out = calibrated_scene_text(text, scene, {2.5e-10, "fitted", dir.path().string()});
+  std::string want = inline_wear;
+  want.replace(want.find("1e-10"), 5, "2.5e-10");
+  EXPECT_NE(out.find(want), std::string::npos) << out;
+  io::write_file_atomic(copy, out);
+  const Scene b = load_scene(copy);
+  EXPECT_EQ(b.wear.wear_rate_m3_per_J, 2.5e-10);
+  EXPECT_EQ(b.wear.stages, 2);
+  EXPECT_EQ(b.wear.factor, 1e5);
+  EXPECT_EQ(b.mill.lifter.points.size(), original.mill.lifter.points.size());
 }
 
 TEST(SceneEdit, AMissingWearRateKeyIsAnInputErrorNamingTheKey) {

@@ -85,8 +85,8 @@ int run_calibrate(CalibrateArgs a) {
               res.c_m3_per_J, res.expanded_m3_per_J, res.sigma_m3_per_J, fit_sigma, res.sigma_model_m3_per_J,
               res.converged ? "" : "  NOT CONVERGED");
   if (res.histories_averaged > 1)
-    std::printf("  the mean of the last %d histories' estimates; their spread sets the simulation statistics "
-                "when it is the larger\n", res.histories_averaged);
+    std::printf("  the mean of %d histories' estimates (after the first, and none at an end of the search); their "
+                "spread sets the simulation statistics when it is the larger\n", res.histories_averaged);
   if (!res.fit_error_known)
     std::printf("  one worn area survey: the fit's own error is unknown, U counts the simulation statistics only "
                 "(two or more areas after the history's start give it)\n");

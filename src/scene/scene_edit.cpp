@@ -130,8 +130,13 @@ std::string calibrated_scene_text(const std::string& text, const std::string& sc
       throw RunError(scene_path + ": the wear-rate key and value are not on one line; set wear_rate by hand");
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.6g", edit.wear_rate_m3_per_J);
-    edits.push_back({ks.begin.line, ks.begin.column, lines[vs.end.line - 1].size() + 1,
-                     std::string("wear_rate = ") + buf + "   # m^3/J, " + edit.note});
+    // In an inline table other keys may follow on the line: the key and value alone are
+    // replaced (the header line carries the note).
+    if (wear->is_inline())
+      edits.push_back({ks.begin.line, ks.begin.column, vs.end.column, std::string("wear_rate = ") + buf});
+    else
+      edits.push_back({ks.begin.line, ks.begin.column, lines[vs.end.line - 1].size() + 1,
+                       std::string("wear_rate = ") + buf + "   # m^3/J, " + edit.note});
     done = true;
   }
   if (!done)

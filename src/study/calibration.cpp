@@ -17,7 +17,8 @@ namespace {
 
 // Least-squares 1D minimum of fn over [lo, hi]: a log-spaced scan, then golden section
 // between the best scan point's neighbours (the misfit need not be unimodal far away).
-double minimize_scale(const std::function<double(double)>& fn, double lo, double hi, bool& at_bound) {
+double minimize_scale(const std::function<double(double)>& fn, double lo, double hi, bool& at_bound,
+                      bool* at_hi = nullptr) {
   constexpr int kScan = 80;
   std::vector<double> s(kScan), v(kScan);
   for (int k = 0; k < kScan; ++k) {
@@ -38,6 +39,7 @@ double minimize_scale(const std::function<double(double)>& fn, double lo, double
   // At a bound only if the refined minimum is (within the search's resolution) hi or lo
   // itself: the last scan point being the best says little, the scan steps by about 9%.
   at_bound = hi - found <= 1e-6 * hi || found - lo <= 1e-6 * lo;
+  if (at_hi) *at_hi = hi - found <= 1e-6 * hi;
   return found;
 }
 
@@ -110,7 +112,7 @@ ScaleFit fit_time_scale(const std::vector<double>& worn_hours, double reach_hour
 
   ScaleFit fit;
   const double s_hi = reach_hours / hmax;
-  fit.scale = minimize_scale(misfit(all), 1e-3 * s_hi, s_hi, fit.at_bound);
+  fit.scale = minimize_scale(misfit(all), 1e-3 * s_hi, s_hi, fit.at_bound, &fit.beyond_reach);
 
   std::vector<double> r, rp, rm;
   collect(all, fit.scale, r);
@@ -191,10 +193,14 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     if (on_run) on_run(result.runs.back());
     return result.runs.back();
   };
+  double reach = opt.first_reach;
   for (int run = 1; run <= opt.max_runs; ++run) {
-    const Scene s = scene_for_survey_hours(scene, survey_hours, c, run == 1 ? opt.first_reach : opt.reach);
+    const Scene s = scene_for_survey_hours(scene, survey_hours, c, reach);
     const CalibrationRun& r = run_and_fit(s, run, 1);
     c = r.c_estimate;
+    // A fit at the end of what its history reaches gives only a lower bound on C: the next
+    // history runs as far as the first, to find the rate rather than creep up on it.
+    reach = r.fit.beyond_reach ? opt.first_reach : opt.reach;
     // A scale change inside this history's own statistical error cannot be resolved by
     // another history (it would only draw new noise): that is converged too.
     const double own_error = history_relative_error(s, result.last_history.stages, std::min(hmax, r.reached_hours));
@@ -214,10 +220,13 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
   // Every history after the first ran near the answer and gives its own estimate, with its
   // own draw of the charge's noise: their mean is the estimate, and their spread measures
   // that noise directly (rule 2's batch means within a window understate it when the
-  // batches are correlated, see the README).
+  // batches are correlated, see the README). A history whose fit stopped at an end of the
+  // search gives a bound, not an estimate: it is left out, unless no history gave more (a
+  // calibration that did not converge then reports the last bound).
   std::vector<double> estimates;
   for (std::size_t k = result.runs.size() > 1 ? 1 : 0; k < result.runs.size(); ++k)
-    estimates.push_back(result.runs[k].c_estimate);
+    if (!result.runs[k].fit.at_bound) estimates.push_back(result.runs[k].c_estimate);
+  if (estimates.empty()) estimates.push_back(last.c_estimate);
   const double m = static_cast<double>(estimates.size());
   result.c_m3_per_J = std::accumulate(estimates.begin(), estimates.end(), 0.0) / m;
   double spread = 0.0;  // standard deviation of one history's estimate

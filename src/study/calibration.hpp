@@ -73,6 +73,7 @@ struct ScaleFit {
   // The best s is at an end of the search: the largest the history reaches, or a thousandth
   // of it (surveys that show next to no wear). Such a fit does not count as converged.
   bool at_bound = false;
+  bool beyond_reach = false;          // at the largest end: C is at least s * C_run
   std::vector<double> survey_hours;   // worn surveys
   std::vector<double> survey_scale;   // per-survey least-squares s
   // (a) needs two residuals or more (one worn area survey has one).
@@ -96,7 +97,8 @@ struct CalibrationOptions {
   double rel_tol = 0.01;        // stop when the run's own C fits within this, or within the
                                 // run's own statistical error if that is larger
   double first_reach = 1.6;     // first history runs to this x the last survey's hours
-  double reach = 1.0;           // later histories (plus the extrapolation limit)
+  double reach = 1.0;           // later histories (plus the extrapolation limit); one after a
+                                // fit beyond its history's reach runs to first_reach
   // Histories at the calibrated C with seeds s .. s+N-1 (the last iteration's is seed s):
   // their estimates join the mean, and their spread is the charge's own noise measured.
   int replicates = 1;
@@ -123,6 +125,7 @@ struct CalibrationResult {
   bool fit_error_known = true;    // false: one residual only, (a) and (b) do not exist
   bool converged = false;
   int histories_averaged = 1;     // the estimate is the mean over the histories after the first
+                                  // whose fits were not at an end of the search
   std::vector<CalibrationRun> runs;
   std::vector<double> survey_hours, survey_c;  // per-survey estimates (last run)
   WearHistory last_history;                    // of the last run

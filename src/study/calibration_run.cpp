@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "common/errors.hpp"
+#include "common/text.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
 #include "io/folder_lock.hpp"
@@ -24,11 +25,27 @@ namespace millwear::validation {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The calibrated copy's text read as the file it becomes, with the calibration's overrides:
+// a valid scene whose wear rate is c (InputError naming the copy otherwise).
+void check_calibrated_copy(const std::string& text, const std::string& path, const std::vector<std::string>& overrides,
+                           double c) {
+  const Scene s = load_scene_text(text, path, overrides);
+  if (s.wear.rate_source != WearRateSource::Given || std::fabs(s.wear.wear_rate_m3_per_J / c - 1.0) > 1e-5)
+    throw InputError(path, "wear.wear_rate",
+                     "a copy of the scene that reads back with the rate written into it; this scene's wear rate "
+                     "could not be edited in its text: give it as `wear_rate = ...` on a line of its own in [wear]");
+}
+
+}  // namespace
+
 CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallbacks& cb) {
+  // An override of a wear-rate key, however written, or of the [wear] table holding it.
   for (const std::string& o : a.overrides)
-    for (const char* key : {"wear.wear_rate", "wear.area_loss_rate", "wear.height_loss_rate"})
-      if (o.compare(0, std::strlen(key), key) == 0 && o.find('=') == std::strlen(key))
-        throw InputError(a.scene_file, "--set " + o.substr(0, o.find('=')),
+    for (const char* key : {"wear.wear_rate=1", "wear.area_loss_rate=1", "wear.height_loss_rate=1"})
+      if (override_replaces(o, key) || override_replaces(key, o))
+        throw InputError(a.scene_file, "--set " + printable(o.substr(0, o.find('=')), 80),
                          "no wear rate on the command line of calibrate: the scene's is its first guess "
                          "and the calibration finds the rate");
   Scene scene = study::load_checked_scene(a.scene_file, a.overrides, a.fidelity, [&a](Scene& s) {
@@ -87,6 +104,12 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
                      std::string("no file, or one `millwear calibrate` wrote (its first line \"") +
                          kCalibratedCopyHeader + " ...\"), where the calibrated copy of the scene goes; this file "
                          "is another, which the copy would replace: move it, or give another folder with -o");
+  // The copy is the scene file's own text with the rate edited: that it can be edited and
+  // reads back with a new rate is checked now, with a rate of its own, not after the histories.
+  const auto copy_text = [&a, &out_dir](double c, const std::string& note) {
+    return calibrated_scene_text(io::read_file(a.scene_file), a.scene_file, {c, note, out_dir});
+  };
+  check_calibrated_copy(copy_text(1.23457e-11, "a check of the copy"), o.scene_out, a.overrides, 1.23457e-11);
   // One writer per output folder, for the whole calibration (not the scene's own folder).
   std::optional<io::FolderLock> lock;
   if (!a.out.empty()) lock.emplace(a.out, "calibrate");
@@ -121,13 +144,14 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   if (!a.overrides.empty()) note_text += " (not written into this file)";
   for (char& c : note_text)
     if (static_cast<unsigned char>(c) < 0x20) c = ' ';  // the note is one comment line
-  io::write_file_atomic(o.scene_out, calibrated_scene_text(io::read_file(a.scene_file), a.scene_file,
-                                                           {res.c_m3_per_J, note_text, out_dir}));
-  // The copy must read back as a valid scene with exactly this C.
-  const Scene check = load_scene(o.scene_out, a.overrides);
-  if (check.wear.rate_source != WearRateSource::Given ||
-      std::fabs(check.wear.wear_rate_m3_per_J / res.c_m3_per_J - 1.0) > 1e-5)
-    throw RunError(o.scene_out + ": the calibrated copy does not read back with the calibrated wear rate");
+  // The copy must read back as a valid scene with exactly this C before it is written.
+  const std::string text = copy_text(res.c_m3_per_J, note_text);
+  try {
+    check_calibrated_copy(text, o.scene_out, a.overrides, res.c_m3_per_J);
+  } catch (const InputError& e) {
+    throw RunError(std::string(e.what()));
+  }
+  io::write_file_atomic(o.scene_out, text);
   if (!a.out.empty()) write_calibration_tables(a.out, res, o.areas);
   return o;
 }
