@@ -1349,6 +1349,49 @@ TEST(HostileOptions, CollectRefusesTheOptionsOfAScreenThatRuns) {
   }
 }
 
+// An input that lies in the output folder under a name the command writes or deletes would be
+// gone before it is read: run --force deleted a lifter given as an earlier stage's profile
+// and then failed on it, charge wrote its impacts table over a scan named impacts.csv, and
+// animate its GIF over a profile named x.gif (both exit 0). Refused before any work, the
+// input kept; an input elsewhere in the folder runs.
+TEST(HostileOptions, AnInputAmongTheFilesACommandWritesIsRefusedAndKept) {
+  const TempDir dir("millwear-hostile-input-output");
+  const std::string quick = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const std::string sets = " -q --set wear.stages=1 --set wear.stage_hours=10";
+  const fs::path out = dir / "run";
+  ASSERT_EQ(run_millwear("run " + quick + " -o " + quoted(out) + sets).exit_code, 0);
+  const fs::path stage1 = out / "profiles" / "lab-quick_stage1.csv";
+  const std::string scan = read_text(stage1);
+  const auto expect_input_refused = [](const millwear::testing::CliResult& r, const fs::path& input,
+                                       const std::string& text) {
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(input.string() + ": -o: an input outside the files"), std::string::npos) << r.output;
+    EXPECT_EQ(read_text(input), text) << input;
+  };
+  expect_input_refused(run_millwear("run " + quick + " -o " + quoted(out) + sets + " --force --set lifters.profile=" +
+                                    quoted(stage1)),
+                       stage1, scan);
+  // The same scan beside the results, under a name the run neither writes nor deletes, runs.
+  write(out / "scan.csv", scan);
+  const auto beside = run_millwear("run " + quick + " -o " + quoted(out) + sets + " --force --set lifters.profile=" +
+                                   quoted(out / "scan.csv"));
+  EXPECT_EQ(beside.exit_code, 0) << beside.output;
+  EXPECT_EQ(read_text(out / "scan.csv"), scan);
+
+  // An earlier charge's folder, which a charge rewrites.
+  ASSERT_EQ(run_millwear("charge " + quick + " -o " + quoted(dir / "charge") + " -q --revolutions 0.05").exit_code, 0);
+  write(dir / "charge" / "impacts.csv", scan);
+  expect_input_refused(run_millwear("charge " + quick + " -o " + quoted(dir / "charge") +
+                                    " -q --revolutions 0.05 --set lifters.profile=" + quoted(dir / "charge" / "impacts.csv")),
+                       dir / "charge" / "impacts.csv", scan);
+  // A TOML profile under a name ending in .gif.
+  const std::string toml_profile = read_text(kSource + "/profiles/lab-2x30.toml");
+  write(dir / "scan.gif", toml_profile);
+  expect_input_refused(run_millwear("animate " + quick + " -o " + quoted(dir / "scan.gif") +
+                                    " --seconds 0.1 --set lifters.profile=" + quoted(dir / "scan.gif")),
+                       dir / "scan.gif", toml_profile);
+}
+
 // An output folder that cannot be made is bad input (exit 2) found before any work, and a
 // command refused after its folder was made does not leave it behind empty.
 TEST(HostileOptions, AnOutputFolderThatCannotBeMadeIsRefusedAndNoEmptyFolderIsLeft) {

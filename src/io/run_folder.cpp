@@ -373,4 +373,20 @@ void check_output_names(const std::string& out, const std::vector<std::string>& 
   }
 }
 
+void check_inputs_not_among(const std::string& out, const std::vector<std::string>& files,
+                            const std::vector<std::string>& inputs, const std::string& command) {
+  std::error_code ec;
+  for (const std::string& in : inputs) {
+    if (!fs::exists(in, ec)) continue;
+    for (const std::string& f : files) {
+      const std::string path = join_path(out, f);
+      if (fs::exists(path, ec) && fs::equivalent(in, path, ec))
+        throw InputError(in, "-o",
+                         "an input outside the files `millwear " + command + "` writes or deletes, but it is " +
+                             path + ", which it would replace before it is done reading: copy it out of " + out +
+                             " and give that copy");
+    }
+  }
+}
+
 }  // namespace millwear::io

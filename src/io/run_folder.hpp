@@ -138,4 +138,10 @@ void check_folder_not_taken(const std::string& out, const std::string& command);
 // the writer in the message. Nothing is made or removed.
 void check_output_names(const std::string& out, const std::vector<std::string>& files, const std::string& command);
 
+// An input of the command that is one of `files` in OUT (paths relative to OUT; the same file
+// by any path or link) would be overwritten or deleted by the command that reads it: throws
+// InputError(INPUT, "-o", ...) naming both, before any work.
+void check_inputs_not_among(const std::string& out, const std::vector<std::string>& files,
+                            const std::vector<std::string>& inputs, const std::string& command);
+
 }  // namespace millwear::io

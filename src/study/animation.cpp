@@ -273,6 +273,12 @@ AnimationOutcome make_animation(const AnimationRequest& a) {
                   a.seconds);
     throw InputError("", "--frames", buf);
   }
+  // The GIF replaces no file the animation reads (a scene or profile that happens to end in .gif).
+  {
+    const fs::path gif = fs::path(a.out);
+    io::check_inputs_not_among(gif.parent_path().empty() ? "." : gif.parent_path().string(),
+                               {gif.filename().string()}, study::scene_input_files(scene), "animate");
+  }
   const std::string outbase = a.out.substr(0, a.out.size() - 4);
   if (a.keep_data) check_frames_folder(outbase + "_frames");
   // The GIF is all this command makes: without gnuplot, say so before simulating anything.

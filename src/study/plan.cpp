@@ -90,6 +90,7 @@ void add_design(Plan& plan, const std::string& scene_file, const std::string& fi
   d.design = scene.name;
   d.files.push_back(scene_file);
   for (int k = 0; k < scene.mill.kind_count(); ++k) add_profile_files(scene.mill.kind(k), d.files);
+  // (scene_input_files, with the file as given rather than as the scene records it)
   std::string all = scene.fidelity;
   for (const auto& o : overrides) all += "\n--set " + o;  // a resumed run needs the same overrides
   for (const auto& f : d.files) all += "\n--\n" + io::read_file(f);
@@ -191,6 +192,12 @@ void add_replicates(Plan& plan, int n) {
 }
 
 }  // namespace
+
+std::vector<std::string> scene_input_files(const Scene& scene) {
+  std::vector<std::string> files{scene.source_file};
+  for (int k = 0; k < scene.mill.kind_count(); ++k) add_profile_files(scene.mill.kind(k), files);
+  return files;
+}
 
 // --continue: each design's stage in RUN, its hours and what changed since.
 void continue_designs(Plan& plan, const PlanArgs& args) {

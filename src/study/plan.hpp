@@ -70,6 +70,10 @@ struct PlanArgs {
 Scene load_checked_scene(const std::string& file, const std::vector<std::string>& overrides,
                          const std::string& fidelity, const std::function<void(Scene&)>& adjust = {});
 
+// Every file a scene reads: the scene file, then each profile file and those its profiles
+// read (match_area_of), each once.
+std::vector<std::string> scene_input_files(const Scene& scene);
+
 // The design names of a plan, in its order, each once (replicates folded).
 std::vector<std::string> design_names(const Plan& plan);
 

@@ -512,6 +512,13 @@ std::vector<std::string> run_output_names(const Plan& plan) {
   return names;
 }
 
+// Every file the plan reads: a run started from the copies in OUT/inputs/ keeps them.
+std::vector<std::string> input_files(const Plan& plan) {
+  std::vector<std::string> files = plan.comparison_files;
+  for (const DesignInput& d : plan.designs) files.insert(files.end(), d.files.begin(), d.files.end());
+  return files;
+}
+
 // What OUT holds, once the run may write there: throws InputError(OUT, "-o", ...) for a
 // folder of another command's results, of another run's (unless force), or holding a file
 // no run recorded under a name the run writes.
@@ -537,6 +544,22 @@ Holds check_folder(const Plan& plan, const std::string& out, bool force, std::st
                        "a folder whose earlier run --force deletes, but " + taken +
                            " is there and that run did not write it (its manifest.json does not list it); this run "
                            "would overwrite it: move it, or use another folder");
+  // An input in OUT under a name the run writes (its copy in inputs/ aside: the same text
+  // again), or among the earlier run's files that it deletes first, would be gone before it
+  // is read: the stage profile of an earlier run given as a lifter, say.
+  std::vector<std::string> taken_names;
+  for (const std::string& n : run_output_names(plan))
+    if (n.compare(0, 7, "inputs/") != 0) taken_names.push_back(n);
+  if (holds != Holds::None) {
+    for (const std::string& n : io::manifest_files(out))
+      if (n.compare(0, 7, "inputs/") != 0) taken_names.push_back(n);
+    std::error_code ec;
+    for (const char* dir : {"stages", "profiles"})
+      if (fs::is_directory(io::join_path(out, dir), ec))
+        for (const auto& e : fs::directory_iterator(io::join_path(out, dir), ec))
+          taken_names.push_back(std::string(dir) + "/" + e.path().filename().string());
+  }
+  io::check_inputs_not_among(out, taken_names, input_files(plan), "run");
   if (holds == Holds::None && io::folder_results_command(out).empty())
     if (const std::string taken = unrecorded_output(plan, out); !taken.empty())
       throw InputError(out, "-o",
@@ -610,13 +633,6 @@ std::string check_run_folder(const Plan& plan, const std::string& out, bool forc
 }
 
 namespace {
-
-// Every file the plan reads: a run started from the copies in OUT/inputs/ keeps them.
-std::vector<std::string> input_files(const Plan& plan) {
-  std::vector<std::string> files = plan.comparison_files;
-  for (const DesignInput& d : plan.designs) files.insert(files.end(), d.files.begin(), d.files.end());
-  return files;
-}
 
 // The local time as ISO 8601, for the manifest.
 std::string local_time_text() {
