@@ -592,6 +592,28 @@ TEST_F(AppRunCli, AChargeAgainDeletesNothingThroughALinkedFolder) {
 // `charge` again into its folder: the earlier charge's files (its manifest lists them) go
 // first, so a contact log or a design name of that charge does not stay beside the new one's;
 // a user's own file stays.
+// A stage's ParaView files are written before its marker: a stage whose files could not be
+// written (here a folder in the way of its .pvd) is run again by --resume, which then writes
+// them. Written after the marker, the resume skipped the stage and left it without them.
+TEST_F(AppRunCli, AStageWhoseParaViewFilesFailedIsRunAgainOnResume) {
+  const std::string base = "run " + src("tests/data/lab-quick.toml") + " -o " + q(dir_ / "out") +
+                           " --vtk --set wear.stages=2 --set wear.stage_hours=10 -q";
+  ASSERT_EQ(run(base + " --stop-after-stage 0").exit_code, 130);
+  const fs::path pvd1 = dir_ / "out" / "vtk" / "lab-quick_stage1.pvd";
+  fs::create_directories(pvd1);
+  const Result failed = run(base + " --resume");
+  EXPECT_EQ(failed.exit_code, 1) << failed.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "stages" / "lab-quick_stage1.done"));
+  fs::remove(pvd1);
+  const Result resumed = run(base + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  for (int k = 0; k <= 2; ++k) {
+    const fs::path index = dir_ / "out" / "vtk" / ("lab-quick_stage" + std::to_string(k) + ".pvd");
+    ASSERT_TRUE(fs::is_regular_file(index)) << index;
+    EXPECT_NE(slurp(index).find("<DataSet"), std::string::npos) << index;
+  }
+}
+
 TEST_F(AppRunCli, AChargeAgainRemovesTheEarlierChargesFiles) {
   const std::string base = "charge " + src("scenarios/lab-mill.toml") + " -o " + q(dir_ / "out") +
                            " --fidelity draft --revolutions 0.5 --quiet";

@@ -218,6 +218,16 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   // Stages read back from OUT are on disk; those of the run --continue names are copied. A
   // stage heard of again is the resumed one worn through anew: its record carries the new
   // wear's errors (on a resume, the same bytes).
+  // ParaView files of the stage's measuring window (a stage read back from disk has none),
+  // before the stage's marker: a stage whose files could not be written is run again on
+  // --resume, not skipped without them.
+  std::vector<std::string> vtk_files;
+  if (!rec.frames.empty()) {
+    const MillGeometry mill = build_mill(d.scene.radius_m(), d.scene.mill.rows, rec.units, d.scene.mill.kind_count());
+    const LinerFields fields{rec.edge_shear_W_per_m2, rec.edge_impact_W_per_m2, rec.edge_wear_rate_m_per_s};
+    vtk_files = write_vtk_series(io::join_path(out, "vtk"), d.name + "_stage" + std::to_string(rec.stage), d.scene,
+                                 mill, rec.frames, fields);
+  }
   bool again = false;
   {
     std::lock_guard<std::mutex> lock(ctx.mutex);
@@ -237,14 +247,6 @@ void on_stage_done(RunState& ctx, const RunOptions& opt, std::size_t i, const St
   const bool snapshot = latest && d.scene.outputs.snapshot;
   if (snapshot) study::write_snapshot_csv(out, d.name, d.scene, rec);
   if (latest) study::write_liner_csv(out, d.name, d.scene, rec);
-  // ParaView files of the stage's measuring window (a stage read back from disk has none).
-  std::vector<std::string> vtk_files;
-  if (!rec.frames.empty()) {
-    const MillGeometry mill = build_mill(d.scene.radius_m(), d.scene.mill.rows, rec.units, d.scene.mill.kind_count());
-    const LinerFields fields{rec.edge_shear_W_per_m2, rec.edge_impact_W_per_m2, rec.edge_wear_rate_m_per_s};
-    vtk_files = write_vtk_series(io::join_path(out, "vtk"), d.name + "_stage" + std::to_string(rec.stage), d.scene,
-                                 mill, rec.frames, fields);
-  }
   StageRecord light = light_copy(rec);
   const std::vector<std::string> state_files = study::stage_state_files(out, d.name, rec.stage);
   std::lock_guard<std::mutex> lock(ctx.mutex);
