@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
 
 #include "cli_support.hpp"
 #include "common/errors.hpp"
@@ -131,10 +132,31 @@ TEST(ValidationSurveys, MalformedFilesNameFileAndLine) {
   expect_survey_error("hours,x_mm,y_mm\n-5,1,2\n-5,2,3\n", "line 2", "hours in [0, 1e6]");
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,2,2\n100,1,1\n100,2,1\n0,3,3\n", "line 6", "line 2");
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n100,1,1\n100,2,1\n", "line 2", "at least 2 points");
-  expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,1,2\n", "line 3", "repeated");
+  // A point repeated is dropped (a scan's repeated reading): one point left.
+  expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,1,2\n", "line 2", "at least 2 points");
   expect_survey_error("hours,x_mm,y_mm\n", "line 2", "survey rows");
   // Two points straight above each other span no width: their area error would be 0/0.
   expect_survey_error("hours,x_mm,y_mm\n0,1,2\n0,3,2\n100,0,0\n100,0,18\n", "line 4", "spanning a width");
+}
+
+// A laser scan is a survey as it is: the shipped scan writes a few points twice, each dropped
+// instead of refused.
+TEST(ValidationSurveys, AScanWithRepeatedReadingsIsASurveyAsItIs) {
+  std::istringstream scan(testing::read_text(std::string(MILLWEAR_SOURCE_DIR) + "/profiles/lab-survey-2000h.csv"));
+  std::string text = "hours,x_mm,y_mm\n";
+  std::size_t rows = 0, repeats = 0;
+  std::string last;
+  for (std::string line; std::getline(scan, line);) {
+    if (line.empty() || line[0] == '#' || line.rfind("x_mm", 0) == 0) continue;
+    repeats += line == last;
+    last = line;
+    text += "2000," + line + "\n";
+    ++rows;
+  }
+  ASSERT_GT(repeats, 0u);
+  const auto s = validation::parse_surveys(text, "scan.csv");
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].profile_m.size(), rows - repeats);
 }
 
 // A survey's points follow the surface: shuffled points, or one lifter's points given twice in

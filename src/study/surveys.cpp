@@ -147,8 +147,8 @@ std::vector<Survey> parse_surveys(const std::string& text, const std::string& na
     }
     Survey& s = surveys.back();
     const Vec2 p{x * kMm, y * kMm};
-    if (!s.profile_m.empty() && s.profile_m.back() == p)
-      throw InputError(name, line_of(d, r), "a point different from the one before (repeated point)");
+    // A point written again (a scan's repeated reading) adds nothing to the survey: dropped.
+    if (!s.profile_m.empty() && s.profile_m.back() == p) continue;
     s.profile_m.push_back(p);
     lines.back().push_back(d.row_line[r]);
   }
