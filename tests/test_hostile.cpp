@@ -583,6 +583,27 @@ TEST(HostileSurveys, ASurveyPastTheStagesAHistoryMayRunIsRefused) {
   EXPECT_NE(near.output.find("wear removes metal"), std::string::npos) << near.output;
 }
 
+// A survey point far below the shell line (250 mm in the 0.6 m lab mill, where a measured
+// surface may reach a tenth of the radius, 30 mm) is no liner: validate took it (a distance of
+// 1245% of the height) and calibrate ran every history to the search's end. Refused at the
+// survey's line before any history; plates a few mm below the line are taken.
+TEST(HostileSurveys, ASurveyPointFarBelowTheShellLineIsRefused) {
+  const TempDir dir("millwear-hostile-deep-survey");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const std::string worn = "100,-16,0\n100,-10,10\n100,10,10\n100,16,0\n";
+  write(dir / "deep.csv", "hours,x_mm,y_mm\n" + worn + "100,40,-250\n");
+  write(dir / "plates.csv", "hours,x_mm,y_mm\n100,-40,-3\n" + worn + "100,40,-3\n");
+  for (const char* command : {"validate", "calibrate"}) {
+    const auto r = run_millwear(std::string(command) + " " + scene + " --measured " + quoted(dir / "deep.csv") +
+                                " -o " + quoted(dir / "out"));
+    expect_refused(r, (dir / "deep.csv").string(), "line 2", dir / "out");
+    EXPECT_NE(r.output.find("at most a tenth of it (30.0 mm) below the shell line"), std::string::npos) << r.output;
+  }
+  const auto plates = run_millwear("validate " + scene + " --measured " + quoted(dir / "plates.csv") + " -o " +
+                                   quoted(dir / "out"));
+  EXPECT_EQ(plates.output.find("below the shell line"), std::string::npos) << plates.output;
+}
+
 // calibrate finds the rate: a wear rate on its command line is refused however the override
 // is written (a space before '=' passed the check and then failed the copy's read-back after
 // every history), or set through the [wear] table that holds it.

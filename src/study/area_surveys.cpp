@@ -234,13 +234,15 @@ void check_surveys_in_mill(const Measurements& measured, const Scene& scene, con
   const double half_pitch_m = kPi * radius_m / rows;
   for (const Survey& s : measured.profiles)
     for (const Vec2& p : s.profile_m) {
-      if (std::abs(p.x) <= 1.01 * half_pitch_m && std::abs(p.y) < radius_m) continue;
-      char buf[320];
+      // Below the shell line no deeper than a measured surface may reach (a tenth of the
+      // radius, far past any shell plate: a typo, or another origin).
+      if (std::abs(p.x) <= 1.01 * half_pitch_m && p.y < radius_m && p.y >= -0.1 * radius_m) continue;
+      char buf[400];
       std::snprintf(buf, sizeof buf,
                     "survey points within the lifter's liner unit, lifter-local mm: |x_mm| at most half the pitch "
-                    "(%.1f mm) and |y_mm| under the mill radius (%.1f mm); the survey at %g h has the point "
-                    "(%g, %g) mm",
-                    in_mm(half_pitch_m), in_mm(radius_m), s.hours, p.x * 1e3, p.y * 1e3);
+                    "(%.1f mm), y_mm under the mill radius (%.1f mm) and at most a tenth of it (%.1f mm) below the "
+                    "shell line; the survey at %g h has the point (%g, %g) mm",
+                    in_mm(half_pitch_m), in_mm(radius_m), in_mm(0.1 * radius_m), s.hours, p.x * 1e3, p.y * 1e3);
       throw InputError(file, "line " + std::to_string(s.first_line), buf);
     }
 }
