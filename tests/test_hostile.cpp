@@ -465,6 +465,30 @@ TEST(HostileProfile, APointOnAnotherOfItsEdgesOrGivenTwiceIsRefusedNamingBoth) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// A drawn profile's checks take every pair of points: 100,000 points ran for minutes. Over
+// 5,000 points are refused at once, pointing to the measured CSV; 5,000 are read.
+TEST(HostileProfile, ADrawnProfileOfTooManyPointsIsRefusedAtOnce) {
+  const TempDir dir("millwear-hostile-many-points");
+  const auto arch = [](int n) {
+    std::string text = "name = \"arch\"\nform = \"polyline\"\npoints = [";
+    char p[64];
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1);
+      std::snprintf(p, sizeof p, "%s[%.6f, %.6f]", k ? ", " : "", -165.0 + 330.0 * t, 200.0 * std::sin(3.14159265358979 * t));
+      text += p;
+    }
+    return text + "]\n";
+  };
+  write(dir / "many.toml", arch(100000));
+  const auto r = run_millwear("profile " + quoted(dir / "many.toml"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("many.toml: points: expected at most 5000 points in a drawn profile, got 100000"),
+            std::string::npos) << r.output;
+  write(dir / "arch.toml", arch(5000));
+  const auto ok = run_millwear("profile " + quoted(dir / "arch.toml"));
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
 // ---- screens and surveys ---------------------------------------------------------------------
 
 // Four parameters of 10,000 steps each are 1e16 candidates: refused before any is made.

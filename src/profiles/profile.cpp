@@ -131,6 +131,14 @@ Polyline read_points(const toml::table& t, const std::string& file) {
   if (!n) throw InputError(file, "points", "missing; expected " + expected);
   const toml::array* arr = n->as_array();
   if (!arr) throw InputError(file, "points", "expected " + expected + " (" + line_of(*n) + ")");
+  // A drawn profile has tens of points, checked pair by pair (check_no_point_on_another_edge):
+  // a scan of thousands goes in a measured CSV, whose checks take any size.
+  constexpr std::size_t kMaxDrawnPoints = 5000;
+  if (arr->size() > kMaxDrawnPoints)
+    throw InputError(file, "points",
+                     "expected at most " + std::to_string(kMaxDrawnPoints) + " points in a drawn profile, got " +
+                         std::to_string(arr->size()) + " (" + line_of(*n) +
+                         "); a scan of more goes in a measured profile, a CSV x_mm,y_mm read at any size");
   Polyline pts;
   for (std::size_t i = 0; i < arr->size(); ++i) {
     const toml::node& e = *arr->get(i);
