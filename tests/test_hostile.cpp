@@ -628,6 +628,27 @@ TEST(HostileSurveys, ASurveyPointFarBelowTheShellLineIsRefused) {
   EXPECT_EQ(plates.output.find("below the shell line"), std::string::npos) << plates.output;
 }
 
+// Areas in cm^2, or ten times too small, lose in proportion: calibrate fitted C = 9e-12 to
+// them with exit 0 (true 1e-10). Rows at the start measure the scene's lifter as cast, so
+// their mean is held within a factor of two of its area; a casting a few % off is taken.
+TEST(HostileSurveys, AreasAtTheStartFarFromTheScenesLifterAreRefused) {
+  const TempDir dir("millwear-hostile-area-units");
+  const std::string scene = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  write(dir / "tenth.csv", "hours,area_mm2\n0,41.91\n50,39.0\n100,35.95\n");
+  write(dir / "cm2.csv", "hours,area_mm2\n0,4.191\n50,3.90\n100,3.595\n");
+  for (const char* file : {"tenth.csv", "cm2.csv"})
+    for (const char* command : {"validate", "calibrate"}) {
+      const auto r = run_millwear(std::string(command) + " " + scene + " --measured " + quoted(dir / file) + " -o " +
+                                  quoted(dir / "out"));
+      expect_refused(r, (dir / file).string(), "line 2", dir / "out");
+      EXPECT_NE(r.output.find("within a factor of two of the scene's lifter"), std::string::npos) << r.output;
+    }
+  write(dir / "cast.csv", "hours,area_mm2\n0,430\n50,400\n100,370\n");
+  const auto cast = run_millwear("validate " + scene + " --measured " + quoted(dir / "cast.csv") + " -o " +
+                                 quoted(dir / "out"));
+  EXPECT_EQ(cast.exit_code, 0) << cast.output;
+}
+
 // calibrate finds the rate: a wear rate on its command line is refused however the override
 // is written (a space before '=' passed the check and then failed the copy's read-back after
 // every history), or set through the [wear] table that holds it.

@@ -116,6 +116,23 @@ void check_areas_shrink(const AreaSurveys& surveys, double new_area_m2, double s
                            " rows there, from this one, average ") + mm2(mean_m2) +
                            " mm^2; give losses counted from the start, or the areas themselves (hours,area_mm2)");
   }
+  // Rows at the start measure the scene's lifter as cast: within a factor of two of its area
+  // (a casting is a few % off its drawing), or they are in other units (cm^2) or of another
+  // lifter, and every loss counted from them would be too.
+  if (!surveys.losses && m.reference_measured && one_shape &&
+      !(m.reference_m2 >= 0.5 * new_area_m2 && m.reference_m2 <= 2.0 * new_area_m2)) {
+    std::size_t first_line = 0;
+    for (const AreaSurvey& s : surveys.surveys)
+      if (at_start(s)) {
+        first_line = s.line;
+        break;
+      }
+    throw InputError(file, "line " + std::to_string(first_line),
+                     "lifter areas at the history's start (" + io::format_number(start_hours) +
+                         " h) within a factor of two of the scene's lifter (" + mm2(new_area_m2) +
+                         " mm^2), as cast; they average " + mm2(m.reference_m2) +
+                         " mm^2: are they in other units (mm^2 expected), or of another lifter?");
+  }
   // No survey can have lost the whole lifter: the wear it asks for cannot be simulated.
   for (std::size_t i = 0; i < surveys.surveys.size(); ++i)
     if (!(m.loss_m2[i] < m.reference_m2))
