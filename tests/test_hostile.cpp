@@ -465,6 +465,25 @@ TEST(HostileProfile, APointOnAnotherOfItsEdgesOrGivenTwiceIsRefusedNamingBoth) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// A T-shaped lifter (a stem 30 mm wide, wings 8 mm thick reaching 60 mm out): the liner is
+// smoothed with its neighbours' copies either side, cut a margin past the unit's ends, and the
+// neighbour's wing reaching back over that cut left a polygon that crossed itself. The scene
+// was refused as a smoothing radius "wider than half its narrowest part" (2 mm against 8 mm
+// parts). It is checked, and wears a stage, with its wings.
+TEST(HostileProfile, ATShapedLifterIsSmoothedWithItsWings) {
+  const TempDir dir("millwear-hostile-tee");
+  for (const char* wing : {"60.0", "65.0"}) {
+    write(dir / "tee.toml", std::string("name = \"tee\"\nform = \"polyline\"\npoints = [[-15.0, 0.0], [-15.0, 10.0], [-") +
+                                wing + ", 10.0], [-" + wing + ", 18.0], [" + wing + ", 18.0], [" + wing +
+                                ", 10.0], [15.0, 10.0], [15.0, 0.0]]\n");
+    const auto r = run_millwear("run " + quoted(fs::path(kSource + "/tests/data/lab-quick.toml")) + " -o " +
+                                quoted(dir / (std::string("out") + wing)) + " -q --set wear.stages=1 --set wear.stage_hours=10 "
+                                "--set lifters.profile=" + quoted(dir / "tee.toml"));
+    EXPECT_EQ(r.exit_code, 0) << wing << ": " << r.output;
+    EXPECT_EQ(r.output.find("smoothing_radius"), std::string::npos) << r.output;
+  }
+}
+
 // A drawn profile's checks take every pair of points: 100,000 points ran for minutes. Over
 // 5,000 points are refused at once, pointing to the measured CSV; 5,000 are read.
 TEST(HostileProfile, ADrawnProfileOfTooManyPointsIsRefusedAtOnce) {
@@ -1202,6 +1221,23 @@ TEST(HostileScenes, ChargeFiguresThatFailAreListedOnce) {
   };
   EXPECT_EQ(count("some figures failed"), 1u) << r.output;
   for (const char* fig : {"spectrum:", "snapshot_lab-mill:", "impacts_lab-mill:"}) EXPECT_EQ(count(fig), 1u) << fig << r.output;
+}
+
+// hardness again into its folder with figure scripts that fail: the new tables are written
+// and the command exits 1, and the earlier data's figure is not left beside them.
+TEST(HostileScenes, HardnessWhoseFigureFailsLeavesNoEarlierFigure) {
+  if (!millwear::plots::gnuplot_available()) GTEST_SKIP() << "no gnuplot: no figure is drawn at all";
+  const TempDir dir("millwear-hostile-hardness-figure");
+  const std::string data = quoted(fs::path(kSource + "/validation/hardness-synthetic.csv"));
+  ASSERT_EQ(run_millwear("hardness " + data + " -o " + quoted(dir / "out")).exit_code, 0);
+  ASSERT_TRUE(fs::exists(dir / "out" / "hardness.png"));
+  fs::create_directories(dir / "scripts");
+  const auto r = millwear::testing::run_shell("MILLWEAR_PLOTS_DIR=" + quoted(dir / "scripts") + " \"" + MILLWEAR_BINARY +
+                                              "\" hardness " + data + " -o " + quoted(dir / "out"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "out" / "hardness_fit.csv"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "hardness.png"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "hardness.svg"));
 }
 
 // The figures `charge` says it drew are the ones in OUT/plots: with the snapshot or the

@@ -22,11 +22,18 @@ Polyline periodic_surface(const Polyline& unit, double pitch, double margin) {
   Polyline chain;
   for (int k = -copies; k <= copies; ++k)
     for (std::size_t i = (k == -copies ? 0 : 1); i < unit.size(); ++i) chain.push_back(unit[i] + Vec2{k * pitch, 0.0});
-  // Cut where the chain first (last) crosses x_left (x_right), from the outside in.
+  // Cut where the chain first crosses x_left (x_right) going out from the unit itself: the
+  // cut's vertical line then meets the chain once. (Cut from the outside in, a neighbour's
+  // overhang reaching back over the line, a T-shaped lifter's wing, was kept and crossed by
+  // the line down to the floor: no simple polygon.)
   const double x_left = unit.front().x - margin, x_right = unit.back().x + margin;
-  std::size_t first = 0, last = chain.size() - 1;
-  while (first + 1 < chain.size() && chain[first + 1].x <= x_left) ++first;
-  while (last > first + 1 && chain[last - 1].x >= x_right) --last;
+  const std::size_t unit_first = static_cast<std::size_t>(copies) * (unit.size() - 1);
+  const std::size_t unit_last = unit_first + unit.size() - 1;
+  std::size_t first = unit_first, last = unit_last;
+  while (first > 0 && chain[first - 1].x > x_left) --first;
+  if (first > 0) --first;  // chain[first] at or left of x_left, chain[first + 1] right of it
+  while (last + 1 < chain.size() && chain[last + 1].x < x_right) ++last;
+  if (last + 1 < chain.size()) ++last;  // chain[last] at or right of x_right
   auto at_x = [](Vec2 a, Vec2 b, double x) {
     return a.x == b.x ? a : Vec2{x, a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x)};
   };
@@ -199,8 +206,9 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind) {
   LinerUnit unit;
   try {
     unit = starting_unit(scene, kind, smoothing_m);
-  } catch (const InputError&) {
+  } catch (const InputError& e) {
     loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
+    loss.failure = e.expected;
     return loss;
   }
   const LifterMetrics before = measure_lifter(unit, R);
@@ -210,8 +218,9 @@ SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind) {
     const LifterMetrics m = measure_lifter(after, R);
     loss.area_fraction = 1.0 - m.area_m2 / before.area_m2;
     loss.height_fraction = 1.0 - m.height_m / before.height_m;
-  } catch (const RunError&) {
+  } catch (const RunError& e) {
     loss.area_fraction = loss.height_fraction = 1.0;  // the unit did not survive it
+    loss.failure = e.what();
   }
   return loss;
 }
@@ -294,12 +303,28 @@ void check_smoothing_radius(const Scene& scene, const std::string& file, int kin
   char buf[640];
   if (lo <= 0.0) {
     // Not a radius problem: the lifter as meshed does not survive any re-smoothing.
+    const SmoothingLoss at_hi = smoothing_loss(scene, hi, kind);
+    if (!at_hi.failure.empty())
+      std::snprintf(buf, sizeof buf,
+                    "a lifter that survives re-smoothing: even at %.2g mm it leaves no valid surface%s (%.300s); "
+                    "look at the profile and at lifters.lifter_edge",
+                    hi * 1e3, measured.c_str(), at_hi.failure.c_str());
+    else
+      std::snprintf(buf, sizeof buf,
+                    "a lifter that survives re-smoothing: even at %.2g mm it removes over %.0f%% of the new lifter%s "
+                    "(at %.3g mm: %.0f%% of its area, %.0f%% of its height); look at the profile and at "
+                    "lifters.lifter_edge",
+                    hi * 1e3, 100.0 * kMaxSmoothingAreaLoss, measured.c_str(), r * 1e3, 100.0 * l.area_fraction,
+                    100.0 * l.height_fraction);
+    throw InputError(file, "wear.smoothing_radius", buf);
+  }
+  if (!l.failure.empty()) {
+    // Not a share removed: the re-smoothed surface is no lifter surface at all (an overhang
+    // the offset closes over, say); say why, not that the radius is too wide.
     std::snprintf(buf, sizeof buf,
-                  "a lifter that survives re-smoothing: even at %.2g mm it removes over %.0f%% of the new lifter%s "
-                  "(at %.3g mm: %.0f%% of its area, %.0f%% of its height); look at the profile and at "
-                  "lifters.lifter_edge",
-                  hi * 1e3, 100.0 * kMaxSmoothingAreaLoss, measured.c_str(), r * 1e3, 100.0 * l.area_fraction,
-                  100.0 * l.height_fraction);
+                  "a smoothing radius of at most %.3g mm for this lifter%s: re-smoothing the new lifter at %.3g mm "
+                  "leaves no valid surface (%.300s)",
+                  lo * 1e3, measured.c_str(), r * 1e3, l.failure.c_str());
     throw InputError(file, "wear.smoothing_radius", buf);
   }
   std::snprintf(buf, sizeof buf,

@@ -34,6 +34,7 @@ LinerUnit starting_unit(const Scene& scene, int kind, double smoothing_m);
 // little; a feature narrower than 2 x smoothing_m goes entirely.
 struct SmoothingLoss {
   double area_fraction = 0.0, height_fraction = 0.0;
+  std::string failure;  // why the unit did not survive re-smoothing (then both fractions are 1)
 };
 SmoothingLoss smoothing_loss(const Scene& scene, double smoothing_m, int kind = 0);
 
