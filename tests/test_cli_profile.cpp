@@ -178,4 +178,17 @@ TEST_F(CliProfile, CsvNeverOverwritesAnInputFile) {
   EXPECT_EQ(twice.exit_code, 2) << twice.output;
   EXPECT_NE(twice.output.find("both would be written"), std::string::npos) << twice.output;
   EXPECT_EQ(twice.output.find("area_mm2"), std::string::npos) << "table printed before the refusal";
+
+  // Nor a file a profile's match_area_of reads, an earlier --csv's though it is: a profile
+  // named as that file would write its own points over the area it matches.
+  const std::string earlier = (dir_ / "out" / "base.csv").string();
+  ASSERT_EQ(run("profile \"" + write("base.toml", "name = \"base\"\nform = \"trapezoid\"\nheight = 20.0\ntop_width = 10.0\n" + kAngles) +
+                "\" --csv \"" + (dir_ / "out").string() + "\"").exit_code, 0);
+  const std::string written = millwear::testing::read_text(earlier);
+  const std::string matched = write("out/matched.toml", "name = \"base\"\nform = \"trapezoid\"\nheight = 15.0\n"
+                                                        "match_area_of = \"base.csv\"\n" + kAngles);
+  const Result reads = run("profile \"" + matched + "\" --csv \"" + (dir_ / "out").string() + "\"");
+  EXPECT_EQ(reads.exit_code, 2) << reads.output;
+  EXPECT_NE(reads.output.find("which " + matched + " reads"), std::string::npos) << reads.output;
+  EXPECT_EQ(millwear::testing::read_text(earlier), written);
 }

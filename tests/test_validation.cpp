@@ -418,6 +418,15 @@ TEST(ValidationAreaSurveys, TheHeaderTellsProfilesFromAreas) {
   EXPECT_EQ(a.count(), 2u);
   EXPECT_EQ(a.hours(), (std::vector<double>{0.0, 100.0}));
   EXPECT_EQ(a.lines(), (std::vector<std::size_t>{3, 4}));
+  // A header of both formats is refused as such (it was read as profiles, and refused for a
+  // survey of too few points).
+  try {
+    validation::parse_measurements("hours,area_mm2,x_mm,y_mm\n0,419.1,0,0\n50,390,1,1\n", "both.csv");
+    ADD_FAILURE() << "a header of both formats was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "line 1") << e.what();
+    EXPECT_NE(e.expected.find("not both"), std::string::npos) << e.what();
+  }
 }
 
 // Survey files as spreadsheets save them: "CSV UTF-8" (a byte-order mark, here before a

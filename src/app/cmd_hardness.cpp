@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "app/number_checks.hpp"
 #include "app/commands.hpp"
@@ -54,6 +55,12 @@ int run_hardness(const HardnessArgs& a) {
               100.0 * f.cv_before, 100.0 * f.cv_after, r_squared);
 
   validation::write_hardness_outputs(a.out, data, f);
+  // An earlier figure is of earlier data: gone before this one is drawn, so that a figure
+  // that fails leaves none beside the new tables.
+  for (const char* figure : {"hardness.png", "hardness.svg"}) {
+    std::error_code ec;
+    std::filesystem::remove(io::join_path(a.out, figure), ec);
+  }
   try {
     const auto files = validation::render_hardness_figure(a.out, data, f);
     std::printf("results in %s (hardness_periods.csv, hardness_fit.csv); figure %s\n", a.out.c_str(),

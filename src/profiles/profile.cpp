@@ -648,14 +648,20 @@ void check_profile_csv_targets(const std::vector<LifterProfile>& profiles, const
         throw InputError(profiles[i].source_file, "name",
                          "expected a name different from " + profiles[j].source_file + " (both would be written to " +
                              profiles[i].name + ".csv)");
-    // A measured scan's name is its file's: --csv into its own folder would overwrite it.
+    // A measured scan's name is its file's: --csv into its own folder would overwrite it; so
+    // would a profile named as a file another profile's match_area_of reads.
     const fs::path target = fs::path(dir) / (profiles[i].name + ".csv");
     for (const LifterProfile& input : profiles) {
-      std::error_code ec;
-      if (fs::equivalent(target, input.source_file, ec))
-        throw InputError("", "--csv",
-                         "a folder other than the one holding " + input.source_file + " (" + target.string() +
-                             " would overwrite it)");
+      std::vector<std::string> read = input.referenced_files;
+      read.insert(read.begin(), input.source_file);
+      for (const std::string& f : read) {
+        std::error_code ec;
+        if (fs::equivalent(target, f, ec))
+          throw InputError("", "--csv",
+                           "a folder other than the one holding " + f + ", which " + input.source_file +
+                               (f == input.source_file ? " is" : " reads") + " (" + target.string() +
+                               " would overwrite it)");
+      }
     }
     // Nor a file of the user's (a scan under the profile's name): only an earlier --csv's, or
     // the same points as one written before the comment line was.

@@ -281,7 +281,12 @@ Measurements parse_measurements(const std::string& text, const std::string& name
   const SurveyCsv csv = parse_survey_csv(text, name);
   const io::CsvData& d = csv.data;
   Measurements m;
-  if (d.has_column("x_mm") || d.has_column("y_mm")) {
+  const bool points = d.has_column("x_mm") || d.has_column("y_mm");
+  const bool areas = d.has_column("area_mm2") || d.has_column("area_loss_mm2");
+  if (points && areas)
+    throw InputError(name, "line " + std::to_string(csv.header_line),
+                     std::string(kEitherFormat) + ", not both: this header has point and area columns");
+  if (points) {
     m.profiles = parse_surveys(text, name);
   } else if (d.has_column("area_mm2") || d.has_column("area_loss_mm2")) {
     m.areas_only = true;
