@@ -436,6 +436,18 @@ TEST(HostileProfile, ALifterWiderThanTheShellNamesTheProfile) {
   EXPECT_EQ(r.output.find("-1 rows"), std::string::npos) << r.output;
 }
 
+// Too many rows for a pattern's lifters: the most that fit is a whole number of the pattern's
+// repeats (57 rows of the hi-lo lab liner fit, and 57 is no pattern of two), and the width
+// named is the lifter's widest, which an overhang puts above its base.
+TEST(HostileProfile, TooManyRowsForAPatternNamesAWholeNumberOfRepeats) {
+  const auto r = run_millwear("charge " + quoted(fs::path(kSource + "/scenarios/lab-hi-lo.toml")) +
+                              " --check -o out --set lifters.rows=60");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("expected at most 56 rows (a multiple of the pattern's 2 kinds)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("33.094 mm at its widest"), std::string::npos) << r.output;
+}
+
 // A point typed onto another edge pinches the lifter into two parts joined at a point; in
 // metres the point rounds to one side of the edge or the other, and either way it is refused,
 // naming the point and the edge.

@@ -563,14 +563,19 @@ void check_across_sections(const Scene& s, const std::string& file) {
     const double rows_that_fit = std::floor(2.0 * kPi * R / (xmax - xmin) - 1e-9);
     if (!(rows_that_fit >= 1.0))
       throw InputError(file, key,
-                       "expected a lifter base narrower than the shell's circumference (" +
+                       "expected a lifter narrower than the shell's circumference (" +
                            num_text(2.0 * kPi * R / kMm) + " mm); " + named + " is " +
-                           num_text((xmax - xmin) / kMm) + " mm wide at its base");
-    if (xmax - xmin >= pitch)
+                           num_text((xmax - xmin) / kMm) + " mm wide at its widest");
+    if (xmax - xmin >= pitch) {
+      // A pattern's rows are a whole number of its repeats.
+      const double repeat = static_cast<double>(s.mill.kind_count());
+      const double most = std::floor(std::min(rows_that_fit, 1e9) / repeat) * repeat;
       throw InputError(file, "lifters.rows",
-                       "expected at most " + std::to_string(static_cast<long long>(std::min(rows_that_fit, 1e9))) +
-                           " rows: the base of " + named + " (" + num_text((xmax - xmin) / kMm) +
-                           " mm) must be narrower than the pitch (" + num_text(pitch / kMm) + " mm)");
+                       "expected at most " + std::to_string(static_cast<long long>(most)) + " rows" +
+                           (repeat > 1.0 ? " (a multiple of the pattern's " + num_text(repeat) + " kinds)" : "") +
+                           ": the width of " + named + " (" + num_text((xmax - xmin) / kMm) +
+                           " mm at its widest) must be under the pitch (" + num_text(pitch / kMm) + " mm)");
+    }
     // Lifters reaching past half the radius leave no room for a charge at any filling.
     if (ymax >= 0.5 * R)
       throw InputError(file, key,
