@@ -226,7 +226,18 @@ TEST_F(ProfileFile, CircularMatchAreaOfIsRejected) {
   write("b.toml", b);
   const InputError e = load_error(write("a.toml", a));
   EXPECT_EQ(e.where, "match_area_of");
-  EXPECT_NE(e.expected.find("refers back"), std::string::npos);
+  // The loop is named file by file (two files were "a file that refers back to itself").
+  EXPECT_NE(e.expected.find("comes back to this file (a.toml -> b.toml -> a.toml)"), std::string::npos) << e.what();
+}
+
+// A problem in the file match_area_of names is said with the file that named it.
+TEST_F(ProfileFile, AProblemInTheMatchedFileNamesTheFileThatReadIt) {
+  write("thin.toml", "form = \"polyline\"\npoints = [[0, 0], [1, 1]]\n");
+  const std::string p = write("p.toml", "form = \"trapezoid\"\nheight = 20.0\nleading_face_angle = 30.0\n"
+                                        "trailing_face_angle = 30\nmatch_area_of = \"thin.toml\"\n");
+  const InputError e = load_error(p);
+  EXPECT_EQ(e.where, "points");
+  EXPECT_NE(e.expected.find("(the profile match_area_of names in " + p + ")"), std::string::npos) << e.what();
 }
 
 TEST_F(ProfileFile, KeyOfTheOtherFormIsRejected) {

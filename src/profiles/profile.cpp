@@ -199,9 +199,14 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
   if (!fs::is_regular_file(path, ec))
     throw InputError(path, "", "expected an existing, readable profile file");
   const std::string canonical = fs::weakly_canonical(path, ec).string();
-  if (std::find(chain.begin(), chain.end(), canonical) != chain.end())
+  if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
+    std::string loop;
+    for (auto it = std::find(chain.begin(), chain.end(), canonical); it != chain.end(); ++it)
+      loop += fs::path(*it).filename().string() + " -> ";
     throw InputError(path, "match_area_of",
-                     "expected a chain of profiles that ends; this file refers back to itself");
+                     "expected a chain of profiles that ends; match_area_of comes back to this file (" + loop +
+                         fs::path(canonical).filename().string() + ")");
+  }
   chain.push_back(canonical);
 
   toml::table root;
@@ -271,8 +276,15 @@ LifterProfile load_profile_impl(const std::string& path, std::vector<std::string
       // A measured lifter (CSV) refers to nothing further; a TOML one may, and the chain
       // catches a loop.
       const bool measured = lower_extension(other_path) == ".csv";
-      const LifterProfile ref = measured ? parse_measured_profile(io::read_file(other_path.string()), other_path.string())
-                                         : load_profile_impl(other_path.string(), chain);
+      LifterProfile ref;
+      try {
+        ref = measured ? parse_measured_profile(io::read_file(other_path.string()), other_path.string())
+                       : load_profile_impl(other_path.string(), chain);
+      } catch (const InputError& e) {
+        // The referred file's own problem, said with the key that led to it.
+        if (e.where == "match_area_of" && e.file != other_path.string()) throw;  // a loop, said where it closes
+        throw InputError(e.file, e.where, e.expected + " (the profile match_area_of names in " + path + ")");
+      }
       const double target = measure_profile(ref.points).area_m2;
       t.top_width_m = top_width_for_area(t, target, path);
       prof.referenced_files.push_back(other_path.lexically_normal().string());
