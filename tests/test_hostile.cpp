@@ -698,6 +698,27 @@ TEST(HostileSurveys, CalibrateRefusesAWearRateOverrideInAnySpelling) {
   }
 }
 
+// The calibrated copy is checked for its rate before the histories, but without the --set
+// overrides, which it does not hold: a relative lifters.profile among them resolves from the
+// scene's folder, and from the copy's folder (-o elsewhere) it named a file that is not there.
+TEST(HostileSurveys, CalibrateTakesARelativeProfileOverrideWithTheCopyElsewhere) {
+  const TempDir dir("millwear-hostile-calibrate-relative");
+  fs::create_directories(dir / "sc" / "prof");
+  write(dir / "sc" / "prof" / "lab-2x30.toml", read_text(kSource + "/profiles/lab-2x30.toml"));
+  std::string scene = read_text(kSource + "/tests/data/lab-quick.toml");
+  const std::string profile = "\"../../profiles/lab-2x30.toml\"";
+  ASSERT_NE(scene.find(profile), std::string::npos);
+  scene.replace(scene.find(profile), profile.size(), "\"" + kSource + "/profiles/lab-2x30.toml\"");
+  write(dir / "sc" / "lab-quick.toml", scene);
+  write(dir / "areas.csv", "hours,area_mm2\n0,419\n50,385\n100,355\n");
+  const auto r = run_millwear("calibrate " + quoted(dir / "sc" / "lab-quick.toml") + " --measured " +
+                              quoted(dir / "areas.csv") + " -o " + quoted(dir / "cal") +
+                              " --max-runs 1 --set lifters.profile=prof/lab-2x30.toml");
+  EXPECT_NE(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output.find("expected an existing profile file"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "cal" / "lab-quick-calibrated.toml")) << r.output;
+}
+
 // A run of --replicates 2 holds two histories of the design; validate --from compares the
 // first (the scene's seed), while the run's summary.csv gives their mean: it says which
 // history it compared, on the screen and in its manifest.
@@ -1485,12 +1506,15 @@ TEST(HostileOptions, AnInputAmongTheFilesACommandWritesIsRefusedAndKept) {
   expect_input_refused(run_millwear("run " + quick + " -o " + quoted(out) + sets + " --force --set lifters.profile=" +
                                     quoted(stage1)),
                        stage1, scan);
-  // The same scan beside the results, under a name the run neither writes nor deletes, runs.
-  write(out / "scan.csv", scan);
-  const auto beside = run_millwear("run " + quick + " -o " + quoted(out) + sets + " --force --set lifters.profile=" +
-                                   quoted(out / "scan.csv"));
-  EXPECT_EQ(beside.exit_code, 0) << beside.output;
-  EXPECT_EQ(read_text(out / "scan.csv"), scan);
+  // The same scan beside the results or among the stage profiles, under a name the run neither
+  // writes nor deletes, runs.
+  for (const fs::path& kept : {out / "scan.csv", out / "profiles" / "myscan.csv"}) {
+    write(kept, scan);
+    const auto beside = run_millwear("run " + quick + " -o " + quoted(out) + sets + " --force --set lifters.profile=" +
+                                     quoted(kept));
+    EXPECT_EQ(beside.exit_code, 0) << beside.output;
+    EXPECT_EQ(read_text(kept), scan);
+  }
 
   // An earlier charge's folder, which a charge rewrites.
   ASSERT_EQ(run_millwear("charge " + quick + " -o " + quoted(dir / "charge") + " -q --revolutions 0.05").exit_code, 0);

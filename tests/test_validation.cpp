@@ -1205,15 +1205,18 @@ TEST(CalibrationBounds, HistoriesFittedAtAnEndOfTheSearchAreLeftOutOfTheMean) {
 
 namespace millwear::validation {
 
-// After a fit beyond what its history reaches (a lower bound on C), the next history runs as
-// far as the first (first_reach), so that the calibration finds the rate instead of creeping
-// up on it by the later histories' 1.1x at a time.
-TEST(CalibrationBounds, AFitBeyondItsHistorysReachSendsTheNextHistoryFurther) {
+// A fit beyond what its history reaches gives only a lower bound on C (the history wore too
+// little for the surveys): the same history, same seed and rate, runs again as far as the first
+// and its fit takes the place of the bound. Leaving the bound out instead would leave out the
+// draws that wore little, and bias C low; crept up on, C rose 1.1x a history.
+TEST(CalibrationBounds, AFitBeyondItsHistorysReachIsRunAgainAsFarAsTheFirst) {
   Scene scene = load_scene(std::string(MILLWEAR_SOURCE_DIR) + "/scenarios/lab-mill.toml");
   scene.wear.wear_rate_m3_per_J = 1e-10;
   std::vector<int> stages;
+  std::vector<double> rates;
   const auto run_history = [&](const Scene& s) {
     stages.push_back(s.wear.stages);
+    rates.push_back(s.wear.wear_rate_m3_per_J);
     WearHistory h;
     h.wear_rate_m3_per_J = s.wear.wear_rate_m3_per_J;
     for (int k = 0; k <= s.wear.stages; ++k) {
@@ -1223,20 +1226,31 @@ TEST(CalibrationBounds, AFitBeyondItsHistorysReachSendsTheNextHistoryFurther) {
     }
     return h;
   };
+  // The second history (one stage) wears too little: its fit is at the end of its reach. Run
+  // to two stages, the same draw fits at 1.05.
   int calls = 0;
-  const auto fit = [&](const std::vector<StageRecord>&) {
+  const auto fit = [&](const std::vector<StageRecord>& st) {
     ScaleFit f;
     f.points = 2;
-    f.scale = ++calls == 2 ? 1.1 : 1.0;
+    ++calls;
+    f.scale = calls == 2 ? 1.1 : calls == 3 ? (st.size() == 3 ? 1.05 : 0.0) : 1.0;
     f.at_bound = f.beyond_reach = calls == 2;
     return f;
   };
   CalibrationOptions opt;
   opt.min_runs = 3;
-  calibrate_by_time_scale(scene, {200.0}, fit, opt, nullptr, run_history);
-  // A survey at 200 h: stages of 200 h; the first history to 1.6 x 200 h (2 stages), the
-  // next to 200 h (1), at the bound; the one after it to 2 stages again, which converges.
-  EXPECT_EQ(stages, (std::vector<int>{2, 1, 2}));
+  opt.rel_tol = 0.01;
+  const CalibrationResult r = calibrate_by_time_scale(scene, {200.0}, fit, opt, nullptr, run_history);
+  // A survey at 200 h: stages of 200 h; the first history to 1.6 x 200 h (2 stages), the next
+  // to 200 h (1 stage), at the bound, then the same rate to 2 stages again; the third to 1.
+  EXPECT_EQ(stages, (std::vector<int>{2, 1, 2, 1}));
+  ASSERT_EQ(rates.size(), 4u);
+  EXPECT_EQ(rates[2], rates[1]);
+  ASSERT_EQ(r.runs.size(), 3u);  // the bound's place taken by the longer history
+  for (const CalibrationRun& run : r.runs) EXPECT_FALSE(run.fit.at_bound) << run.run;
+  EXPECT_EQ(r.runs[1].run, 2);
+  EXPECT_DOUBLE_EQ(r.runs[1].c_estimate, 1.05 * rates[1]);
+  EXPECT_EQ(r.histories_averaged, 2);
 }
 
 }  // namespace millwear::validation

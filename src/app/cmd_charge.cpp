@@ -59,7 +59,10 @@ void refuse_users_file(const std::string& out, const Scene& scene) {
   std::vector<std::string> names = charge_output_names(scene);
   names.push_back("manifest.json");
   io::check_output_names(out, names, "charge");
-  io::check_inputs_not_among(out, names, study::scene_input_files(scene), "charge");
+  // Nor an input among them, or among the earlier charge's files it deletes once it is done.
+  std::vector<std::string> taken = names;
+  for (const std::string& f : io::manifest_files(out)) taken.push_back(f);
+  io::check_inputs_not_among(out, taken, study::scene_input_files(scene), "charge");
   if (const std::string taken = io::unlisted_output(out, charge_output_names(scene)); !taken.empty())
     throw InputError(out, "-o",
                      "a folder that is new or holds an earlier charge's results, but " + taken +

@@ -997,22 +997,13 @@ void check_derived_seeds(const Scene& scene, std::uint64_t count, const std::str
                        std::to_string(count - 1) + "), found " + std::to_string(scene.solver.seed));
 }
 
-Scene load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides) {
+Scene load_scene_text(const std::string& text, const std::string& path) {
   toml::table root;
   try {
     root = toml::parse(text, path);
   } catch (const toml::parse_error& e) {
     throw not_toml(path, e);
   }
-  for (const std::string& o : overrides) {
-    try {
-      apply_override(root, o);
-    } catch (const InputError& e) {
-      throw InputError(path, e.where, e.expected);
-    }
-  }
-  Scene s = read_scene(root, path);
-  s.overrides = overrides;
-  return s;
+  return read_scene(root, path);
 }
 }  // namespace millwear

@@ -235,9 +235,8 @@ void check_derived_seeds(const Scene& scene, std::uint64_t count, const std::str
 // the scene; load_scene(path, overrides) does.
 std::string overridden_scene_toml(const std::string& path, const std::vector<std::string>& overrides);
 // The same for a scene's text as if read from `path` (errors name it; the profile path
-// resolves from its folder), with `overrides` as load_scene puts them: how an edited scene is
-// checked before it is used or written.
-Scene load_scene_text(const std::string& text, const std::string& path, const std::vector<std::string>& overrides = {});
+// resolves from its folder): how an edited scene is checked before it is used or written.
+Scene load_scene_text(const std::string& text, const std::string& path);
 // A scene's built mill geometry (the lifters it starts from, one unit per kind shared by
 // every row of that kind), and one kind's liner unit alone: the one place a scene's lifter
 // becomes geometry. A measured profile's unit is its surface as measured (resampled).

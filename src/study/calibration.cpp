@@ -193,13 +193,28 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     if (on_run) on_run(result.runs.back());
     return result.runs.back();
   };
+  // One history at rate c_run (seed + seed_offset) reaching `reach`, fitted. A fit at the end
+  // of what the history reaches gives only a lower bound on C: the same history (same seed,
+  // same rate: the same draw of the charge) run as far as the first gives the estimate in its
+  // place, so that no draw is left out of the mean for having worn little.
+  const auto fitted = [&](double c_run, double reach, std::uint64_t seed_offset, int run, int replicate) {
+    Scene s = scene_for_survey_hours(scene, survey_hours, c_run, reach);
+    s.solver.seed += seed_offset;
+    const CalibrationRun* r = &run_and_fit(s, run, replicate);
+    if (r->fit.beyond_reach && reach < opt.first_reach) {
+      result.runs.pop_back();
+      s = scene_for_survey_hours(scene, survey_hours, c_run, opt.first_reach);
+      s.solver.seed += seed_offset;
+      r = &run_and_fit(s, run, replicate);
+    }
+    return std::make_pair(s, *r);
+  };
   double reach = opt.first_reach;
   for (int run = 1; run <= opt.max_runs; ++run) {
-    const Scene s = scene_for_survey_hours(scene, survey_hours, c, reach);
-    const CalibrationRun& r = run_and_fit(s, run, 1);
+    const auto [s, r] = fitted(c, reach, 0, run, 1);
     c = r.c_estimate;
-    // A fit at the end of what its history reaches gives only a lower bound on C: the next
-    // history runs as far as the first, to find the rate rather than creep up on it.
+    // Beyond even that reach, the next history runs as far again, to find the rate rather
+    // than creep up on it.
     reach = r.fit.beyond_reach ? opt.first_reach : opt.reach;
     // A scale change inside this history's own statistical error cannot be resolved by
     // another history (it would only draw new noise): that is converged too.
@@ -211,11 +226,9 @@ CalibrationResult calibrate_by_time_scale(const Scene& scene, const std::vector<
     }
   }
   // Replicates: the calibrated C again with other seeds, each history fitted on its own.
-  for (int k = 2; k <= opt.replicates; ++k) {
-    Scene s = scene_for_survey_hours(scene, survey_hours, result.runs.back().c_m3_per_J, opt.reach);
-    s.solver.seed += static_cast<std::uint64_t>(k - 1);
-    run_and_fit(s, static_cast<int>(result.runs.size()) + 1, k);
-  }
+  for (int k = 2; k <= opt.replicates; ++k)
+    fitted(result.runs.back().c_m3_per_J, opt.reach, static_cast<std::uint64_t>(k - 1),
+           static_cast<int>(result.runs.size()) + 1, k);
   const CalibrationRun& last = result.runs.back();
   // Every history after the first ran near the answer and gives its own estimate, with its
   // own draw of the charge's noise: their mean is the estimate, and their spread measures

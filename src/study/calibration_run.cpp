@@ -1,6 +1,8 @@
 // `millwear calibrate` as one call (see calibration_run.hpp).
 #include "study/calibration_run.hpp"
 
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,15 +29,34 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The calibrated copy's text read as the file it becomes, with the calibration's overrides:
-// a valid scene whose wear rate is c (InputError naming the copy otherwise).
-void check_calibrated_copy(const std::string& text, const std::string& path, const std::vector<std::string>& overrides,
-                           double c) {
-  const Scene s = load_scene_text(text, path, overrides);
-  if (s.wear.rate_source != WearRateSource::Given || std::fabs(s.wear.wear_rate_m3_per_J / c - 1.0) > 1e-5)
-    throw InputError(path, "wear.wear_rate",
-                     "a copy of the scene that reads back with the rate written into it; this scene's wear rate "
-                     "could not be edited in its text: give it as `wear_rate = ...` on a line of its own in [wear]");
+// The calibrated copy's text: its wear rate reads back as c, and, where the scene file reads
+// as a scene by itself, so does the copy as the file it becomes (its profile paths re-pointed
+// for its folder). The --set overrides are not in the copy, and are not applied to it: a
+// relative profile path among them resolves from the scene's folder, not the copy's.
+void check_calibrated_copy(const std::string& text, const std::string& path, const std::string& scene_file, double c) {
+  const auto refuse = [&path](const std::string& why) {
+    return InputError(path, "wear.wear_rate",
+                      "a copy of the scene that reads back with the rate written into it; " + why +
+                          ": give the rate as `wear_rate = ...` on a line of its own in [wear]");
+  };
+  toml::table t;
+  try {
+    t = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw refuse(std::string("the edited text is not TOML (") + std::string(e.description()) + ")");
+  }
+  const std::optional<double> rate = t["wear"]["wear_rate"].value<double>();
+  if (!rate || std::fabs(*rate / c - 1.0) > 1e-5) throw refuse("the edit did not set wear.wear_rate");
+  bool file_alone = true;
+  try {
+    load_scene(scene_file);
+  } catch (const InputError&) {
+    file_alone = false;  // valid only with its overrides: nothing more to compare
+  }
+  if (!file_alone) return;
+  const Scene copy = load_scene_text(text, path);
+  if (copy.wear.rate_source != WearRateSource::Given || std::fabs(copy.wear.wear_rate_m3_per_J / c - 1.0) > 1e-5)
+    throw refuse("the copy reads another wear rate");
 }
 
 }  // namespace
@@ -109,7 +130,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   const auto copy_text = [&a, &out_dir](double c, const std::string& note) {
     return calibrated_scene_text(io::read_file(a.scene_file), a.scene_file, {c, note, out_dir});
   };
-  check_calibrated_copy(copy_text(1.23457e-11, "a check of the copy"), o.scene_out, a.overrides, 1.23457e-11);
+  check_calibrated_copy(copy_text(1.23457e-11, "a check of the copy"), o.scene_out, a.scene_file, 1.23457e-11);
   // One writer per output folder, for the whole calibration (not the scene's own folder).
   std::optional<io::FolderLock> lock;
   if (!a.out.empty()) lock.emplace(a.out, "calibrate");
@@ -147,7 +168,7 @@ CalibrateOutcome calibrate_scene(const CalibrateRequest& a, const CalibrateCallb
   // The copy must read back as a valid scene with exactly this C before it is written.
   const std::string text = copy_text(res.c_m3_per_J, note_text);
   try {
-    check_calibrated_copy(text, o.scene_out, a.overrides, res.c_m3_per_J);
+    check_calibrated_copy(text, o.scene_out, a.scene_file, res.c_m3_per_J);
   } catch (const InputError& e) {
     throw RunError(std::string(e.what()));
   }

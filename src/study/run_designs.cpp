@@ -555,11 +555,22 @@ Holds check_folder(const Plan& plan, const std::string& out, bool force, std::st
   if (holds != Holds::None) {
     for (const std::string& n : io::manifest_files(out))
       if (n.compare(0, 7, "inputs/") != 0) taken_names.push_back(n);
+    // The stage files of the designs its run.key records (what remove_stage_state deletes).
+    std::set<std::string> recorded;
+    try {
+      for (const auto& [k, v] : io::read_key_values(io::run_key_path(out)))
+        if (k.compare(0, 7, "design.") == 0) recorded.insert(k.substr(7));
+    } catch (const std::exception&) {
+    }
     std::error_code ec;
-    for (const char* dir : {"stages", "profiles"})
+    for (const std::string dir : {"stages", "profiles"})
       if (fs::is_directory(io::join_path(out, dir), ec))
-        for (const auto& e : fs::directory_iterator(io::join_path(out, dir), ec))
-          taken_names.push_back(std::string(dir) + "/" + e.path().filename().string());
+        for (const auto& e : fs::directory_iterator(io::join_path(out, dir), ec)) {
+          const std::string n = e.path().filename().string();
+          for (const std::string& design : recorded)
+            if (dir == "stages" ? study::is_stage_state_name(n, design) : study::is_stage_profile_name(n, design))
+              taken_names.push_back(dir + "/" + n);
+        }
   }
   io::check_inputs_not_among(out, taken_names, input_files(plan), "run");
   if (holds == Holds::None && io::folder_results_command(out).empty())
