@@ -1394,6 +1394,34 @@ TEST(HostileScenes, AChargeStillSpinningUpIsSaidNotToBeSteady) {
   EXPECT_EQ(steady.output.find("not steady"), std::string::npos) << steady.output;
 }
 
+// A --set of a key one of the command's own options sets (--stages: wear.stages, --fidelity:
+// fidelity, --revolutions: run.revolutions, --factors: wear.factor) was overridden by the option
+// without a word, and the manifest still listed it. Refused before any work, naming the --set
+// and the option; without the option the --set is taken.
+TEST(HostileOptions, ASetOfAKeyAnOptionSetsIsRefused) {
+  const TempDir dir("millwear-hostile-set-option");
+  const std::string quick = quoted(fs::path(kSource + "/tests/data/lab-quick.toml"));
+  const std::string out = " -o " + quoted(dir / "out");
+  for (const auto& [command, says] : std::vector<std::pair<std::string, std::string>>{
+           {"tradeoff " + quick + out + " --only draft --stages 1 --set wear.stages=3", "which --stages sets"},
+           {"tradeoff " + quick + out + " --only draft --stage-hours 5 --set wear.stage_hours=7", "which --stage-hours sets"},
+           {"sweep " + quick + out + " --vary mill.speed=0.6,0.7 --fidelity draft --set fidelity=reference",
+            "which --fidelity sets"},
+           {"sweep " + quick + out + " --vary mill.speed=0.6,0.7 --revolutions 0.3 --set run.revolutions=2",
+            "which --revolutions sets"},
+           {"charge " + quick + out + " --revolutions 0.3 --set run.revolutions=2", "which --revolutions sets"},
+           {"run " + quick + out + " --fidelity draft --set fidelity=reference", "which --fidelity sets"},
+           {"rule1 " + quick + out + " --factors 1e5 2e5 --set wear.factor=3e5", "which --factors sets"},
+           {"rule1 " + quick + out + " --set wear.stages=2", "which --stages sets"}}) {
+    const auto r = run_millwear(command);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << command << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << command;
+  }
+  const auto taken = run_millwear("charge " + quick + out + " --check --set run.revolutions=2");
+  EXPECT_EQ(taken.exit_code, 0) << taken.output;
+}
+
 TEST(HostileOptions, OptionsThatContradictEachOtherAreRefused) {
   const TempDir dir("millwear-hostile-options-conflict");
   // --max-runs 1 alone is no contradiction: the default minimum (2) yields to it.

@@ -561,6 +561,20 @@ TEST_F(ScreenRun, ResumeRunsOnlyTheUnfinishedDesignAndGivesTheSameRanking) {
   EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
 }
 
+// A design whose task.status says finished but whose summary.csv is gone (its results
+// unreadable, as --collect says) is run again by --resume, which gives the same ranking; it
+// was counted finished, and --resume failed on it every time.
+TEST_F(ScreenRun, ResumeRunsAgainAFinishedDesignWhoseResultsAreUnreadable) {
+  const fs::path out = root_ / "unreadable";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  fs::remove(out / "designs/d001/summary.csv");
+  fs::remove_all(out / "logs");
+  const Result r = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --resume --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(file_names(out / "logs"), (std::set<std::string>{"d001.log"}));
+  EXPECT_EQ(slurp(out / "ranking.csv"), slurp(ref_ / "ranking.csv"));
+}
+
 // A folder holding a screen of other inputs is refused, and with --force that screen's files
 // (only those) are deleted first: a user's own files in the folder and its subfolders stay.
 TEST_F(ScreenRun, AnotherScreensFolderIsReplacedOnlyWithForceAndTheUsersFilesStay) {
@@ -745,6 +759,25 @@ TEST(ScreenInput, BadValueExitsTwoWithTheExpectation) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(says), std::string::npos) << r.output;
   }
+  // Stages shorter than a scene's are the screen file's own error (they were blamed on the
+  // candidates' scenes, at a line of a file never written).
+  const fs::path shortstage = write_screen(dir, "short.toml", "[screen]\nbase = '" + lab_base() +
+                                                                  "'\nsampling = 'grid'\nstage_hours = 0.5\n");
+  r = millwear_cmd("screen " + q(shortstage) + " -o " + q(dir / "out") + " --emit parallel");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("short.toml: screen.stage_hours: expected a number in [1,"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(line 4)"), std::string::npos) << r.output;
+  // A profile file and a copy of it elsewhere are one design twice.
+  fs::create_directories(dir / "pa");
+  fs::create_directories(dir / "pb");
+  for (const char* sub : {"pa", "pb"})
+    std::ofstream(dir / sub / "p.toml") << slurp(src("profiles/lab-2x30.toml"));
+  const fs::path copies = write_screen(dir, "copies.toml", "[screen]\nbase = '" + lab_base() +
+                                                               "'\n[family]\nprofiles = ['pa/p.toml', 'pb/p.toml']\n");
+  r = millwear_cmd("screen " + q(copies) + " -o " + q(dir / "out") + " --emit parallel");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("family.profiles[1]: expected each profile once, but"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the same candidates twice"), std::string::npos) << r.output;
   // A Latin hypercube of five samples over two listed angles draws one design several times.
   const fs::path lhs = write_screen(dir, "lhs.toml",
                                     "[screen]\nbase = '" + lab_base() +
@@ -812,6 +845,58 @@ TEST(ScreenInput, AMeasuredScanInTheListOfProfilesIsACandidate) {
   ASSERT_EQ(bad.row_count(), 1u);
   EXPECT_NE(bad.text(0, bad.column("reason")).find("thinner than the particles"), std::string::npos)
       << bad.text(0, bad.column("reason"));
+}
+
+// A base that starts from a worn liner measured at 2,000 h: a drawn candidate is a new lifter
+// and starts at 0 h (its life had the base's 2,000 h added); a listed measured scan keeps them.
+TEST(ScreenInput, ADrawnCandidateOfAWornStartBaseStartsNew) {
+  const TempDir dir("millwear-screen-worn-base");
+  const fs::path f = write_screen(dir, "worn.toml",
+                                  "[screen]\nbase = '" + src("scenarios/lab-worn-start.toml") +
+                                      "'\nsampling = 'grid'\nequal_area = 'base'\n[family]\nheight = 18.0\n"
+                                      "leading_face_angle = [20.0, 30.0]\ntrailing_face_angle = 30.0\n");
+  Result r = millwear_cmd("screen " + q(f) + " -o " + q(dir / "out") + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData good = io::read_csv((dir / "out/designs.csv").string());
+  ASSERT_EQ(good.row_count(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Scene s = load_scene((dir / "out" / good.text(i, good.column("scene_file"))).string());
+    EXPECT_EQ(s.wear.start_hours, 0.0) << i;
+  }
+  const fs::path g = write_screen(dir, "scan.toml",
+                                  "[screen]\nbase = '" + src("scenarios/lab-worn-start.toml") + "'\n[family]\nprofiles = ['" +
+                                      src("profiles/lab-survey-2000h.csv") + "']\n");
+  r = millwear_cmd("screen " + q(g) + " -o " + q(dir / "scan") + " --emit parallel");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::CsvData scan = io::read_csv((dir / "scan/designs.csv").string());
+  ASSERT_EQ(scan.row_count(), 1u);
+  EXPECT_EQ(load_scene((dir / "scan" / scan.text(0, scan.column("scene_file"))).string()).wear.start_hours, 2000.0);
+}
+
+// direction = ["uni", "bi"] over a history shorter than the reversal period: the bi design
+// never reverses and ran byte for byte as the uni one, ranked as another. It is rejected with
+// the reason; one that reverses within its history is a candidate.
+TEST(ScreenInput, ABiDesignThatNeverReversesWithinItsHistoryIsRejected) {
+  const TempDir dir("millwear-screen-never-reverses");
+  // The base runs one way; a bi candidate reverses every 750 h (the default).
+  for (const auto& [hours, bi_kept] : std::vector<std::pair<std::string, bool>>{{"10.0", false}, {"400.0", true}}) {
+    const fs::path f = write_screen(dir, "dir.toml",
+                                    "[screen]\nbase = '" + src("tests/data/lab-quick.toml") + "'\nsampling = 'grid'\n"
+                                    "stages = 2\nstage_hours = " + hours + "\n[family]\ndirection = ['uni', 'bi']\n"
+                                    "height = 20.0\n");
+    const fs::path out = dir / ("out" + hours);
+    const Result r = millwear_cmd("screen " + q(f) + " -o " + q(out) + " --emit parallel");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const io::CsvData good = io::read_csv((out / "designs.csv").string());
+    EXPECT_EQ(good.row_count(), bi_kept ? 2u : 1u) << hours;
+    if (!bi_kept) {
+      const io::CsvData bad = io::read_csv((out / "rejected.csv").string());
+      ASSERT_EQ(bad.row_count(), 1u);
+      EXPECT_EQ(bad.text(0, bad.column("direction")), "bi");
+      EXPECT_NE(bad.text(0, bad.column("reason")).find("never reverses"), std::string::npos)
+          << bad.text(0, bad.column("reason"));
+    }
+  }
 }
 
 // A folder of a screen whose file changed since is refused naming that file's contents as

@@ -133,6 +133,10 @@ TEST(SweepCharge, TheTableNamesSeedsPastWhatADoubleHoldsAsTheyRan) {
 // The same value twice would run the same charge twice: refused, naming both as written.
 TEST(SweepVary, AValueListedTwiceIsRefused) {
   expect_speed_vary_refused("mill.speed=0.6, 0.7,0.60", "each value once, got 0.6 and 0.60");
+  // Two texts the scene reads as one double are one value; seeds past 2^53 stay apart.
+  expect_speed_vary_refused("mill.speed=0.6,0.60000000000000001",
+                            "each value once, got 0.6 and 0.60000000000000001");
+  EXPECT_EQ(study::parse_vary("solver.seed=9007199254740992,9007199254740993").values.size(), 2u);
 }
 
 // A sweep runs the charge alone: a key of [wear] would give the same point at every value.

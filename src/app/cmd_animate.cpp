@@ -22,6 +22,7 @@ namespace millwear::app {
 namespace {
 
 int run_animate(study::AnimationRequest a) {
+  refuse_sets_options_give(a.overrides, {{"fidelity", "--fidelity", !a.fidelity.empty()}});
   // Ctrl-C or SIGTERM is heard between pieces of the simulation and once gnuplot has ended;
   // the animation then removes what it made and ends here.
   const SignalScope signals;

@@ -34,6 +34,7 @@ struct CalibrateArgs {
 };
 
 int run_calibrate(CalibrateArgs a) {
+  refuse_sets_options_give(a.request.overrides, {{"fidelity", "--fidelity", !a.request.fidelity.empty()}});
   // Both given and contradicting: refused. The default minimum yields to --max-runs 1.
   if (a.min_runs_given && a.request.options.min_runs > a.request.options.max_runs)
     throw InputError("", "--min-runs", "at most --max-runs (" + std::to_string(a.request.options.max_runs) +

@@ -71,6 +71,8 @@ void refuse_users_file(const std::string& out, const Scene& scene) {
 }
 
 int run_charge(const ChargeArgs& args) {
+  refuse_sets_options_give(args.overrides, {{"fidelity", "--fidelity", !args.fidelity.empty()},
+                                            {"run.revolutions", "--revolutions", args.revolutions > 0.0}});
   std::vector<std::string> overrides = args.overrides;
   if (args.vtk) overrides.push_back("outputs.vtk=true");
   Scene scene = study::load_checked_scene(args.scene, overrides, args.fidelity, [&args](Scene& s) {

@@ -43,6 +43,9 @@ struct Rule1Args {
 };
 
 int run_rule1(const Rule1Args& a) {
+  refuse_sets_options_give(a.overrides, {{"fidelity", "--fidelity", !a.fidelity.empty()},
+                                         {"wear.stages", "--stages", true},
+                                         {"wear.factor", "--factors", !a.options.factors.empty()}});
   Rule1Options opt = a.options;
   const Scene scene = study::load_checked_scene(a.scene, a.overrides, a.fidelity, [&](Scene& s) {
     s.wear.stages = a.stages;

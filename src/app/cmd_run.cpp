@@ -139,6 +139,7 @@ void check_stop_stage(const study::Plan& plan, int k) {
 }  // namespace
 
 int run_command(const RunArgs& args) {
+  refuse_sets_options_give(args.plan.overrides, {{"fidelity", "--fidelity", !args.plan.fidelity.empty()}});
   // Every scene validated; nothing written yet.
   study::PlanArgs plan_args = args.plan;
   if (args.vtk) plan_args.overrides.push_back("outputs.vtk=true");

@@ -20,6 +20,8 @@ namespace millwear::app {
 namespace {
 
 int run_sweep_cmd(const study::SweepRequest& q, bool quiet) {
+  refuse_sets_options_give(q.overrides, {{"fidelity", "--fidelity", !q.fidelity.empty()},
+                                         {"run.revolutions", "--revolutions", q.revolutions > 0.0}});
   study::SweepCallbacks cb;
   cb.on_start = [&](const study::SweepAxis& axis, int jobs) {
     if (!quiet)

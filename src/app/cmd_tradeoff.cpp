@@ -31,6 +31,8 @@ namespace {
 std::string fmt(double v, const char* f = "%.2f") { return io::format_for_table(v, f); }
 
 int run_tradeoff_cmd(const TradeoffStudyRequest& a) {
+  refuse_sets_options_give(a.overrides, {{"wear.stages", "--stages", a.options.stages > 0},
+                                         {"wear.stage_hours", "--stage-hours", a.options.stage_hours > 0.0}});
   const std::string& out = a.out;
   // One plain line per finished run (the runs go on in worker threads): the time of day, how
   // many of the ladder's runs are done, the elapsed and remaining time.

@@ -80,6 +80,7 @@ void print_areas(const validation::ValidateOutcome& o) {
 }
 
 int run_validate(const validation::ValidateRequest& a) {
+  refuse_sets_options_give(a.overrides, {{"fidelity", "--fidelity", !a.fidelity.empty()}});
   validation::ValidateCallbacks cb;
   cb.on_history = [&a](const Scene& s, const validation::Measurements& m, const validation::HistorySource& src) {
     print_history(s, m, src, a.from);

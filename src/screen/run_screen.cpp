@@ -11,6 +11,7 @@
 #include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "screen/jobs.hpp"
+#include "screen/ranking.hpp"
 #include "screen/task.hpp"
 #include "study/plan.hpp"
 #include "study/run_designs.hpp"
@@ -275,7 +276,10 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                          first + ")");
   }
   for (std::size_t i = 0; i < s.designs.size(); ++i) {
-    if (keep && design_finished(out, s.designs[i], true)) ++s.already_done;
+    // Finished, and its results read: a finished design whose summary is gone or unreadable
+    // runs again (it continues its stages), as --collect advises.
+    if (keep && design_finished(out, s.designs[i], true) && read_design_result(out, s.designs[i]).status == "finished")
+      ++s.already_done;
     else s.todo.push_back(static_cast<int>(i));
   }
   return s;

@@ -24,6 +24,7 @@
 #include "io/run_folder.hpp"
 #include "profiles/profile.hpp"
 #include "scene/fidelity.hpp"
+#include "scene/limits.hpp"
 #include "scene/table_reader.hpp"
 #include "wear/wear.hpp"
 
@@ -148,7 +149,7 @@ void read_screen_table(const std::string& path, const tr::TableReader& s, Screen
   const std::vector<std::string> fidelities = fidelity_names();
   if (auto v = s.choice("fidelity", fidelities)) d.fidelity = fidelities[static_cast<std::size_t>(*v)];
   if (auto v = s.integer("stages", 1, 10000)) d.stages = static_cast<int>(*v);
-  if (auto v = s.number("stage_hours", tr::positive(), "hours of operation")) d.stage_hours = *v;
+  if (auto v = s.number("stage_hours", tr::closed(kMinStageHours, kMaxHours), "hours of operation")) d.stage_hours = *v;
   if (auto v = s.choice("sampling", {"grid", "latin_hypercube"})) d.sampling = static_cast<Sampling>(*v);
   if (d.sampling == Sampling::LatinHypercube) {
     if (!s.has("samples")) s.missing("samples", "an integer in [1, " + std::to_string(kMaxCandidates) + "] (candidates to draw)");
@@ -217,6 +218,10 @@ void read_family_profiles(const std::string& path, const tr::TableReader& f, con
       if (fs::equivalent(d.profiles[j], p, ec))
         throw InputError(path, k, "expected each profile file once, got " + p + " again (as family.profiles[" +
                                       std::to_string(j) + "])" + tr::line_text((*n->as_array())[i]));
+      else if (io::read_file(d.profiles[j]) == io::read_file(p))
+        throw InputError(path, k, "expected each profile once, but " + p + " is a copy of " + d.profiles[j] +
+                                      " (family.profiles[" + std::to_string(j) + "]): the same candidates twice" +
+                                      tr::line_text((*n->as_array())[i]));
     d.profiles.push_back(p);
   }
 }
@@ -619,6 +624,9 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
         lif->insert_or_assign("pattern", std::move(names));
       }
       lif->insert_or_assign("rows", static_cast<int64_t>(c.rows));
+      // A drawn lifter is new: the base's start_hours (when a worn liner it starts from was
+      // measured) would add those hours to the candidate's life. A measured scan keeps them.
+      if (ext != ".csv") lif->erase("start_hours");
     }
     if (auto* mill = t["mill"].as_table()) {
       mill->insert_or_assign("direction", c.direction == "bi" ? "bidirectional" : "forward");
@@ -650,6 +658,16 @@ void write_candidates(const ScreenDef& d, std::vector<Candidate>& cands, const s
       const Scene s = load_scene(scene_path);
       build_scene_mill(s);
       check_scene(s, scene_path);  // a lifter narrower than the smoothing would vanish
+      // Where the family varies the direction, a "bi" design that never reverses within its
+      // history is the one-way design again, ranked as another.
+      const double history_h = s.wear.stages * s.wear.stage_hours;
+      if (!d.directions.empty() && s.mill.direction == Direction::Bidirectional &&
+          !(s.mill.reverse_every_hours < history_h))
+        throw InputError(scene_path, "mill.reverse_every",
+                         "a reversal within the design's history (" + std::to_string(s.wear.stages) + " stages of " +
+                             io::format_number(s.wear.stage_hours) + " h) for direction = bi; every " +
+                             io::format_number(s.mill.reverse_every_hours) +
+                             " h it never reverses and runs one way: shorten reverse_every or run longer");
       if (c.area_mm2 <= 0.0) c.area_mm2 = measure_profile(s.mill.lifter.points).area_m2 * 1e6;
     } catch (const InputError& e) {
       c.reason = (e.where.empty() ? "" : e.where + ": ") + e.expected;

@@ -394,9 +394,12 @@ SweepAxis parse_vary(const std::string& text) {
       if (!parse_number(item, v))
         throw InputError("", "--vary " + a.key, "expected a number, got '" + item + "' (" + usage + ")");
       const long double x = std::strtold(item.c_str(), nullptr);
-      // A value twice would run the same charge twice (same scene, same seed).
+      // A value twice would run the same charge twice (same scene, same seed): the same in
+      // extended precision, or, for a value with a fraction (which a key reads as a double),
+      // the same double (0.6 and 0.60000000000000001).
+      const bool whole = x == std::floor(x);
       for (std::size_t k = 0; k < exact.size(); ++k)
-        if (exact[k] == x)
+        if (exact[k] == x || (!(whole && exact[k] == std::floor(exact[k])) && a.values[k] == v))
           throw InputError("", "--vary " + a.key,
                            "expected each value once, got " + a.texts[k] + " and " + item + " (--replicates N runs more "
                            "seeds of a value)");
