@@ -443,6 +443,34 @@ TEST_F(ScreenRun, CollectRefusesADamagedDesignsListAndKeepsTheRanking) {
   }
 }
 
+// designs.csv edited by hand (its last rows cut, a value changed) was collected as a smaller
+// screen, or ranked a design against another's values, with exit 0. Its hash is in
+// screen.key: --collect and the tasks refuse a changed list, naming it, and --resume writes
+// it anew.
+TEST_F(ScreenRun, ADesignsListChangedByHandIsRefusedAndResumeWritesItAnew) {
+  const fs::path out = root_ / "edited";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  const std::string list = slurp(out / "designs.csv"), ranking = slurp(out / "ranking.csv");
+  const std::string cut = list.substr(0, list.find('\n', list.find('\n') + 1) + 1);  // header and d000
+  std::string edited = list;
+  const std::string own = "candidates/d000-profile";  // d000 given d001's profile
+  ASSERT_NE(edited.find(own), std::string::npos) << list;
+  edited.replace(edited.find(own), own.size(), "candidates/d001-profile");
+  for (const std::string& text : {cut, edited}) {
+    std::ofstream(out / "designs.csv", std::ios::binary) << text;
+    for (const std::string& command : {"screen --collect " + q(out), "screen-task " + q(out) + " 0"}) {
+      const Result r = millwear_cmd(command);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_NE(r.output.find("designs.csv: the list of designs this screen wrote"), std::string::npos) << r.output;
+    }
+    EXPECT_EQ(slurp(out / "ranking.csv"), ranking);
+  }
+  const Result again = millwear_cmd("screen " + q(src(kScreen)) + " -o " + q(out) + " --jobs 2 --resume --quiet");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(slurp(out / "designs.csv"), list);
+  EXPECT_EQ(slurp(out / "ranking.csv"), ranking);
+}
+
 namespace {
 
 // Every regular file under dir (relative path) with its modification time.

@@ -251,7 +251,9 @@ ScreenSetup prepare_screen(const ScreenRequest& a, const ScreenInputs& in) {
                     {"screen_file", abs_path(a.screen_file)},
                     {"power", def.power_higher_is_better ? "max" : "min"},
                     {"varying", vary},
-                    {"replicates", std::to_string(a.replicates)}};
+                    {"replicates", std::to_string(a.replicates)},
+                    // The list as written: every command that reads it after checks it is.
+                    {"designs", io::stable_hash_hex(io::read_file(designs_csv(out)))}};
   for (const auto& o : def.overrides) key.emplace_back("set", o);  // in order, as given
   // What the fingerprint holds, each on its own: a folder of another screen says what changed.
   key.emplace_back("version", MILLWEAR_VERSION);

@@ -21,6 +21,7 @@
 #include "common/names.hpp"
 #include "io/atomic_write.hpp"
 #include "io/csv.hpp"
+#include "io/hash.hpp"
 #include "io/run_folder.hpp"
 #include "profiles/profile.hpp"
 #include "scene/fidelity.hpp"
@@ -737,6 +738,16 @@ void write_design_tables(const std::string& out, const std::vector<Candidate>& c
 }
 
 std::vector<Candidate> read_designs(const std::string& out) {
+  // The list the screen wrote, as its screen.key records it: rows cut or values edited since
+  // would run, collect and rank other designs under these names.
+  const std::string key_file = io::join_path(out, "screen.key");
+  if (io::file_exists(key_file)) {
+    const std::string recorded = io::find_value(io::read_key_values(key_file), "designs");
+    if (!recorded.empty() && recorded != io::stable_hash_hex(io::read_file(designs_csv(out))))
+      throw InputError(designs_csv(out), "",
+                       "the list of designs this screen wrote (its hash is in screen.key), but it was changed since "
+                       "(rows cut, values edited): run the screen again with --resume, which writes it anew");
+  }
   const io::CsvData t = io::read_csv(designs_csv(out));
   // Every column, also when the file holds no row to read them from: a damaged designs.csv is
   // refused, not read as a screen of nothing.
