@@ -170,6 +170,15 @@ TEST(TradeoffLadder, OnlyKeepsTheReferenceAndTheNamedSettings) {
     EXPECT_NE(std::string(e.what()).find("window=5"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("window=4"), std::string::npos) << e.what();  // lists the labels
   }
+  // A label twice was run once and recorded twice.
+  o.only = {"standard", "window=4", "standard"};
+  try {
+    tradeoff_ladder(scene, o);
+    ADD_FAILURE() << "a label given twice was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where, "--only");
+    EXPECT_NE(std::string(e.what()).find("each label once, got \"standard\" twice"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TradeoffLadder, KnobsTheSceneSetsAreHeld) {

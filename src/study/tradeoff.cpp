@@ -114,6 +114,9 @@ void add_presets(const std::vector<Scene>& base, bool reseed, TradeoffLadder& la
 // The settings --only names, and the reference, which always runs.
 void keep_only(const std::vector<std::string>& only, TradeoffLadder& ladder) {
   if (only.empty()) return;
+  for (std::size_t i = 0; i < only.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (only[i] == only[j]) throw InputError("", "--only", "each label once, got \"" + only[i] + "\" twice");
   for (const std::string& want : only) {
     const bool known = std::any_of(ladder.settings.begin(), ladder.settings.end(),
                                    [&want](const TradeoffSetting& t) { return t.label == want; });
