@@ -471,6 +471,33 @@ TEST_F(ScreenRun, ADesignsListChangedByHandIsRefusedAndResumeWritesItAnew) {
   EXPECT_EQ(slurp(out / "ranking.csv"), ranking);
 }
 
+// A finished design whose summary's new-liner power reads nan (a damaged table) was ranked
+// as finished with nan power; it is a design whose results are unreadable.
+TEST_F(ScreenRun, ADesignWhosePowerReadsNanIsNotRanked) {
+  const fs::path out = root_ / "nan-power";
+  fs::copy(ref_, out, fs::copy_options::recursive);
+  const io::CsvData summary = io::read_csv((out / "designs/d001/summary.csv").string());
+  const std::string text = slurp(out / "designs/d001/summary.csv");
+  const std::string power = summary.text(0, summary.column("power_kw"));
+  const std::size_t second_line = text.find('\n') + 1;
+  const std::size_t at = text.find("," + power + ",", second_line);
+  ASSERT_NE(at, std::string::npos) << text;
+  std::string damaged = text;
+  damaged.replace(at + 1, power.size(), "nan");
+  std::ofstream(out / "designs/d001/summary.csv", std::ios::binary) << damaged;
+  const Result r = millwear_cmd("screen --collect " + q(out));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("results unreadable"), std::string::npos) << r.output;
+  const io::CsvData ranking = io::read_csv((out / "ranking.csv").string());
+  bool listed = false;
+  for (std::size_t i = 0; i < ranking.row_count(); ++i)
+    if (ranking.text(i, ranking.column("design")) == "d001") {
+      listed = true;
+      EXPECT_EQ(ranking.text(i, ranking.column("status")), "failed");
+    }
+  EXPECT_TRUE(listed) << slurp(out / "ranking.csv");
+}
+
 namespace {
 
 // Every regular file under dir (relative path) with its modification time.

@@ -63,9 +63,11 @@ DesignResult read_design_result(const std::string& out, const Candidate& c) {
     const std::size_t first = rows.at(0), last = rows.rbegin()->second;
     r.life_h = s.number(first, "life_h");
     r.life_extrapolated = s.number(first, "life_extrapolated") != 0.0;
-    r.power_W = watts_from_kW(s.number(first, "power_kw"));
-    r.collision_W = watts_from_kW(s.number(first, "collision_kw"));
-    r.utilization = s.number(first, "utilization");
+    // The new liner's charge figures are measured in every finished run: a nan there is a
+    // damaged table, not a design to rank.
+    r.power_W = watts_from_kW(s.finite_number(first, s.column("power_kw")));
+    r.collision_W = watts_from_kW(s.finite_number(first, s.column("collision_kw")));
+    r.utilization = s.finite_number(first, s.column("utilization"));
     r.power_se_W = watts_from_kW(s.number(first, "power_kw_se"));
     r.collision_se_W = watts_from_kW(s.number(first, "collision_kw_se"));
     r.utilization_se = s.number(first, "utilization_se");
