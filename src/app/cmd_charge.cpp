@@ -98,14 +98,15 @@ int run_charge(const ChargeArgs& args) {
   }
   const io::FolderLock lock(args.out, "charge");  // one writer per folder, for the whole run
   refuse_users_file(args.out, scene);
+  // Ctrl-C or SIGTERM ends the charge at once (exit 128 + signal), first saying what it leaves;
+  // heard from before the staging folder is made, so that no stop goes unreported.
+  g_stop_note = "millwear charge: interrupted; nothing of this charge is kept, " + args.out +
+                " is as it was (an earlier charge's results in it stay): run the charge again\n";
+  const SignalScope stop(note_and_die);
   // The new files are drawn up beside an earlier charge's, which stay in OUT as they were
   // until every new file is complete (a charge that fails or is stopped leaves them); then
   // the earlier charge's files that no new one replaces go (its manifest's list).
   io::StagedOutputs staged(args.out);
-  // Ctrl-C or SIGTERM ends the charge at once (exit 128 + signal), first saying what it leaves.
-  g_stop_note = "millwear charge: interrupted; nothing of this charge is kept, " + args.out +
-                " is as it was (an earlier charge's results in it stay): run the charge again\n";
-  const SignalScope stop(note_and_die);
   if (!args.quiet) std::fprintf(stderr, "millwear charge: %s\n", plan);
   if (!args.quiet)
     for (const std::string& note : limit_notes(scene)) std::fprintf(stderr, "  %s\n", note.c_str());
